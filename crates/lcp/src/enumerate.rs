@@ -1,0 +1,1 @@
+//! Brute-force enumeration (placeholder being written).

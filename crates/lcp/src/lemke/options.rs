@@ -1,0 +1,73 @@
+//! Lemke options, with the defaults documented on each field.
+
+/// How the leaving variable is chosen and how tolerances are judged.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Pivoting {
+    /// Robust default: the problem is equilibrated first; ratio ties are
+    /// detected with a *relative* tolerance and broken lexicographically
+    /// (z0 preferred); bases are hashed to catch cycling; the final basis is
+    /// re-solved and the answer accepted by its residual in the units given.
+    Lexicographic,
+    /// The seed note's Lemke: absolute `piv_tol` and `zero_tol` applied to the
+    /// problem exactly as given, Harris-style ratio test with `zero_tol` slack,
+    /// first index on ties. Kept to reproduce the seed's findings.
+    Classic,
+}
+
+impl Pivoting {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Pivoting::Lexicographic => "lexicographic",
+            Pivoting::Classic => "classic",
+        }
+    }
+}
+
+/// Options of Lemke's method.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LemkeOptions {
+    /// Pivoting rule. Default `Lexicographic`.
+    pub pivoting: Pivoting,
+    /// Smallest pivot accepted. `Classic`: absolute, on the problem as given.
+    /// `Lexicographic`: relative to the entering column's largest entry, on
+    /// the equilibrated problem. Default 1e-12.
+    pub piv_tol: f64,
+    /// The user zero. `Classic`: the Harris slack of the ratio test, absolute.
+    /// `Lexicographic`: the relative tolerance under which two ratios count as
+    /// tied. Default 1e-6 (the seed's value); `Lexicographic` uses
+    /// `min(zero_tol, 1e-9)` for ties so that its answers stay exact.
+    pub zero_tol: f64,
+    /// Pivot limit; `None` means `max(1000, 50·n)` (Murty's 2ⁿ examples need more).
+    pub max_pivots: Option<usize>,
+    /// `Lexicographic` only: accept the answer when the natural residual in the
+    /// units given is ≤ `accept_tol·(1 + ‖q‖∞)`. Default 1e-9.
+    pub accept_tol: f64,
+    /// `Lexicographic` only: Ruiz-equilibrate `M` and normalize `q` before
+    /// pivoting. Default true.
+    pub equilibrate: bool,
+}
+
+impl Default for LemkeOptions {
+    fn default() -> Self {
+        LemkeOptions {
+            pivoting: Pivoting::Lexicographic,
+            piv_tol: 1e-12,
+            zero_tol: 1e-6,
+            max_pivots: None,
+            accept_tol: 1e-9,
+            equilibrate: true,
+        }
+    }
+}
+
+impl LemkeOptions {
+    /// The seed note's settings: classic pivoting, piv_tol 1e-12, zero_tol 1e-6.
+    pub fn classic() -> Self {
+        LemkeOptions { pivoting: Pivoting::Classic, equilibrate: false, ..Default::default() }
+    }
+
+    /// Pivot limit for a problem of size `n`.
+    pub fn pivot_limit(&self, n: usize) -> usize {
+        self.max_pivots.unwrap_or_else(|| (50 * n).max(1000))
+    }
+}

@@ -1,0 +1,33 @@
+//! Dense linear complementarity problems and their solvers.
+//!
+//! Find `z ≥ 0` with `w = M z + q ≥ 0` and `zᵀw = 0`. Every solver has the same
+//! contract, `solve(&Lcp, &Options) -> Solution`, never panics on numerics and
+//! reports how it ended in `Solution::status` together with residuals
+//! recomputed from its answer (`Residuals`). `method::solve` dispatches on a
+//! `Method` value.
+//!
+//! - [`lemke`]: Lemke's complementary pivoting — `Lexicographic` (robust
+//!   default: equilibration, relative tie tolerance, O(n²) block-inverse
+//!   updates, cycle guard, final-basis refinement) or `Classic` (the seed
+//!   note's absolute tolerances, kept to reproduce its findings).
+//! - [`pgs`]: projected Gauss–Seidel with relaxation.
+//! - [`newton_fb`]: damped semismooth Newton on the Fischer–Burmeister function.
+//! - [`scaling`]: diagonal scaling `D_r M D_c, D_r q` and the map back.
+//! - [`enumerate`]: brute-force enumeration of complementary bases (small n; tests).
+
+pub mod enumerate;
+pub mod lemke;
+pub mod method;
+pub mod newton_fb;
+pub mod pgs;
+pub mod problem;
+pub mod scaling;
+pub mod solution;
+
+pub use lemke::{LemkeOptions, Pivoting};
+pub use method::{solve, Method};
+pub use newton_fb::NewtonFbOptions;
+pub use pgs::PgsOptions;
+pub use problem::{Lcp, LcpError};
+pub use scaling::Scaling;
+pub use solution::{Residuals, Solution, Status};

@@ -1,0 +1,126 @@
+//! The LCP data: find `z ≥ 0` with `w = M z + q ≥ 0` and `zᵀw = 0`.
+//!
+//! `M` is dense and row-major. Construction validates shape and finiteness, so
+//! every solver can assume well-formed input and never has to panic on it.
+
+use std::fmt;
+
+/// A dense linear complementarity problem `(M, q)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Lcp {
+    n: usize,
+    m: Vec<f64>,
+    q: Vec<f64>,
+}
+
+/// Why an `(M, q)` pair is not a valid LCP. Invalid input is an error, never a status.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LcpError {
+    /// `n == 0`.
+    Empty,
+    /// `M` does not hold `n·n` entries.
+    NotSquare { entries: usize, n: usize },
+    /// `q` does not have length `n`.
+    LengthMismatch { q_len: usize, n: usize },
+    /// An entry of `M` (`field = "M"`, index `row*n + col`) or `q` is NaN or infinite.
+    NonFinite { field: &'static str, index: usize, value: f64 },
+}
+
+impl fmt::Display for LcpError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            LcpError::Empty => write!(f, "the LCP is empty (n = 0)"),
+            LcpError::NotSquare { entries, n } => {
+                write!(f, "M must be square n×n with n = {n}, got {entries} entries")
+            }
+            LcpError::LengthMismatch { q_len, n } => {
+                write!(f, "q has length {q_len} but M is {n}×{n}")
+            }
+            LcpError::NonFinite { field, index, value } => write!(f, "{field}[{index}] = {value} is not finite"),
+        }
+    }
+}
+
+impl std::error::Error for LcpError {}
+
+impl Lcp {
+    /// Builds an LCP from row-major `m` (n·n entries) and `q` (n entries).
+    pub fn new(m: Vec<f64>, q: Vec<f64>) -> Result<Self, LcpError> {
+        let n = q.len();
+        if n == 0 {
+            return Err(LcpError::Empty);
+        }
+        if m.len() != n * n {
+            // Distinguish "q is the wrong length" from "M is not square".
+            let side = (m.len() as f64).sqrt().round() as usize;
+            if side * side == m.len() && side != 0 {
+                return Err(LcpError::LengthMismatch { q_len: n, n: side });
+            }
+            return Err(LcpError::NotSquare { entries: m.len(), n });
+        }
+        if let Some((index, &value)) = m.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(LcpError::NonFinite { field: "M", index, value });
+        }
+        if let Some((index, &value)) = q.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(LcpError::NonFinite { field: "q", index, value });
+        }
+        Ok(Lcp { n, m, q })
+    }
+
+    /// Builds an LCP from a closure `m(i, j)`; convenient in tests and generators.
+    pub fn from_fn(n: usize, m: impl Fn(usize, usize) -> f64, q: Vec<f64>) -> Result<Self, LcpError> {
+        let mut data = Vec::with_capacity(n * n);
+        for i in 0..n {
+            for j in 0..n {
+                data.push(m(i, j));
+            }
+        }
+        Lcp::new(data, q)
+    }
+
+    /// Problem size.
+    #[inline]
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// Row-major `M`.
+    #[inline]
+    pub fn m(&self) -> &[f64] {
+        &self.m
+    }
+
+    /// `q`.
+    #[inline]
+    pub fn q(&self) -> &[f64] {
+        &self.q
+    }
+
+    /// Entry `M[i, j]`.
+    #[inline]
+    pub fn at(&self, i: usize, j: usize) -> f64 {
+        self.m[i * self.n + j]
+    }
+
+    /// Row `i` of `M`.
+    #[inline]
+    pub fn row(&self, i: usize) -> &[f64] {
+        &self.m[i * self.n..(i + 1) * self.n]
+    }
+
+    /// `w = M z + q`.
+    pub fn w_of(&self, z: &[f64]) -> Vec<f64> {
+        (0..self.n).map(|i| dot(self.row(i), z) + self.q[i]).collect()
+    }
+
+    /// Splits into `(M, q)` without copying.
+    pub fn into_parts(self) -> (Vec<f64>, Vec<f64>) {
+        (self.m, self.q)
+    }
+}
+
+/// Dot product; the shared inner kernel of residuals and solvers.
+#[inline]
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}

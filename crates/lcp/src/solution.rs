@@ -1,0 +1,123 @@
+//! What every solver returns: one `Solution` type, one set of statuses and one
+//! error measure shared by all of them (as Siconos does with its `lcp_compute_error`).
+
+use crate::problem::Lcp;
+
+/// How a solve ended. Only `Solved` means `z` solves the LCP; every other
+/// status still comes with correctly sized `z` and `w` (the last iterate).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Status {
+    /// Complementary solution found and accepted by the solver's tolerance.
+    Solved,
+    /// Lemke: the entering column had no positive entry (a secondary ray).
+    /// For a copositive-plus `M` this proves the LCP has no solution.
+    RayTermination,
+    /// Lemke: pivot limit reached.
+    MaxPivots,
+    /// Iterative solvers (PGS, Newton–FB): iteration limit reached without convergence.
+    MaxIterations,
+    /// A basis matrix could not be factored.
+    SingularBasis,
+    /// A basis repeated: the pivoting cycled.
+    Cycling,
+    /// The method ended but its answer fails the residual check (round-off won).
+    Numerical,
+    /// The answer solves a regularized problem `M + αI`, not `M` itself.
+    Regularized,
+}
+
+impl Status {
+    /// Stable snake_case name used by the Python API, the CLI and result files.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Status::Solved => "solved",
+            Status::RayTermination => "ray_termination",
+            Status::MaxPivots => "max_pivots",
+            Status::MaxIterations => "max_iterations",
+            Status::SingularBasis => "singular_basis",
+            Status::Cycling => "cycling",
+            Status::Numerical => "numerical",
+            Status::Regularized => "regularized",
+        }
+    }
+
+    /// All statuses, in declaration order.
+    pub const ALL: [Status; 8] = [
+        Status::Solved,
+        Status::RayTermination,
+        Status::MaxPivots,
+        Status::MaxIterations,
+        Status::SingularBasis,
+        Status::Cycling,
+        Status::Numerical,
+        Status::Regularized,
+    ];
+}
+
+/// Error measures of a candidate `z` for `(M, q)`, with `w = M z + q` recomputed.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Residuals {
+    /// Natural residual `‖min(z, w)‖∞`: the one measure shared by all solvers.
+    pub natural: f64,
+    /// `min_i z_i` (negative means infeasible).
+    pub min_z: f64,
+    /// `min_i w_i` (negative means infeasible).
+    pub min_w: f64,
+    /// `max_i |z_i w_i|`.
+    pub max_complementarity: f64,
+}
+
+impl Residuals {
+    /// Residuals of `z` and `w` (which should be `M z + q`).
+    pub fn of(z: &[f64], w: &[f64]) -> Self {
+        let mut r = Residuals { natural: 0.0, min_z: f64::INFINITY, min_w: f64::INFINITY, max_complementarity: 0.0 };
+        for (&zi, &wi) in z.iter().zip(w) {
+            r.natural = r.natural.max(zi.min(wi).abs());
+            r.min_z = r.min_z.min(zi);
+            r.min_w = r.min_w.min(wi);
+            r.max_complementarity = r.max_complementarity.max((zi * wi).abs());
+        }
+        if z.is_empty() {
+            r.min_z = 0.0;
+            r.min_w = 0.0;
+        }
+        r
+    }
+
+    /// Recomputes `w = M z + q` and returns `(w, residuals)`.
+    pub fn compute(lcp: &Lcp, z: &[f64]) -> (Vec<f64>, Self) {
+        let w = lcp.w_of(z);
+        let r = Residuals::of(z, &w);
+        (w, r)
+    }
+}
+
+/// The result of any solver: `z`, `w = M z + q`, status, work done and residuals.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solution {
+    /// Unknowns, length n (the last iterate when not solved).
+    pub z: Vec<f64>,
+    /// `M z + q`, recomputed from `z` in the units of the problem as given.
+    pub w: Vec<f64>,
+    pub status: Status,
+    /// Pivots (Lemke) or iterations (PGS sweeps, Newton steps).
+    pub iterations: usize,
+    /// Residuals of `(z, w)` for the problem as given.
+    pub residuals: Residuals,
+    /// Lemke only: which `z_j` were basic at the end (the complementary basis),
+    /// usable as a warm start for a similar problem.
+    pub basis: Option<Vec<bool>>,
+}
+
+impl Solution {
+    /// Wraps a final `z`, recomputing `w` and the residuals from the problem.
+    pub fn from_z(lcp: &Lcp, z: Vec<f64>, status: Status, iterations: usize) -> Self {
+        let (w, residuals) = Residuals::compute(lcp, &z);
+        Solution { z, w, status, iterations, residuals, basis: None }
+    }
+
+    /// `true` only for `Status::Solved`.
+    pub fn ok(&self) -> bool {
+        self.status == Status::Solved
+    }
+}
