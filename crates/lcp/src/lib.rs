@@ -14,8 +14,10 @@
 //! - [`newton_fb`]: damped semismooth Newton on the Fischer–Burmeister function.
 //! - [`scaling`]: diagonal scaling `D_r M D_c, D_r q` and the map back.
 //! - [`enumerate`]: brute-force enumeration of complementary bases (small n; tests).
+//! - [`generate`]: seeded generators of test LCPs (contact-structured, P-matrix, SPD, Murty).
 
 pub mod enumerate;
+pub mod generate;
 pub mod lemke;
 pub mod method;
 pub mod newton_fb;

@@ -1,0 +1,1 @@
+//! Seeded LCP generators (placeholder being written).
