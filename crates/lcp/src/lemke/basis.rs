@@ -1,0 +1,405 @@
+//! The Lemke basis in block form, with O(m²) updates per pivot.
+//!
+//! Lemke works on `I w − M z − d z0 = q`. Variables are numbered
+//! `w_i → i`, `z_j → n + j`, `z0 → 2n`; the constraint matrix is
+//! `A = [I | −M | −d]`. A basis holds `n` variables: some `w_i` (identity
+//! columns) and a set `S` of "z-type" columns (`z_j` or `z0`). With `R` the
+//! rows whose `w_i` is *not* basic (`|R| = |S| = m`), solving `B x = b` only
+//! needs the small matrix `C = A[R, S]`:
+//!
+//! ```text
+//!   x_S   = C⁻¹ b[R]
+//!   x_w,i = b_i − A[i, S] x_S          (i ∉ R)
+//! ```
+//!
+//! We keep `C⁻¹` explicitly and update it in O(m²) for each of the four pivot
+//! kinds (replace a column, border with a row and column, remove a row and
+//! column, replace a row), refactoring from scratch every so often to shed
+//! accumulated round-off. This is what makes a pivot O(n·m) instead of the
+//! O(n³) of refactoring (Drake's Moby) or the O(n²) of a full tableau.
+
+use crate::problem::Lcp;
+use faer::linalg::solvers::DenseSolveCore;
+use faer::Mat;
+
+/// Variable numbering helpers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Var {
+    W(usize),
+    Z(usize),
+    Z0,
+}
+
+impl Var {
+    pub(crate) fn id(self, n: usize) -> usize {
+        match self {
+            Var::W(i) => i,
+            Var::Z(j) => n + j,
+            Var::Z0 => 2 * n,
+        }
+    }
+
+    /// The complementary partner (`w_i ↔ z_i`); `z0` has none.
+    pub(crate) fn complement(self) -> Option<Var> {
+        match self {
+            Var::W(i) => Some(Var::Z(i)),
+            Var::Z(j) => Some(Var::W(j)),
+            Var::Z0 => None,
+        }
+    }
+}
+
+/// The entering column expressed in the current basis: `x = B⁻¹ a_e`.
+pub(crate) struct Column {
+    /// Entries for the z-type basics, by position in `S`.
+    pub(crate) xs: Vec<f64>,
+    /// Entries for basic `w_i`, indexed by row `i` (unused where `i ∈ R`).
+    pub(crate) xw: Vec<f64>,
+}
+
+/// Which basic variable leaves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Leaving {
+    /// The z-type basic at position `p` of `S`.
+    S(usize),
+    /// The basic `w_i`.
+    W(usize),
+}
+
+/// Basis in block form over a problem `(M, q)` with covering vector `d`.
+pub(crate) struct Basis<'a> {
+    lcp: &'a Lcp,
+    d: &'a [f64],
+    n: usize,
+    /// Rows whose `w` is nonbasic, in `C` column order.
+    pub(crate) r: Vec<usize>,
+    /// Position of row `i` in `r`, if any.
+    r_pos: Vec<Option<usize>>,
+    /// z-type basic columns, in `C` row order (`C⁻¹` row `p` belongs to `s[p]`).
+    pub(crate) s: Vec<Var>,
+    /// `C⁻¹`, row-major with stride `n`; only the leading `m × m` block is live.
+    cinv: Vec<f64>,
+    /// Values of the z-type basics, by position in `s`.
+    pub(crate) val_s: Vec<f64>,
+    /// Values of basic `w_i`, by row (meaningless where `i ∈ R`).
+    pub(crate) val_w: Vec<f64>,
+    /// Tableau row of each z-type basic (parallel to `s`) and of each basic
+    /// `w_i`: the entering variable takes the leaving one's row. Only the
+    /// classic rule's "first index on ties" reads these.
+    pub(crate) row_s: Vec<usize>,
+    pub(crate) row_w: Vec<usize>,
+    /// Scratch of length n.
+    tmp: Vec<f64>,
+    /// Pivots since the last refactorization.
+    pub(crate) since_refactor: usize,
+}
+
+impl<'a> Basis<'a> {
+    /// The all-slack basis `B = I`, values `w = q`.
+    pub(crate) fn slack(lcp: &'a Lcp, d: &'a [f64]) -> Self {
+        let n = lcp.n();
+        Basis {
+            lcp,
+            d,
+            n,
+            r: Vec::with_capacity(n),
+            r_pos: vec![None; n],
+            s: Vec::with_capacity(n),
+            cinv: vec![0.0; n * n],
+            val_s: Vec::with_capacity(n),
+            val_w: lcp.q().to_vec(),
+            row_s: Vec::with_capacity(n),
+            row_w: (0..n).collect(),
+            tmp: vec![0.0; n],
+            since_refactor: 0,
+        }
+    }
+
+    #[inline]
+    pub(crate) fn m(&self) -> usize {
+        self.s.len()
+    }
+
+    /// Is `w_i` basic?
+    #[inline]
+    pub(crate) fn w_basic(&self, i: usize) -> bool {
+        self.r_pos[i].is_none()
+    }
+
+    /// `G[i, v]` with `G = [M | d]`, i.e. `−A[i, v]` for a z-type `v`.
+    #[inline]
+    fn g(&self, i: usize, v: Var) -> f64 {
+        match v {
+            Var::Z(j) => self.lcp.at(i, j),
+            Var::Z0 => self.d[i],
+            Var::W(_) => unreachable!("w columns are never in S"),
+        }
+    }
+
+    /// `A[i, e]` for any variable.
+    #[inline]
+    fn a(&self, i: usize, e: Var) -> f64 {
+        match e {
+            Var::W(k) => (i == k) as u8 as f64,
+            v => -self.g(i, v),
+        }
+    }
+
+    #[inline]
+    fn ci(&self, p: usize, q: usize) -> f64 {
+        self.cinv[p * self.n + q]
+    }
+
+    /// `x = B⁻¹ a_e` for the entering variable `e`.
+    pub(crate) fn column(&mut self, e: Var, out: &mut Column) {
+        let (n, m) = (self.n, self.m());
+        // a_e restricted to R.
+        for (qi, &i) in self.r.iter().enumerate() {
+            self.tmp[qi] = self.a(i, e);
+        }
+        // x_S = C⁻¹ a_e[R].
+        out.xs.clear();
+        for p in 0..m {
+            let row = &self.cinv[p * n..p * n + m];
+            out.xs.push(row.iter().zip(&self.tmp[..m]).map(|(c, t)| c * t).sum());
+        }
+        // x_w,i = a_e[i] + G[i, S] x_S.
+        out.xw.resize(n, 0.0);
+        for i in 0..n {
+            if self.r_pos[i].is_some() {
+                continue;
+            }
+            let mut acc = self.a(i, e);
+            let mrow = self.lcp.row(i);
+            for (p, &v) in self.s.iter().enumerate() {
+                let gv = match v {
+                    Var::Z(j) => mrow[j],
+                    _ => self.d[i],
+                };
+                acc += gv * out.xs[p];
+            }
+            out.xw[i] = acc;
+        }
+    }
+
+    /// Row of `B⁻¹` belonging to the basic variable `b`, as a dense n-vector.
+    pub(crate) fn binv_row(&self, b: Leaving, out: &mut [f64]) {
+        let m = self.m();
+        out.iter_mut().for_each(|x| *x = 0.0);
+        match b {
+            Leaving::S(p) => {
+                for (qi, &i) in self.r.iter().enumerate() {
+                    out[i] = self.ci(p, qi);
+                }
+            }
+            Leaving::W(i) => {
+                out[i] = 1.0;
+                for (qi, &ri) in self.r.iter().enumerate() {
+                    let mut acc = 0.0;
+                    for p in 0..m {
+                        acc += self.g(i, self.s[p]) * self.ci(p, qi);
+                    }
+                    out[ri] = acc;
+                }
+            }
+        }
+    }
+
+    /// Pivots `e` in for `l` with step `theta`, given `x = B⁻¹ a_e`.
+    pub(crate) fn pivot(&mut self, e: Var, l: Leaving, x: &Column, theta: f64) {
+        // Values: every basic moves by −θ·x, the entering one takes θ.
+        for (v, xs) in self.val_s.iter_mut().zip(&x.xs) {
+            *v -= theta * xs;
+        }
+        for i in 0..self.n {
+            if self.r_pos[i].is_none() {
+                self.val_w[i] -= theta * x.xw[i];
+            }
+        }
+        match (e, l) {
+            (Var::W(i), Leaving::S(p)) => self.shrink(i, p, theta),
+            (Var::W(i), Leaving::W(k)) => self.replace_row(i, k, theta),
+            (_, Leaving::S(p)) => self.replace_column(e, p, &x.xs, theta),
+            (_, Leaving::W(i)) => self.border(e, i, &x.xs, x.xw[i], theta),
+        }
+        self.since_refactor += 1;
+    }
+
+    /// z-type `e` replaces the z-type basic at position `p`: product-form update.
+    fn replace_column(&mut self, e: Var, p: usize, u: &[f64], theta: f64) {
+        let (n, m) = (self.n, self.m());
+        let up = u[p];
+        for c in 0..m {
+            self.cinv[p * n + c] /= up;
+        }
+        for r in 0..m {
+            if r == p || u[r] == 0.0 {
+                continue;
+            }
+            let f = u[r];
+            for c in 0..m {
+                self.cinv[r * n + c] -= f * self.cinv[p * n + c];
+            }
+        }
+        self.s[p] = e;
+        self.val_s[p] = theta;
+    }
+
+    /// z-type `e` enters, `w_i` leaves: `C` gains row `i` and column `e`.
+    fn border(&mut self, e: Var, i: usize, u: &[f64], sigma: f64, theta: f64) {
+        let (n, m) = (self.n, self.m());
+        // v = rᵀ C⁻¹ with r = A[i, S] = −G[i, S].
+        let mut v = std::mem::take(&mut self.tmp);
+        for c in 0..m {
+            let mut acc = 0.0;
+            for p in 0..m {
+                acc -= self.g(i, self.s[p]) * self.ci(p, c);
+            }
+            v[c] = acc;
+        }
+        for r in 0..m {
+            let f = u[r] / sigma;
+            for c in 0..m {
+                self.cinv[r * n + c] += f * v[c];
+            }
+            self.cinv[r * n + m] = -f;
+        }
+        for c in 0..m {
+            self.cinv[m * n + c] = -v[c] / sigma;
+        }
+        self.cinv[m * n + m] = 1.0 / sigma;
+        self.tmp = v;
+        self.r_pos[i] = Some(m);
+        self.r.push(i);
+        self.s.push(e);
+        self.val_s.push(theta);
+        self.row_s.push(self.row_w[i]);
+    }
+
+    /// `w_i` enters, the z-type basic at `p` leaves: `C` loses a row and a column.
+    fn shrink(&mut self, i: usize, p: usize, theta: f64) {
+        let (n, m) = (self.n, self.m());
+        let qi = self.r_pos[i].expect("entering w must be nonbasic");
+        let g = self.ci(p, qi);
+        for r in 0..m {
+            if r == p {
+                continue;
+            }
+            let f = self.ci(r, qi) / g;
+            if f == 0.0 {
+                continue;
+            }
+            for c in 0..m {
+                if c != qi {
+                    self.cinv[r * n + c] -= f * self.cinv[p * n + c];
+                }
+            }
+        }
+        self.row_w[i] = self.row_s[p];
+        // Move the last row into p and the last column into qi.
+        let last = m - 1;
+        if p != last {
+            self.row_s[p] = self.row_s[last];
+            for c in 0..m {
+                self.cinv[p * n + c] = self.cinv[last * n + c];
+            }
+            self.s[p] = self.s[last];
+            self.val_s[p] = self.val_s[last];
+        }
+        if qi != last {
+            for r in 0..m {
+                self.cinv[r * n + qi] = self.cinv[r * n + last];
+            }
+            let moved = self.r[last];
+            self.r[qi] = moved;
+            self.r_pos[moved] = Some(qi);
+        }
+        self.s.pop();
+        self.val_s.pop();
+        self.row_s.pop();
+        self.r.pop();
+        self.r_pos[i] = None;
+        self.val_w[i] = theta;
+    }
+
+    /// `w_i` enters, `w_k` leaves: row `i` of `C` is replaced by row `k`.
+    fn replace_row(&mut self, i: usize, k: usize, theta: f64) {
+        let (n, m) = (self.n, self.m());
+        let qi = self.r_pos[i].expect("entering w must be nonbasic");
+        // t = r_newᵀ C⁻¹ with r_new = A[k, S] = −G[k, S].
+        let mut t = std::mem::take(&mut self.tmp);
+        for c in 0..m {
+            let mut acc = 0.0;
+            for p in 0..m {
+                acc -= self.g(k, self.s[p]) * self.ci(p, c);
+            }
+            t[c] = acc;
+        }
+        let tq = t[qi];
+        for r in 0..m {
+            let f = self.ci(r, qi) / tq;
+            for c in 0..m {
+                let delta = if c == qi { t[c] - 1.0 } else { t[c] };
+                self.cinv[r * n + c] -= f * delta;
+            }
+        }
+        self.tmp = t;
+        self.r[qi] = k;
+        self.r_pos[k] = Some(qi);
+        self.row_w[i] = self.row_w[k];
+        self.r_pos[i] = None;
+        self.val_w[i] = theta;
+    }
+
+    /// Recomputes `C⁻¹` by LU and the basic values from `q`. Returns `false`
+    /// when `C` is numerically singular.
+    pub(crate) fn refactor(&mut self) -> bool {
+        let (n, m) = (self.n, self.m());
+        self.since_refactor = 0;
+        if m > 0 {
+            let c = Mat::<f64>::from_fn(m, m, |a, b| self.a(self.r[a], self.s[b]));
+            let lu = c.partial_piv_lu();
+            let u = lu.U();
+            let cmax = (0..m).flat_map(|a| (0..m).map(move |b| (a, b))).fold(0.0f64, |acc, (a, b)| acc.max(c[(a, b)].abs()));
+            let umin = (0..m).fold(f64::INFINITY, |acc, a| acc.min(u[(a, a)].abs()));
+            if !(umin > 1e-14 * cmax) {
+                return false;
+            }
+            let inv = lu.inverse();
+            for a in 0..m {
+                for b in 0..m {
+                    self.cinv[a * n + b] = inv[(a, b)];
+                }
+            }
+        }
+        // β = B⁻¹ q.
+        let q = self.lcp.q();
+        for p in 0..m {
+            self.val_s[p] = (0..m).map(|c| self.ci(p, c) * q[self.r[c]]).sum();
+        }
+        for i in 0..n {
+            if self.r_pos[i].is_none() {
+                let mut acc = q[i];
+                for p in 0..m {
+                    acc += self.g(i, self.s[p]) * self.val_s[p];
+                }
+                self.val_w[i] = acc;
+            }
+        }
+        true
+    }
+
+    /// Current `z` (length n) from the basic values; `z0` is returned apart.
+    pub(crate) fn z(&self) -> (Vec<f64>, f64) {
+        let mut z = vec![0.0; self.n];
+        let mut z0 = 0.0;
+        for (p, &v) in self.s.iter().enumerate() {
+            match v {
+                Var::Z(j) => z[j] = self.val_s[p],
+                Var::Z0 => z0 = self.val_s[p],
+                Var::W(_) => {}
+            }
+        }
+        (z, z0)
+    }
+}

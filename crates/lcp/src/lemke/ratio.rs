@@ -1,0 +1,124 @@
+//! Minimum-ratio tests: which basic variable leaves.
+//!
+//! `Lexicographic` detects ties with a tolerance *relative* to the size of the
+//! basic values (exact-equality ties break on round-off, which is how
+//! Siconos' lexicolemke reports false rays on contact LCPs whose λ rows have
+//! q = 0), prefers z0, then breaks ties on the rows of `B⁻¹` divided by the
+//! pivot, column by column — the classical rule that makes Lemke finite.
+//! `Classic` is the seed note's rule: absolute tolerances, Harris slack,
+//! largest pivot, first row on ties.
+
+use super::basis::{Basis, Column, Leaving, Var};
+
+/// A ratio rule with its tolerances.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Rule {
+    Lexicographic { piv_tol: f64, tie_tol: f64 },
+    Classic { piv_tol: f64, zero_tol: f64 },
+}
+
+/// One basic variable seen by the ratio test.
+#[derive(Clone, Copy)]
+struct Cand {
+    at: Leaving,
+    value: f64,
+    x: f64,
+    row: usize,
+}
+
+fn candidates(basis: &Basis, x: &Column, out: &mut Vec<Cand>) {
+    out.clear();
+    for p in 0..basis.m() {
+        out.push(Cand { at: Leaving::S(p), value: basis.val_s[p], x: x.xs[p], row: basis.row_s[p] });
+    }
+    for i in 0..basis.val_w.len() {
+        if basis.w_basic(i) {
+            out.push(Cand { at: Leaving::W(i), value: basis.val_w[i], x: x.xw[i], row: basis.row_w[i] });
+        }
+    }
+}
+
+/// The leaving variable and the step length, or `None` for a ray.
+pub(crate) fn leaving(basis: &Basis, x: &Column, rule: Rule) -> Option<(Leaving, f64)> {
+    let mut c = Vec::with_capacity(basis.val_w.len());
+    candidates(basis, x, &mut c);
+    match rule {
+        Rule::Classic { piv_tol, zero_tol } => classic(&c, piv_tol, zero_tol),
+        Rule::Lexicographic { piv_tol, tie_tol } => lexicographic(basis, &c, piv_tol, tie_tol),
+    }
+}
+
+fn classic(c: &[Cand], piv_tol: f64, zero_tol: f64) -> Option<(Leaving, f64)> {
+    // Pass 1 (Harris): the largest step that keeps every basic ≥ −zero_tol.
+    let theta_max = c.iter().filter(|k| k.x > piv_tol).map(|k| (k.value + zero_tol) / k.x).fold(f64::INFINITY, f64::min);
+    if !theta_max.is_finite() {
+        return None;
+    }
+    // Pass 2: among rows blocking within that step, the largest pivot; first row on ties.
+    let best = c
+        .iter()
+        .filter(|k| k.x > piv_tol && k.value / k.x <= theta_max)
+        .min_by(|a, b| b.x.total_cmp(&a.x).then(a.row.cmp(&b.row)))?;
+    Some((best.at, (best.value / best.x).max(0.0)))
+}
+
+fn lexicographic(basis: &Basis, c: &[Cand], piv_tol: f64, tie_tol: f64) -> Option<(Leaving, f64)> {
+    let xmax = c.iter().fold(0.0f64, |a, k| a.max(k.x.abs()));
+    let thresh = piv_tol * xmax;
+    let vscale = c.iter().fold(f64::MIN_POSITIVE, |a, k| a.max(k.value.abs()));
+    let theta = c.iter().filter(|k| k.x > thresh).map(|k| k.value.max(0.0) / k.x).fold(f64::INFINITY, f64::min);
+    if !theta.is_finite() {
+        return None;
+    }
+    // Rows that reach zero within tie_tol·(largest basic value) at this step.
+    let mut tied: Vec<Cand> =
+        c.iter().filter(|k| k.x > thresh && k.value.max(0.0) - theta * k.x <= tie_tol * vscale).copied().collect();
+    if let Some(z0) = tied.iter().find(|k| matches!(k.at, Leaving::S(p) if basis.s[p] == Var::Z0)) {
+        return Some((z0.at, theta));
+    }
+    if tied.len() > 1 {
+        tied = lex_break(basis, tied, tie_tol);
+    }
+    // Still tied after every column (only under round-off): the largest pivot.
+    let best = tied.iter().max_by(|a, b| a.x.total_cmp(&b.x))?;
+    Some((best.at, theta))
+}
+
+/// Keeps the candidates whose `B⁻¹` row over the pivot is lexicographically smallest.
+fn lex_break(basis: &Basis, tied: Vec<Cand>, tie_tol: f64) -> Vec<Cand> {
+    let n = basis.val_w.len();
+    let mut rows: Vec<(Cand, Vec<f64>)> = tied
+        .into_iter()
+        .map(|k| {
+            let mut r = vec![0.0; n];
+            basis.binv_row(k.at, &mut r);
+            r.iter_mut().for_each(|v| *v /= k.x);
+            (k, r)
+        })
+        .collect();
+    for col in 0..n {
+        if rows.len() == 1 {
+            break;
+        }
+        let min = rows.iter().map(|(_, r)| r[col]).fold(f64::INFINITY, f64::min);
+        let scale = rows.iter().fold(0.0f64, |a, (_, r)| a.max(r[col].abs()));
+        rows.retain(|(_, r)| r[col] <= min + tie_tol * scale);
+    }
+    rows.into_iter().map(|(k, _)| k).collect()
+}
+
+/// The first pivot, where z0 enters at the value that makes every `w ≥ 0`:
+/// the row with the most negative `q_i / d_i`.
+pub(crate) fn first_leaving(q: &[f64], d: &[f64], rule: Rule) -> usize {
+    let ratio = |i: usize| q[i] / d[i];
+    let min = (0..q.len()).map(ratio).fold(f64::INFINITY, f64::min);
+    match rule {
+        // First index on ties.
+        Rule::Classic { .. } => (0..q.len()).find(|&i| ratio(i) == min).unwrap_or(0),
+        // Lexicographic: among ties the largest index keeps the other rows lex-positive.
+        Rule::Lexicographic { tie_tol, .. } => {
+            let scale = q.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            (0..q.len()).rev().find(|&i| (ratio(i) - min) * d[i] <= tie_tol * scale).unwrap_or(0)
+        }
+    }
+}

@@ -1,0 +1,80 @@
+//! The complementary pivoting loop, shared by both pivoting rules.
+
+use super::basis::{Basis, Column, Leaving, Var};
+use super::ratio::{first_leaving, leaving, Rule};
+use crate::problem::Lcp;
+use crate::solution::Status;
+use std::collections::HashSet;
+
+/// Settings of one run of the loop.
+pub(crate) struct RunSettings {
+    pub rule: Rule,
+    pub max_pivots: usize,
+    /// Refactor `C⁻¹` after this many updates.
+    pub refactor_every: usize,
+}
+
+/// How the loop ended, with the final basis.
+pub(crate) struct Run<'a> {
+    pub status: Status,
+    pub pivots: usize,
+    pub basis: Basis<'a>,
+}
+
+/// Key of a variable for the basis hash (splitmix64 of its id).
+fn key(id: usize) -> u64 {
+    let mut x = (id as u64).wrapping_add(0x9E37_79B9_7F4A_7C15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    x ^ (x >> 31)
+}
+
+/// Runs Lemke with covering vector `d` from the all-slack basis.
+pub(crate) fn run<'a>(lcp: &'a Lcp, d: &'a [f64], set: &RunSettings) -> Run<'a> {
+    let n = lcp.n();
+    let mut basis = Basis::slack(lcp, d);
+    // q ≥ 0: z = 0 solves it.
+    if lcp.q().iter().all(|&v| v >= 0.0) {
+        return Run { status: Status::Solved, pivots: 0, basis };
+    }
+    let mut col = Column { xs: Vec::with_capacity(n), xw: vec![0.0; n] };
+    // z0 enters at the value that makes every w ≥ 0.
+    let r = first_leaving(lcp.q(), d, set.rule);
+    basis.column(Var::Z0, &mut col);
+    basis.pivot(Var::Z0, Leaving::W(r), &col, -lcp.q()[r] / d[r]);
+    let mut pivots = 1;
+    // Basis hash: XOR of the basic variables' keys; a repeat means cycling.
+    let mut hash = (0..n).fold(0u64, |h, i| h ^ key(i)) ^ key(r) ^ key(Var::Z0.id(n));
+    let mut seen = HashSet::from([hash]);
+    let mut entering = Var::Z(r);
+    let status = loop {
+        if pivots >= set.max_pivots {
+            break Status::MaxPivots;
+        }
+        basis.column(entering, &mut col);
+        if col.xs.iter().chain(&col.xw).any(|v| !v.is_finite()) {
+            break Status::Numerical;
+        }
+        let Some((out, theta)) = leaving(&basis, &col, set.rule) else {
+            break Status::RayTermination;
+        };
+        let left = match out {
+            Leaving::S(p) => basis.s[p],
+            Leaving::W(i) => Var::W(i),
+        };
+        basis.pivot(entering, out, &col, theta);
+        pivots += 1;
+        if left == Var::Z0 {
+            break Status::Solved;
+        }
+        hash ^= key(entering.id(n)) ^ key(left.id(n));
+        if !seen.insert(hash) {
+            break Status::Cycling;
+        }
+        if basis.since_refactor >= set.refactor_every && !basis.refactor() {
+            break Status::SingularBasis;
+        }
+        entering = left.complement().expect("only z0 lacks a complement");
+    };
+    Run { status, pivots, basis }
+}

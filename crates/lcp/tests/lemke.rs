@@ -1,0 +1,196 @@
+//! Lemke conformance: every `solved` answer is checked here by recomputing
+//! `w = M z + q`, never by the solver's word.
+
+use lcp::{enumerate, generate, solve, Lcp, LemkeOptions, Method, Pivoting, Status};
+use proptest::prelude::*;
+
+/// Checks z ≥ 0, w = Mz + q ≥ 0, zᵀw = 0 to `tol` (relative to the data size).
+fn assert_solves(lcp: &Lcp, z: &[f64], tol: f64) {
+    let w = lcp.w_of(z);
+    let scale = 1.0 + lcp.q().iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    for i in 0..lcp.n() {
+        assert!(z[i] >= -tol * scale, "z[{i}] = {} < 0", z[i]);
+        assert!(w[i] >= -tol * scale, "w[{i}] = {} < 0", w[i]);
+        assert!(z[i].min(w[i]).abs() <= tol * scale, "complementarity at {i}: z = {}, w = {}", z[i], w[i]);
+    }
+}
+
+fn lex() -> LemkeOptions {
+    LemkeOptions::default()
+}
+
+fn lemke(lcp: &Lcp) -> lcp::Solution {
+    lcp::lemke::solve(lcp, &lex())
+}
+
+#[test]
+fn q_nonnegative_is_solved_by_zero_without_pivots() {
+    let lcp = Lcp::new(vec![2.0, 1.0, 1.0, 2.0], vec![1.0, 0.0]).unwrap();
+    let s = lemke(&lcp);
+    assert_eq!(s.status, Status::Solved);
+    assert_eq!(s.iterations, 0);
+    assert_eq!(s.z, vec![0.0, 0.0]);
+}
+
+/// DART #803: the 1-D LCP, solvable and not.
+#[test]
+fn one_dimensional_cases_dart_803() {
+    let s = lemke(&Lcp::new(vec![1.0], vec![-9.8]).unwrap());
+    assert_eq!(s.status, Status::Solved);
+    assert!((s.z[0] - 9.8).abs() < 1e-12);
+    let s = lemke(&Lcp::new(vec![-1.0], vec![-9.8]).unwrap());
+    assert_eq!(s.status, Status::RayTermination);
+    let s = lemke(&Lcp::new(vec![0.0], vec![-1.0]).unwrap());
+    assert_eq!(s.status, Status::RayTermination);
+}
+
+/// LCPSolve #3: a positive-definite 2×2 with equal q (a tie in the first pivot).
+#[test]
+fn tied_first_pivot_lcpsolve_3() {
+    let lcp = Lcp::new(vec![2.57023, -0.580137, -0.580137, 2.59027], vec![-0.938699, -0.938699]).unwrap();
+    for o in [lex(), LemkeOptions::classic()] {
+        let s = lcp::lemke::solve(&lcp, &o);
+        assert_eq!(s.status, Status::Solved, "{:?}", o.pivoting);
+        assert_solves(&lcp, &s.z, 1e-12);
+        assert!(s.z.iter().all(|&v| v > 0.0));
+    }
+}
+
+/// An LCP with no solution must end in a ray, never `solved`.
+#[test]
+fn infeasible_lcp_reports_ray() {
+    // w1 = −z2 − 1 can never be ≥ 0 with z2 ≥ 0... and M is copositive-plus? Use a plain infeasible one.
+    let lcp = Lcp::new(vec![-1.0, 0.0, 0.0, -1.0], vec![-1.0, -1.0]).unwrap();
+    let s = lemke(&lcp);
+    assert_eq!(s.status, Status::RayTermination);
+    assert_eq!(s.z.len(), 2);
+    assert_eq!(s.w.len(), 2);
+    // Copositive-plus M = [[0, 1], [−1, 0]] (skew) with q = (−1, −1): infeasible, Lemke must say ray.
+    let lcp = Lcp::new(vec![0.0, 1.0, -1.0, 0.0], vec![-1.0, -1.0]).unwrap();
+    assert_eq!(lemke(&lcp).status, Status::RayTermination);
+}
+
+/// Murty's example: Lemke visits 2ⁿ bases and must still finish.
+#[test]
+fn murty_exponential_example() {
+    for n in [4, 8, 10] {
+        let lcp = generate::murty(n);
+        let s = lemke(&lcp);
+        assert_eq!(s.status, Status::Solved, "n = {n}");
+        assert_solves(&lcp, &s.z, 1e-10);
+    }
+}
+
+#[test]
+fn degenerate_zero_q_entries_and_repeated_rows() {
+    // Zeros in q with a tie: z = 0 on those rows is fine, Lemke must not stall.
+    let m = vec![2.0, 1.0, 0.0, 1.0, 2.0, 1.0, 0.0, 1.0, 2.0];
+    for q in [vec![-1.0, 0.0, 0.0], vec![0.0, -1.0, 0.0], vec![-1.0, -1.0, 0.0], vec![-1.0, -1.0, -1.0]] {
+        let lcp = Lcp::new(m.clone(), q).unwrap();
+        let s = lemke(&lcp);
+        assert_eq!(s.status, Status::Solved);
+        assert_solves(&lcp, &s.z, 1e-12);
+    }
+    // Repeated rows: M PSD and singular, q consistent.
+    let m = vec![1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0];
+    let lcp = Lcp::new(m, vec![-1.0, -1.0, -1.0]).unwrap();
+    let s = lemke(&lcp);
+    assert_eq!(s.status, Status::Solved);
+    assert_solves(&lcp, &s.z, 1e-12);
+}
+
+/// The contact structure of DESIGN §1 has q = 0 on every λ row: a degenerate
+/// tie in every ratio test once friction engages.
+#[test]
+fn contact_lcps_at_every_scale() {
+    for seed in 0..200u64 {
+        for nc in [1usize, 2, 4] {
+            for scale in [1.0, 1e-2, 1e-3, 1e-4, 1e-6, 1e-8] {
+                let lcp = generate::contact_lcp(nc, 8, scale, seed);
+                let s = lemke(&lcp);
+                assert_eq!(s.status, Status::Solved, "seed {seed} nc {nc} scale {scale}: {:?}", s.residuals);
+                assert_solves(&lcp, &s.z, 1e-9);
+            }
+        }
+    }
+}
+
+#[test]
+fn agrees_with_enumeration_on_p_matrices() {
+    for seed in 0..300u64 {
+        let n = 1 + (seed as usize % 10);
+        let lcp = generate::p_matrix_lcp(n, seed);
+        let s = lemke(&lcp);
+        assert_eq!(s.status, Status::Solved, "seed {seed}");
+        let all = enumerate::all_solutions(&lcp, 1e-9);
+        assert_eq!(all.len(), 1, "a P-matrix LCP has exactly one solution (seed {seed})");
+        for (a, b) in s.z.iter().zip(&all[0]) {
+            assert!((a - b).abs() <= 1e-8 * (1.0 + b.abs()), "seed {seed}: {a} vs {b}");
+        }
+    }
+}
+
+#[test]
+fn spd_sizes_solve() {
+    for (n, seed) in [(40, 1u64), (200, 2), (400, 3)] {
+        let lcp = generate::spd_lcp(n, seed);
+        let s = lemke(&lcp);
+        assert_eq!(s.status, Status::Solved, "n = {n}");
+        assert_solves(&lcp, &s.z, 1e-9);
+    }
+}
+
+#[test]
+fn classic_solves_easy_problems_and_reports_honestly() {
+    for seed in 0..50u64 {
+        let lcp = generate::p_matrix_lcp(6, seed);
+        let s = lcp::lemke::solve(&lcp, &LemkeOptions::classic());
+        if s.status == Status::Solved {
+            assert_solves(&lcp, &s.z, 1e-5);
+        }
+        assert_eq!(s.z.len(), 6);
+    }
+}
+
+#[test]
+fn pivot_limit_is_reported() {
+    let lcp = generate::murty(10);
+    let o = LemkeOptions { max_pivots: Some(5), ..lex() };
+    let s = lcp::lemke::solve(&lcp, &o);
+    assert_eq!(s.status, Status::MaxPivots);
+    assert_eq!(s.z.len(), 10);
+}
+
+#[test]
+fn method_dispatch_reaches_lemke() {
+    let lcp = Lcp::new(vec![1.0], vec![-2.0]).unwrap();
+    let s = solve(&lcp, &Method::default());
+    assert_eq!(s.status, Status::Solved);
+    assert!((s.z[0] - 2.0).abs() < 1e-15);
+    let s = solve(&lcp, &Method::Lemke(LemkeOptions { pivoting: Pivoting::Classic, ..lex() }));
+    assert_eq!(s.status, Status::Solved);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+    /// Random positive-definite (hence P-matrix) LCPs: unique solution, always found.
+    #[test]
+    fn random_pd_lcps_are_solved(n in 1usize..12, seed in any::<u64>()) {
+        let lcp = generate::p_matrix_lcp(n, seed);
+        let s = lemke(&lcp);
+        prop_assert_eq!(s.status, Status::Solved);
+        assert_solves(&lcp, &s.z, 1e-9);
+    }
+
+    /// Entries from a small integer set produce ties everywhere.
+    #[test]
+    fn integer_psd_lcps_with_ties(n in 1usize..8, vals in proptest::collection::vec(-2i32..3, 64), qs in proptest::collection::vec(-2i32..3, 8)) {
+        // M = AᵀA + I from a small integer A: positive definite, many equal entries.
+        let a: Vec<f64> = vals.iter().map(|&v| v as f64).collect();
+        let lcp = Lcp::from_fn(n, |i, j| (0..n).map(|k| a[k * 8 + i] * a[k * 8 + j]).sum::<f64>() + if i == j { 1.0 } else { 0.0 },
+            qs[..n].iter().map(|&v| v as f64).collect()).unwrap();
+        let s = lemke(&lcp);
+        prop_assert_eq!(s.status, Status::Solved);
+        assert_solves(&lcp, &s.z, 1e-10);
+    }
+}
