@@ -1,1 +1,462 @@
-//! Seeded LCP generators (placeholder being written).
+//! Seeded generators of test LCPs. Every random generator takes a `seed` and
+//! is deterministic per seed (ChaCha8), across platforms.
+//!
+//! - [`contact_lcp`]: the Stewart–Trinkle / Anitescu–Potra contact LCP of
+//!   DESIGN §1 for one box on a plane; [`contact_lcp_from_parts`] builds the
+//!   same structure from any contact Jacobians (reusable by the simulator).
+//! - [`p_matrix_lcp`], [`spd_lcp`]: random LCPs with a unique solution.
+//! - [`murty`]: Murty's (1978) example, on which Lemke's method takes 2ⁿ pivots.
+//! - [`infeasible_lcp`], [`infeasible_examples`]: LCPs without a solution.
+
+use std::f64::consts::PI;
+use std::fmt;
+use std::ops::Range;
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use crate::problem::{Lcp, LcpError};
+
+/// Time step of [`contact_lcp`] (s).
+pub const CONTACT_H: f64 = 0.01;
+/// Gravity (m/s²), DESIGN §8.
+pub const GRAVITY: [f64; 3] = [0.0, 0.0, -9.81];
+
+/// Where the unknowns of a contact LCP live: `z = [fn (nc); fd (nc·k); λ (nc)]`,
+/// `fd` contact-major (`fd[c·k + j]` is direction `j` at contact `c`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ContactLayout {
+    /// Number of contacts.
+    pub nc: usize,
+    /// Friction directions per contact.
+    pub k: usize,
+}
+
+impl ContactLayout {
+    /// LCP size `nc·(k + 2)` (10·nc for k = 8).
+    pub fn n(&self) -> usize {
+        self.nc * (self.k + 2)
+    }
+    /// Indices of `fn`.
+    pub fn fn_range(&self) -> Range<usize> {
+        0..self.nc
+    }
+    /// Indices of `fd`.
+    pub fn fd_range(&self) -> Range<usize> {
+        self.nc..self.nc + self.nc * self.k
+    }
+    /// Indices of `λ`.
+    pub fn lambda_range(&self) -> Range<usize> {
+        self.nc + self.nc * self.k..self.n()
+    }
+    /// Index of `fd` for direction `j` at contact `c`.
+    pub fn fd_index(&self, c: usize, j: usize) -> usize {
+        self.nc + c * self.k + j
+    }
+    /// Index of `λ` of contact `c`.
+    pub fn lambda_index(&self, c: usize) -> usize {
+        self.nc + self.nc * self.k + c
+    }
+}
+
+/// Inverse body mass matrix (`ndof × ndof`) as given to [`contact_lcp_from_parts`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MassInverse<'a> {
+    /// Its diagonal (length `ndof`), e.g. `[1/m, 1/m, 1/m, 1/I, 1/I, 1/I]` per body.
+    Diagonal(&'a [f64]),
+    /// Dense, row-major (`ndof²` entries), symmetric.
+    Dense(&'a [f64]),
+}
+
+/// The ingredients of a contact LCP (DESIGN §1), all row-major.
+/// `nc = mu.len()`, `ndof = vstar.len()`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactParts<'a> {
+    /// Friction directions per contact (`k ≥ 1`).
+    pub k: usize,
+    /// Normal Jacobian `J_n`, `nc × ndof`.
+    pub jn: &'a [f64],
+    /// Friction Jacobian `J_d`, `nc·k × ndof`, row `c·k + j` = direction `j` at contact `c`.
+    pub jd: &'a [f64],
+    /// `M_b⁻¹`.
+    pub minv: MassInverse<'a>,
+    /// Free velocity `v* = v + h M_b⁻¹ f_ext`, length `ndof`.
+    pub vstar: &'a [f64],
+    /// Friction coefficient per contact (finite, ≥ 0).
+    pub mu: &'a [f64],
+    /// Optional extra term added to `b0` (stabilization such as `φ / h`), length `nc`.
+    pub b0_extra: Option<&'a [f64]>,
+    /// Friction-cone scale `s` (finite, ≥ 0; 1 = unscaled, 0 = the degenerate limit).
+    pub scale: f64,
+}
+
+/// Why [`contact_lcp_from_parts`] rejected its input.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PartsError {
+    /// `nc = 0`, `ndof = 0` or `k = 0`.
+    Empty,
+    /// A slice has the wrong length.
+    Shape { what: &'static str, expected: usize, got: usize },
+    /// `scale` is negative or not finite.
+    Scale(f64),
+    /// A friction coefficient is negative or not finite.
+    Mu { index: usize, value: f64 },
+    /// The assembled LCP is invalid (a non-finite entry in the inputs).
+    Lcp(LcpError),
+}
+
+impl fmt::Display for PartsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PartsError::Empty => write!(f, "contact LCP needs nc ≥ 1, ndof ≥ 1 and k ≥ 1"),
+            PartsError::Shape { what, expected, got } => {
+                write!(f, "{what} has {got} entries, expected {expected}")
+            }
+            PartsError::Scale(s) => write!(f, "friction-cone scale {s} must be finite and ≥ 0"),
+            PartsError::Mu { index, value } => write!(f, "mu[{index}] = {value} must be finite and ≥ 0"),
+            PartsError::Lcp(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for PartsError {}
+
+/// Assembles the contact LCP of DESIGN §1 from Jacobians:
+///
+/// ```text
+///     M = [[A00,  A01,   0 ],      q = [b0; b1; 0],   A = J M_b⁻¹ Jᵀ,  J = [J_n; J_d],
+///          [A10,  A11,  sE ],      b = J v* (b0 += b0_extra),
+///          [sμ,  −sEᵀ,   0 ]]      E = blockdiag(1_k),  sμ = diag(s·μ_c)
+/// ```
+///
+/// `A` is computed on its upper triangle and mirrored, so it is exactly
+/// symmetric. The result is [`Scaling::cone`](crate::Scaling::cone)`(nc, k, s)`
+/// applied to the `s = 1` problem.
+pub fn contact_lcp_from_parts(p: &ContactParts<'_>) -> Result<Lcp, PartsError> {
+    let nc = p.mu.len();
+    let ndof = p.vstar.len();
+    let k = p.k;
+    if nc == 0 || ndof == 0 || k == 0 {
+        return Err(PartsError::Empty);
+    }
+    let check = |what, expected: usize, got: usize| {
+        if expected == got {
+            Ok(())
+        } else {
+            Err(PartsError::Shape { what, expected, got })
+        }
+    };
+    check("jn", nc * ndof, p.jn.len())?;
+    check("jd", nc * k * ndof, p.jd.len())?;
+    match p.minv {
+        MassInverse::Diagonal(d) => check("minv (diagonal)", ndof, d.len())?,
+        MassInverse::Dense(d) => check("minv (dense)", ndof * ndof, d.len())?,
+    }
+    if let Some(extra) = p.b0_extra {
+        check("b0_extra", nc, extra.len())?;
+    }
+    if !(p.scale >= 0.0 && p.scale.is_finite()) {
+        return Err(PartsError::Scale(p.scale));
+    }
+    if let Some((index, &value)) = p.mu.iter().enumerate().find(|(_, m)| !(**m >= 0.0 && m.is_finite())) {
+        return Err(PartsError::Mu { index, value });
+    }
+
+    let layout = ContactLayout { nc, k };
+    let n = layout.n();
+    let nj = nc + nc * k; // rows of J = [J_n; J_d]
+    let jrow = |r: usize| -> &[f64] {
+        if r < nc {
+            &p.jn[r * ndof..(r + 1) * ndof]
+        } else {
+            let r = r - nc;
+            &p.jd[r * ndof..(r + 1) * ndof]
+        }
+    };
+    // M_b⁻¹ Jᵀ, stored by J row: minv_jt[r] = M_b⁻¹ J_rᵀ.
+    let minv_jt: Vec<Vec<f64>> = (0..nj)
+        .map(|r| {
+            let jr = jrow(r);
+            match p.minv {
+                MassInverse::Diagonal(d) => jr.iter().zip(d).map(|(a, b)| a * b).collect(),
+                MassInverse::Dense(d) => (0..ndof).map(|a| crate::problem::dot(&d[a * ndof..(a + 1) * ndof], jr)).collect(),
+            }
+        })
+        .collect();
+
+    let mut m = vec![0.0; n * n];
+    // A = J M_b⁻¹ Jᵀ: upper triangle, mirrored.
+    for r in 0..nj {
+        for c in r..nj {
+            let a = crate::problem::dot(jrow(r), &minv_jt[c]);
+            m[r * n + c] = a;
+            m[c * n + r] = a;
+        }
+    }
+    // Cone coupling: sE, sμ, −sEᵀ.
+    let s = p.scale;
+    for c in 0..nc {
+        let l = layout.lambda_index(c);
+        m[l * n + c] = s * p.mu[c];
+        for j in 0..k {
+            let d = layout.fd_index(c, j);
+            m[d * n + l] = s;
+            m[l * n + d] = -s;
+        }
+    }
+    // q = [J_n v* (+ extra); J_d v*; 0].
+    let mut q = vec![0.0; n];
+    for (r, qr) in q.iter_mut().enumerate().take(nj) {
+        *qr = crate::problem::dot(jrow(r), p.vstar);
+    }
+    if let Some(extra) = p.b0_extra {
+        for (qc, e) in q.iter_mut().zip(extra) {
+            *qc += e;
+        }
+    }
+    Lcp::new(m, q).map_err(PartsError::Lcp)
+}
+
+type V3 = [f64; 3];
+
+fn cross(a: V3, b: V3) -> V3 {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+fn axpy(out: V3, s: f64, x: V3) -> V3 {
+    [out[0] + s * x[0], out[1] + s * x[1], out[2] + s * x[2]]
+}
+
+/// The random scene behind [`contact_lcp`], exposed for tests and experiments.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BoxOnPlane {
+    /// Slope angle θ (rad), uniform in [0°, 60°]. The plane's normal is
+    /// `(sin θ, 0, cos θ)`, its downhill direction `t1 = (cos θ, 0, −sin θ)`, `t2 = (0, 1, 0)`.
+    pub slope: f64,
+    /// Friction coefficient, uniform in [0.1, 1.5], the same at every contact.
+    pub mu: f64,
+    /// Box rotation about the plane normal (rad), uniform in [0, 2π).
+    pub yaw: f64,
+    /// Contact points relative to the box centre (world frame), all on the bottom face.
+    pub arms: Vec<V3>,
+    /// Body velocity `[v; ω]` before the step (world frame).
+    pub velocity: [f64; 6],
+    /// Free velocity `v* = v + h g` (ω unchanged: the cube's inertia is isotropic).
+    pub vstar: [f64; 6],
+    /// Plane frame `(t1, t2, n)`.
+    pub frame: [V3; 3],
+}
+
+impl BoxOnPlane {
+    /// Draws the scene for `nc` contacts from `seed` (see [`contact_lcp`]).
+    pub fn random(nc: usize, seed: u64) -> Self {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let slope = rng.random_range(0.0..=60.0f64).to_radians();
+        let mu = rng.random_range(0.1..=1.5f64);
+        let yaw = rng.random_range(0.0..2.0 * PI);
+        let (st, ct) = slope.sin_cos();
+        let normal = [st, 0.0, ct];
+        let t1 = [ct, 0.0, -st];
+        let t2 = [0.0, 1.0, 0.0];
+        // Box axes in the plane: the frame rotated by the yaw.
+        let (sy, cy) = yaw.sin_cos();
+        let a1 = axpy([cy * t1[0], cy * t1[1], cy * t1[2]], sy, t2);
+        let a2 = axpy([-sy * t1[0], -sy * t1[1], -sy * t1[2]], cy, t2);
+        // Bottom-face points (u, v) in box axes: corners first (so nc = 2 is an edge), then random.
+        const CORNERS: [(f64, f64); 4] = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)];
+        let arms = (0..nc)
+            .map(|c| {
+                let (u, v) = if c < 4 {
+                    CORNERS[c]
+                } else {
+                    (rng.random_range(-0.5..=0.5), rng.random_range(-0.5..=0.5))
+                };
+                let r = [-0.5 * normal[0], -0.5 * normal[1], -0.5 * normal[2]];
+                axpy(axpy(r, u, a1), v, a2)
+            })
+            .collect();
+        // Velocity: sliding up to 2 m/s in a random in-plane direction, approaching
+        // the plane at up to 0.5 m/s, spinning up to 1 rad/s about each axis.
+        let speed = rng.random_range(0.0..=2.0);
+        let heading = rng.random_range(0.0..2.0 * PI);
+        let approach = rng.random_range(0.0..=0.5);
+        let mut v = [0.0; 3];
+        v = axpy(v, speed * heading.cos(), t1);
+        v = axpy(v, speed * heading.sin(), t2);
+        v = axpy(v, -approach, normal);
+        let omega: V3 = [rng.random_range(-1.0..=1.0), rng.random_range(-1.0..=1.0), rng.random_range(-1.0..=1.0)];
+        let velocity = [v[0], v[1], v[2], omega[0], omega[1], omega[2]];
+        let mut vstar = velocity;
+        for a in 0..3 {
+            vstar[a] += CONTACT_H * GRAVITY[a]; // mass 1: M_b⁻¹ f_ext = g
+        }
+        BoxOnPlane { slope, mu, yaw, arms, velocity, vstar, frame: [t1, t2, normal] }
+    }
+
+    /// Friction direction `j` of `k`: `cos(2πj/k) t1 + sin(2πj/k) t2`.
+    pub fn direction(&self, j: usize, k: usize) -> V3 {
+        let (s, c) = (2.0 * PI * j as f64 / k as f64).sin_cos();
+        let [t1, t2, _] = self.frame;
+        axpy([c * t1[0], c * t1[1], c * t1[2]], s, t2)
+    }
+
+    /// `(J_n, J_d)`, row-major with 6 columns: a row for direction `d` at arm `r` is `[dᵀ, (r × d)ᵀ]`.
+    pub fn jacobians(&self, k: usize) -> (Vec<f64>, Vec<f64>) {
+        let normal = self.frame[2];
+        let row = |r: V3, d: V3| {
+            let rxd = cross(r, d);
+            [d[0], d[1], d[2], rxd[0], rxd[1], rxd[2]]
+        };
+        let jn = self.arms.iter().flat_map(|&r| row(r, normal)).collect();
+        let jd = self.arms.iter().flat_map(|&r| (0..k).flat_map(move |j| row(r, self.direction(j, k)))).collect();
+        (jn, jd)
+    }
+}
+
+/// `M_b⁻¹` of [`contact_lcp`]'s box: mass 1, unit cube inertia `I = m/6 · 1`.
+pub const BOX_MINV_DIAG: [f64; 6] = [1.0, 1.0, 1.0, 6.0, 6.0, 6.0];
+
+/// The contact LCP (DESIGN §1) of one rigid unit cube (mass 1, inertia ⅙·I,
+/// h = [`CONTACT_H`]) on a plane through `nc` contact points with `k` friction
+/// directions each and friction-cone scale `scale` (`s`).
+///
+/// The scene ([`BoxOnPlane::random`]): slope uniform in 0–60° (tilted about
+/// the y axis), `μ` uniform in [0.1, 1.5], a random yaw of the box about the
+/// plane normal, contacts at bottom-face corners for `nc ≤ 4` (`nc = 2`: one
+/// edge) plus uniformly random bottom-face points beyond 4, random initial
+/// velocity (sliding, approaching, spinning), no stabilization (zero gap).
+/// `z = [fn (nc); fd (nc·k); λ (nc)]`, size `nc·(k + 2)`.
+///
+/// # Panics
+/// If `nc == 0`, `k == 0`, or `scale` is negative or not finite.
+pub fn contact_lcp(nc: usize, k: usize, scale: f64, seed: u64) -> Lcp {
+    let scene = BoxOnPlane::random(nc, seed);
+    let (jn, jd) = scene.jacobians(k);
+    let mu = vec![scene.mu; nc];
+    let parts = ContactParts {
+        k,
+        jn: &jn,
+        jd: &jd,
+        minv: MassInverse::Diagonal(&BOX_MINV_DIAG),
+        vstar: &scene.vstar,
+        mu: &mu,
+        b0_extra: None,
+        scale,
+    };
+    match contact_lcp_from_parts(&parts) {
+        Ok(lcp) => lcp,
+        Err(e) => panic!("contact_lcp(nc = {nc}, k = {k}, scale = {scale}): {e}"),
+    }
+}
+
+fn uniform_matrix(rng: &mut ChaCha8Rng, n: usize) -> Vec<f64> {
+    (0..n * n).map(|_| rng.random_range(-1.0..=1.0)).collect()
+}
+
+fn uniform_vector(rng: &mut ChaCha8Rng, n: usize) -> Vec<f64> {
+    (0..n).map(|_| rng.random_range(-1.0..=1.0)).collect()
+}
+
+/// `A Aᵀ / n`, exactly symmetric (upper triangle mirrored).
+fn gram(a: &[f64], n: usize) -> Vec<f64> {
+    let mut m = vec![0.0; n * n];
+    for i in 0..n {
+        for j in i..n {
+            let v = crate::problem::dot(&a[i * n..(i + 1) * n], &a[j * n..(j + 1) * n]) / n as f64;
+            m[i * n + j] = v;
+            m[j * n + i] = v;
+        }
+    }
+    m
+}
+
+fn build(m: Vec<f64>, q: Vec<f64>, what: &str) -> Lcp {
+    match Lcp::new(m, q) {
+        Ok(lcp) => lcp,
+        Err(e) => panic!("{what}: {e}"),
+    }
+}
+
+/// A random LCP with a nonsymmetric positive definite — hence P — matrix:
+/// `M = A Aᵀ/n + ½ I + (B − Bᵀ)/√n` (`A`, `B` uniform in [−1, 1]), whose
+/// symmetric part `A Aᵀ/n + ½ I` is positive definite; `q` uniform in [−1, 1].
+/// Unique solution for every `q`.
+///
+/// # Panics
+/// If `n == 0`.
+pub fn p_matrix_lcp(n: usize, seed: u64) -> Lcp {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let a = uniform_matrix(&mut rng, n);
+    let b = uniform_matrix(&mut rng, n);
+    let q = uniform_vector(&mut rng, n);
+    let mut m = gram(&a, n);
+    let skew = 1.0 / (n as f64).sqrt();
+    for i in 0..n {
+        m[i * n + i] += 0.5;
+        for j in 0..n {
+            m[i * n + j] += skew * (b[i * n + j] - b[j * n + i]);
+        }
+    }
+    build(m, q, "p_matrix_lcp")
+}
+
+/// A random LCP with an exactly symmetric positive definite matrix:
+/// `M = A Aᵀ/n + 0.1 I` (`A` uniform in [−1, 1], so cond(M) ≲ 40); `q` uniform in [−1, 1].
+///
+/// # Panics
+/// If `n == 0`.
+pub fn spd_lcp(n: usize, seed: u64) -> Lcp {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let a = uniform_matrix(&mut rng, n);
+    let q = uniform_vector(&mut rng, n);
+    let mut m = gram(&a, n);
+    for i in 0..n {
+        m[i * n + i] += 0.1;
+    }
+    build(m, q, "spd_lcp")
+}
+
+/// Murty's example (K. G. Murty, "Computational complexity of complementary
+/// pivot methods", Math. Programming Study 7, 1978), in its standard form:
+/// `M` lower triangular with 1 on the diagonal and 2 below it, `q = −1`.
+/// `M` is a P-matrix (all principal minors are 1); the unique solution is
+/// `z = e₁ = (1, 0, …, 0)` with `w = (0, 1, …, 1)`. Lemke's method with the
+/// covering vector `1` takes 2ⁿ pivots on it. (The transposed-order variant —
+/// upper triangular with 2 above — is the same problem with the indices
+/// reversed; its solution is `(0, …, 0, 1)`.)
+///
+/// # Panics
+/// If `n == 0`.
+pub fn murty(n: usize) -> Lcp {
+    let m = (0..n * n)
+        .map(|e| match (e / n).cmp(&(e % n)) {
+            std::cmp::Ordering::Equal => 1.0,
+            std::cmp::Ordering::Greater => 2.0,
+            std::cmp::Ordering::Less => 0.0,
+        })
+        .collect();
+    build(m, vec![-1.0; n], "murty")
+}
+
+/// The smallest LCP without a solution: `M = [−1]`, `q = [−1]` (`w = −z − 1 < 0`).
+pub fn infeasible_lcp() -> Lcp {
+    build(vec![-1.0], vec![-1.0], "infeasible_lcp")
+}
+
+/// LCPs without a solution, each with a name, all `{z ≥ 0 : M z + q ≥ 0}` empty
+/// (a Farkas certificate `y ≥ 0`, `Mᵀ y ≤ 0`, `qᵀ y < 0` is in the name).
+/// The last two have copositive-plus `M`, for which Lemke's method must end in
+/// ray termination — which then proves infeasibility.
+pub fn infeasible_examples() -> Vec<(&'static str, Lcp)> {
+    vec![
+        ("negative scalar M=[-1] q=[-1]; y=(1)", infeasible_lcp()),
+        (
+            "PSD M=[[1,-1],[-1,1]] q=[-1,-1]; y=(1,1)",
+            build(vec![1.0, -1.0, -1.0, 1.0], vec![-1.0, -1.0], "infeasible_examples"),
+        ),
+        (
+            "skew M=[[0,1],[-1,0]] q=[1,-1]; y=(0,1)",
+            build(vec![0.0, 1.0, -1.0, 0.0], vec![1.0, -1.0], "infeasible_examples"),
+        ),
+    ]
+}

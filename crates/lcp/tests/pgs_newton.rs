@@ -1,0 +1,240 @@
+//! PGS and Newton–Fischer–Burmeister against enumeration (the ground truth for
+//! n ≤ 8), on degenerate and hopeless problems, and their never-NaN contract.
+
+use lcp::enumerate::{all_solutions, is_solution};
+use lcp::generate::{contact_lcp, infeasible_examples, murty, p_matrix_lcp, spd_lcp};
+use lcp::{newton_fb, pgs, Lcp, NewtonFbOptions, PgsOptions, Solution, Status};
+use proptest::prelude::*;
+
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).fold(0.0, |m, (x, y)| m.max((x - y).abs()))
+}
+
+/// The shared contract: sizes right, finite, residuals consistent with z.
+fn assert_contract(lcp: &Lcp, s: &Solution) {
+    assert_eq!(s.z.len(), lcp.n());
+    assert_eq!(s.w.len(), lcp.n());
+    assert!(s.z.iter().chain(&s.w).all(|v| v.is_finite()), "non-finite output: {s:?}");
+    assert_eq!(s.w, lcp.w_of(&s.z));
+    if s.status == Status::Solved {
+        assert!(s.residuals.natural.is_finite());
+    }
+}
+
+/// The unique solution of a P-matrix LCP, by enumeration.
+fn unique_solution(lcp: &Lcp) -> Vec<f64> {
+    let sols = all_solutions(lcp, 1e-9);
+    assert_eq!(sols.len(), 1, "a P-matrix LCP has exactly one solution, got {sols:?}");
+    sols.into_iter().next().unwrap()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn pgs_solves_spd_and_matches_enumeration(n in 1usize..=8, seed in any::<u64>()) {
+        let lcp = spd_lcp(n, seed);
+        let s = pgs::solve(&lcp, &PgsOptions::default());
+        assert_contract(&lcp, &s);
+        prop_assert_eq!(s.status, Status::Solved);
+        prop_assert!(s.residuals.natural <= 1e-10);
+        // Natural residual 1e-10 and cond(M) ≤ ~40 bound the error by ~1e-8.
+        prop_assert!(max_diff(&s.z, &unique_solution(&lcp)) < 1e-7);
+    }
+
+    #[test]
+    fn sor_converges_for_spd_with_omega_in_0_2(n in 1usize..=8, seed in any::<u64>(), omega in 0.3f64..1.7) {
+        let lcp = spd_lcp(n, seed);
+        let o = PgsOptions { omega, ..PgsOptions::default() };
+        let s = pgs::solve(&lcp, &o);
+        prop_assert_eq!(s.status, Status::Solved);
+        prop_assert!(max_diff(&s.z, &unique_solution(&lcp)) < 1e-7);
+    }
+
+    #[test]
+    fn newton_solves_p_matrix_and_matches_enumeration(n in 1usize..=8, seed in any::<u64>()) {
+        let lcp = p_matrix_lcp(n, seed);
+        let s = newton_fb::solve(&lcp, &NewtonFbOptions::default());
+        assert_contract(&lcp, &s);
+        prop_assert_eq!(s.status, Status::Solved, "{:?}", s);
+        prop_assert!(s.residuals.natural <= 1e-12);
+        prop_assert!(max_diff(&s.z, &unique_solution(&lcp)) < 1e-9);
+    }
+
+    #[test]
+    fn newton_solves_spd_and_matches_enumeration(n in 1usize..=8, seed in any::<u64>()) {
+        let lcp = spd_lcp(n, seed);
+        let s = newton_fb::solve(&lcp, &NewtonFbOptions::default());
+        prop_assert_eq!(s.status, Status::Solved);
+        prop_assert!(max_diff(&s.z, &unique_solution(&lcp)) < 1e-9);
+    }
+
+    /// Random contact LCPs: zero diagonal, may be unsolvable for PGS; never NaN.
+    #[test]
+    fn contact_lcps_never_produce_nan(nc in 1usize..=6, seed in any::<u64>(), log_s in -6.0f64..0.0) {
+        let lcp = contact_lcp(nc, 8, 10f64.powf(log_s), seed);
+        let o = PgsOptions { max_iterations: 200, ..PgsOptions::default() };
+        let p = pgs::solve(&lcp, &o);
+        assert_contract(&lcp, &p);
+        prop_assert!(matches!(p.status, Status::Solved | Status::MaxIterations | Status::Numerical));
+        let o = NewtonFbOptions { max_iterations: 50, ..NewtonFbOptions::default() };
+        let nfb = newton_fb::solve(&lcp, &o);
+        assert_contract(&lcp, &nfb);
+        prop_assert!(matches!(nfb.status, Status::Solved | Status::MaxIterations | Status::Numerical));
+        for s in [&p, &nfb] {
+            if s.ok() {
+                prop_assert!(is_solution(&lcp, &s.z, 1e-10));
+            }
+        }
+    }
+}
+
+#[test]
+fn larger_problems_converge() {
+    for seed in 0..5 {
+        let lcp = spd_lcp(60, seed);
+        let n = newton_fb::solve(&lcp, &NewtonFbOptions::default());
+        assert_eq!(n.status, Status::Solved, "seed {seed}");
+        assert!(n.iterations < 30, "Newton took {} steps", n.iterations);
+        let p = pgs::solve(&lcp, &PgsOptions::default());
+        assert_eq!(p.status, Status::Solved, "seed {seed}");
+        assert!(max_diff(&n.z, &p.z) < 1e-7);
+
+        let lcp = p_matrix_lcp(60, seed);
+        let n = newton_fb::solve(&lcp, &NewtonFbOptions::default());
+        assert_eq!(n.status, Status::Solved, "seed {seed}");
+    }
+}
+
+#[test]
+fn trivial_q_nonnegative_is_solved_at_zero_without_iterating() {
+    let lcp = Lcp::new(vec![2.0, 1.0, 1.0, 2.0], vec![0.5, 0.0]).unwrap();
+    for s in [pgs::solve(&lcp, &PgsOptions::default()), newton_fb::solve(&lcp, &NewtonFbOptions::default())] {
+        assert_eq!(s.status, Status::Solved);
+        assert_eq!(s.iterations, 0);
+        assert_eq!(s.z, vec![0.0, 0.0]);
+    }
+}
+
+#[test]
+fn pgs_solves_1x1_in_one_sweep() {
+    // z = −q/M exactly.
+    let lcp = Lcp::new(vec![4.0], vec![-2.0]).unwrap();
+    let s = pgs::solve(&lcp, &PgsOptions::default());
+    assert_eq!((s.status, s.iterations), (Status::Solved, 1));
+    assert_eq!(s.z, vec![0.5]);
+}
+
+#[test]
+fn pgs_skips_zero_and_negative_diagonal_rows() {
+    // Row 0 has M_00 = 0 and needs z_0 > 0 — PGS cannot provide it.
+    let lcp = Lcp::new(vec![0.0, 1.0, -1.0, 1.0], vec![-1.0, 1.0]).unwrap();
+    let s = pgs::solve(&lcp, &PgsOptions { max_iterations: 50, ..PgsOptions::default() });
+    assert_contract(&lcp, &s);
+    assert_eq!(s.status, Status::MaxIterations);
+    assert_eq!(s.z[0], 0.0);
+    assert_eq!(s.iterations, 50);
+
+    // Negative diagonal: skipped as well; the LCP M=[-1], q=[-1] has no solution anyway.
+    let lcp = Lcp::new(vec![-1.0], vec![-1.0]).unwrap();
+    let s = pgs::solve(&lcp, &PgsOptions { max_iterations: 10, ..PgsOptions::default() });
+    assert_eq!(s.status, Status::MaxIterations);
+    assert_eq!(s.z, vec![0.0]);
+
+    // A skipped row whose w is already ≥ 0 at z_i = 0 does not prevent a solution:
+    // M = [[0, 0], [0, 2]], q = [1, −1] → z = (0, ½).
+    let lcp = Lcp::new(vec![0.0, 0.0, 0.0, 2.0], vec![1.0, -1.0]).unwrap();
+    let s = pgs::solve(&lcp, &PgsOptions::default());
+    assert_eq!(s.status, Status::Solved);
+    assert_eq!(s.z, vec![0.0, 0.5]);
+}
+
+#[test]
+fn pgs_divergence_is_reported_not_propagated() {
+    // ω far outside (0, 2) makes the iteration blow up; the answer must stay finite.
+    let lcp = spd_lcp(5, 3);
+    let o = PgsOptions { omega: 1e200, max_iterations: 100, ..PgsOptions::default() };
+    let s = pgs::solve(&lcp, &o);
+    assert_contract(&lcp, &s);
+    assert_ne!(s.status, Status::Solved);
+    let o = PgsOptions { omega: f64::NAN, ..PgsOptions::default() };
+    let s = pgs::solve(&lcp, &o);
+    assert_contract(&lcp, &s);
+    assert_eq!(s.status, Status::Numerical);
+}
+
+#[test]
+fn newton_handles_degenerate_problems() {
+    let cases: Vec<(Vec<f64>, Vec<f64>)> = vec![
+        // z = 0, w = 0: the solution sits on the kink.
+        (vec![1.0], vec![0.0]),
+        (vec![2.0, 1.0, 1.0, 2.0], vec![0.0, 0.0]),
+        // Degenerate pair at the solution z = (½, 0), w = (0, 0).
+        (vec![2.0, 1.0, 1.0, 2.0], vec![-1.0, -0.5]),
+        // PSD, a segment of solutions z₁ + z₂ = 1.
+        (vec![1.0, 1.0, 1.0, 1.0], vec![-1.0, -1.0]),
+        // Zero matrix with q ≥ 0: every z ≥ 0 with z ⊥ q solves.
+        (vec![0.0, 0.0, 0.0, 0.0], vec![0.0, 1.0]),
+        // Singular Jacobian at the start (zero row of M, w₀ = 0 at z = 0).
+        (vec![0.0, 0.0, 1.0, 3.0], vec![0.0, -3.0]),
+    ];
+    for (m, q) in cases {
+        let lcp = Lcp::new(m.clone(), q.clone()).unwrap();
+        let s = newton_fb::solve(&lcp, &NewtonFbOptions::default());
+        assert_contract(&lcp, &s);
+        assert_eq!(s.status, Status::Solved, "M = {m:?}, q = {q:?}: {s:?}");
+        assert!(is_solution(&lcp, &s.z, 1e-12));
+    }
+}
+
+#[test]
+fn newton_solves_murty_where_lemke_needs_2_to_the_n_pivots() {
+    for n in [2, 5, 10, 16] {
+        let lcp = murty(n);
+        let s = newton_fb::solve(&lcp, &NewtonFbOptions::default());
+        assert_eq!(s.status, Status::Solved, "n = {n}");
+        let mut e1 = vec![0.0; n];
+        e1[0] = 1.0;
+        assert!(max_diff(&s.z, &e1) < 1e-12, "n = {n}: {:?}", s.z);
+    }
+}
+
+#[test]
+fn infeasible_problems_are_not_reported_solved() {
+    for (name, lcp) in infeasible_examples() {
+        let o = NewtonFbOptions { max_iterations: 200, ..NewtonFbOptions::default() };
+        let s = newton_fb::solve(&lcp, &o);
+        assert_contract(&lcp, &s);
+        assert_ne!(s.status, Status::Solved, "{name}");
+        let s = pgs::solve(&lcp, &PgsOptions { max_iterations: 200, ..PgsOptions::default() });
+        assert_contract(&lcp, &s);
+        assert_ne!(s.status, Status::Solved, "{name}");
+    }
+}
+
+#[test]
+fn newton_reports_numerical_on_overflow_instead_of_nan() {
+    // Entries near f64::MAX: w overflows as soon as z moves.
+    let big = f64::MAX / 2.0;
+    let lcp = Lcp::new(vec![big, -big, -big, big], vec![-big, -big]).unwrap();
+    let s = newton_fb::solve(&lcp, &NewtonFbOptions::default());
+    assert_contract(&lcp, &s);
+    assert_ne!(s.status, Status::Solved);
+}
+
+#[test]
+fn solvers_are_deterministic() {
+    let lcp = p_matrix_lcp(12, 99);
+    assert_eq!(newton_fb::solve(&lcp, &NewtonFbOptions::default()), newton_fb::solve(&lcp, &NewtonFbOptions::default()));
+    let lcp = spd_lcp(12, 99);
+    assert_eq!(pgs::solve(&lcp, &PgsOptions::default()), pgs::solve(&lcp, &PgsOptions::default()));
+}
+
+#[test]
+fn method_dispatch_reaches_these_solvers() {
+    let lcp = spd_lcp(6, 1);
+    let direct = pgs::solve(&lcp, &PgsOptions::default());
+    assert_eq!(lcp::solve(&lcp, &lcp::Method::Pgs(PgsOptions::default())), direct);
+    let direct = newton_fb::solve(&lcp, &NewtonFbOptions::default());
+    assert_eq!(lcp::solve(&lcp, &lcp::Method::NewtonFb(NewtonFbOptions::default())), direct);
+}
