@@ -1,1 +1,34 @@
+//! `lcpsim._core`: the private compiled module behind the `lcpsim` package.
+//!
+//! Glue only — conversion, validation messages, GIL release — mirroring the
+//! core crates one module each: `problem` (numpy → `Lcp`), `method` (name +
+//! options → `Method`), `solution` (`Solution` → dict), `lcp` (the solver
+//! functions), `errors`. The simulator's bindings will live in `sim.rs`.
 
+mod errors;
+mod lcp;
+mod method;
+mod problem;
+mod solution;
+
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("METHODS", method::METHODS.to_vec())?;
+    m.add("PIVOTINGS", method::PIVOTINGS.to_vec())?;
+    m.add("STATUSES", ::lcp::Status::ALL.iter().map(|s| s.as_str()).collect::<Vec<_>>())?;
+    let opts = PyDict::new(py);
+    for (name, list) in method::method_options() {
+        opts.set_item(name, list.to_vec())?;
+    }
+    m.add("METHOD_OPTIONS", opts)?;
+    m.add_function(wrap_pyfunction!(lcp::solve_lcp, m)?)?;
+    m.add_function(wrap_pyfunction!(lcp::solve_lcp_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(lcp::lcp_residual, m)?)?;
+    m.add_function(wrap_pyfunction!(lcp::lcp_residuals, m)?)?;
+    Ok(())
+}

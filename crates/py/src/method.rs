@@ -1,0 +1,168 @@
+//! Method name + keyword options → `lcp::Method`. Unknown names, wrong types and
+//! out-of-range values are `ValueError`s that name the option and the value.
+
+use crate::errors::value_error;
+use lcp::{LemkeOptions, Method, NewtonFbOptions, PgsOptions, Pivoting};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyString};
+
+/// Method names accepted by `method=`.
+pub const METHODS: [&str; 3] = ["lemke", "pgs", "newton_fb"];
+/// Pivoting rules accepted by Lemke's `pivoting=`.
+pub const PIVOTINGS: [&str; 2] = ["lexicographic", "classic"];
+
+const LEMKE_OPTIONS: [&str; 6] = ["pivoting", "piv_tol", "zero_tol", "max_pivots", "accept_tol", "equilibrate"];
+const PGS_OPTIONS: [&str; 3] = ["omega", "max_iterations", "tol"];
+const NEWTON_FB_OPTIONS: [&str; 6] =
+    ["max_iterations", "tol", "armijo_sigma", "backtrack", "max_backtracks", "descent_rho"];
+
+/// `repr(value)`, for messages.
+fn repr(value: &Bound<'_, PyAny>) -> String {
+    value.repr().map(|r| r.to_string()).unwrap_or_else(|_| "<unprintable>".to_string())
+}
+
+/// A finite real number (bools are refused: `piv_tol=True` is a mistake).
+fn real(name: &str, value: &Bound<'_, PyAny>) -> PyResult<f64> {
+    let bad = || value_error(format!("option {name} must be a real number, got {}", repr(value)));
+    if value.is_instance_of::<PyBool>() || value.is_instance_of::<PyString>() {
+        return Err(bad());
+    }
+    let x: f64 = value.extract().map_err(|_| bad())?;
+    if !x.is_finite() {
+        return Err(value_error(format!("option {name} must be finite, got {}", repr(value))));
+    }
+    Ok(x)
+}
+
+/// A tolerance: finite and ≥ 0.
+fn tolerance(name: &str, value: &Bound<'_, PyAny>) -> PyResult<f64> {
+    let x = real(name, value)?;
+    if x < 0.0 {
+        return Err(value_error(format!("option {name} must be >= 0, got {}", repr(value))));
+    }
+    Ok(x)
+}
+
+/// A real number in the open interval `(lo, hi)`.
+fn open_interval(name: &str, value: &Bound<'_, PyAny>, lo: f64, hi: f64) -> PyResult<f64> {
+    let x = real(name, value)?;
+    if !(x > lo && x < hi) {
+        return Err(value_error(format!("option {name} must lie in ({lo}, {hi}), got {}", repr(value))));
+    }
+    Ok(x)
+}
+
+/// A count ≥ 0 (Python int or numpy integer; floats and bools are refused).
+fn count(name: &str, value: &Bound<'_, PyAny>) -> PyResult<usize> {
+    if value.is_instance_of::<PyBool>() {
+        return Err(value_error(format!("option {name} must be a non-negative integer, got {}", repr(value))));
+    }
+    value
+        .extract::<usize>()
+        .map_err(|_| value_error(format!("option {name} must be a non-negative integer, got {}", repr(value))))
+}
+
+fn boolean(name: &str, value: &Bound<'_, PyAny>) -> PyResult<bool> {
+    value
+        .extract::<bool>()
+        .map_err(|_| value_error(format!("option {name} must be True or False, got {}", repr(value))))
+}
+
+fn unknown_option(method: &str, name: &str, valid: &[&str]) -> PyErr {
+    value_error(format!(
+        "unknown option {name:?} for method {method:?} (valid options: {})",
+        valid.join(", ")
+    ))
+}
+
+fn lemke_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<LemkeOptions> {
+    let mut o = LemkeOptions::default();
+    for (key, value) in options.into_iter().flat_map(|d| d.iter()) {
+        let name: String = key.extract()?;
+        if value.is_none() && name != "max_pivots" {
+            continue; // `None` means "the default".
+        }
+        match name.as_str() {
+            "pivoting" => {
+                let s: String = value.extract().map_err(|_| {
+                    value_error(format!("option pivoting must be a string, got {}", repr(&value)))
+                })?;
+                o.pivoting = match s.as_str() {
+                    "lexicographic" => Pivoting::Lexicographic,
+                    "classic" => Pivoting::Classic,
+                    _ => {
+                        return Err(value_error(format!(
+                            "unknown pivoting {s:?} (valid: {})",
+                            PIVOTINGS.join(", ")
+                        )))
+                    }
+                };
+            }
+            "piv_tol" => o.piv_tol = tolerance(&name, &value)?,
+            "zero_tol" => o.zero_tol = tolerance(&name, &value)?,
+            "accept_tol" => o.accept_tol = tolerance(&name, &value)?,
+            "max_pivots" => o.max_pivots = if value.is_none() { None } else { Some(count(&name, &value)?) },
+            "equilibrate" => o.equilibrate = boolean(&name, &value)?,
+            _ => return Err(unknown_option("lemke", &name, &LEMKE_OPTIONS)),
+        }
+    }
+    Ok(o)
+}
+
+fn pgs_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<PgsOptions> {
+    let mut o = PgsOptions::default();
+    for (key, value) in options.into_iter().flat_map(|d| d.iter()) {
+        let name: String = key.extract()?;
+        if value.is_none() {
+            continue;
+        }
+        match name.as_str() {
+            "omega" => o.omega = open_interval(&name, &value, 0.0, 2.0)?,
+            "max_iterations" => o.max_iterations = count(&name, &value)?,
+            "tol" => o.tol = tolerance(&name, &value)?,
+            _ => return Err(unknown_option("pgs", &name, &PGS_OPTIONS)),
+        }
+    }
+    Ok(o)
+}
+
+fn newton_fb_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<NewtonFbOptions> {
+    let mut o = NewtonFbOptions::default();
+    for (key, value) in options.into_iter().flat_map(|d| d.iter()) {
+        let name: String = key.extract()?;
+        if value.is_none() {
+            continue;
+        }
+        match name.as_str() {
+            "max_iterations" => o.max_iterations = count(&name, &value)?,
+            "tol" => o.tol = tolerance(&name, &value)?,
+            "armijo_sigma" => o.armijo_sigma = open_interval(&name, &value, 0.0, 0.5)?,
+            "backtrack" => o.backtrack = open_interval(&name, &value, 0.0, 1.0)?,
+            "max_backtracks" => o.max_backtracks = count(&name, &value)?,
+            "descent_rho" => {
+                let rho = tolerance(&name, &value)?;
+                if rho == 0.0 {
+                    return Err(value_error(format!("option descent_rho must be > 0, got {}", repr(&value))));
+                }
+                o.descent_rho = rho;
+            }
+            _ => return Err(unknown_option("newton_fb", &name, &NEWTON_FB_OPTIONS)),
+        }
+    }
+    Ok(o)
+}
+
+/// Builds the `Method` named `method` from keyword `options` (`None` values mean the default).
+pub fn method_from_py(method: &str, options: Option<&Bound<'_, PyDict>>) -> PyResult<Method> {
+    match method {
+        "lemke" => Ok(Method::Lemke(lemke_options(options)?)),
+        "pgs" => Ok(Method::Pgs(pgs_options(options)?)),
+        "newton_fb" => Ok(Method::NewtonFb(newton_fb_options(options)?)),
+        _ => Err(value_error(format!("unknown method {method:?} (valid: {})", METHODS.join(", ")))),
+    }
+}
+
+/// The option names each method accepts, for `_core.METHOD_OPTIONS`.
+pub fn method_options() -> [(&'static str, &'static [&'static str]); 3] {
+    [("lemke", &LEMKE_OPTIONS), ("pgs", &PGS_OPTIONS), ("newton_fb", &NEWTON_FB_OPTIONS)]
+}

@@ -1,0 +1,78 @@
+//! `lcp::Solution` → Python dicts of numpy arrays (one solve, or a stacked batch).
+
+use lcp::{Residuals, Solution};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// One solution as a dict: `z`, `w` (float64 arrays), `status` (str),
+/// `iterations` (int), `natural`, `min_z`, `min_w`, `max_complementarity`
+/// (floats), `basis` (bool array or None), `method` (str).
+pub fn solution_to_dict<'py>(py: Python<'py>, s: Solution, method: &str) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("z", PyArray1::from_vec(py, s.z))?;
+    d.set_item("w", PyArray1::from_vec(py, s.w))?;
+    d.set_item("status", s.status.as_str())?;
+    d.set_item("iterations", s.iterations)?;
+    residuals_into(&d, &s.residuals)?;
+    match s.basis {
+        Some(b) => d.set_item("basis", PyArray1::from_vec(py, b))?,
+        None => d.set_item("basis", py.None())?,
+    }
+    d.set_item("method", method)?;
+    Ok(d)
+}
+
+/// The residual fields of a dict.
+pub fn residuals_into(d: &Bound<'_, PyDict>, r: &Residuals) -> PyResult<()> {
+    d.set_item("natural", r.natural)?;
+    d.set_item("min_z", r.min_z)?;
+    d.set_item("min_w", r.min_w)?;
+    d.set_item("max_complementarity", r.max_complementarity)?;
+    Ok(())
+}
+
+/// A batch of `b` solutions of size `n`, stacked: `z`, `w` of shape (b, n);
+/// `status` a list of str; `iterations`, residuals of shape (b,); `basis` a
+/// (b, n) bool array when every solution has one, else None.
+pub fn batch_to_dict<'py>(py: Python<'py>, sols: Vec<Solution>, n: usize, method: &str) -> PyResult<Bound<'py, PyDict>> {
+    let b = sols.len();
+    let mut z = Vec::with_capacity(b * n);
+    let mut w = Vec::with_capacity(b * n);
+    let mut iterations = Vec::with_capacity(b);
+    let (mut natural, mut min_z, mut min_w, mut max_c) =
+        (Vec::with_capacity(b), Vec::with_capacity(b), Vec::with_capacity(b), Vec::with_capacity(b));
+    let all_basis = b > 0 && sols.iter().all(|s| s.basis.is_some());
+    let mut basis = Vec::with_capacity(if all_basis { b * n } else { 0 });
+    let mut status = Vec::with_capacity(b);
+    for s in sols {
+        z.extend_from_slice(&s.z);
+        w.extend_from_slice(&s.w);
+        iterations.push(s.iterations as i64);
+        natural.push(s.residuals.natural);
+        min_z.push(s.residuals.min_z);
+        min_w.push(s.residuals.min_w);
+        max_c.push(s.residuals.max_complementarity);
+        status.push(s.status.as_str());
+        if all_basis {
+            basis.extend_from_slice(s.basis.as_deref().unwrap_or(&[]));
+        }
+    }
+    let d = PyDict::new(py);
+    d.set_item("z", PyArray1::from_vec(py, z).reshape([b, n])?)?;
+    d.set_item("w", PyArray1::from_vec(py, w).reshape([b, n])?)?;
+    d.set_item("status", status)?;
+    d.set_item("iterations", PyArray1::from_vec(py, iterations))?;
+    d.set_item("natural", PyArray1::from_vec(py, natural))?;
+    d.set_item("min_z", PyArray1::from_vec(py, min_z))?;
+    d.set_item("min_w", PyArray1::from_vec(py, min_w))?;
+    d.set_item("max_complementarity", PyArray1::from_vec(py, max_c))?;
+    if all_basis && basis.len() == b * n {
+        let arr: Bound<'py, PyArray2<bool>> = PyArray1::from_vec(py, basis).reshape([b, n])?;
+        d.set_item("basis", arr)?;
+    } else {
+        d.set_item("basis", py.None())?;
+    }
+    d.set_item("method", method)?;
+    Ok(d)
+}

@@ -1,0 +1,200 @@
+"""The ``lcpsim`` command line.
+
+Subcommands are registered with :func:`register_command`, so that later ones
+(``simulate``, ``failure-rate``, ``slope``, ``report`` …) plug in without
+touching :func:`main`. Any error a user can cause (missing or malformed file,
+invalid option) prints one line ``lcpsim: error: …`` on stderr and exits 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from dataclasses import dataclass
+from typing import Callable, Sequence
+
+import numpy as np
+
+from . import __version__
+from .lcp import METHODS, PIVOTINGS, LcpResult, solve_lcp
+
+__all__ = ["main", "register_command", "Command", "CliError"]
+
+#: Exit codes: solved, solved-not (the solver returned another status), user error.
+EXIT_OK, EXIT_NOT_SOLVED, EXIT_USAGE = 0, 1, 2
+
+
+class CliError(Exception):
+    """An error to report as one line on stderr (exit code 2)."""
+
+
+@dataclass(frozen=True)
+class Command:
+    """A subcommand: ``configure`` adds its arguments, ``run`` returns the exit code."""
+
+    name: str
+    help: str
+    configure: Callable[[argparse.ArgumentParser], None]
+    run: Callable[[argparse.Namespace], int]
+
+
+_COMMANDS: dict[str, Command] = {}
+
+
+def register_command(command: Command) -> Command:
+    """Adds a subcommand (replacing one of the same name)."""
+    _COMMANDS[command.name] = command
+    return command
+
+
+# ---------------------------------------------------------------- solve
+
+
+def _configure_solve(p: argparse.ArgumentParser) -> None:
+    p.add_argument("file", help="LCP file: .npz with arrays M, q, or HDF5 (.h5) with datasets /M, /q")
+    p.add_argument("--method", choices=METHODS, default="lemke", help="solver (default: lemke)")
+    p.add_argument(
+        "--pivoting", choices=PIVOTINGS, default="lexicographic", help="Lemke pivoting rule (default: lexicographic)"
+    )
+    p.add_argument("--piv-tol", type=float, default=1e-12, help="Lemke: smallest pivot (default: 1e-12)")
+    p.add_argument("--zero-tol", type=float, default=1e-6, help="Lemke: the user zero (default: 1e-6)")
+    p.add_argument("--max-pivots", type=int, default=None, help="Lemke: pivot limit (default: max(1000, 50 n))")
+    p.add_argument("--json", action="store_true", help="print the result as JSON (status, ok, pivots, residual, z, w)")
+
+
+def _format_vector(x: np.ndarray) -> str:
+    return np.array2string(x, precision=6, threshold=24, max_line_width=100, separator=", ")
+
+
+def _summary(path: str, res: LcpResult, pivoting: str | None) -> str:
+    n = res.z.shape[0]
+    method = res.method + (f" ({pivoting})" if pivoting else "")
+    lines = [
+        f"file:      {path} (n = {n})",
+        f"method:    {method}",
+        f"status:    {res.status}" + ("" if res.ok else "   (not solved)"),
+        f"pivots:    {res.pivots}" if res.method == "lemke" else f"iterations: {res.pivots}",
+        f"residual:  {res.residual:.3e}   ‖min(z, Mz+q)‖∞",
+        f"min z, w:  {res.min_z:.3e}, {res.min_w:.3e}   max |z_i w_i|: {res.max_complementarity:.3e}",
+        f"z = {_format_vector(res.z)}",
+        f"w = {_format_vector(res.w)}",
+    ]
+    return "\n".join(lines)
+
+
+def _run_solve(args: argparse.Namespace) -> int:
+    from .io import load_lcp
+
+    M, q = load_lcp(args.file)
+    lemke = args.method == "lemke"
+    kwargs = (
+        dict(pivoting=args.pivoting, piv_tol=args.piv_tol, zero_tol=args.zero_tol, max_pivots=args.max_pivots)
+        if lemke
+        else {}
+    )
+    res = solve_lcp(M, q, method=args.method, **kwargs)
+    if args.json:
+        out = {"file": args.file, "n": int(res.z.shape[0]), **res.to_dict()}
+        if lemke:
+            out["pivoting"] = args.pivoting
+        print(json.dumps(out))
+    else:
+        print(_summary(args.file, res, args.pivoting if lemke else None))
+    return EXIT_OK if res.ok else EXIT_NOT_SOLVED
+
+
+register_command(Command("solve", "solve an LCP stored in a file", _configure_solve, _run_solve))
+
+
+# ---------------------------------------------------------------- demo
+
+
+def _configure_demo(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--k", type=int, default=8, help="friction directions per contact (default: 8)")
+
+
+def _run_demo(args: argparse.Namespace) -> int:
+    from .examples import cube_on_slope_lcp
+
+    if args.k < 3:
+        raise CliError(f"--k must be at least 3, got {args.k}")
+    scenes = [
+        ("resting, flat", cube_on_slope_lcp(0.0, 0.5, k=args.k)),
+        ("20° slope, mu 0.5", cube_on_slope_lcp(20.0, 0.5, k=args.k)),
+        ("30° slope, mu 0.5", cube_on_slope_lcp(30.0, 0.5, k=args.k)),
+        ("30° slope, s=1e-3", cube_on_slope_lcp(30.0, 0.5, k=args.k, s=1e-3)),
+    ]
+    solvers = [
+        ("lemke lexicographic", dict(method="lemke", pivoting="lexicographic")),
+        ("lemke classic", dict(method="lemke", pivoting="classic")),
+        ("pgs", dict(method="pgs")),
+        ("newton_fb", dict(method="newton_fb")),
+    ]
+    print(f"lcpsim {__version__} demo: one time step (h = 1e-3 s) of a 1 kg unit cube, 4 contacts, k = {args.k}")
+    print("impulses in N·s; Σfn should be m·g·h·cos θ; residual = ‖min(z, Mz+q)‖∞\n")
+    header = f"{'scene':<19} {'n':>3}  {'solver':<20} {'status':<16} {'pivots':>6} {'residual':>9}  {'Σfn':>10} {'Σfd':>10}"
+    print(header)
+    print("-" * len(header))
+    for name, lcp in scenes:
+        for label, kw in solvers:
+            res = solve_lcp(lcp.M, lcp.q, **kw)
+            fn, fd, _ = lcp.split(res.z)
+            print(
+                f"{name:<19} {lcp.M.shape[0]:>3}  {label:<20} {res.status:<16} {res.pivots:>6} "
+                f"{res.residual:>9.2e}  {fn.sum():>10.3e} {fd.sum():>10.3e}"
+            )
+    print(f"\nexpected Σfn: flat {9.81e-3:.3e}, 20° {9.81e-3 * np.cos(np.deg2rad(20)):.3e}, "
+          f"30° {9.81e-3 * np.cos(np.deg2rad(30)):.3e}")
+    return EXIT_OK
+
+
+register_command(
+    Command("demo", "solve a small built-in contact LCP with each method", _configure_demo, _run_demo)
+)
+
+
+# ---------------------------------------------------------------- main
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="lcpsim",
+        description="Rigid-body contact simulation with a Lemke LCP solver, and tools to study its LCPs.",
+    )
+    parser.add_argument("--version", action="version", version=f"lcpsim {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for cmd in _COMMANDS.values():
+        p = sub.add_parser(cmd.name, help=cmd.help, description=cmd.help)
+        cmd.configure(p)
+        p.set_defaults(_run=cmd.run)
+    return parser
+
+
+def _one_line(e: BaseException) -> str:
+    msg = str(e) or type(e).__name__
+    if isinstance(e, FileNotFoundError) and e.filename and e.strerror:
+        msg = f"{e.filename}: {e.strerror}"
+    return " ".join(msg.split())
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``lcpsim`` script; returns the exit code."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    run = getattr(args, "_run", None)
+    if run is None:
+        parser.print_help(sys.stderr)
+        return EXIT_USAGE
+    try:
+        return int(run(args))
+    except (CliError, OSError, ValueError) as e:
+        print(f"lcpsim: error: {_one_line(e)}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        print("lcpsim: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

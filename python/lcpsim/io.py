@@ -1,0 +1,166 @@
+"""Reading and writing LCPs: ``.npz`` (arrays ``M``, ``q``) or HDF5 (datasets
+``/M``, ``/q``). Every problem with a file is a :class:`LcpFileError` (a
+``ValueError``) whose message names the file and what is wrong; a missing file
+is a :class:`FileNotFoundError`."""
+
+from __future__ import annotations
+
+import os
+import zipfile
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = ["LcpFileError", "load_lcp", "save_lcp", "file_format"]
+
+_NPZ_SUFFIXES = {".npz"}
+_HDF5_SUFFIXES = {".h5", ".hdf5", ".hdf", ".he5"}
+_HDF5_MAGIC = b"\x89HDF\r\n\x1a\n"
+_ZIP_MAGIC = b"PK"
+
+
+class LcpFileError(ValueError):
+    """A file that does not hold a valid LCP."""
+
+
+def file_format(path: str | os.PathLike[str]) -> str:
+    """``"npz"`` or ``"hdf5"``, from the suffix, else from the file's first bytes."""
+    p = Path(path)
+    suffix = p.suffix.lower()
+    if suffix in _NPZ_SUFFIXES:
+        return "npz"
+    if suffix in _HDF5_SUFFIXES:
+        return "hdf5"
+    if p.is_file():
+        with open(p, "rb") as f:
+            head = f.read(8)
+        if head.startswith(_HDF5_MAGIC):
+            return "hdf5"
+        if head.startswith(_ZIP_MAGIC):
+            return "npz"
+    raise LcpFileError(
+        f"{path}: unknown LCP file format (expected .npz with arrays M, q or HDF5 .h5 with datasets /M, /q)"
+    )
+
+
+def _read_npz(path: Path) -> tuple[Any, Any]:
+    try:
+        data = np.load(path, allow_pickle=False)
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as e:
+        raise LcpFileError(f"{path}: not a readable .npz file ({e})") from None
+    if not isinstance(data, np.lib.npyio.NpzFile):
+        raise LcpFileError(f"{path}: not an .npz archive (a single .npy array?)")
+    with data:
+        names = list(data.files)
+        missing = [k for k in ("M", "q") if k not in names]
+        if missing:
+            raise LcpFileError(
+                f"{path}: no array {' or '.join(repr(k) for k in missing)} "
+                f"(found: {', '.join(names) if names else 'none'})"
+            )
+        try:
+            return data["M"], data["q"]
+        except (OSError, ValueError, EOFError, zipfile.BadZipFile) as e:
+            raise LcpFileError(f"{path}: cannot read arrays M, q ({e})") from None
+
+
+def _read_hdf5(path: Path) -> tuple[Any, Any]:
+    import h5py
+
+    try:
+        f = h5py.File(path, "r")
+    except OSError as e:
+        raise LcpFileError(f"{path}: not a readable HDF5 file ({e})") from None
+    with f:
+        found = list(f.keys())
+        out = []
+        for key in ("M", "q"):
+            if key not in f:
+                raise LcpFileError(
+                    f"{path}: no dataset '/{key}' (found: {', '.join('/' + k for k in found) if found else 'none'})"
+                )
+            ds = f[key]
+            if not isinstance(ds, h5py.Dataset):
+                raise LcpFileError(f"{path}: '/{key}' is a group, not a dataset")
+            try:
+                out.append(ds[()])
+            except (OSError, TypeError, ValueError) as e:
+                raise LcpFileError(f"{path}: cannot read dataset '/{key}' ({e})") from None
+        return out[0], out[1]
+
+
+def _validate(path: Path, M: Any, q: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    M = np.asarray(M)
+    q = np.asarray(q)
+    for name, a in (("M", M), ("q", q)):
+        if a.dtype.kind not in "biuf":
+            raise LcpFileError(f"{path}: {name} must hold real numbers, got dtype {a.dtype}")
+    if M.ndim != 2 or M.shape[0] != M.shape[1]:
+        raise LcpFileError(f"{path}: M must be a square 2-D array, got shape {M.shape}")
+    if q.ndim != 1:
+        raise LcpFileError(f"{path}: q must be a 1-D array, got shape {q.shape}")
+    if q.shape[0] != M.shape[0]:
+        raise LcpFileError(f"{path}: q has length {q.shape[0]} but M has shape {M.shape}")
+    if q.shape[0] == 0:
+        raise LcpFileError(f"{path}: the LCP is empty (M has shape {M.shape})")
+    M = M.astype(np.float64, copy=False)
+    q = q.astype(np.float64, copy=False)
+    for name, a in (("M", M), ("q", q)):
+        bad = np.argwhere(~np.isfinite(a))
+        if bad.size:
+            idx = tuple(int(i) for i in bad[0])
+            shown = ", ".join(map(str, idx))
+            raise LcpFileError(f"{path}: {name}[{shown}] = {a[idx]} is not finite")
+    return M, q
+
+
+def load_lcp(path: str | os.PathLike[str]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Loads ``(M, q)`` as float64 arrays from an ``.npz`` or HDF5 file.
+
+    Raises :class:`FileNotFoundError` if the file does not exist and
+    :class:`LcpFileError` if it is not a valid LCP file (unreadable, missing
+    array, wrong shapes or dtype, non-finite entries)."""
+    p = Path(path)
+    if not p.exists():
+        raise FileNotFoundError(f"{path}: no such file")
+    if p.is_dir():
+        raise LcpFileError(f"{path}: is a directory, not an LCP file")
+    fmt = file_format(p)
+    M, q = _read_npz(p) if fmt == "npz" else _read_hdf5(p)
+    return _validate(p, M, q)
+
+
+def save_lcp(
+    path: str | os.PathLike[str],
+    M: ArrayLike,
+    q: ArrayLike,
+    *,
+    attrs: dict[str, Any] | None = None,
+) -> Path:
+    """Writes ``(M, q)`` to ``path`` (``.npz`` or ``.h5``/``.hdf5``, by suffix).
+
+    ``attrs`` (str, int or float values, e.g. config, seed) are stored as HDF5
+    attributes or as 0-d arrays ``attr_<name>`` in an ``.npz``; the lcpsim
+    version is always recorded."""
+    from . import __version__
+
+    p = Path(path)
+    suffix = p.suffix.lower()
+    M = np.asarray(M, dtype=np.float64)
+    q = np.asarray(q, dtype=np.float64)
+    meta = {"lcpsim_version": __version__, **(attrs or {})}
+    if suffix in _NPZ_SUFFIXES:
+        np.savez(p, M=M, q=q, **{f"attr_{k}": np.asarray(v) for k, v in meta.items()})
+    elif suffix in _HDF5_SUFFIXES:
+        import h5py
+
+        with h5py.File(p, "w") as f:
+            f.create_dataset("M", data=M)
+            f.create_dataset("q", data=q)
+            for k, v in meta.items():
+                f.attrs[k] = v
+    else:
+        raise LcpFileError(f"{path}: unknown suffix {p.suffix!r} (use .npz, .h5 or .hdf5)")
+    return p

@@ -1,0 +1,302 @@
+"""Typed wrappers over the compiled LCP solvers.
+
+An LCP ``(M, q)`` asks for ``z >= 0`` with ``w = M z + q >= 0`` and ``z·w = 0``.
+:func:`solve_lcp` solves one, :func:`solve_lcp_batch` many of one size with the
+GIL released, :func:`lcp_residual` measures any candidate ``z``.
+
+Input is validated here so that every mistake is a :class:`ValueError` naming
+the argument and its value; the compiled module validates again (it never
+panics into Python).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Iterator
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from . import _core
+
+__all__ = [
+    "LcpResult",
+    "LcpBatchResult",
+    "solve_lcp",
+    "solve_lcp_batch",
+    "lcp_residual",
+    "METHODS",
+    "PIVOTINGS",
+    "STATUSES",
+]
+
+#: Solver names accepted by ``method=``.
+METHODS: tuple[str, ...] = tuple(_core.METHODS)
+#: Lemke pivoting rules accepted by ``pivoting=``.
+PIVOTINGS: tuple[str, ...] = tuple(_core.PIVOTINGS)
+#: Every status a solve can end with; only ``"solved"`` means ``z`` solves the LCP.
+STATUSES: tuple[str, ...] = tuple(_core.STATUSES)
+
+# Lemke-only keyword arguments of solve_lcp and their defaults.
+_LEMKE_DEFAULTS: dict[str, Any] = {
+    "pivoting": "lexicographic",
+    "piv_tol": 1e-12,
+    "zero_tol": 1e-6,
+    "max_pivots": None,
+}
+
+# dtype kinds that convert to float64 without loss of meaning:
+# bool, signed and unsigned integers, floats.
+_REAL_KINDS = frozenset("biuf")
+
+
+@dataclass(frozen=True, slots=True)
+class LcpResult:
+    """The outcome of one LCP solve.
+
+    ``status`` is one of :data:`STATUSES`; ``ok`` is true only for ``"solved"``.
+    ``z`` and ``w = M z + q`` always have length n (the last iterate when not
+    solved). ``residual`` is the natural residual ``‖min(z, w)‖∞`` in the units
+    of the problem as given; ``min_z``, ``min_w`` (negative means infeasible)
+    and ``max_complementarity = max |z_i w_i|`` complete the picture.
+    ``pivots`` counts Lemke pivots, or iterations for PGS and Newton–FB.
+    ``basis`` (Lemke only) marks the ``z_j`` basic at the end, else None.
+    """
+
+    z: NDArray[np.float64]
+    w: NDArray[np.float64]
+    status: str
+    ok: bool
+    pivots: int
+    residual: float
+    min_z: float
+    min_w: float
+    max_complementarity: float
+    method: str
+    basis: NDArray[np.bool_] | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dict (arrays as lists)."""
+        return {
+            "status": self.status,
+            "ok": self.ok,
+            "method": self.method,
+            "pivots": self.pivots,
+            "residual": self.residual,
+            "min_z": self.min_z,
+            "min_w": self.min_w,
+            "max_complementarity": self.max_complementarity,
+            "z": self.z.tolist(),
+            "w": self.w.tolist(),
+            "basis": None if self.basis is None else self.basis.tolist(),
+        }
+
+
+@dataclass(frozen=True, slots=True)
+class LcpBatchResult:
+    """The outcome of :func:`solve_lcp_batch`: the fields of :class:`LcpResult`
+    stacked over the batch (``z``, ``w`` of shape (b, n); the rest of shape
+    (b,)). Indexing or iterating yields one :class:`LcpResult` per problem.
+    ``basis`` is a (b, n) array when every solve returned a basis, else None."""
+
+    z: NDArray[np.float64]
+    w: NDArray[np.float64]
+    status: tuple[str, ...]
+    ok: NDArray[np.bool_]
+    pivots: NDArray[np.int64]
+    residual: NDArray[np.float64]
+    min_z: NDArray[np.float64]
+    min_w: NDArray[np.float64]
+    max_complementarity: NDArray[np.float64]
+    method: str
+    basis: NDArray[np.bool_] | None = None
+
+    def __len__(self) -> int:
+        return len(self.status)
+
+    def __getitem__(self, i: int) -> LcpResult:
+        if not -len(self) <= i < len(self):
+            raise IndexError(f"batch index {i} out of range for a batch of {len(self)}")
+        return LcpResult(
+            z=self.z[i],
+            w=self.w[i],
+            status=self.status[i],
+            ok=bool(self.ok[i]),
+            pivots=int(self.pivots[i]),
+            residual=float(self.residual[i]),
+            min_z=float(self.min_z[i]),
+            min_w=float(self.min_w[i]),
+            max_complementarity=float(self.max_complementarity[i]),
+            method=self.method,
+            basis=None if self.basis is None else self.basis[i],
+        )
+
+    def __iter__(self) -> Iterator[LcpResult]:
+        return (self[i] for i in range(len(self)))
+
+    def status_counts(self) -> dict[str, int]:
+        """How many problems ended with each status (only statuses that occur)."""
+        counts: dict[str, int] = {}
+        for s in self.status:
+            counts[s] = counts.get(s, 0) + 1
+        return counts
+
+
+def _as_real_array(x: ArrayLike, name: str, ndim: int) -> NDArray[np.float64]:
+    """``x`` as a float64 array with ``ndim`` dimensions, or a ValueError naming ``name``."""
+    if isinstance(x, np.ndarray) and x.dtype == np.float64 and x.ndim == ndim:
+        return x  # fast path: the compiled module copies what it needs
+    try:
+        a = np.asarray(x)
+    except Exception as e:  # ragged lists and the like
+        raise ValueError(f"{name} must be a {ndim}-D array of real numbers, got {_short_repr(x)}: {e}") from None
+    if a.dtype.kind not in _REAL_KINDS:
+        raise ValueError(
+            f"{name} must hold real numbers, got dtype {a.dtype} ({_short_repr(x)})"
+        )
+    if a.ndim != ndim:
+        raise ValueError(f"{name} must be {ndim}-D, got shape {a.shape} ({_short_repr(x)})")
+    return a.astype(np.float64, copy=False)
+
+
+def _short_repr(x: Any, limit: int = 60) -> str:
+    r = np.array2string(x, threshold=6) if isinstance(x, np.ndarray) else repr(x)
+    r = " ".join(r.split())
+    return r if len(r) <= limit else r[: limit - 3] + "..."
+
+
+def _check_method(method: Any) -> str:
+    if not isinstance(method, str) or method not in METHODS:
+        raise ValueError(f"unknown method {method!r} (valid: {', '.join(METHODS)})")
+    return method
+
+
+def _options(method: str, pivoting: Any, piv_tol: Any, zero_tol: Any, max_pivots: Any,
+             extra: dict[str, Any]) -> dict[str, Any]:
+    """The keyword options for the compiled solver of ``method``."""
+    lemke_args = {"pivoting": pivoting, "piv_tol": piv_tol, "zero_tol": zero_tol, "max_pivots": max_pivots}
+    if method == "lemke":
+        if not isinstance(pivoting, str) or pivoting not in PIVOTINGS:
+            raise ValueError(f"unknown pivoting {pivoting!r} (valid: {', '.join(PIVOTINGS)})")
+        return {**lemke_args, **extra}
+    for key, value in lemke_args.items():
+        if value is not _LEMKE_DEFAULTS[key] and value != _LEMKE_DEFAULTS[key]:
+            raise ValueError(f"option {key}={value!r} applies only to method 'lemke', not {method!r}")
+    return extra
+
+
+def solve_lcp(
+    M: ArrayLike,
+    q: ArrayLike,
+    *,
+    method: str = "lemke",
+    pivoting: str = "lexicographic",
+    piv_tol: float = 1e-12,
+    zero_tol: float = 1e-6,
+    max_pivots: int | None = None,
+    **options: Any,
+) -> LcpResult:
+    """Solve the LCP ``(M, q)``: ``z >= 0``, ``w = M z + q >= 0``, ``z·w = 0``.
+
+    Parameters
+    ----------
+    M, q:
+        An n×n matrix and a length-n vector (any real dtype, any memory layout).
+    method:
+        ``"lemke"`` (default), ``"pgs"`` (projected Gauss–Seidel) or
+        ``"newton_fb"`` (damped Newton on the Fischer–Burmeister function).
+    pivoting:
+        Lemke only: ``"lexicographic"`` (robust default: equilibration,
+        relative tie tolerance, answer accepted by its residual in the units
+        given) or ``"classic"`` (absolute tolerances on the problem as given,
+        as in the seed note; kept to reproduce its findings).
+    piv_tol, zero_tol, max_pivots:
+        Lemke only: smallest pivot, the user zero, the pivot limit
+        (None means ``max(1000, 50 n)``).
+    **options:
+        Further options of the chosen method — lemke: ``accept_tol``,
+        ``equilibrate``; pgs: ``omega``, ``max_iterations``, ``tol``;
+        newton_fb: ``max_iterations``, ``tol``, ``armijo_sigma``, ``backtrack``,
+        ``max_backtracks``, ``descent_rho``. A value of None means the default.
+
+    Raises
+    ------
+    ValueError
+        For invalid input: non-finite entries, non-square ``M``, mismatched
+        lengths, an empty problem, wrong dimensions or dtype, an unknown method
+        or option, a negative tolerance or a wrongly typed option.
+    """
+    method = _check_method(method)
+    opts = _options(method, pivoting, piv_tol, zero_tol, max_pivots, options)
+    M_ = _as_real_array(M, "M", 2)
+    q_ = _as_real_array(q, "q", 1)
+    d = _core.solve_lcp(M_, q_, method, **opts)
+    status = d["status"]
+    return LcpResult(
+        z=d["z"],
+        w=d["w"],
+        status=status,
+        ok=status == "solved",
+        pivots=d["iterations"],
+        residual=d["natural"],
+        min_z=d["min_z"],
+        min_w=d["min_w"],
+        max_complementarity=d["max_complementarity"],
+        method=d["method"],
+        basis=d["basis"],
+    )
+
+
+def solve_lcp_batch(
+    Ms: ArrayLike,
+    qs: ArrayLike,
+    *,
+    method: str = "lemke",
+    pivoting: str = "lexicographic",
+    piv_tol: float = 1e-12,
+    zero_tol: float = 1e-6,
+    max_pivots: int | None = None,
+    threads: int = 1,
+    **options: Any,
+) -> LcpBatchResult:
+    """Solve ``b`` LCPs of one size n: ``Ms`` of shape (b, n, n), ``qs`` of
+    shape (b, n). The GIL is released while solving; ``threads`` worker threads
+    (0 = one per core) share the batch. Options as in :func:`solve_lcp`; the
+    results equal ``solve_lcp`` on each problem."""
+    method = _check_method(method)
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 0:
+        raise ValueError(f"threads must be a non-negative integer, got {threads!r}")
+    opts = _options(method, pivoting, piv_tol, zero_tol, max_pivots, options)
+    Ms_ = _as_real_array(Ms, "Ms", 3)
+    qs_ = _as_real_array(qs, "qs", 2)
+    if Ms_.shape[0] != qs_.shape[0]:
+        raise ValueError(
+            f"Ms and qs hold different numbers of problems: Ms has shape {Ms_.shape}, qs has shape {qs_.shape}"
+        )
+    d = _core.solve_lcp_batch(Ms_, qs_, method, int(threads), **opts)
+    status = tuple(d["status"])
+    return LcpBatchResult(
+        z=d["z"],
+        w=d["w"],
+        status=status,
+        ok=np.array([s == "solved" for s in status], dtype=bool),
+        pivots=d["iterations"],
+        residual=d["natural"],
+        min_z=d["min_z"],
+        min_w=d["min_w"],
+        max_complementarity=d["max_complementarity"],
+        method=d["method"],
+        basis=d["basis"],
+    )
+
+
+def lcp_residual(M: ArrayLike, q: ArrayLike, z: ArrayLike) -> float:
+    """Natural residual ``‖min(z, M z + q)‖∞`` of ``z`` for ``(M, q)``, in the
+    units of the problem as given (0 exactly when ``z`` solves the LCP)."""
+    return float(_core.lcp_residual(_as_real_array(M, "M", 2), _as_real_array(q, "q", 1), _as_real_array(z, "z", 1)))
+
+
+def lcp_residuals(M: ArrayLike, q: ArrayLike, z: ArrayLike) -> dict[str, Any]:
+    """All error measures of ``z``: ``w``, ``natural``, ``min_z``, ``min_w``,
+    ``max_complementarity``."""
+    return dict(_core.lcp_residuals(_as_real_array(M, "M", 2), _as_real_array(q, "q", 1), _as_real_array(z, "z", 1)))
