@@ -1,1 +1,48 @@
+//! Rigid bodies with the Stewart–Trinkle / Anitescu–Potra contact LCP (DESIGN §1).
+//!
+//! A [`World`] holds bodies (boxes, spheres, static planes), constant
+//! external forces and [`WorldParams`]. Each step runs named stages
+//! (`pipeline`): external forces → `detect` → `assemble` → `solve` (any
+//! `lcp::Method`) → `integrate`, and leaves a [`StepRecord`] with the
+//! contacts, the LCP's size and status, residuals in physical units and
+//! the impulses `fn`, `fd`, `λ` per contact. Every solved LCP can be
+//! streamed to an [`LcpSink`].
+//!
+//! ```
+//! use sim::{World, WorldParams, math::Vec3};
+//! let mut world = World::new(WorldParams::default()).unwrap();
+//! world.add_ground(1.0).unwrap();
+//! let cube = world.add_box(Vec3::splat(0.5), 1.0, Vec3::new(0.0, 0.0, 0.5), 0.5).unwrap();
+//! let record = world.step().unwrap();
+//! assert_eq!(record.lcp_size, 40); // 4 contacts × (1 + 8 + 1)
+//! ```
+//!
+//! Conventions (DESIGN §8): SI units, gravity (0, 0, −9.81), quaternions
+//! (w, x, y, z) rotating body → world, velocities `[v; ω]` in the world
+//! frame, contact normals from body B to body A, `z = [fn; fd; λ]`.
+//!
+//! Modules: [`math`] (Vec3/Quat/Mat3), [`dynamics`] (bodies, integration),
+//! [`geometry`] (shapes, one file per shape pair), [`contact`] (friction
+//! basis, assembly, formulation parameters), [`pipeline`] (the step),
+//! [`scenes`] (the analytic test scenes of DESIGN §3).
 
+pub mod contact;
+pub mod dynamics;
+pub mod error;
+pub mod geometry;
+pub mod math;
+pub mod params;
+pub mod pipeline;
+pub mod scenes;
+pub mod world;
+
+pub use contact::{ConeScale, MuCombine, Restitution, Stabilization};
+pub use dynamics::{Body, BodyDesc, BodyId};
+pub use error::SimError;
+pub use geometry::{Contact, Downhill, Plane, Shape};
+pub use params::WorldParams;
+pub use pipeline::{CapturedLcp, LcpBuffer, LcpSink, OwnedLcp, StepRecord, Trajectory};
+pub use world::World;
+
+/// The LCP core this crate builds on (re-exported for `Method`, `Status`, …).
+pub use lcp;

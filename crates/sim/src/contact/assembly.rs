@@ -1,0 +1,367 @@
+//! Stewart–Trinkle assembly: contacts and free velocities → the LCP `(M, q)` of DESIGN §1.
+//!
+//! ```text
+//! z = [ fn (nc) ; fd (nc·k) ; λ (nc) ]
+//!
+//!     | A00  A01  0  |       | b0 |      A = J M_b⁻¹ Jᵀ,  J = [J_n; J_d]
+//! M = | A10  A11  sE |,  q = | b1 |      b0 = J_n v* + stabilization (+ restitution)
+//!     | sμ  −sEᵀ  0  |       | 0  |      b1 = J_d v*
+//! ```
+//!
+//! `E = blockdiag(1_k)`, `μ = diag(μ_i)`. `fd` is contact-major: `fd[i·k + j]`
+//! is contact `i`'s impulse along `d_j`.
+//!
+//! The Jacobian is kept as rows per contact and side, each tagged with its
+//! body, and `A` is accumulated body by body over the pairs of contacts that
+//! touch it (`A = Σ_b J_b M_b⁻¹ J_bᵀ`). Static bodies carry no rows. So the
+//! work is proportional to the non-zero blocks, and a sparse `A` could be
+//! formed from the same loop.
+
+use super::friction::FrictionBasis;
+use super::params::{Restitution, Stabilization};
+use crate::dynamics::Body;
+use crate::geometry::Contact;
+use crate::math::{Mat3, Vec3};
+use lcp::{Lcp, LcpError};
+
+/// One Jacobian row for one body: `[linear (3); angular (3)]`.
+pub type Row6 = [f64; 6];
+
+/// What the assembly reads about the bodies (indexed like the world's bodies).
+#[derive(Clone, Copy, Debug)]
+pub struct BodyDynamics<'a> {
+    /// The bodies (positions, pre-step velocities for restitution, masses).
+    pub bodies: &'a [Body],
+    /// World-frame inverse inertia per body (zero for static bodies).
+    pub inv_inertia_world: &'a [Mat3],
+    /// Free linear velocity `v* = v + h f/m` per body.
+    pub v_free: &'a [Vec3],
+    /// Free angular velocity `ω* = ω + h I⁻¹ τ` per body.
+    pub w_free: &'a [Vec3],
+}
+
+/// Scalars of one assembly.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AssemblyParams {
+    /// Time step `h` (s).
+    pub h: f64,
+    /// Friction directions per contact `k`.
+    pub k: usize,
+    /// Friction-cone scale `s`.
+    pub s: f64,
+    pub stabilization: Stabilization,
+    pub restitution: Restitution,
+}
+
+/// Jacobian rows of one contact: for side A and B, the body (`None` when
+/// static) and `1 + k` rows (row 0 normal, row `1 + j` direction `d_j`).
+#[derive(Clone, Copy, Debug)]
+pub struct ContactRows<'a> {
+    pub body: [Option<usize>; 2],
+    pub rows: [&'a [Row6]; 2],
+}
+
+/// The assembled contact LCP with reusable buffers (allocation-free once warm).
+#[derive(Clone, Debug, Default)]
+pub struct ContactLcp {
+    nc: usize,
+    k: usize,
+    s: f64,
+    basis: Option<FrictionBasis>,
+    /// `J` rows, layout `[contact][side][row]`.
+    jac: Vec<Row6>,
+    /// `M_b⁻¹ Jᵀ` rows (the velocity change per unit impulse), same layout.
+    minv_jt: Vec<Row6>,
+    /// Dynamic body of each `(contact, side)`, `None` for a static body.
+    side_body: Vec<Option<usize>>,
+    mu: Vec<f64>,
+    /// Row-major `M` (scaled by `s`) and `q`.
+    m: Vec<f64>,
+    q: Vec<f64>,
+    /// Scratch: `(contact, side)` grouped by body (counting sort).
+    adj_start: Vec<usize>,
+    adj: Vec<(usize, usize)>,
+    adj_cursor: Vec<usize>,
+}
+
+#[inline]
+fn dot6(a: &Row6, b: &Row6) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] + a[4] * b[4] + a[5] * b[5]
+}
+
+#[inline]
+fn row(lin: Vec3, ang: Vec3) -> Row6 {
+    [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z]
+}
+
+impl ContactLcp {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Number of contacts.
+    pub fn nc(&self) -> usize {
+        self.nc
+    }
+    /// Friction directions per contact.
+    pub fn k(&self) -> usize {
+        self.k
+    }
+    /// LCP size `nc·(k + 2)`.
+    pub fn n(&self) -> usize {
+        self.nc * (self.k + 2)
+    }
+    /// Friction-cone scale `s` used in `M`.
+    pub fn scale(&self) -> f64 {
+        self.s
+    }
+    /// Row-major `M` (empty while lent out by [`ContactLcp::take_lcp`]).
+    pub fn m(&self) -> &[f64] {
+        &self.m
+    }
+    pub fn q(&self) -> &[f64] {
+        &self.q
+    }
+    /// Friction coefficient per contact.
+    pub fn mu(&self) -> &[f64] {
+        &self.mu
+    }
+    /// Index of contact `i`'s normal impulse in `z`.
+    #[inline]
+    pub fn fn_index(&self, i: usize) -> usize {
+        i
+    }
+    /// Index of contact `i`'s friction impulse along `d_j` in `z`.
+    #[inline]
+    pub fn fd_index(&self, i: usize, j: usize) -> usize {
+        self.nc + i * self.k + j
+    }
+    /// Index of contact `i`'s `λ` in `z`.
+    #[inline]
+    pub fn lambda_index(&self, i: usize) -> usize {
+        self.nc * (1 + self.k) + i
+    }
+
+    /// Jacobian rows of contact `i`.
+    pub fn rows(&self, i: usize) -> ContactRows<'_> {
+        let r = 1 + self.k;
+        let a = (2 * i) * r;
+        let b = (2 * i + 1) * r;
+        ContactRows {
+            body: [self.side_body[2 * i], self.side_body[2 * i + 1]],
+            rows: [&self.jac[a..a + r], &self.jac[b..b + r]],
+        }
+    }
+
+    /// Index in `z` of row `r` (0 normal, 1 + j friction) of contact `c`.
+    #[inline]
+    fn z_index(&self, c: usize, r: usize) -> usize {
+        if r == 0 {
+            c
+        } else {
+            self.nc + c * self.k + (r - 1)
+        }
+    }
+
+    /// Assembles `(M, q)` for `contacts` (DESIGN §1).
+    pub fn assemble(&mut self, contacts: &[Contact], dynamics: &BodyDynamics<'_>, p: &AssemblyParams) {
+        let nc = contacts.len();
+        let k = p.k;
+        let r = 1 + k;
+        self.nc = nc;
+        self.k = k;
+        self.s = p.s;
+        if self.basis.as_ref().map(|b| b.k()) != Some(k) {
+            self.basis = Some(FrictionBasis::new(k));
+        }
+        let basis = self.basis.as_ref().expect("set above");
+        let n = nc * (k + 2);
+
+        // Jacobian rows and M⁻¹Jᵀ rows per contact and side.
+        self.jac.clear();
+        self.jac.resize(2 * nc * r, [0.0; 6]);
+        self.minv_jt.clear();
+        self.minv_jt.resize(2 * nc * r, [0.0; 6]);
+        self.side_body.clear();
+        self.mu.clear();
+        for (c, ct) in contacts.iter().enumerate() {
+            self.mu.push(ct.mu);
+            for (side, (bi, sign)) in [(ct.body_a, 1.0), (ct.body_b, -1.0)].into_iter().enumerate() {
+                let body = &dynamics.bodies[bi];
+                if body.is_static() {
+                    self.side_body.push(None);
+                    continue;
+                }
+                self.side_body.push(Some(bi));
+                let arm = ct.point - body.position();
+                let inv_i = dynamics.inv_inertia_world[bi];
+                let base = (2 * c + side) * r;
+                for rr in 0..r {
+                    // The direction this row measures, as seen by side A (B gets the opposite).
+                    let d = if rr == 0 { ct.normal } else { basis.direction(ct.normal, ct.tangent, rr - 1) } * sign;
+                    let ang = arm.cross(d);
+                    self.jac[base + rr] = row(d, ang);
+                    self.minv_jt[base + rr] = row(d * body.inv_mass(), inv_i * ang);
+                }
+            }
+        }
+
+        // Group (contact, side) by body: a counting sort over body indices.
+        let nb = dynamics.bodies.len();
+        self.adj_start.clear();
+        self.adj_start.resize(nb + 1, 0);
+        for b in self.side_body.iter().flatten() {
+            self.adj_start[b + 1] += 1;
+        }
+        for b in 0..nb {
+            self.adj_start[b + 1] += self.adj_start[b];
+        }
+        self.adj.clear();
+        self.adj.resize(self.adj_start[nb], (0, 0));
+        self.adj_cursor.clear();
+        self.adj_cursor.extend_from_slice(&self.adj_start[..nb]);
+        for (idx, sb) in self.side_body.iter().enumerate() {
+            if let Some(b) = *sb {
+                self.adj[self.adj_cursor[b]] = (idx / 2, idx % 2);
+                self.adj_cursor[b] += 1;
+            }
+        }
+
+        // M = 0, then A = Σ_b J_b M_b⁻¹ J_bᵀ over pairs of contacts sharing body b.
+        self.m.clear();
+        self.m.resize(n * n, 0.0);
+        for b in 0..nb {
+            let list = &self.adj[self.adj_start[b]..self.adj_start[b + 1]];
+            for (x, &(c1, s1)) in list.iter().enumerate() {
+                for &(c2, s2) in &list[x..] {
+                    let j1 = &self.jac[(2 * c1 + s1) * r..(2 * c1 + s1 + 1) * r];
+                    let w2 = &self.minv_jt[(2 * c2 + s2) * r..(2 * c2 + s2 + 1) * r];
+                    for (r1, jrow) in j1.iter().enumerate() {
+                        let i = self.z_index(c1, r1);
+                        for (r2, wrow) in w2.iter().enumerate() {
+                            let j = self.z_index(c2, r2);
+                            let v = dot6(jrow, wrow);
+                            self.m[i * n + j] += v;
+                            if c1 != c2 {
+                                self.m[j * n + i] += v;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+
+        // Friction-cone coupling: sE in the friction rows, sμ and −sEᵀ in the cone rows.
+        let s = p.s;
+        for c in 0..nc {
+            let l = self.lambda_index(c);
+            for j in 0..k {
+                let f = self.fd_index(c, j);
+                self.m[f * n + l] = s;
+                self.m[l * n + f] = -s;
+            }
+            self.m[l * n + c] = s * self.mu[c];
+        }
+
+        // q = [J_n v* + stabilization; J_d v*; 0].
+        self.q.clear();
+        self.q.resize(n, 0.0);
+        for (c, ct) in contacts.iter().enumerate() {
+            let mut vn_pre = 0.0;
+            for side in 0..2 {
+                let Some(b) = self.side_body[2 * c + side] else { continue };
+                let vel = row(dynamics.v_free[b], dynamics.w_free[b]);
+                let base = (2 * c + side) * r;
+                for rr in 0..r {
+                    let idx = self.z_index(c, rr);
+                    self.q[idx] += dot6(&self.jac[base + rr], &vel);
+                }
+                let body = &dynamics.bodies[b];
+                vn_pre += dot6(&self.jac[base], &row(body.velocity(), body.angular_velocity()));
+            }
+            let mut bias = p.stabilization.bias(ct.gap, p.h);
+            let e = p.restitution.coefficient;
+            if e > 0.0 && vn_pre < -p.restitution.threshold && ct.gap + p.h * vn_pre <= 0.0 {
+                // Bounce: require v⁺_n ≥ e·|v⁻_n|, or more if stabilization asks for more.
+                bias = bias.min(e * vn_pre);
+            }
+            self.q[c] += bias;
+        }
+    }
+
+    /// Moves `(M, q)` into an [`Lcp`] without copying (give it back with
+    /// [`ContactLcp::restore`] to keep the buffers). Fails only on non-finite data.
+    pub fn take_lcp(&mut self) -> Result<Lcp, LcpError> {
+        let m = std::mem::take(&mut self.m);
+        let q = std::mem::take(&mut self.q);
+        Lcp::new(m, q)
+    }
+
+    /// Takes the buffers back from an LCP made by [`ContactLcp::take_lcp`].
+    pub fn restore(&mut self, lcp: Lcp) {
+        let (m, q) = lcp.into_parts();
+        self.m = m;
+        self.q = q;
+    }
+
+    /// A copy of the LCP (for inspection and tests).
+    pub fn to_lcp(&self) -> Result<Lcp, LcpError> {
+        Lcp::new(self.m.clone(), self.q.clone())
+    }
+
+    /// Maps a solution of the scaled LCP to physical units: `fn`, `fd`
+    /// unchanged, `λ = s·λ_scaled` (`z = D z_scaled`).
+    pub fn unscale_z(&self, z_scaled: &[f64], z: &mut Vec<f64>) {
+        z.clear();
+        z.extend_from_slice(z_scaled);
+        let l0 = self.lambda_index(0);
+        for v in &mut z[l0..] {
+            *v *= self.s;
+        }
+    }
+
+    /// `w = M₁ z + q` of the *unscaled* LCP (`s = 1`) for a physical `z`:
+    /// normal velocities, tangential velocities + λ, and the cone slack
+    /// `μ fn − Σ_j fd_j`. Requires `(M, q)` to be present (not lent out).
+    pub fn unscaled_w(&self, z: &[f64], w: &mut Vec<f64>) {
+        let (nc, k, n) = (self.nc, self.k, self.n());
+        let na = nc * (1 + k);
+        w.clear();
+        w.resize(n, 0.0);
+        // The A block does not depend on s.
+        for (i, wi) in w.iter_mut().enumerate().take(na) {
+            let mrow = &self.m[i * n..i * n + na];
+            *wi = lcp::problem::dot(mrow, &z[..na]) + self.q[i];
+        }
+        for c in 0..nc {
+            let lambda = z[self.lambda_index(c)];
+            let mut sum_fd = 0.0;
+            for j in 0..k {
+                w[self.fd_index(c, j)] += lambda;
+                sum_fd += z[self.fd_index(c, j)];
+            }
+            w[self.lambda_index(c)] = self.mu[c] * z[c] - sum_fd;
+        }
+    }
+
+    /// Adds `M_b⁻¹ Jᵀ z` (the velocity change of the impulses `fn`, `fd` in
+    /// the physical `z`) to the per-body `dv`, `dw`.
+    pub fn apply_impulses(&self, z: &[f64], dv: &mut [Vec3], dw: &mut [Vec3]) {
+        let r = 1 + self.k;
+        for c in 0..self.nc {
+            for side in 0..2 {
+                let Some(b) = self.side_body[2 * c + side] else { continue };
+                let base = (2 * c + side) * r;
+                for rr in 0..r {
+                    let zi = z[self.z_index(c, rr)];
+                    if zi == 0.0 {
+                        continue;
+                    }
+                    let w = &self.minv_jt[base + rr];
+                    dv[b] += Vec3::new(w[0], w[1], w[2]) * zi;
+                    dw[b] += Vec3::new(w[3], w[4], w[5]) * zi;
+                }
+            }
+        }
+    }
+}

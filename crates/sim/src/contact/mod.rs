@@ -1,0 +1,17 @@
+//! From contacts to the Stewart–Trinkle LCP (DESIGN §1).
+//!
+//! - [`params`]: the knobs of the formulation — friction-cone scale `s`,
+//!   penetration stabilization, restitution, how μ is combined per pair.
+//! - [`friction`]: the polyhedral friction basis `d_j`.
+//! - [`assembly`]: Jacobian rows per contact, `A = J M_b⁻¹ Jᵀ`, and the LCP
+//!   `(M, q)` with `z = [fn; fd; λ]`, plus the map back to physical units.
+//!
+//! Assembly never solves and solvers never see bodies (DESIGN §6).
+
+pub mod assembly;
+pub mod friction;
+pub mod params;
+
+pub use assembly::{ContactLcp, ContactRows};
+pub use friction::{friction_directions, FrictionBasis};
+pub use params::{ConeScale, MuCombine, Restitution, Stabilization};

@@ -1,0 +1,14 @@
+//! Rigid bodies, external forces and the semi-implicit Euler integrator.
+//!
+//! State per body: pose (position of the centre of mass, unit quaternion
+//! body → world) and velocity `[v; ω]`, both in the world frame (DESIGN §8).
+//! Static bodies never move and have infinite mass: they contribute nothing
+//! to the contact LCP's `A = J M_b⁻¹ Jᵀ`.
+
+pub(crate) mod body;
+mod forces;
+mod integrate;
+
+pub use body::{Body, BodyDesc, BodyId};
+pub use forces::{AppliedForce, AppliedTorque};
+pub use integrate::{free_velocity, integrate_positions};

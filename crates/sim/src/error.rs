@@ -1,0 +1,106 @@
+//! `SimError`: invalid input to the simulator, naming the offending field and value.
+//!
+//! Invalid parameters are errors (the Python layer turns them into
+//! `ValueError`); solver trouble never is — that is a `Status` in the step
+//! record (see `pipeline::StepRecord`).
+
+use std::fmt;
+
+/// Why a body, shape, force or world parameter was rejected.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SimError {
+    /// A quantity that must be `> 0` is not (mass, dt, box half extent, radius, inertia).
+    NotPositive { field: &'static str, value: f64 },
+    /// A quantity that must be `≥ 0` is negative (μ, margin, slop, …).
+    Negative { field: &'static str, value: f64 },
+    /// A quantity that must lie in a range does not (`range` says which, e.g. "[0, 1]").
+    OutOfRange { field: &'static str, value: f64, range: &'static str },
+    /// An input is NaN or infinite.
+    NonFinite { field: &'static str, value: f64 },
+    /// A quaternion (or a direction vector) of zero length cannot be normalized.
+    ZeroLength { field: &'static str },
+    /// The number of friction directions `k` must be even and ≥ 2.
+    FrictionDirs { k: usize },
+    /// A body index that the world does not hold.
+    UnknownBody { index: usize, bodies: usize },
+    /// An operation that needs a dynamic body got a static one (forces on static bodies).
+    StaticBody { index: usize },
+    /// Planes are infinite: they can only be static.
+    DynamicPlane,
+    /// An inertia tensor that is not symmetric positive definite.
+    BadInertia { reason: &'static str },
+    /// The state or the external forces became non-finite during a step, so the
+    /// contact LCP could not even be formed.
+    NonFiniteState { body: usize },
+    /// The assembled LCP was rejected by `lcp::Lcp::new` (non-finite data).
+    Lcp(lcp::LcpError),
+}
+
+impl fmt::Display for SimError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SimError::NotPositive { field, value } => write!(f, "{field} must be > 0, got {value}"),
+            SimError::Negative { field, value } => write!(f, "{field} must be >= 0, got {value}"),
+            SimError::OutOfRange { field, value, range } => write!(f, "{field} must be in {range}, got {value}"),
+            SimError::NonFinite { field, value } => write!(f, "{field} must be finite, got {value}"),
+            SimError::ZeroLength { field } => write!(f, "{field} has zero length and cannot be normalized"),
+            SimError::FrictionDirs { k } => {
+                write!(f, "friction_dirs must be even and >= 2, got {k}")
+            }
+            SimError::UnknownBody { index, bodies } => {
+                write!(f, "body {index} does not exist (the world has {bodies} bodies)")
+            }
+            SimError::StaticBody { index } => write!(f, "body {index} is static"),
+            SimError::DynamicPlane => write!(f, "a plane must be static"),
+            SimError::BadInertia { reason } => write!(f, "inertia tensor {reason}"),
+            SimError::NonFiniteState { body } => write!(f, "body {body} has a non-finite state"),
+            SimError::Lcp(e) => write!(f, "contact LCP: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for SimError {}
+
+// Small checks shared by every constructor, so that each field is named once.
+
+pub(crate) fn finite(field: &'static str, value: f64) -> Result<f64, SimError> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(SimError::NonFinite { field, value })
+    }
+}
+
+pub(crate) fn positive(field: &'static str, value: f64) -> Result<f64, SimError> {
+    finite(field, value)?;
+    if value > 0.0 {
+        Ok(value)
+    } else {
+        Err(SimError::NotPositive { field, value })
+    }
+}
+
+pub(crate) fn non_negative(field: &'static str, value: f64) -> Result<f64, SimError> {
+    finite(field, value)?;
+    if value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(SimError::Negative { field, value })
+    }
+}
+
+pub(crate) fn finite_vec(field: &'static str, v: crate::math::Vec3) -> Result<crate::math::Vec3, SimError> {
+    for c in v.to_array() {
+        finite(field, c)?;
+    }
+    Ok(v)
+}
+
+pub(crate) fn in_range(field: &'static str, value: f64, lo: f64, hi: f64, range: &'static str) -> Result<f64, SimError> {
+    finite(field, value)?;
+    if value >= lo && value <= hi {
+        Ok(value)
+    } else {
+        Err(SimError::OutOfRange { field, value, range })
+    }
+}

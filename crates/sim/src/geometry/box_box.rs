@@ -1,0 +1,302 @@
+//! Box–box: separating-axis test over the 15 axes, then face clipping.
+//!
+//! The axis of least penetration (largest separation) decides the contact
+//! normal. Face axes are preferred over edge–edge axes unless an edge axis is
+//! clearly better, so resting face-on-face contacts never flicker to an edge.
+//! For a face axis the *incident* face of the other box is clipped
+//! (Sutherland–Hodgman) against the side planes of the *reference* face, and
+//! every clipped vertex within the margin becomes a contact (up to 8: a square
+//! clipped by a square). An edge–edge axis gives one contact at the closest
+//! points of the two edges.
+
+use super::{BoxShape, GeomContact, Placement};
+use crate::math::Vec3;
+
+/// Which axis separated least.
+#[derive(Clone, Copy, Debug)]
+enum Axis {
+    FaceA(usize),
+    FaceB(usize),
+    Edge(usize, usize),
+}
+
+/// Appends the contacts of box A with box B (normal from B to A) whose gap `≤ margin`.
+pub fn box_box(a: &BoxShape, pa: &Placement, b: &BoxShape, pb: &Placement, margin: f64, out: &mut Vec<GeomContact>) {
+    let ha = a.half_extents.to_array();
+    let hb = b.half_extents.to_array();
+    let axes_a = [pa.rotation.col(0), pa.rotation.col(1), pa.rotation.col(2)];
+    let axes_b = [pb.rotation.col(0), pb.rotation.col(1), pb.rotation.col(2)];
+    let d = pa.center - pb.center;
+    let scale = a.half_extents.max_abs().max(b.half_extents.max_abs());
+
+    // Support radius of a box along unit u.
+    let radius = |h: &[f64; 3], axes: &[Vec3; 3], u: Vec3| -> f64 {
+        h[0] * axes[0].dot(u).abs() + h[1] * axes[1].dot(u).abs() + h[2] * axes[2].dot(u).abs()
+    };
+    // Separation along u and u oriented from B to A.
+    let separation = |u: Vec3| -> (f64, Vec3) {
+        let du = d.dot(u);
+        let s = du.abs() - radius(&ha, &axes_a, u) - radius(&hb, &axes_b, u);
+        (s, if du >= 0.0 { u } else { -u })
+    };
+
+    // Face axes: A's first, then B's only if clearly better (deterministic ties).
+    let face_tol = 1e-9 * scale;
+    let mut best = (f64::NEG_INFINITY, Vec3::Z, Axis::FaceA(0));
+    for (i, &u) in axes_a.iter().enumerate() {
+        let (s, n) = separation(u);
+        if s > margin {
+            return;
+        }
+        if s > best.0 + face_tol {
+            best = (s, n, Axis::FaceA(i));
+        }
+    }
+    for (j, &u) in axes_b.iter().enumerate() {
+        let (s, n) = separation(u);
+        if s > margin {
+            return;
+        }
+        if s > best.0 + face_tol {
+            best = (s, n, Axis::FaceB(j));
+        }
+    }
+    // Edge axes: must beat the best face by a margin (ODE uses a similar fudge).
+    let face_sep = best.0;
+    let edge_tol = 1e-5 * scale + 0.05 * face_sep.abs();
+    for (i, &ea) in axes_a.iter().enumerate() {
+        for (j, &eb) in axes_b.iter().enumerate() {
+            let c = ea.cross(eb);
+            let len = c.norm();
+            if len < 1e-6 {
+                continue; // parallel edges: covered by the face axes
+            }
+            let (s, n) = separation(c / len);
+            if s > margin {
+                return;
+            }
+            if s > face_sep + edge_tol && s > best.0 {
+                best = (s, n, Axis::Edge(i, j));
+            }
+        }
+    }
+
+    let (sep, n, axis) = best;
+    match axis {
+        Axis::FaceB(j) => {
+            // Reference face on B facing A (outward normal +n); incident face on A facing −n.
+            let fc = pb.center + n * hb[j];
+            let (u1, e1, u2, e2) = side_axes(&axes_b, &hb, j);
+            let poly = incident_face(&axes_a, &ha, pa.center, -n);
+            clip_and_emit(&poly, fc, u1, e1, u2, e2, margin, scale, out, |p| {
+                let gap = n.dot(p - fc);
+                (gap, p - n * (0.5 * gap))
+            }, n);
+        }
+        Axis::FaceA(i) => {
+            // Reference face on A facing B (outward normal −n); incident face on B facing +n.
+            let fc = pa.center - n * ha[i];
+            let (u1, e1, u2, e2) = side_axes(&axes_a, &ha, i);
+            let poly = incident_face(&axes_b, &hb, pb.center, n);
+            clip_and_emit(&poly, fc, u1, e1, u2, e2, margin, scale, out, |p| {
+                let gap = n.dot(fc - p);
+                (gap, p + n * (0.5 * gap))
+            }, n);
+        }
+        Axis::Edge(i, j) => {
+            // The edge of A deepest towards B and the edge of B deepest towards A.
+            let mut pa0 = pa.center;
+            let mut pb0 = pb.center;
+            for k in 0..3 {
+                if k != i {
+                    pa0 -= axes_a[k] * (ha[k] * sign(axes_a[k].dot(n)));
+                }
+                if k != j {
+                    pb0 += axes_b[k] * (hb[k] * sign(axes_b[k].dot(n)));
+                }
+            }
+            let (ea, eb) = (axes_a[i], axes_b[j]);
+            // Closest points of the two edge lines, clamped to the edges.
+            let r = pa0 - pb0;
+            let bb = ea.dot(eb);
+            let (c, f) = (ea.dot(r), eb.dot(r));
+            let denom = (1.0 - bb * bb).max(1e-12);
+            let s = ((bb * f - c) / denom).clamp(-ha[i], ha[i]);
+            let t = (f + s * bb).clamp(-hb[j], hb[j]);
+            let point = (pa0 + ea * s + pb0 + eb * t) * 0.5;
+            out.push(GeomContact { point, normal: n, gap: sep });
+        }
+    }
+}
+
+#[inline]
+fn sign(x: f64) -> f64 {
+    if x >= 0.0 {
+        1.0
+    } else {
+        -1.0
+    }
+}
+
+/// The two in-face axes (with half extents) of the face normal to axis `k`.
+fn side_axes(axes: &[Vec3; 3], h: &[f64; 3], k: usize) -> (Vec3, f64, Vec3, f64) {
+    let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+    (axes[i], h[i], axes[j], h[j])
+}
+
+/// The 4 vertices (in order around the face) of the box face whose outward
+/// normal is closest to `dir`.
+fn incident_face(axes: &[Vec3; 3], h: &[f64; 3], center: Vec3, dir: Vec3) -> [Vec3; 4] {
+    let mut k = 0;
+    for m in 1..3 {
+        if axes[m].dot(dir).abs() > axes[k].dot(dir).abs() {
+            k = m;
+        }
+    }
+    let fc = center + axes[k] * (h[k] * sign(axes[k].dot(dir)));
+    let (u1, e1, u2, e2) = side_axes(axes, h, k);
+    let (a, b) = (u1 * e1, u2 * e2);
+    [fc + a + b, fc - a + b, fc - a - b, fc + a - b]
+}
+
+/// Clips the incident polygon against the reference face's 4 side planes and
+/// emits every vertex whose gap (from `gap_point`) is within the margin.
+#[allow(clippy::too_many_arguments)]
+fn clip_and_emit(
+    poly: &[Vec3; 4],
+    fc: Vec3,
+    u1: Vec3,
+    e1: f64,
+    u2: Vec3,
+    e2: f64,
+    margin: f64,
+    scale: f64,
+    out: &mut Vec<GeomContact>,
+    gap_point: impl Fn(Vec3) -> (f64, Vec3),
+    n: Vec3,
+) {
+    // A square clipped by 4 half-planes has at most 8 vertices; 16 leaves room for ties.
+    let mut buf_a = [Vec3::ZERO; 16];
+    let mut buf_b = [Vec3::ZERO; 16];
+    buf_a[..4].copy_from_slice(poly);
+    let mut len = 4;
+    let tol = 1e-12 * scale;
+    for (u, e) in [(u1, e1), (-u1, e1), (u2, e2), (-u2, e2)] {
+        len = clip_polygon(&buf_a[..len], fc, u, e, tol, &mut buf_b);
+        buf_a[..len].copy_from_slice(&buf_b[..len]);
+        if len == 0 {
+            return;
+        }
+    }
+    let first = out.len();
+    let dup = 1e-9 * scale;
+    for &p in &buf_a[..len] {
+        let (gap, point) = gap_point(p);
+        if gap > margin {
+            continue;
+        }
+        if out[first..].iter().any(|c| (c.point - point).max_abs() <= dup) {
+            continue;
+        }
+        out.push(GeomContact { point, normal: n, gap });
+        if out.len() - first == 8 {
+            break;
+        }
+    }
+}
+
+/// One Sutherland–Hodgman pass: keeps the part of `input` with `u·(p − c) ≤ e`
+/// (points within `tol` outside count as inside, so boundary vertices are kept
+/// as they are instead of being re-created by an intersection).
+fn clip_polygon(input: &[Vec3], c: Vec3, u: Vec3, e: f64, tol: f64, output: &mut [Vec3; 16]) -> usize {
+    let mut len = 0;
+    let mut push = |p: Vec3, len: &mut usize| {
+        if *len < output.len() {
+            output[*len] = p;
+            *len += 1;
+        }
+    };
+    for idx in 0..input.len() {
+        let p = input[idx];
+        let q = input[(idx + 1) % input.len()];
+        let dp = u.dot(p - c) - e;
+        let dq = u.dot(q - c) - e;
+        let (p_in, q_in) = (dp <= tol, dq <= tol);
+        if p_in {
+            push(p, &mut len);
+        }
+        // A strict crossing of the plane adds the intersection point.
+        if (p_in && !q_in && dp < 0.0) || (!p_in && q_in && dq < 0.0) {
+            push(p + (q - p) * (dp / (dp - dq)), &mut len);
+        }
+    }
+    len
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::{Mat3, Quat};
+
+    fn place(c: Vec3, q: Quat) -> Placement {
+        Placement { center: c, rotation: q.to_mat3() }
+    }
+
+    #[test]
+    fn stacked_cubes_touch_at_four_corners() {
+        let b = BoxShape::cube(1.0).unwrap();
+        let mut out = Vec::new();
+        box_box(&b, &place(Vec3::new(0.0, 0.0, 1.5), Quat::IDENTITY), &b, &place(Vec3::new(0.0, 0.0, 0.5), Quat::IDENTITY), 1e-3, &mut out);
+        assert_eq!(out.len(), 4, "{out:?}");
+        for c in &out {
+            assert_eq!(c.normal, Vec3::Z);
+            assert!(c.gap.abs() < 1e-15);
+            assert!((c.point.z - 1.0).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn rotated_cube_on_cube_gives_octagon() {
+        let b = BoxShape::cube(1.0).unwrap();
+        let q = Quat::from_axis_angle(Vec3::Z, std::f64::consts::FRAC_PI_4);
+        let mut out = Vec::new();
+        box_box(&b, &place(Vec3::new(0.0, 0.0, 1.5), q), &b, &place(Vec3::new(0.0, 0.0, 0.5), Quat::IDENTITY), 1e-3, &mut out);
+        assert_eq!(out.len(), 8, "{out:?}");
+        assert!(out.iter().all(|c| (c.normal - Vec3::Z).max_abs() < 1e-12 && c.gap.abs() < 1e-12));
+    }
+
+    #[test]
+    fn lower_box_first_gives_downward_normal() {
+        let b = BoxShape::cube(1.0).unwrap();
+        let mut out = Vec::new();
+        box_box(&b, &place(Vec3::new(0.2, 0.0, 0.5), Quat::IDENTITY), &b, &place(Vec3::new(0.0, 0.0, 1.49), Quat::IDENTITY), 1e-3, &mut out);
+        assert_eq!(out.len(), 4);
+        for c in &out {
+            assert_eq!(c.normal, -Vec3::Z);
+            assert!((c.gap + 0.01).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn crossed_edges_give_one_contact() {
+        // Two cubes balanced edge on edge, edges crossing at right angles.
+        let b = BoxShape::cube(1.0).unwrap();
+        let r = 0.5 * 2f64.sqrt();
+        let qa = Quat::from_axis_angle(Vec3::X, std::f64::consts::FRAC_PI_4);
+        let qb = Quat::from_axis_angle(Vec3::Y, std::f64::consts::FRAC_PI_4);
+        let mut out = Vec::new();
+        box_box(&b, &place(Vec3::new(0.0, 0.0, 2.0 * r - 1e-4), qa), &b, &place(Vec3::ZERO, qb), 1e-3, &mut out);
+        assert_eq!(out.len(), 1, "{out:?}");
+        assert!((out[0].normal - Vec3::Z).max_abs() < 1e-9);
+        assert!((out[0].gap + 1e-4).abs() < 1e-9);
+        assert!((out[0].point - Vec3::new(0.0, 0.0, r - 0.5e-4)).max_abs() < 1e-9);
+    }
+
+    #[test]
+    fn separated_boxes_give_nothing() {
+        let b = BoxShape::cube(1.0).unwrap();
+        let mut out = Vec::new();
+        box_box(&b, &place(Vec3::new(1.1, 0.0, 0.0), Quat::IDENTITY), &b, &Placement { center: Vec3::ZERO, rotation: Mat3::IDENTITY }, 1e-3, &mut out);
+        assert!(out.is_empty());
+    }
+}

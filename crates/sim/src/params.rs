@@ -1,0 +1,78 @@
+//! `WorldParams`: every knob of the simulation, with its default documented on the field.
+
+use crate::contact::{ConeScale, MuCombine, Restitution, Stabilization};
+use crate::error::{finite_vec, non_negative, positive, SimError};
+use crate::math::Vec3;
+use lcp::Method;
+
+/// Simulation parameters (Rapier's `IntegrationParameters` in spirit).
+/// Validated by `World::new` and `World::set_params`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WorldParams {
+    /// Time step `h` (s), > 0. Default 1e-3 (the seed's).
+    pub dt: f64,
+    /// Gravity (m/s²). Default (0, 0, −9.81).
+    pub gravity: Vec3,
+    /// Friction directions per contact `k`, even and ≥ 2. Default 8 (LCP size 10 per contact).
+    pub friction_dirs: usize,
+    /// Friction-cone scale `s` (DESIGN §1). Default `Unscaled` (s = 1).
+    pub cone_scale: ConeScale,
+    /// Contacts with gap `φ ≤ margin` enter the LCP (m), ≥ 0. Default 1e-3.
+    pub margin: f64,
+    /// Widen the margin of each pair by how far its bodies can approach in one
+    /// step (`h·(|v*| + |ω*|·r)` for both bodies), so fast bodies cannot pass
+    /// through a surface between two detections. Default true.
+    pub velocity_margin: bool,
+    /// Penetration stabilization of `b0`. Default: ERP 0.2, no slop, speculative gaps.
+    pub stabilization: Stabilization,
+    /// Restitution. Default coefficient 0 (no bounce).
+    pub restitution: Restitution,
+    /// How two bodies' μ combine. Default `Min`.
+    pub mu_combine: MuCombine,
+    /// If set, every contact uses this μ instead of the combined one. Default `None`.
+    pub mu_override: Option<f64>,
+    /// LCP solver and its options. Default `Method::default()` (robust Lemke).
+    pub method: Method,
+}
+
+impl Default for WorldParams {
+    fn default() -> Self {
+        WorldParams {
+            dt: 1e-3,
+            gravity: Vec3::new(0.0, 0.0, -9.81),
+            friction_dirs: 8,
+            cone_scale: ConeScale::Unscaled,
+            margin: 1e-3,
+            velocity_margin: true,
+            stabilization: Stabilization::default(),
+            restitution: Restitution::default(),
+            mu_combine: MuCombine::Min,
+            mu_override: None,
+            method: Method::default(),
+        }
+    }
+}
+
+impl WorldParams {
+    /// Checks every field; the error names the field and its value.
+    pub fn validate(&self) -> Result<(), SimError> {
+        positive("dt", self.dt)?;
+        finite_vec("gravity", self.gravity)?;
+        if self.friction_dirs < 2 || self.friction_dirs % 2 != 0 {
+            return Err(SimError::FrictionDirs { k: self.friction_dirs });
+        }
+        self.cone_scale.validate()?;
+        non_negative("margin", self.margin)?;
+        self.stabilization.validate()?;
+        self.restitution.validate()?;
+        if let Some(mu) = self.mu_override {
+            non_negative("mu_override", mu)?;
+        }
+        Ok(())
+    }
+
+    /// The numeric friction-cone scale `s` for this time step.
+    pub fn scale(&self) -> f64 {
+        self.cone_scale.value(self.dt)
+    }
+}

@@ -1,0 +1,93 @@
+//! Stage `detect`: all-pairs broad phase with bounding spheres, then the
+//! narrow-phase file of the shape pair.
+//!
+//! Each contact gets its bodies in the order of the pair function (A = the
+//! first shape of its name; for two shapes of one kind, the lower index), the
+//! combined μ, and its friction tangent: the plane's own tangent (downhill on
+//! a slope) when B is a plane, otherwise the world x axis projected into the
+//! tangent plane (y when the normal is close to x).
+
+use crate::geometry::{box_box, box_plane, fixed_tangent, sphere_box, sphere_plane, sphere_sphere, Contact, Shape};
+use crate::world::World;
+
+impl World {
+    /// Stage `detect`: fills the contact list for this step.
+    pub fn detect(&mut self) {
+        let h = self.params.dt;
+        let ws = &mut self.ws;
+        ws.contacts.clear();
+        let nb = self.bodies.len();
+        for i in 0..nb {
+            for j in (i + 1)..nb {
+                let (bi, bj) = (&self.bodies[i], &self.bodies[j]);
+                if bi.is_static && bj.is_static {
+                    continue;
+                }
+                // How far the pair can close within the step (a conservative bound).
+                let mut margin = self.params.margin;
+                if self.params.velocity_margin {
+                    let reach = |k: usize| {
+                        let r = self.bodies[k].shape.bounding_radius();
+                        let w = ws.w_free[k].norm();
+                        ws.v_free[k].norm() + if w > 0.0 { w * r } else { 0.0 }
+                    };
+                    margin += h * (reach(i) + reach(j));
+                }
+                // Broad phase: bounding spheres (planes are unbounded).
+                let (ri, rj) = (bi.shape.bounding_radius(), bj.shape.bounding_radius());
+                if ri.is_finite() && rj.is_finite() && (bi.position - bj.position).norm() > ri + rj + margin {
+                    continue;
+                }
+                // Narrow phase, with A/B in the order of the pair function.
+                ws.geom.clear();
+                let (a, b) = match (&bi.shape, &bj.shape) {
+                    (Shape::Box(x), Shape::Plane(p)) => {
+                        box_plane(x, &bi.placement(), p, margin, &mut ws.geom);
+                        (i, j)
+                    }
+                    (Shape::Plane(p), Shape::Box(x)) => {
+                        box_plane(x, &bj.placement(), p, margin, &mut ws.geom);
+                        (j, i)
+                    }
+                    (Shape::Sphere { radius }, Shape::Plane(p)) => {
+                        sphere_plane(bi.position, *radius, p, margin, &mut ws.geom);
+                        (i, j)
+                    }
+                    (Shape::Plane(p), Shape::Sphere { radius }) => {
+                        sphere_plane(bj.position, *radius, p, margin, &mut ws.geom);
+                        (j, i)
+                    }
+                    (Shape::Sphere { radius: ra }, Shape::Sphere { radius: rb }) => {
+                        sphere_sphere(bi.position, *ra, bj.position, *rb, margin, &mut ws.geom);
+                        (i, j)
+                    }
+                    (Shape::Sphere { radius }, Shape::Box(x)) => {
+                        sphere_box(bi.position, *radius, x, &bj.placement(), margin, &mut ws.geom);
+                        (i, j)
+                    }
+                    (Shape::Box(x), Shape::Sphere { radius }) => {
+                        sphere_box(bj.position, *radius, x, &bi.placement(), margin, &mut ws.geom);
+                        (j, i)
+                    }
+                    (Shape::Box(x), Shape::Box(y)) => {
+                        box_box(x, &bi.placement(), y, &bj.placement(), margin, &mut ws.geom);
+                        (i, j)
+                    }
+                    (Shape::Plane(_), Shape::Plane(_)) => continue,
+                };
+                if ws.geom.is_empty() {
+                    continue;
+                }
+                let mu = self.params.mu_override.unwrap_or_else(|| self.params.mu_combine.combine(self.bodies[a].mu, self.bodies[b].mu));
+                let plane_tangent = match &self.bodies[b].shape {
+                    Shape::Plane(p) => Some(p.friction_tangent()),
+                    _ => None,
+                };
+                for g in &ws.geom {
+                    let tangent = plane_tangent.unwrap_or_else(|| fixed_tangent(g.normal));
+                    ws.contacts.push(Contact { body_a: a, body_b: b, point: g.point, normal: g.normal, gap: g.gap, mu, tangent });
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,182 @@
+//! The time step as a flat list of named stages (MuJoCo's `mj_step` style):
+//!
+//! ```text
+//! forces     v* = v + h M⁻¹ f_ext                      (gravity, applied forces, torques)
+//! detect     contacts with gap φ ≤ margin              (one narrow-phase file per shape pair)
+//! assemble   Stewart–Trinkle LCP (M, q), z = [fn; fd; λ]
+//! solve      any lcp::Method (or a caller's solver), map z back to physical units, record
+//! integrate  v⁺ = v* + M⁻¹(J_nᵀ fn + J_dᵀ fd), then positions from v⁺
+//! ```
+//!
+//! Every stage is a public method of [`World`] so a caller can run them one by
+//! one (and look at the contacts or the LCP in between); `step` runs them all.
+
+mod capture;
+mod detect;
+mod record;
+mod solve;
+mod trajectory;
+
+pub use capture::{CapturedLcp, LcpBuffer, LcpSink, OwnedLcp};
+pub use record::StepRecord;
+pub use trajectory::Trajectory;
+
+use crate::contact::assembly::{AssemblyParams, BodyDynamics};
+use crate::dynamics::{free_velocity, integrate_positions};
+use crate::error::SimError;
+use crate::math::{Mat3, Vec3};
+use crate::world::World;
+use lcp::{Lcp, Solution};
+
+impl World {
+    /// One time step with the world's `method`. Solver trouble is never an
+    /// error (see [`StepRecord::status`]); only a non-finite state is.
+    pub fn step(&mut self) -> Result<&StepRecord, SimError> {
+        self.step_inner(None)
+    }
+
+    /// One time step with a caller-supplied LCP solver instead of `method`
+    /// (e.g. an external solver to compare against). It receives the scaled
+    /// LCP exactly as `method` would.
+    pub fn step_with(&mut self, solver: &mut dyn FnMut(&Lcp) -> Solution) -> Result<&StepRecord, SimError> {
+        self.step_inner(Some(solver))
+    }
+
+    fn step_inner(&mut self, solver: Option<&mut dyn FnMut(&Lcp) -> Solution>) -> Result<&StepRecord, SimError> {
+        // external forces → free velocities v*
+        self.forces_stage()?;
+        // contacts with φ ≤ margin
+        self.detect();
+        // the Stewart–Trinkle LCP of DESIGN §1
+        self.assemble();
+        // solve, map to physical units, fill the step record, capture
+        self.solve(solver)?;
+        // contact impulses → v⁺, then positions
+        self.integrate();
+        Ok(&self.record)
+    }
+
+    /// Runs `steps` steps and returns the trajectory (state after each step
+    /// plus per-step LCP statistics).
+    pub fn run(&mut self, steps: usize) -> Result<Trajectory, SimError> {
+        self.run_with(steps, |_, _| {})
+    }
+
+    /// Like [`World::run`], calling `observe(world, record)` after every step.
+    pub fn run_with(&mut self, steps: usize, mut observe: impl FnMut(&World, &StepRecord)) -> Result<Trajectory, SimError> {
+        let mut traj = Trajectory::with_capacity(steps, self.bodies.len());
+        for _ in 0..steps {
+            self.step()?;
+            traj.push(self);
+            observe(self, &self.record);
+        }
+        Ok(traj)
+    }
+
+    /// Stage `forces`: sums gravity, applied forces and torques per body and
+    /// forms the free velocities `v* = v + h f/m`, `ω* = ω + h I⁻¹ τ`.
+    pub fn forces_stage(&mut self) -> Result<(), SimError> {
+        let h = self.params.dt;
+        let nb = self.bodies.len();
+        let ws = &mut self.ws;
+        // gravity on every dynamic body
+        ws.force.clear();
+        ws.force.extend(self.bodies.iter().map(|b| if b.is_static { Vec3::ZERO } else { self.params.gravity * b.mass }));
+        ws.torque.clear();
+        ws.torque.resize(nb, Vec3::ZERO);
+        // constant forces, with the torque of those applied off the centre of mass
+        for f in &self.forces {
+            let b = &self.bodies[f.body];
+            ws.force[f.body] += f.force;
+            if let Some(p) = f.point {
+                ws.torque[f.body] += b.orientation.rotate(p).cross(f.force);
+            }
+        }
+        for t in &self.torques {
+            ws.torque[t.body] += t.torque;
+        }
+        // inverse inertia in the world frame, then v* and ω*
+        ws.inv_inertia.clear();
+        ws.inv_inertia.extend(self.bodies.iter().map(|b| b.inv_inertia_world()));
+        ws.v_free.clear();
+        ws.w_free.clear();
+        for (i, b) in self.bodies.iter().enumerate() {
+            if b.is_static {
+                ws.v_free.push(Vec3::ZERO);
+                ws.w_free.push(Vec3::ZERO);
+                continue;
+            }
+            let (v, w) = free_velocity(b, ws.force[i], ws.torque[i], h);
+            if !(v.is_finite() && w.is_finite() && b.position.is_finite() && b.orientation.is_finite()) {
+                return Err(SimError::NonFiniteState { body: i });
+            }
+            ws.v_free.push(v);
+            ws.w_free.push(w);
+        }
+        Ok(())
+    }
+
+    /// Stage `assemble`: the contact LCP from this step's contacts and free velocities.
+    pub fn assemble(&mut self) {
+        let p = AssemblyParams {
+            h: self.params.dt,
+            k: self.params.friction_dirs,
+            s: self.params.scale(),
+            stabilization: self.params.stabilization,
+            restitution: self.params.restitution,
+        };
+        let ws = &mut self.ws;
+        let dynamics = BodyDynamics {
+            bodies: &self.bodies,
+            inv_inertia_world: &ws.inv_inertia,
+            v_free: &ws.v_free,
+            w_free: &ws.w_free,
+        };
+        ws.lcp.assemble(&ws.contacts, &dynamics, &p);
+    }
+
+    /// Stage `integrate`: `v⁺ = v* + M⁻¹ Jᵀ z` with the impulses chosen by
+    /// `solve`, then `x += h v⁺` and the quaternion update (renormalized).
+    pub fn integrate(&mut self) {
+        let h = self.params.dt;
+        let nb = self.bodies.len();
+        let ws = &mut self.ws;
+        ws.dv.clear();
+        ws.dv.resize(nb, Vec3::ZERO);
+        ws.dw.clear();
+        ws.dw.resize(nb, Vec3::ZERO);
+        if !ws.contacts.is_empty() {
+            ws.lcp.apply_impulses(&ws.z_apply, &mut ws.dv, &mut ws.dw);
+        }
+        for (i, b) in self.bodies.iter_mut().enumerate() {
+            if b.is_static {
+                continue;
+            }
+            b.velocity = ws.v_free[i] + ws.dv[i];
+            b.angular_velocity = ws.w_free[i] + ws.dw[i];
+            integrate_positions(b, h);
+        }
+        self.time += h;
+        self.steps += 1;
+    }
+
+    /// The contacts found by the last `detect` stage.
+    pub fn contacts(&self) -> &[crate::geometry::Contact] {
+        &self.ws.contacts
+    }
+
+    /// The LCP built by the last `assemble` stage (with its Jacobian rows).
+    pub fn contact_lcp(&self) -> &crate::contact::ContactLcp {
+        &self.ws.lcp
+    }
+
+    /// Free velocities `(v*, ω*)` of the last `forces` stage.
+    pub fn free_velocities(&self) -> (&[Vec3], &[Vec3]) {
+        (&self.ws.v_free, &self.ws.w_free)
+    }
+
+    /// World-frame inverse inertias of the last `forces` stage.
+    pub fn inv_inertias(&self) -> &[Mat3] {
+        &self.ws.inv_inertia
+    }
+}

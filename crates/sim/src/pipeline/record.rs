@@ -1,0 +1,99 @@
+//! `StepRecord`: what one step did — contacts, the LCP's size and outcome,
+//! residuals in physical units, and the impulses per contact.
+
+use crate::contact::FrictionBasis;
+use crate::geometry::Contact;
+use crate::math::Vec3;
+use lcp::{Residuals, Status};
+
+/// The record of one step. Its buffers are reused from step to step; clone
+/// it to keep it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StepRecord {
+    /// Index of the step (0 for the first).
+    pub step: u64,
+    /// Time at the start of the step (s).
+    pub time: f64,
+    /// Time step `h` (s).
+    pub dt: f64,
+    /// Contacts that entered the LCP, in LCP order.
+    pub contacts: Vec<Contact>,
+    /// Friction directions per contact `k`.
+    pub friction_dirs: usize,
+    /// LCP size `nc·(k + 2)` (0 without contacts).
+    pub lcp_size: usize,
+    /// Friction-cone scale `s` of the LCP that was solved.
+    pub scale: f64,
+    /// How the solve ended; `None` when there was no contact (nothing solved).
+    pub status: Option<Status>,
+    /// Pivots (Lemke) or iterations (iterative solvers).
+    pub iterations: usize,
+    /// Residuals of the physical `z` on the unscaled (`s = 1`) LCP.
+    pub residuals: Residuals,
+    /// Residuals as the solver reported them (scaled LCP).
+    pub solver_residuals: Residuals,
+    /// The solver's `z` was unusable (wrong length or not finite): zero impulses were applied.
+    pub zeroed: bool,
+    /// Physical `z = [fn (nc); fd (nc·k); λ (nc)]` (N·s; λ in m/s), `λ = s·λ_scaled`.
+    pub z: Vec<f64>,
+    /// `w = M₁ z + q` of the unscaled LCP: normal velocities, tangential velocities + λ, cone slacks.
+    pub w: Vec<f64>,
+}
+
+impl StepRecord {
+    /// Number of contacts.
+    pub fn nc(&self) -> usize {
+        self.contacts.len()
+    }
+
+    /// `true` when there was no LCP or it was solved.
+    pub fn ok(&self) -> bool {
+        matches!(self.status, None | Some(Status::Solved))
+    }
+
+    /// Normal impulses `fn` (N·s), one per contact.
+    pub fn normal_impulses(&self) -> &[f64] {
+        &self.z[..self.nc()]
+    }
+
+    /// Friction impulses `fd` (N·s), contact-major: `[i·k + j]` is contact `i` along `d_j`.
+    pub fn friction_impulses(&self) -> &[f64] {
+        let nc = self.nc();
+        &self.z[nc..nc * (1 + self.friction_dirs)]
+    }
+
+    /// Friction impulses of contact `i` (length `k`).
+    pub fn friction_of(&self, i: usize) -> &[f64] {
+        let (nc, k) = (self.nc(), self.friction_dirs);
+        &self.z[nc + i * k..nc + (i + 1) * k]
+    }
+
+    /// `λ` per contact in physical units (≈ sliding speed, m/s).
+    pub fn lambdas(&self) -> &[f64] {
+        let nc = self.nc();
+        &self.z[nc * (1 + self.friction_dirs)..]
+    }
+
+    /// Sum of the normal impulses (N·s).
+    pub fn total_normal_impulse(&self) -> f64 {
+        self.normal_impulses().iter().sum()
+    }
+
+    /// Friction impulse of contact `i` as a vector, `Σ_j fd_j d_j` (acting on body A).
+    pub fn friction_impulse(&self, i: usize) -> Vec3 {
+        let c = &self.contacts[i];
+        let basis = FrictionBasis::new(self.friction_dirs);
+        self.friction_of(i).iter().enumerate().map(|(j, &f)| basis.direction(c.normal, c.tangent, j) * f).fold(Vec3::ZERO, |a, b| a + b)
+    }
+
+    /// Total contact impulse on body A of all contacts, `Σ (n fn + Σ d_j fd_j)`.
+    pub fn total_impulse(&self) -> Vec3 {
+        (0..self.nc()).map(|i| self.contacts[i].normal * self.z[i] + self.friction_impulse(i)).fold(Vec3::ZERO, |a, b| a + b)
+    }
+
+    /// The seed's contact pattern of contact `i`: whether `fn`, `Σ fd`, `λ` exceed `zero`.
+    pub fn pattern(&self, i: usize, zero: f64) -> [bool; 3] {
+        let fd: f64 = self.friction_of(i).iter().sum();
+        [self.z[i] > zero, fd > zero, self.lambdas()[i] > zero]
+    }
+}

@@ -1,0 +1,276 @@
+//! `World`: bodies, constant forces, parameters, and the buffers the step reuses.
+//!
+//! Build a world, add bodies (`add_box`, `add_sphere`, `add_plane`, or
+//! `add_body` with a [`BodyDesc`]), apply forces, then `step()` or `run(n)`.
+//! The stages of a step live in `pipeline`.
+
+use crate::contact::ContactLcp;
+use crate::dynamics::{AppliedForce, AppliedTorque, Body, BodyDesc, BodyId};
+use crate::error::{finite_vec, non_negative, SimError};
+use crate::geometry::{Contact, GeomContact, Plane, Shape};
+use crate::math::{Mat3, Quat, Vec3};
+use crate::params::WorldParams;
+use crate::pipeline::{LcpSink, StepRecord};
+
+/// A rigid-body world stepped with the Stewart–Trinkle contact LCP.
+pub struct World {
+    pub(crate) params: WorldParams,
+    pub(crate) bodies: Vec<Body>,
+    pub(crate) forces: Vec<AppliedForce>,
+    pub(crate) torques: Vec<AppliedTorque>,
+    /// Time at the start of the next step (s).
+    pub(crate) time: f64,
+    /// Steps taken so far.
+    pub(crate) steps: u64,
+    pub(crate) sink: Option<Box<dyn LcpSink>>,
+    pub(crate) ws: Workspace,
+    pub(crate) record: StepRecord,
+}
+
+/// Per-step buffers, kept between steps so that a warm step does not allocate
+/// (apart from what the LCP solver itself allocates for its answer).
+#[derive(Default)]
+pub(crate) struct Workspace {
+    /// Free velocities `v*`, `ω*` per body.
+    pub v_free: Vec<Vec3>,
+    pub w_free: Vec<Vec3>,
+    /// Net external force and torque per body this step.
+    pub force: Vec<Vec3>,
+    pub torque: Vec<Vec3>,
+    /// World-frame inverse inertia per body.
+    pub inv_inertia: Vec<Mat3>,
+    /// Narrow-phase output for one pair.
+    pub geom: Vec<GeomContact>,
+    /// Contacts of this step.
+    pub contacts: Vec<Contact>,
+    pub lcp: ContactLcp,
+    /// Velocity changes from the contact impulses.
+    pub dv: Vec<Vec3>,
+    pub dw: Vec<Vec3>,
+    /// Impulses actually applied (physical `z`, clamped at 0).
+    pub z_apply: Vec<f64>,
+}
+
+impl std::fmt::Debug for World {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("World")
+            .field("params", &self.params)
+            .field("bodies", &self.bodies)
+            .field("time", &self.time)
+            .field("steps", &self.steps)
+            .finish_non_exhaustive()
+    }
+}
+
+impl World {
+    /// An empty world with validated parameters.
+    pub fn new(params: WorldParams) -> Result<World, SimError> {
+        params.validate()?;
+        Ok(World {
+            params,
+            bodies: Vec::new(),
+            forces: Vec::new(),
+            torques: Vec::new(),
+            time: 0.0,
+            steps: 0,
+            sink: None,
+            ws: Workspace::default(),
+            record: StepRecord::default(),
+        })
+    }
+
+    /// Parameters in force.
+    pub fn params(&self) -> &WorldParams {
+        &self.params
+    }
+
+    /// Replaces the parameters (validated first; on error nothing changes).
+    pub fn set_params(&mut self, params: WorldParams) -> Result<(), SimError> {
+        params.validate()?;
+        self.params = params;
+        Ok(())
+    }
+
+    /// Changes only the solver.
+    pub fn set_method(&mut self, method: lcp::Method) {
+        self.params.method = method;
+    }
+
+    /// Time at the start of the next step (s): `steps · dt` for a constant dt.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Steps taken.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    // ----- bodies -----
+
+    /// Adds a body after validating it.
+    pub fn add_body(&mut self, desc: BodyDesc) -> Result<BodyId, SimError> {
+        let body = Body::from_desc(&desc)?;
+        self.bodies.push(body);
+        Ok(BodyId(self.bodies.len() - 1))
+    }
+
+    /// Adds a dynamic box (half extents in m, mass in kg) at `position`, upright, at rest.
+    pub fn add_box(&mut self, half_extents: Vec3, mass: f64, position: Vec3, mu: f64) -> Result<BodyId, SimError> {
+        self.add_body(BodyDesc::cuboid(half_extents).mass(mass).position(position).mu(mu))
+    }
+
+    /// Adds a dynamic solid sphere at `position`, at rest.
+    pub fn add_sphere(&mut self, radius: f64, mass: f64, position: Vec3, mu: f64) -> Result<BodyId, SimError> {
+        self.add_body(BodyDesc::sphere(radius).mass(mass).position(position).mu(mu))
+    }
+
+    /// Adds a static plane.
+    pub fn add_plane(&mut self, plane: Plane, mu: f64) -> Result<BodyId, SimError> {
+        self.add_body(BodyDesc::plane(plane).mu(mu))
+    }
+
+    /// Adds the static level ground `z = 0`.
+    pub fn add_ground(&mut self, mu: f64) -> Result<BodyId, SimError> {
+        self.add_plane(Plane::ground(), mu)
+    }
+
+    /// Number of bodies.
+    pub fn body_count(&self) -> usize {
+        self.bodies.len()
+    }
+
+    /// All bodies, in `BodyId` order.
+    pub fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    /// One body.
+    pub fn body(&self, id: BodyId) -> Result<&Body, SimError> {
+        self.bodies.get(id.0).ok_or(SimError::UnknownBody { index: id.0, bodies: self.bodies.len() })
+    }
+
+    fn body_mut(&mut self, id: BodyId) -> Result<&mut Body, SimError> {
+        let n = self.bodies.len();
+        self.bodies.get_mut(id.0).ok_or(SimError::UnknownBody { index: id.0, bodies: n })
+    }
+
+    fn dynamic_mut(&mut self, id: BodyId) -> Result<&mut Body, SimError> {
+        let b = self.body_mut(id)?;
+        if b.is_static {
+            return Err(SimError::StaticBody { index: id.0 });
+        }
+        Ok(b)
+    }
+
+    /// Moves a body (static boxes and spheres too; planes cannot move).
+    pub fn set_position(&mut self, id: BodyId, p: Vec3) -> Result<(), SimError> {
+        finite_vec("position", p)?;
+        let b = self.body_mut(id)?;
+        if matches!(b.shape, Shape::Plane(_)) {
+            return Err(SimError::StaticBody { index: id.0 });
+        }
+        b.position = p;
+        Ok(())
+    }
+
+    /// Sets the orientation (normalized; a zero quaternion is an error).
+    pub fn set_orientation(&mut self, id: BodyId, q: Quat) -> Result<(), SimError> {
+        let q = crate::dynamics::body::normalize_quat(q)?;
+        let b = self.body_mut(id)?;
+        if matches!(b.shape, Shape::Plane(_)) {
+            return Err(SimError::StaticBody { index: id.0 });
+        }
+        b.orientation = q;
+        Ok(())
+    }
+
+    /// Sets the linear velocity of a dynamic body.
+    pub fn set_velocity(&mut self, id: BodyId, v: Vec3) -> Result<(), SimError> {
+        finite_vec("velocity", v)?;
+        self.dynamic_mut(id)?.velocity = v;
+        Ok(())
+    }
+
+    /// Sets the angular velocity (world frame) of a dynamic body.
+    pub fn set_angular_velocity(&mut self, id: BodyId, w: Vec3) -> Result<(), SimError> {
+        finite_vec("angular_velocity", w)?;
+        self.dynamic_mut(id)?.angular_velocity = w;
+        Ok(())
+    }
+
+    /// Sets a body's friction coefficient.
+    pub fn set_mu(&mut self, id: BodyId, mu: f64) -> Result<(), SimError> {
+        non_negative("mu", mu)?;
+        self.body_mut(id)?.mu = mu;
+        Ok(())
+    }
+
+    // ----- external forces -----
+
+    /// Applies a constant force (world frame, N) every step until
+    /// [`World::clear_forces`]. `point` is relative to the centre of mass in
+    /// the body frame (it moves with the body); `None` acts at the centre of
+    /// mass. Gravity is separate (`WorldParams::gravity`).
+    pub fn apply_force(&mut self, id: BodyId, force: Vec3, point: Option<Vec3>) -> Result<(), SimError> {
+        finite_vec("force", force)?;
+        if let Some(p) = point {
+            finite_vec("point", p)?;
+        }
+        self.dynamic_mut(id)?;
+        self.forces.push(AppliedForce { body: id.0, force, point });
+        Ok(())
+    }
+
+    /// Applies a constant torque (world frame, N·m) every step until cleared.
+    pub fn apply_torque(&mut self, id: BodyId, torque: Vec3) -> Result<(), SimError> {
+        finite_vec("torque", torque)?;
+        self.dynamic_mut(id)?;
+        self.torques.push(AppliedTorque { body: id.0, torque });
+        Ok(())
+    }
+
+    /// Removes all applied forces and torques.
+    pub fn clear_forces(&mut self) {
+        self.forces.clear();
+        self.torques.clear();
+    }
+
+    /// Forces currently applied.
+    pub fn applied_forces(&self) -> &[AppliedForce] {
+        &self.forces
+    }
+
+    /// Torques currently applied.
+    pub fn applied_torques(&self) -> &[AppliedTorque] {
+        &self.torques
+    }
+
+    // ----- LCP capture -----
+
+    /// Hands every solved LCP to `sink` from now on (replacing any previous one).
+    pub fn set_sink(&mut self, sink: Box<dyn LcpSink>) {
+        self.sink = Some(sink);
+    }
+
+    /// Stops capturing and returns the sink.
+    pub fn take_sink(&mut self) -> Option<Box<dyn LcpSink>> {
+        self.sink.take()
+    }
+
+    // ----- observation -----
+
+    /// The record of the last step (empty before the first).
+    pub fn last_record(&self) -> &StepRecord {
+        &self.record
+    }
+
+    /// Total mechanical energy: kinetic + gravitational potential `−m g·x` (J).
+    pub fn energy(&self) -> f64 {
+        self.bodies
+            .iter()
+            .filter(|b| !b.is_static)
+            .map(|b| b.kinetic_energy() - b.mass * self.params.gravity.dot(b.position))
+            .sum()
+    }
+}
