@@ -132,20 +132,30 @@ def _run_demo(args: argparse.Namespace) -> int:
         ("newton_fb", dict(method="newton_fb")),
     ]
     print(f"lcpsim {__version__} demo: one time step (h = 1e-3 s) of a 1 kg unit cube, 4 contacts, k = {args.k}")
-    print("impulses in N·s; Σfn should be m·g·h·cos θ; residual = ‖min(z, Mz+q)‖∞\n")
-    header = f"{'scene':<19} {'n':>3}  {'solver':<20} {'status':<16} {'pivots':>6} {'residual':>9}  {'Σfn':>10} {'Σfd':>10}"
+    print("impulses in N·s; residual = ‖min(z, Mz+q)‖∞; Σfn = total normal impulse,")
+    print("f_x = net friction impulse along the slope (−: uphill), max λ = sliding-speed multiplier\n")
+    header = (
+        f"{'scene':<19} {'n':>3}  {'solver':<20} {'status':<16} {'pivots':>6} {'residual':>9}"
+        f"  {'Σfn':>10} {'f_x':>10} {'max λ':>9}"
+    )
     print(header)
     print("-" * len(header))
     for name, lcp in scenes:
         for label, kw in solvers:
             res = solve_lcp(lcp.M, lcp.q, **kw)
-            fn, fd, _ = lcp.split(res.z)
+            fn, fd, lam = lcp.split(res.z)
+            fx = float(fd.sum(axis=0) @ np.cos(2 * np.pi * np.arange(lcp.k) / lcp.k))
             print(
                 f"{name:<19} {lcp.M.shape[0]:>3}  {label:<20} {res.status:<16} {res.pivots:>6} "
-                f"{res.residual:>9.2e}  {fn.sum():>10.3e} {fd.sum():>10.3e}"
+                f"{res.residual:>9.2e}  {fn.sum():>10.3e} {fx:>10.3e} {lam.max():>9.2e}"
             )
-    print(f"\nexpected Σfn: flat {9.81e-3:.3e}, 20° {9.81e-3 * np.cos(np.deg2rad(20)):.3e}, "
-          f"30° {9.81e-3 * np.cos(np.deg2rad(30)):.3e}")
+    mgh = 9.81 * 1e-3
+    c20, s20, c30 = np.cos(np.deg2rad(20)), np.sin(np.deg2rad(20)), np.cos(np.deg2rad(30))
+    print(
+        f"\nexact: flat Σfn = {mgh:.3e}, f_x = 0; 20° (sticks, tan θ < μ) Σfn = {mgh * c20:.3e}, "
+        f"f_x = {-mgh * s20:.3e};\n       30° (slides, tan θ > μ) Σfn = {mgh * c30:.3e}, "
+        f"f_x = −μ·Σfn = {-0.5 * mgh * c30:.3e}, λ > 0 (λ scales by 1/s)"
+    )
     return EXIT_OK
 
 

@@ -16,8 +16,9 @@ pub fn value_error(msg: impl Into<String>) -> PyErr {
 pub fn lcp_error(err: &LcpError, n: usize, prefix: &str) -> PyErr {
     let msg = match err {
         LcpError::NonFinite { field: "M", index, value } if n > 0 => {
-            format!("M[{}, {}] = {value} is not finite", index / n, index % n)
+            format!("M[{}, {}] = {} is not finite", index / n, index % n, py_float(*value))
         }
+        LcpError::NonFinite { field, index, value } => format!("{field}[{index}] = {} is not finite", py_float(*value)),
         other => other.to_string(),
     };
     value_error(format!("{prefix}{msg}"))
@@ -32,4 +33,15 @@ pub fn panic_error(payload: Box<dyn Any + Send>) -> PyErr {
         .or_else(|| payload.downcast_ref::<String>().cloned())
         .unwrap_or_else(|| "unknown panic".to_string());
     PyRuntimeError::new_err(format!("internal error in the LCP solver (please report this bug): {msg}"))
+}
+
+/// A float as Python prints it (`nan`, `inf`, `-inf`, `1.5`).
+pub fn py_float(v: f64) -> String {
+    if v.is_nan() {
+        "nan".to_string()
+    } else if v.is_infinite() {
+        if v > 0.0 { "inf" } else { "-inf" }.to_string()
+    } else {
+        format!("{v:?}")
+    }
 }

@@ -108,7 +108,7 @@ pub fn vector_of_len(ob: &Bound<'_, PyAny>, field: &str, n: usize) -> PyResult<V
         return Err(value_error(format!("{field} has length {} but M has shape ({n}, {n})", a.len())));
     }
     if let Some((i, v)) = a.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-        return Err(value_error(format!("{field}[{i}] = {v} is not finite")));
+        return Err(value_error(format!("{field}[{i}] = {} is not finite", crate::errors::py_float(*v))));
     }
     Ok(a.to_vec())
 }
