@@ -1,1 +1,367 @@
-pub struct X;
+//! The test scenes of DESIGN §3 as constructors (the Python `lcpsim.scenes` mirrors them).
+//!
+//! Each scene is a parameter struct with documented defaults and a `build`
+//! taking the [`WorldParams`]; a free function builds it with the default
+//! parameters: `cube_on_slope(30.0, 0.5)`. All bodies start exactly touching
+//! (gap 0) and at rest unless a velocity is given. The scene's μ is given to
+//! every body, ground included, so any `MuCombine` yields it.
+
+use crate::contact::Restitution;
+use crate::dynamics::{BodyDesc, BodyId};
+use crate::error::{finite, non_negative, positive, SimError};
+use crate::geometry::{Downhill, Plane};
+use crate::math::{Quat, Vec3};
+use crate::params::WorldParams;
+use crate::world::World;
+
+/// A built scene: the world and the ids that matter.
+#[derive(Debug)]
+pub struct Scene {
+    pub world: World,
+    /// The body the scene is about (the cube, the ball, the top box, …).
+    pub body: BodyId,
+    /// The static ground or slope.
+    pub ground: BodyId,
+    /// Every dynamic body, bottom to top / in creation order.
+    pub bodies: Vec<BodyId>,
+}
+
+/// Rotation that turns `+z` into a slope's normal (about y).
+fn slope_rotation(angle: f64, toward: Downhill) -> Quat {
+    let a = match toward {
+        Downhill::PlusX => angle,
+        Downhill::MinusX => -angle,
+    };
+    Quat::from_axis_angle(Vec3::Y, a)
+}
+
+/// A cube resting on a slope (a level plane at 0°), one face on the surface,
+/// edges along the downhill and horizontal directions. The slope's downhill
+/// direction is the contacts' first friction direction `d_0`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CubeOnSlope {
+    /// Slope angle (degrees, [0, 90)).
+    pub angle_deg: f64,
+    /// Friction coefficient of cube and slope.
+    pub mu: f64,
+    /// Edge length (m). Default 1.
+    pub size: f64,
+    /// Mass (kg). Default 1.
+    pub mass: f64,
+    /// Which way the slope descends. Default `PlusX`.
+    pub downhill: Downhill,
+    /// Initial speed along the downhill direction (+x on level ground) (m/s). Default 0.
+    pub speed: f64,
+    /// Friction tangent rotated by this angle (rad) about the normal from the
+    /// downhill direction; e.g. `π/k` puts the downhill direction on a
+    /// bisector of two friction directions. Default 0.
+    pub tangent_angle: f64,
+}
+
+impl CubeOnSlope {
+    pub fn new(angle_deg: f64, mu: f64) -> Self {
+        CubeOnSlope { angle_deg, mu, size: 1.0, mass: 1.0, downhill: Downhill::PlusX, speed: 0.0, tangent_angle: 0.0 }
+    }
+
+    pub fn build(&self, params: WorldParams) -> Result<Scene, SimError> {
+        positive("size", self.size)?;
+        finite("speed", self.speed)?;
+        finite("tangent_angle", self.tangent_angle)?;
+        let mut plane = Plane::slope_deg(self.angle_deg, self.downhill)?;
+        let n = plane.normal();
+        let t = plane.friction_tangent();
+        if self.tangent_angle != 0.0 {
+            plane = plane.with_friction_tangent(Quat::from_axis_angle(n, self.tangent_angle).rotate(t))?;
+        }
+        let mut world = World::new(params)?;
+        let ground = world.add_plane(plane, self.mu)?;
+        let body = world.add_body(
+            BodyDesc::cuboid(Vec3::splat(0.5 * self.size))
+                .mass(self.mass)
+                .mu(self.mu)
+                .position(n * (0.5 * self.size))
+                .orientation(slope_rotation(self.angle_deg.to_radians(), self.downhill))
+                .velocity(t * self.speed),
+        )?;
+        Ok(Scene { world, body, ground, bodies: vec![body] })
+    }
+}
+
+/// [`CubeOnSlope`] with its defaults: a 1 kg unit cube at rest.
+pub fn cube_on_slope(angle_deg: f64, mu: f64) -> Result<Scene, SimError> {
+    CubeOnSlope::new(angle_deg, mu).build(WorldParams::default())
+}
+
+/// A cube at rest on level ground pushed by a constant horizontal force along +x.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PushedCube {
+    /// Push (N), along +x (= `d_0`).
+    pub force: f64,
+    /// Friction coefficient of cube and ground.
+    pub mu: f64,
+    /// Edge length (m). Default 1.
+    pub size: f64,
+    /// Mass (kg). Default 1.
+    pub mass: f64,
+    /// Height of the point of application above the centre of mass (m, body
+    /// frame). Default 0: the push acts at the centre of mass (no torque).
+    pub height: f64,
+}
+
+impl PushedCube {
+    pub fn new(force: f64, mu: f64) -> Self {
+        PushedCube { force, mu, size: 1.0, mass: 1.0, height: 0.0 }
+    }
+
+    pub fn build(&self, params: WorldParams) -> Result<Scene, SimError> {
+        finite("force", self.force)?;
+        finite("height", self.height)?;
+        let mut world = World::new(params)?;
+        let ground = world.add_ground(self.mu)?;
+        let body = world.add_box(Vec3::splat(0.5 * self.size), self.mass, Vec3::new(0.0, 0.0, 0.5 * self.size), self.mu)?;
+        let point = if self.height != 0.0 { Some(Vec3::new(0.0, 0.0, self.height)) } else { None };
+        world.apply_force(body, Vec3::new(self.force, 0.0, 0.0), point)?;
+        Ok(Scene { world, body, ground, bodies: vec![body] })
+    }
+}
+
+/// [`PushedCube`] with its defaults (1 kg unit cube, push at the centre of mass).
+pub fn pushed_cube(force: f64, mu: f64) -> Result<Scene, SimError> {
+    PushedCube::new(force, mu).build(WorldParams::default())
+}
+
+/// A cube dropped flat onto level ground from rest.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CubeDrop {
+    /// Initial gap between the bottom face and the ground (m). Default 1.
+    pub height: f64,
+    /// Edge length (m). Default 1.
+    pub size: f64,
+    /// Mass (kg). Default 1.
+    pub mass: f64,
+    /// Friction coefficient. Default 0.5.
+    pub mu: f64,
+    /// Restitution coefficient; overrides `params.restitution.coefficient` when set. Default `None`.
+    pub restitution: Option<f64>,
+}
+
+impl Default for CubeDrop {
+    fn default() -> Self {
+        CubeDrop { height: 1.0, size: 1.0, mass: 1.0, mu: 0.5, restitution: None }
+    }
+}
+
+impl CubeDrop {
+    pub fn build(&self, mut params: WorldParams) -> Result<Scene, SimError> {
+        non_negative("height", self.height)?;
+        if let Some(e) = self.restitution {
+            params.restitution = Restitution { coefficient: e, ..params.restitution };
+        }
+        let mut world = World::new(params)?;
+        let ground = world.add_ground(self.mu)?;
+        let body = world.add_box(Vec3::splat(0.5 * self.size), self.mass, Vec3::new(0.0, 0.0, self.height + 0.5 * self.size), self.mu)?;
+        Ok(Scene { world, body, ground, bodies: vec![body] })
+    }
+}
+
+/// [`CubeDrop`] from `height` with the other defaults.
+pub fn cube_drop(height: f64) -> Result<Scene, SimError> {
+    CubeDrop { height, ..Default::default() }.build(WorldParams::default())
+}
+
+/// A ball dropped onto level ground from rest.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BallDrop {
+    /// Initial gap between the ball's lowest point and the ground (m). Default 1.
+    pub height: f64,
+    /// Radius (m). Default 0.1.
+    pub radius: f64,
+    /// Mass (kg). Default 1.
+    pub mass: f64,
+    /// Friction coefficient. Default 0.5.
+    pub mu: f64,
+    /// Restitution coefficient; overrides `params.restitution.coefficient` when set. Default `None`.
+    pub restitution: Option<f64>,
+}
+
+impl Default for BallDrop {
+    fn default() -> Self {
+        BallDrop { height: 1.0, radius: 0.1, mass: 1.0, mu: 0.5, restitution: None }
+    }
+}
+
+impl BallDrop {
+    pub fn build(&self, mut params: WorldParams) -> Result<Scene, SimError> {
+        non_negative("height", self.height)?;
+        if let Some(e) = self.restitution {
+            params.restitution = Restitution { coefficient: e, ..params.restitution };
+        }
+        let mut world = World::new(params)?;
+        let ground = world.add_ground(self.mu)?;
+        let body = world.add_sphere(self.radius, self.mass, Vec3::new(0.0, 0.0, self.height + self.radius), self.mu)?;
+        Ok(Scene { world, body, ground, bodies: vec![body] })
+    }
+}
+
+/// [`BallDrop`] from `height` with restitution `e`.
+pub fn ball_drop(height: f64, e: f64) -> Result<Scene, SimError> {
+    BallDrop { height, restitution: Some(e), ..Default::default() }.build(WorldParams::default())
+}
+
+/// A tower of `n` identical cubes on level ground, exactly touching.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BoxStack {
+    /// Number of boxes (≥ 1).
+    pub n: usize,
+    /// Edge length (m). Default 1.
+    pub size: f64,
+    /// Mass of each box (kg). Default 1.
+    pub mass: f64,
+    /// Friction coefficient. Default 0.5.
+    pub mu: f64,
+}
+
+impl BoxStack {
+    pub fn new(n: usize) -> Self {
+        BoxStack { n, size: 1.0, mass: 1.0, mu: 0.5 }
+    }
+
+    pub fn build(&self, params: WorldParams) -> Result<Scene, SimError> {
+        if self.n == 0 {
+            return Err(SimError::NotPositive { field: "n", value: 0.0 });
+        }
+        let mut world = World::new(params)?;
+        let ground = world.add_ground(self.mu)?;
+        let h = 0.5 * self.size;
+        let bodies = (0..self.n)
+            .map(|i| world.add_box(Vec3::splat(h), self.mass, Vec3::new(0.0, 0.0, h + i as f64 * self.size), self.mu))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Scene { world, body: *bodies.last().expect("n ≥ 1"), ground, bodies })
+    }
+}
+
+/// [`BoxStack`] of `n` unit cubes.
+pub fn box_stack(n: usize) -> Result<Scene, SimError> {
+    BoxStack::new(n).build(WorldParams::default())
+}
+
+/// A solid ball at rest on a slope; the downhill direction is `d_0`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BallOnIncline {
+    /// Slope angle (degrees, [0, 90)).
+    pub angle_deg: f64,
+    /// Friction coefficient of ball and slope.
+    pub mu: f64,
+    /// Radius (m). Default 0.5.
+    pub radius: f64,
+    /// Mass (kg). Default 1.
+    pub mass: f64,
+    /// Which way the slope descends. Default `PlusX`.
+    pub downhill: Downhill,
+}
+
+impl BallOnIncline {
+    pub fn new(angle_deg: f64, mu: f64) -> Self {
+        BallOnIncline { angle_deg, mu, radius: 0.5, mass: 1.0, downhill: Downhill::PlusX }
+    }
+
+    pub fn build(&self, params: WorldParams) -> Result<Scene, SimError> {
+        positive("radius", self.radius)?;
+        let plane = Plane::slope_deg(self.angle_deg, self.downhill)?;
+        let mut world = World::new(params)?;
+        let ground = world.add_plane(plane, self.mu)?;
+        let body = world.add_sphere(self.radius, self.mass, plane.normal() * self.radius, self.mu)?;
+        Ok(Scene { world, body, ground, bodies: vec![body] })
+    }
+}
+
+/// [`BallOnIncline`] with its defaults (1 kg ball of radius 0.5 m).
+pub fn ball_on_incline(angle_deg: f64, mu: f64) -> Result<Scene, SimError> {
+    BallOnIncline::new(angle_deg, mu).build(WorldParams::default())
+}
+
+/// A pile of `nx × ny × nz` cubes: `nx × ny` towers of `nz` cubes on a grid,
+/// each cube optionally turned about the vertical by a seeded random angle in
+/// `[−yaw, yaw]` (turned cubes touch in up to 8 points).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BoxPile {
+    pub nx: usize,
+    pub ny: usize,
+    pub nz: usize,
+    /// Edge length (m). Default 1.
+    pub size: f64,
+    /// Mass of each cube (kg). Default 1.
+    pub mass: f64,
+    /// Friction coefficient. Default 0.5.
+    pub mu: f64,
+    /// Distance between tower axes as a multiple of `size`. Default 1.5 (towers do not touch).
+    pub spacing: f64,
+    /// Largest random turn about z (rad). Default 0 (all aligned).
+    pub yaw: f64,
+    /// Seed of the turns. Default 0.
+    pub seed: u64,
+}
+
+impl Default for BoxPile {
+    fn default() -> Self {
+        BoxPile { nx: 3, ny: 3, nz: 3, size: 1.0, mass: 1.0, mu: 0.5, spacing: 1.5, yaw: 0.0, seed: 0 }
+    }
+}
+
+impl BoxPile {
+    pub fn build(&self, params: WorldParams) -> Result<Scene, SimError> {
+        positive("size", self.size)?;
+        positive("spacing", self.spacing)?;
+        non_negative("yaw", self.yaw)?;
+        let count = self.nx * self.ny * self.nz;
+        if count == 0 {
+            return Err(SimError::NotPositive { field: "nx*ny*nz", value: 0.0 });
+        }
+        let mut world = World::new(params)?;
+        let ground = world.add_ground(self.mu)?;
+        let mut rng = SplitMix64(self.seed);
+        let h = 0.5 * self.size;
+        let step = self.spacing * self.size;
+        let (ox, oy) = (0.5 * (self.nx - 1) as f64 * step, 0.5 * (self.ny - 1) as f64 * step);
+        let mut bodies = Vec::with_capacity(count);
+        for iz in 0..self.nz {
+            for iy in 0..self.ny {
+                for ix in 0..self.nx {
+                    let yaw = self.yaw * (2.0 * rng.next_f64() - 1.0);
+                    let id = world.add_body(
+                        BodyDesc::cuboid(Vec3::splat(h))
+                            .mass(self.mass)
+                            .mu(self.mu)
+                            .position(Vec3::new(ix as f64 * step - ox, iy as f64 * step - oy, h + iz as f64 * self.size))
+                            .orientation(Quat::from_axis_angle(Vec3::Z, yaw)),
+                    )?;
+                    bodies.push(id);
+                }
+            }
+        }
+        Ok(Scene { world, body: *bodies.last().expect("count > 0"), ground, bodies })
+    }
+}
+
+/// The default 3×3×3 [`BoxPile`].
+pub fn box_pile() -> Result<Scene, SimError> {
+    BoxPile::default().build(WorldParams::default())
+}
+
+/// SplitMix64: a tiny seeded generator, enough for scene jitter.
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1).
+    fn next_f64(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
