@@ -8,25 +8,42 @@
 //!    (`D_a = a/r − 1`, `D_b = b/r − 1` with `r = √(a² + b²)`; at the kink
 //!    `a = b = 0` the standard De Luca–Facchinei–Kanzow choice with the
 //!    direction `e_β`, `β` the set of kink indices);
-//! 2. solves `H d = −Φ` by dense LU with partial pivoting (faer);
+//! 2. solves for the step by dense LU with partial pivoting (faer): the
+//!    semismooth Newton step `H d = −Φ`, or by default its Levenberg–Marquardt
+//!    regularization `(HᵀH + ν I) d = −HᵀΦ`, `ν = c·min(1, ‖Φ‖)` (Fan–Yuan,
+//!    capped so that far from a solution it stays a Gauss–Newton step), which
+//!    tends to the Newton step as `Φ → 0` but keeps converging fast where the
+//!    solution is not isolated and `H` is singular there (the contact LCP:
+//!    redundant friction directions, zero λ diagonal);
 //! 3. falls back to the steepest-descent direction `d = −∇Ψ = −Hᵀ Φ` when the
 //!    solve fails or `d` is not a sufficient descent direction
 //!    (`∇Ψᵀ d > −ρ ‖d‖^p`, `p = 2.1`);
 //! 4. backtracks (Armijo) on the merit function `Ψ = ½ ‖Φ‖²`.
 //!
+//! By default the iteration runs on the Ruiz-equilibrated problem
+//! ([`Scaling::ruiz`], power-of-two factors, so exact), since FB's merit
+//! function is not scale invariant: on the contact LCP with a small cone
+//! scale `s` the unscaled iteration almost never converges. Convergence is
+//! always judged on the natural residual `‖min(z, w)‖∞` of the problem as
+//! given, the measure shared by all solvers, not on `Ψ`.
+//!
 //! For a P-matrix (in particular positive definite `M`) `Ψ` has bounded level
 //! sets and every stationary point solves the LCP, so the method converges
-//! globally, quadratically near a nondegenerate solution. Convergence is judged
-//! on the natural residual `‖min(z, w)‖∞` shared by all solvers, not on `Ψ`.
+//! globally. For other matrices `Ψ` may have stationary points that are no
+//! solution; the method then stops with `MaxIterations`.
 //!
 //! The iterate always stays finite: a trial point whose merit is not finite
 //! is never accepted, so `z` never holds NaN.
 
 use crate::problem::{dot, Lcp};
+use crate::scaling::Scaling;
 use crate::solution::{Solution, Status};
 
 /// Exponent `p` of the sufficient-descent test `∇Ψᵀ d ≤ −ρ ‖d‖^p` (De Luca–Facchinei–Kanzow).
 const DESCENT_P: f64 = 2.1;
+
+/// Ruiz rounds used when `equilibrate` is on (it stops earlier once stable).
+const RUIZ_ITERATIONS: usize = 20;
 
 /// Options of the damped Newton–Fischer–Burmeister method.
 #[derive(Clone, Debug, PartialEq)]
@@ -45,6 +62,14 @@ pub struct NewtonFbOptions {
     /// ρ > 0 of the sufficient-descent test `∇Ψᵀ d ≤ −ρ ‖d‖^2.1`; a Newton
     /// direction failing it is replaced by the gradient step. Default 1e-10.
     pub descent_rho: f64,
+    /// Levenberg–Marquardt factor `c`: the step solves
+    /// `(HᵀH + c·min(1, ‖Φ‖) I) d = −HᵀΦ`; 0 gives the plain semismooth Newton
+    /// step `H d = −Φ`. Default 0.01 (measured on 100 random contact LCPs per
+    /// cell, nc ∈ {1, 2, 4, 8}, s ∈ {1, 1e-3, 1e-6}, equilibrated: solves
+    /// 82–100 % where the plain step solves 61–97 %; same steps on P-matrices).
+    pub lm_factor: f64,
+    /// Iterate on the Ruiz-equilibrated problem and map back (exact). Default true.
+    pub equilibrate: bool,
 }
 
 impl Default for NewtonFbOptions {
@@ -56,6 +81,8 @@ impl Default for NewtonFbOptions {
             backtrack: 0.5,
             max_backtracks: 40,
             descent_rho: 1e-10,
+            lm_factor: 0.01,
+            equilibrate: true,
         }
     }
 }
@@ -74,10 +101,6 @@ fn fb_vector(z: &[f64], w: &[f64], phi: &mut [f64]) -> f64 {
         psi += *p * *p;
     }
     0.5 * psi
-}
-
-fn natural_residual(z: &[f64], w: &[f64]) -> f64 {
-    z.iter().zip(w).fold(0.0, |r, (&a, &b)| r.max(a.min(b).abs()))
 }
 
 /// Solves the dense system `A x = b` (`A` row-major n×n) by LU with partial
@@ -106,15 +129,60 @@ pub(crate) fn lu_solve(a: &[f64], n: usize, b: &[f64]) -> Option<Vec<f64>> {
     x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
-/// Solves `lcp` by damped semismooth Newton on the Fischer–Burmeister function,
-/// starting from `z = 0`. Never panics; `z` is always finite.
+/// Solves `lcp` from `z = 0`. Never panics; `z` is always finite.
 ///
-/// Status: `Solved` when the natural residual is ≤ `o.tol`; `Numerical` when
-/// the merit function of the current iterate is not finite (overflow);
-/// otherwise `MaxIterations` (also when the line search stalls before the limit).
+/// Status: `Solved` when the natural residual of the problem as given is
+/// ≤ `o.tol`; `Numerical` when the merit function of the current iterate is
+/// not finite (overflow); otherwise `MaxIterations` (also when the line search
+/// stalls before the limit, at a stationary point of `Ψ` that is no solution).
 pub fn solve(lcp: &Lcp, o: &NewtonFbOptions) -> Solution {
+    run(lcp, None, o)
+}
+
+/// As [`solve`], warm-started from `z0` (e.g. to polish another solver's
+/// answer). A `z0` of the wrong length or with non-finite entries is ignored
+/// (the start is then `z = 0`).
+pub fn solve_from(lcp: &Lcp, z0: &[f64], o: &NewtonFbOptions) -> Solution {
+    let usable = z0.len() == lcp.n() && z0.iter().all(|v| v.is_finite());
+    run(lcp, usable.then_some(z0), o)
+}
+
+fn run(lcp: &Lcp, z0: Option<&[f64]>, o: &NewtonFbOptions) -> Solution {
     let n = lcp.n();
-    let mut z = vec![0.0; n];
+    // Equilibrate (exact: powers of two); fall back to the problem as given if scaling overflows.
+    let scaled = o
+        .equilibrate
+        .then(|| {
+            let s = Scaling::ruiz(lcp, RUIZ_ITERATIONS);
+            s.try_apply(lcp).ok().map(|l| (s, l))
+        })
+        .flatten();
+    let (scaling, work) = match &scaled {
+        Some((s, l)) => (s.clone(), l),
+        None => (Scaling::identity(n), lcp),
+    };
+    let z_start = match z0 {
+        Some(z0) => scaling.z_forward(z0),
+        None => vec![0.0; n],
+    };
+    let (z_scaled, status, iterations) = iterate(work, &scaling, z_start, o);
+    Solution::from_z(lcp, scaling.z_back(&z_scaled), status, iterations)
+}
+
+/// `‖min(z, w)‖∞` in the units of the original problem, from scaled `z', w'`:
+/// `z = D_c z'`, `w = D_r⁻¹ w'` (exact for power-of-two factors).
+fn natural_residual(z: &[f64], w: &[f64], s: &Scaling) -> f64 {
+    let mut r = 0.0f64;
+    for i in 0..z.len() {
+        r = r.max((s.col[i] * z[i]).min(w[i] / s.row[i]).abs());
+    }
+    r
+}
+
+/// The damped Newton iteration on `lcp` (possibly equilibrated); convergence
+/// is measured after mapping back through `s`. Returns `(z, status, iterations)`.
+fn iterate(lcp: &Lcp, s: &Scaling, mut z: Vec<f64>, o: &NewtonFbOptions) -> (Vec<f64>, Status, usize) {
+    let n = lcp.n();
     let mut w = lcp.w_of(&z);
     let mut phi = vec![0.0; n];
     let mut psi = fb_vector(&z, &w, &mut phi);
@@ -130,11 +198,11 @@ pub fn solve(lcp: &Lcp, o: &NewtonFbOptions) -> Solution {
 
     for it in 0..=o.max_iterations {
         // Converged?
-        if natural_residual(&z, &w) <= o.tol {
-            return Solution::from_z(lcp, z, Status::Solved, it);
+        if natural_residual(&z, &w, s) <= o.tol {
+            return (z, Status::Solved, it);
         }
         if !psi.is_finite() {
-            return Solution::from_z(lcp, z, Status::Numerical, it);
+            return (z, Status::Numerical, it);
         }
         if it == o.max_iterations {
             break;
@@ -159,9 +227,8 @@ pub fn solve(lcp: &Lcp, o: &NewtonFbOptions) -> Solution {
             }
         }
         for i in 0..n {
-            let row = lcp.row(i);
             let hrow = &mut h[i * n..(i + 1) * n];
-            for (hij, &mij) in hrow.iter_mut().zip(row) {
+            for (hij, &mij) in hrow.iter_mut().zip(lcp.row(i)) {
                 *hij = db[i] * mij;
             }
             hrow[i] += da[i];
@@ -177,22 +244,18 @@ pub fn solve(lcp: &Lcp, o: &NewtonFbOptions) -> Solution {
             }
         }
         if !grad.iter().all(|g| g.is_finite()) {
-            return Solution::from_z(lcp, z, Status::Numerical, it);
+            return (z, Status::Numerical, it);
         }
 
-        // Newton direction H d = −Φ, unless it fails the sufficient-descent test.
-        let neg_phi: Vec<f64> = phi.iter().map(|p| -p).collect();
-        let newton = lu_solve(&h, n, &neg_phi).filter(|d| {
+        // Newton (or Levenberg–Marquardt) direction, kept only if it is a sufficient descent direction.
+        let newton = newton_direction(&h, &phi, &grad, psi, o).filter(|d| {
             let slope = dot(&grad, d);
             let dnorm = d.iter().map(|x| x * x).sum::<f64>().sqrt();
             slope.is_finite() && slope <= -o.descent_rho * dnorm.powf(DESCENT_P)
         });
-        let gradient_step: Vec<f64> = grad.iter().map(|g| -g).collect();
         let mut directions = Vec::with_capacity(2);
-        if let Some(d) = newton {
-            directions.push(d);
-        }
-        directions.push(gradient_step);
+        directions.extend(newton);
+        directions.push(grad.iter().map(|g| -g).collect::<Vec<f64>>());
 
         // Armijo backtracking; try the gradient step if the Newton step's search fails.
         let mut accepted = false;
@@ -227,11 +290,40 @@ pub fn solve(lcp: &Lcp, o: &NewtonFbOptions) -> Solution {
         }
         if !accepted {
             // Stalled (stationary point of Ψ or round-off floor above tol).
-            return Solution::from_z(lcp, z, Status::MaxIterations, it);
+            return (z, Status::MaxIterations, it);
         }
     }
-    Solution::from_z(lcp, z, Status::MaxIterations, o.max_iterations)
+    (z, Status::MaxIterations, o.max_iterations)
 }
+
+/// `H d = −Φ` (`lm_factor = 0`) or `(HᵀH + ν I) d = −HᵀΦ` with `ν = lm_factor · min(1, ‖Φ‖)`;
+/// `None` when the system is numerically singular.
+fn newton_direction(h: &[f64], phi: &[f64], grad: &[f64], psi: f64, o: &NewtonFbOptions) -> Option<Vec<f64>> {
+    let n = phi.len();
+    if !(o.lm_factor > 0.0) {
+        let neg_phi: Vec<f64> = phi.iter().map(|p| -p).collect();
+        return lu_solve(h, n, &neg_phi);
+    }
+    let nu = o.lm_factor * (2.0 * psi).sqrt().min(1.0);
+    // HᵀH, accumulated row by row of H (contiguous access).
+    let mut a = vec![0.0; n * n];
+    for r in 0..n {
+        let hr = &h[r * n..(r + 1) * n];
+        for (i, &hri) in hr.iter().enumerate() {
+            if hri != 0.0 {
+                for (aij, &hrj) in a[i * n..(i + 1) * n].iter_mut().zip(hr) {
+                    *aij += hri * hrj;
+                }
+            }
+        }
+    }
+    for i in 0..n {
+        a[i * n + i] += nu;
+    }
+    let neg_grad: Vec<f64> = grad.iter().map(|g| -g).collect();
+    lu_solve(&a, n, &neg_grad)
+}
+
 
 #[cfg(test)]
 mod tests {

@@ -89,6 +89,73 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    /// Every variant of the step (plain Newton or Levenberg–Marquardt, with or
+    /// without equilibration) converges on P-matrices.
+    #[test]
+    fn newton_variants_solve_p_matrix(n in 1usize..=8, seed in any::<u64>(), lm in prop::sample::select(vec![0.0, 0.01, 1.0]), eq in any::<bool>()) {
+        let lcp = p_matrix_lcp(n, seed);
+        let o = NewtonFbOptions { lm_factor: lm, equilibrate: eq, ..NewtonFbOptions::default() };
+        let s = newton_fb::solve(&lcp, &o);
+        prop_assert_eq!(s.status, Status::Solved);
+        prop_assert!(max_diff(&s.z, &unique_solution(&lcp)) < 1e-9);
+    }
+
+    /// Badly scaled rows and columns (factors 2^±10) do not stop the default
+    /// (equilibrating) Newton; its answer is judged in the units given, and
+    /// mapped back it is the original problem's solution up to the scaling's
+    /// amplification of that tolerance.
+    #[test]
+    fn newton_is_robust_to_diagonal_scaling(n in 2usize..=8, seed in any::<u64>(), exps in prop::collection::vec(-10i32..=10, 16)) {
+        let base = spd_lcp(n, seed);
+        let sc = lcp::Scaling { row: exps[..n].iter().map(|&e| 2f64.powi(e)).collect(), col: exps[8..8 + n].iter().map(|&e| 2f64.powi(e)).collect() };
+        let lcp = sc.apply(&base);
+        let s = newton_fb::solve(&lcp, &NewtonFbOptions { tol: 1e-9, ..NewtonFbOptions::default() });
+        prop_assert_eq!(s.status, Status::Solved);
+        prop_assert!(s.residuals.natural <= 1e-9);
+        // z* = D_c z'; a residual of 1e-9 in scaled units is at most 1e-9·2^10 in original ones.
+        let z = sc.z_back(&s.z);
+        prop_assert!(max_diff(&z, &unique_solution(&base)) < 1e-4);
+    }
+}
+
+#[test]
+fn newton_warm_start() {
+    let lcp = p_matrix_lcp(10, 4);
+    let o = NewtonFbOptions::default();
+    let cold = newton_fb::solve(&lcp, &o);
+    assert!(cold.ok() && cold.iterations > 1);
+    // From the solution: nothing to do.
+    let warm = newton_fb::solve_from(&lcp, &cold.z, &o);
+    assert_eq!((warm.status, warm.iterations), (Status::Solved, 0));
+    // From a perturbed solution: fewer steps than cold.
+    let near: Vec<f64> = cold.z.iter().map(|z| z + 1e-4).collect();
+    let warm = newton_fb::solve_from(&lcp, &near, &o);
+    assert!(warm.ok() && warm.iterations < cold.iterations, "{} vs {}", warm.iterations, cold.iterations);
+    // Unusable starts are ignored.
+    assert_eq!(newton_fb::solve_from(&lcp, &[1.0], &o), cold);
+    assert_eq!(newton_fb::solve_from(&lcp, &[f64::NAN; 10], &o), cold);
+}
+
+#[test]
+fn newton_solves_most_contact_lcps() {
+    // Measured: 100 % at nc ≤ 4 and s ∈ {1, 1e-3}; the floor here guards regressions.
+    for s in [1.0, 1e-3] {
+        for nc in [1, 2, 4] {
+            let solved = (0..50)
+                .filter(|&seed| {
+                    let lcp = contact_lcp(nc, 8, s, seed);
+                    let r = newton_fb::solve(&lcp, &NewtonFbOptions::default());
+                    r.ok() && is_solution(&lcp, &r.z, 1e-12)
+                })
+                .count();
+            assert!(solved >= 47, "s = {s}, nc = {nc}: {solved}/50");
+        }
+    }
+}
+
 #[test]
 fn larger_problems_converge() {
     for seed in 0..5 {
