@@ -5,7 +5,8 @@
 //!   DESIGN §1 for one box on a plane; [`contact_lcp_from_parts`] builds the
 //!   same structure from any contact Jacobians (reusable by the simulator).
 //! - [`p_matrix_lcp`], [`spd_lcp`]: random LCPs with a unique solution.
-//! - [`murty`]: Murty's (1978) example, on which Lemke's method takes 2ⁿ pivots.
+//! - [`murty`]: Murty's (1978) example, on which Lemke's method takes 2ⁿ pivots;
+//!   [`murty_unit`]: the same matrix with `q = −1`.
 //! - [`infeasible_lcp`], [`infeasible_examples`]: LCPs without a solution.
 
 use std::f64::consts::PI;
@@ -416,26 +417,50 @@ pub fn spd_lcp(n: usize, seed: u64) -> Lcp {
     build(m, q, "spd_lcp")
 }
 
-/// Murty's example (K. G. Murty, "Computational complexity of complementary
-/// pivot methods", Math. Programming Study 7, 1978), in its standard form:
-/// `M` lower triangular with 1 on the diagonal and 2 below it, `q = −1`.
-/// `M` is a P-matrix (all principal minors are 1); the unique solution is
-/// `z = e₁ = (1, 0, …, 0)` with `w = (0, 1, …, 1)`. Lemke's method with the
-/// covering vector `1` takes 2ⁿ pivots on it. (The transposed-order variant —
-/// upper triangular with 2 above — is the same problem with the indices
-/// reversed; its solution is `(0, …, 0, 1)`.)
-///
-/// # Panics
-/// If `n == 0`.
-pub fn murty(n: usize) -> Lcp {
-    let m = (0..n * n)
+/// Murty's `M̃(n)`: lower triangular, 1 on the diagonal and 2 below it. A
+/// P-matrix (every principal submatrix is again of this form, determinant 1).
+fn murty_matrix(n: usize) -> Vec<f64> {
+    (0..n * n)
         .map(|e| match (e / n).cmp(&(e % n)) {
             std::cmp::Ordering::Equal => 1.0,
             std::cmp::Ordering::Greater => 2.0,
             std::cmp::Ordering::Less => 0.0,
         })
+        .collect()
+}
+
+/// Murty's example on which Lemke's method takes 2ⁿ pivots (K. G. Murty,
+/// "Computational complexity of complementary pivot methods", Math.
+/// Programming Study 7, 1978): `M̃(n)` lower triangular with 1 on the diagonal
+/// and 2 below it, `q̃_j = −(2ⁿ + 2ⁿ⁻¹ + … + 2ⁿ⁻ʲ⁺¹)` (1-based `j`), i.e.
+/// `q̃ = (−2ⁿ, −2ⁿ − 2ⁿ⁻¹, …, −(2ⁿ⁺¹ − 2))`.
+///
+/// `M̃` is a P-matrix, so the solution is unique: `z = (2ⁿ, 0, …, 0)` with
+/// `w = (0, 2ⁿ⁻¹, 2ⁿ⁻², …, 2)`. Lemke's method with covering vector 1 on the
+/// problem as given visits 2ⁿ bases (measured with this crate's Lemke without
+/// equilibration, both pivoting rules, n ≤ 8); equilibration changes the
+/// effective covering vector and the path becomes short. All data are exact
+/// for `n ≤ 52`. See [`murty_unit`] for the `q = −1` form.
+///
+/// # Panics
+/// If `n == 0`.
+pub fn murty(n: usize) -> Lcp {
+    let q = (1..=n)
+        .map(|j| -((n + 1 - j)..=n).map(|i| 2f64.powi(i as i32)).sum::<f64>())
         .collect();
-    build(m, vec![-1.0; n], "murty")
+    build(murty_matrix(n), q, "murty")
+}
+
+/// Murty's matrix `M̃(n)` (see [`murty`]) with `q = −1`, the form found in
+/// LCP test collections: unique solution `z = e₁ = (1, 0, …, 0)`,
+/// `w = (0, 1, …, 1)`. Not hard for Lemke (2 pivots, measured). The
+/// transposed-order variant (2 above the diagonal) is the same problem with the
+/// indices reversed, solution `(0, …, 0, 1)`.
+///
+/// # Panics
+/// If `n == 0`.
+pub fn murty_unit(n: usize) -> Lcp {
+    build(murty_matrix(n), vec![-1.0; n], "murty_unit")
 }
 
 /// The smallest LCP without a solution: `M = [−1]`, `q = [−1]` (`w = −z − 1 < 0`).

@@ -2,7 +2,7 @@
 //! n ≤ 8), on degenerate and hopeless problems, and their never-NaN contract.
 
 use lcp::enumerate::{all_solutions, is_solution};
-use lcp::generate::{contact_lcp, infeasible_examples, murty, p_matrix_lcp, spd_lcp};
+use lcp::generate::{contact_lcp, infeasible_examples, murty, murty_unit, p_matrix_lcp, spd_lcp};
 use lcp::{newton_fb, pgs, Lcp, NewtonFbOptions, PgsOptions, Solution, Status};
 use proptest::prelude::*;
 
@@ -256,13 +256,19 @@ fn newton_handles_degenerate_problems() {
 
 #[test]
 fn newton_solves_murty_where_lemke_needs_2_to_the_n_pivots() {
-    for n in [2, 5, 10, 16] {
-        let lcp = murty(n);
-        let s = newton_fb::solve(&lcp, &NewtonFbOptions::default());
+    for n in [1, 2, 5, 10, 16, 30] {
+        let mut expected = vec![0.0; n];
+        expected[0] = 2f64.powi(n as i32);
+        // The data are of size 2ⁿ: an absolute tolerance must grow with them.
+        let o = NewtonFbOptions { tol: 1e-14 * expected[0], ..NewtonFbOptions::default() };
+        let s = newton_fb::solve(&murty(n), &o);
+        assert_eq!(s.status, Status::Solved, "n = {n}: {:?}", s.residuals);
+        assert!(max_diff(&s.z, &expected) <= 1e-12 * expected[0], "n = {n}: {:?}", s.z);
+
+        expected[0] = 1.0;
+        let s = newton_fb::solve(&murty_unit(n), &NewtonFbOptions::default());
         assert_eq!(s.status, Status::Solved, "n = {n}");
-        let mut e1 = vec![0.0; n];
-        e1[0] = 1.0;
-        assert!(max_diff(&s.z, &e1) < 1e-12, "n = {n}: {:?}", s.z);
+        assert!(max_diff(&s.z, &expected) < 1e-12, "n = {n}: {:?}", s.z);
     }
 }
 
