@@ -180,7 +180,9 @@ pub fn contact_lcp_from_parts(p: &ContactParts<'_>) -> Result<Lcp, PartsError> {
             let jr = jrow(r);
             match p.minv {
                 MassInverse::Diagonal(d) => jr.iter().zip(d).map(|(a, b)| a * b).collect(),
-                MassInverse::Dense(d) => (0..ndof).map(|a| crate::problem::dot(&d[a * ndof..(a + 1) * ndof], jr)).collect(),
+                MassInverse::Dense(d) => {
+                    (0..ndof).map(|a| crate::problem::dot(&d[a * ndof..(a + 1) * ndof], jr)).collect()
+                }
             }
         })
         .collect();
@@ -267,11 +269,8 @@ impl BoxOnPlane {
         const CORNERS: [(f64, f64); 4] = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)];
         let arms = (0..nc)
             .map(|c| {
-                let (u, v) = if c < 4 {
-                    CORNERS[c]
-                } else {
-                    (rng.random_range(-0.5..=0.5), rng.random_range(-0.5..=0.5))
-                };
+                let (u, v) =
+                    if c < 4 { CORNERS[c] } else { (rng.random_range(-0.5..=0.5), rng.random_range(-0.5..=0.5)) };
                 let r = [-0.5 * normal[0], -0.5 * normal[1], -0.5 * normal[2]];
                 axpy(axpy(r, u, a1), v, a2)
             })
@@ -445,9 +444,7 @@ fn murty_matrix(n: usize) -> Vec<f64> {
 /// # Panics
 /// If `n == 0`.
 pub fn murty(n: usize) -> Lcp {
-    let q = (1..=n)
-        .map(|j| -((n + 1 - j)..=n).map(|i| 2f64.powi(i as i32)).sum::<f64>())
-        .collect();
+    let q = (1..=n).map(|j| -((n + 1 - j)..=n).map(|i| 2f64.powi(i as i32)).sum::<f64>()).collect();
     build(murty_matrix(n), q, "murty")
 }
 

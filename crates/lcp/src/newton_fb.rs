@@ -120,7 +120,10 @@ pub(crate) fn lu_solve(a: &[f64], n: usize, b: &[f64]) -> Option<Vec<f64>> {
     // Partial pivoting does not report rank deficiency itself: check U's diagonal.
     let u = lu.U();
     let pivot_floor = (n as f64) * f64::EPSILON * amax;
-    if (0..n).any(|k| !(u[(k, k)].abs() > pivot_floor)) {
+    if (0..n).any(|k| {
+        let pivot = u[(k, k)].abs();
+        pivot.is_nan() || pivot <= pivot_floor
+    }) {
         return None;
     }
     let rhs = faer::Mat::<f64>::from_fn(n, 1, |i, _| b[i]);
@@ -261,7 +264,7 @@ fn iterate(lcp: &Lcp, s: &Scaling, mut z: Vec<f64>, o: &NewtonFbOptions) -> (Vec
         let mut accepted = false;
         for d in &directions {
             let slope = dot(&grad, d);
-            if !(slope < 0.0) {
+            if slope.is_nan() || slope >= 0.0 {
                 continue; // ∇Ψ = 0 at a non-solution: a stationary point, no descent possible
             }
             let mut t = 1.0;
@@ -300,7 +303,7 @@ fn iterate(lcp: &Lcp, s: &Scaling, mut z: Vec<f64>, o: &NewtonFbOptions) -> (Vec
 /// `None` when the system is numerically singular.
 fn newton_direction(h: &[f64], phi: &[f64], grad: &[f64], psi: f64, o: &NewtonFbOptions) -> Option<Vec<f64>> {
     let n = phi.len();
-    if !(o.lm_factor > 0.0) {
+    if o.lm_factor.is_nan() || o.lm_factor <= 0.0 {
         let neg_phi: Vec<f64> = phi.iter().map(|p| -p).collect();
         return lu_solve(h, n, &neg_phi);
     }
@@ -323,7 +326,6 @@ fn newton_direction(h: &[f64], phi: &[f64], grad: &[f64], psi: f64, o: &NewtonFb
     let neg_grad: Vec<f64> = grad.iter().map(|g| -g).collect();
     lu_solve(&a, n, &neg_grad)
 }
-
 
 #[cfg(test)]
 mod tests {

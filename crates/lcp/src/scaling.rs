@@ -83,10 +83,8 @@ impl Scaling {
     /// on both sides. Applied to the unscaled contact LCP it yields the blocks
     /// `s·E`, `s·μ`, `−s·Eᵀ` of DESIGN §1.
     pub fn cone(nc: usize, k: usize, s: f64) -> Scaling {
-        let d: Vec<f64> = std::iter::repeat(1.0)
-            .take(nc + nc * k)
-            .chain(std::iter::repeat(s).take(nc))
-            .collect();
+        let mut d = vec![1.0; nc + nc * k];
+        d.resize(nc + nc * k + nc, s);
         Scaling { row: d.clone(), col: d }
     }
 
@@ -156,7 +154,7 @@ fn pow2(e: i32) -> f64 {
 /// The exponent `e` with `2^e` nearest (in log scale) to `1 / √m`; 0 for a
 /// zero (or non-finite) `m`, so empty rows and columns keep their factor.
 fn inv_sqrt_exponent(m: f64) -> i32 {
-    if !(m > 0.0) || !m.is_finite() {
+    if m <= 0.0 || !m.is_finite() {
         return 0;
     }
     let e = (-0.5 * m.log2()).round();

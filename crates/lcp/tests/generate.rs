@@ -22,7 +22,7 @@ fn is_positive_definite(m: &[f64], n: usize) -> bool {
     let mut l = vec![0.0; n * n];
     for j in 0..n {
         let d = m[j * n + j] - (0..j).map(|k| l[j * n + k] * l[j * n + k]).sum::<f64>();
-        if !(d > 0.0) {
+        if d.is_nan() || d <= 0.0 {
             return false;
         }
         l[j * n + j] = d.sqrt();
@@ -136,8 +136,8 @@ proptest! {
             }
         }
         // v* = v + h g for a unit mass; ω unchanged.
-        for a in 0..3 {
-            prop_assert_eq!(scene.vstar[a], scene.velocity[a] + CONTACT_H * GRAVITY[a]);
+        for (a, g) in GRAVITY.iter().enumerate() {
+            prop_assert_eq!(scene.vstar[a], scene.velocity[a] + CONTACT_H * g);
             prop_assert_eq!(scene.vstar[a + 3], scene.velocity[a + 3]);
         }
     }
@@ -245,7 +245,10 @@ fn layout_ranges_partition_the_unknowns() {
         assert_eq!(l.fn_range().len(), nc);
         assert_eq!(l.fd_range().len(), nc * k);
         assert_eq!(l.lambda_range().len(), nc);
-        assert_eq!((l.fn_range().end, l.fd_range().end, l.lambda_range().end), (l.fd_range().start, l.lambda_range().start, l.n()));
+        assert_eq!(
+            (l.fn_range().end, l.fd_range().end, l.lambda_range().end),
+            (l.fd_range().start, l.lambda_range().start, l.n())
+        );
         assert_eq!(l.fd_index(nc - 1, k - 1), l.fd_range().end - 1);
         assert_eq!(l.lambda_index(0), l.lambda_range().start);
     }
@@ -263,7 +266,16 @@ fn from_parts_dense_equals_diagonal_and_adds_b0_extra() {
     for i in 0..6 {
         dense[i * 6 + i] = BOX_MINV_DIAG[i];
     }
-    let parts = ContactParts { k: 4, jn: &jn, jd: &jd, minv: MassInverse::Diagonal(&BOX_MINV_DIAG), vstar: &scene.vstar, mu: &mu, b0_extra: None, scale: 0.5 };
+    let parts = ContactParts {
+        k: 4,
+        jn: &jn,
+        jd: &jd,
+        minv: MassInverse::Diagonal(&BOX_MINV_DIAG),
+        vstar: &scene.vstar,
+        mu: &mu,
+        b0_extra: None,
+        scale: 0.5,
+    };
     let a = contact_lcp_from_parts(&parts).unwrap();
     let b = contact_lcp_from_parts(&ContactParts { minv: MassInverse::Dense(&dense), ..parts }).unwrap();
     assert_eq!(a, b);
@@ -274,9 +286,9 @@ fn from_parts_dense_equals_diagonal_and_adds_b0_extra() {
     let extra = [0.25, -1.0];
     let c = contact_lcp_from_parts(&ContactParts { b0_extra: Some(&extra), ..parts }).unwrap();
     assert_eq!(a.m(), c.m());
-    for i in 0..a.n() {
-        let shift = if i < 2 { extra[i] } else { 0.0 };
-        assert_eq!(c.q()[i], a.q()[i] + shift);
+    for (i, (&qc, &qa)) in c.q().iter().zip(a.q()).enumerate() {
+        let shift = extra.get(i).copied().unwrap_or(0.0);
+        assert_eq!(qc, qa + shift);
     }
 }
 
@@ -285,18 +297,39 @@ fn from_parts_validates_its_input() {
     let scene = BoxOnPlane::random(1, 0);
     let (jn, jd) = scene.jacobians(8);
     let mu = [0.5];
-    let ok = ContactParts { k: 8, jn: &jn, jd: &jd, minv: MassInverse::Diagonal(&BOX_MINV_DIAG), vstar: &scene.vstar, mu: &mu, b0_extra: None, scale: 1.0 };
+    let ok = ContactParts {
+        k: 8,
+        jn: &jn,
+        jd: &jd,
+        minv: MassInverse::Diagonal(&BOX_MINV_DIAG),
+        vstar: &scene.vstar,
+        mu: &mu,
+        b0_extra: None,
+        scale: 1.0,
+    };
     assert!(contact_lcp_from_parts(&ok).is_ok());
     assert!(matches!(contact_lcp_from_parts(&ContactParts { k: 4, ..ok }), Err(PartsError::Shape { what: "jd", .. })));
-    assert!(matches!(contact_lcp_from_parts(&ContactParts { jn: &jn[..5], ..ok }), Err(PartsError::Shape { what: "jn", .. })));
-    assert!(matches!(contact_lcp_from_parts(&ContactParts { minv: MassInverse::Dense(&BOX_MINV_DIAG), ..ok }), Err(PartsError::Shape { .. })));
-    assert!(matches!(contact_lcp_from_parts(&ContactParts { b0_extra: Some(&[1.0, 2.0]), ..ok }), Err(PartsError::Shape { .. })));
+    assert!(matches!(
+        contact_lcp_from_parts(&ContactParts { jn: &jn[..5], ..ok }),
+        Err(PartsError::Shape { what: "jn", .. })
+    ));
+    assert!(matches!(
+        contact_lcp_from_parts(&ContactParts { minv: MassInverse::Dense(&BOX_MINV_DIAG), ..ok }),
+        Err(PartsError::Shape { .. })
+    ));
+    assert!(matches!(
+        contact_lcp_from_parts(&ContactParts { b0_extra: Some(&[1.0, 2.0]), ..ok }),
+        Err(PartsError::Shape { .. })
+    ));
     assert!(matches!(contact_lcp_from_parts(&ContactParts { mu: &[], ..ok }), Err(PartsError::Empty)));
     assert!(matches!(contact_lcp_from_parts(&ContactParts { k: 0, jd: &[], ..ok }), Err(PartsError::Empty)));
     for s in [-1.0, f64::NAN, f64::INFINITY] {
         assert!(matches!(contact_lcp_from_parts(&ContactParts { scale: s, ..ok }), Err(PartsError::Scale(_))));
     }
-    assert!(matches!(contact_lcp_from_parts(&ContactParts { mu: &[-0.1], ..ok }), Err(PartsError::Mu { index: 0, .. })));
+    assert!(matches!(
+        contact_lcp_from_parts(&ContactParts { mu: &[-0.1], ..ok }),
+        Err(PartsError::Mu { index: 0, .. })
+    ));
     let nan_v = [f64::NAN, 0.0, 0.0, 0.0, 0.0, 0.0];
     assert!(matches!(contact_lcp_from_parts(&ContactParts { vstar: &nan_v, ..ok }), Err(PartsError::Lcp(_))));
     // s = 0 is allowed: the degenerate limit with a zero cone row.
@@ -324,7 +357,13 @@ fn murty_structure() {
         for lcp in [murty(n), murty_unit(n)] {
             for i in 0..n {
                 for j in 0..n {
-                    let expected = if i == j { 1.0 } else if i > j { 2.0 } else { 0.0 };
+                    let expected = if i == j {
+                        1.0
+                    } else if i > j {
+                        2.0
+                    } else {
+                        0.0
+                    };
                     assert_eq!(lcp.at(i, j), expected);
                 }
             }

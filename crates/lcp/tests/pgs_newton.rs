@@ -298,7 +298,10 @@ fn newton_reports_numerical_on_overflow_instead_of_nan() {
 #[test]
 fn solvers_are_deterministic() {
     let lcp = p_matrix_lcp(12, 99);
-    assert_eq!(newton_fb::solve(&lcp, &NewtonFbOptions::default()), newton_fb::solve(&lcp, &NewtonFbOptions::default()));
+    assert_eq!(
+        newton_fb::solve(&lcp, &NewtonFbOptions::default()),
+        newton_fb::solve(&lcp, &NewtonFbOptions::default())
+    );
     let lcp = spd_lcp(12, 99);
     assert_eq!(pgs::solve(&lcp, &PgsOptions::default()), pgs::solve(&lcp, &PgsOptions::default()));
 }

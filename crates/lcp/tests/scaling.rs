@@ -18,7 +18,9 @@ fn badly_scaled(n: usize, seed: u64, spread: i32) -> Lcp {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let r: Vec<f64> = (0..n).map(|_| 2f64.powi(rng.random_range(-spread..=spread))).collect();
     let c: Vec<f64> = (0..n).map(|_| 2f64.powi(rng.random_range(-spread..=spread))).collect();
-    let m: Vec<f64> = (0..n * n).map(|e| r[e / n] * c[e % n] * rng.random_range(0.1..1.0) * if rng.random_bool(0.5) { 1.0 } else { -1.0 }).collect();
+    let m: Vec<f64> = (0..n * n)
+        .map(|e| r[e / n] * c[e % n] * rng.random_range(0.1..1.0) * if rng.random_bool(0.5) { 1.0 } else { -1.0 })
+        .collect();
     let q = (0..n).map(|i| r[i] * rng.random_range(-1.0..1.0)).collect();
     Lcp::new(m, q).unwrap()
 }
