@@ -154,11 +154,12 @@ fn classic_solves_easy_problems_and_reports_honestly() {
 
 #[test]
 fn pivot_limit_is_reported() {
-    let lcp = generate::murty(10);
-    let o = LemkeOptions { max_pivots: Some(5), ..lex() };
+    let lcp = generate::spd_lcp(40, 7);
+    let o = LemkeOptions { max_pivots: Some(3), fallback: false, ..lex() };
     let s = lcp::lemke::solve(&lcp, &o);
     assert_eq!(s.status, Status::MaxPivots);
-    assert_eq!(s.z.len(), 10);
+    assert_eq!(s.iterations, 3);
+    assert_eq!((s.z.len(), s.w.len()), (40, 40));
 }
 
 #[test]

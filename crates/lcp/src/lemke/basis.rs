@@ -77,6 +77,8 @@ pub(crate) struct Basis<'a> {
     r_pos: Vec<Option<usize>>,
     /// z-type basic columns, in `C` row order (`C⁻¹` row `p` belongs to `s[p]`).
     pub(crate) s: Vec<Var>,
+    /// `Mᵀ`, row-major: column `j` of `M` is contiguous.
+    mt: Vec<f64>,
     /// `C⁻¹`, row-major with stride `n`; only the leading `m × m` block is live.
     cinv: Vec<f64>,
     /// Values of the z-type basics, by position in `s`.
@@ -105,6 +107,7 @@ impl<'a> Basis<'a> {
             r: Vec::with_capacity(n),
             r_pos: vec![None; n],
             s: Vec::with_capacity(n),
+            mt: (0..n * n).map(|k| lcp.at(k % n, k / n)).collect(),
             cinv: vec![0.0; n * n],
             val_s: Vec::with_capacity(n),
             val_w: lcp.q().to_vec(),
@@ -163,22 +166,29 @@ impl<'a> Basis<'a> {
             let row = &self.cinv[p * n..p * n + m];
             out.xs.push(row.iter().zip(&self.tmp[..m]).map(|(c, t)| c * t).sum());
         }
-        // x_w,i = a_e[i] + G[i, S] x_S.
-        out.xw.resize(n, 0.0);
-        for i in 0..n {
-            if self.r_pos[i].is_some() {
+        // x_w = a_e + G[:, S] x_S over all rows (rows in R are ignored), as
+        // contiguous axpys over the columns of M (rows of Mᵀ).
+        out.xw.clear();
+        match e {
+            Var::Z(j) => out.xw.extend(self.mt[j * n..(j + 1) * n].iter().map(|v| -v)),
+            Var::Z0 => out.xw.extend(self.d.iter().map(|v| -v)),
+            Var::W(k) => {
+                out.xw.resize(n, 0.0);
+                out.xw[k] = 1.0;
+            }
+        }
+        for (p, &v) in self.s.iter().enumerate() {
+            let u = out.xs[p];
+            if u == 0.0 {
                 continue;
             }
-            let mut acc = self.a(i, e);
-            let mrow = self.lcp.row(i);
-            for (p, &v) in self.s.iter().enumerate() {
-                let gv = match v {
-                    Var::Z(j) => mrow[j],
-                    _ => self.d[i],
-                };
-                acc += gv * out.xs[p];
+            let col = match v {
+                Var::Z(j) => &self.mt[j * n..(j + 1) * n],
+                _ => self.d,
+            };
+            for (x, g) in out.xw.iter_mut().zip(col) {
+                *x += u * g;
             }
-            out.xw[i] = acc;
         }
     }
 
@@ -193,13 +203,26 @@ impl<'a> Basis<'a> {
                 }
             }
             Leaving::W(i) => {
-                out[i] = 1.0;
+                let mut t = vec![0.0; m];
+                self.row_times_cinv(i, &mut t);
                 for (qi, &ri) in self.r.iter().enumerate() {
-                    let mut acc = 0.0;
-                    for p in 0..m {
-                        acc += self.g(i, self.s[p]) * self.ci(p, qi);
-                    }
-                    out[ri] = acc;
+                    out[ri] = -t[qi];
+                }
+                out[i] = 1.0;
+            }
+        }
+    }
+
+    /// `t = A[i, S] C⁻¹` (row-wise, so `C⁻¹` is read contiguously).
+    fn row_times_cinv(&self, i: usize, t: &mut [f64]) {
+        let (n, m) = (self.n, self.m());
+        let t = &mut t[..m];
+        t.iter_mut().for_each(|x| *x = 0.0);
+        for p in 0..m {
+            let a = -self.g(i, self.s[p]);
+            if a != 0.0 {
+                for (tc, c) in t.iter_mut().zip(&self.cinv[p * n..p * n + m]) {
+                    *tc += a * c;
                 }
             }
         }
@@ -250,13 +273,7 @@ impl<'a> Basis<'a> {
         let (n, m) = (self.n, self.m());
         // v = rᵀ C⁻¹ with r = A[i, S] = −G[i, S].
         let mut v = std::mem::take(&mut self.tmp);
-        for c in 0..m {
-            let mut acc = 0.0;
-            for p in 0..m {
-                acc -= self.g(i, self.s[p]) * self.ci(p, c);
-            }
-            v[c] = acc;
-        }
+        self.row_times_cinv(i, &mut v);
         for r in 0..m {
             let f = u[r] / sigma;
             for c in 0..m {
@@ -328,13 +345,7 @@ impl<'a> Basis<'a> {
         let qi = self.r_pos[i].expect("entering w must be nonbasic");
         // t = r_newᵀ C⁻¹ with r_new = A[k, S] = −G[k, S].
         let mut t = std::mem::take(&mut self.tmp);
-        for c in 0..m {
-            let mut acc = 0.0;
-            for p in 0..m {
-                acc -= self.g(k, self.s[p]) * self.ci(p, c);
-            }
-            t[c] = acc;
-        }
+        self.row_times_cinv(k, &mut t);
         let tq = t[qi];
         for r in 0..m {
             let f = self.ci(r, qi) / tq;
@@ -360,7 +371,8 @@ impl<'a> Basis<'a> {
             let c = Mat::<f64>::from_fn(m, m, |a, b| self.a(self.r[a], self.s[b]));
             let lu = c.partial_piv_lu();
             let u = lu.U();
-            let cmax = (0..m).flat_map(|a| (0..m).map(move |b| (a, b))).fold(0.0f64, |acc, (a, b)| acc.max(c[(a, b)].abs()));
+            let cmax =
+                (0..m).flat_map(|a| (0..m).map(move |b| (a, b))).fold(0.0f64, |acc, (a, b)| acc.max(c[(a, b)].abs()));
             let umin = (0..m).fold(f64::INFINITY, |acc, a| acc.min(u[(a, a)].abs()));
             if !(umin > 1e-14 * cmax) {
                 return false;
@@ -387,6 +399,36 @@ impl<'a> Basis<'a> {
             }
         }
         true
+    }
+
+    /// Polishes the values of a complementary basis (z0 nonbasic) by
+    /// iterative refinement with the kept `C⁻¹`: `z_S += C⁻¹ (M z + q)[R]`,
+    /// O(m²) a step. Returns `max |(M z + q)_R|` after the last step.
+    pub(crate) fn polish(&mut self, steps: usize) -> f64 {
+        let (n, m) = (self.n, self.m());
+        let mut res = std::mem::take(&mut self.tmp);
+        let mut worst = 0.0;
+        for step in 0..=steps {
+            // res = (M z + q) on the rows of R, which must vanish.
+            worst = 0.0f64;
+            for (qi, &i) in self.r.iter().enumerate() {
+                let mut acc = self.lcp.q()[i];
+                for (p, &v) in self.s.iter().enumerate() {
+                    acc += self.g(i, v) * self.val_s[p];
+                }
+                res[qi] = acc;
+                worst = worst.max(acc.abs());
+            }
+            if step == steps || worst == 0.0 {
+                break;
+            }
+            for p in 0..m {
+                let row = &self.cinv[p * n..p * n + m];
+                self.val_s[p] += row.iter().zip(&res[..m]).map(|(c, r)| c * r).sum::<f64>();
+            }
+        }
+        self.tmp = res;
+        worst
     }
 
     /// Current `z` (length n) from the basic values; `z0` is returned apart.

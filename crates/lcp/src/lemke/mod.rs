@@ -43,7 +43,12 @@ fn refactor_every(n: usize) -> usize {
 }
 
 fn solve_classic(lcp: &Lcp, o: &LemkeOptions) -> Solution {
-    let d = vec![1.0; lcp.n()];
+    // z = 0 when no q_i is below −zero_tol.
+    if lcp.q().iter().all(|&v| v > -o.zero_tol) {
+        return Solution::from_z(lcp, vec![0.0; lcp.n()], Status::Solved, 0);
+    }
+    // Covering vector 1 where q < 0, 0 elsewhere (Moby's choice).
+    let d: Vec<f64> = lcp.q().iter().map(|&v| if v < 0.0 { 1.0 } else { 0.0 }).collect();
     let set = RunSettings {
         rule: Rule::Classic { piv_tol: o.piv_tol, zero_tol: o.zero_tol },
         max_pivots: o.pivot_limit(lcp.n()),
@@ -56,10 +61,61 @@ fn solve_classic(lcp: &Lcp, o: &LemkeOptions) -> Solution {
     sol
 }
 
+/// One rung of the repair ladder.
+struct Attempt {
+    equilibrate: bool,
+    /// Relative pivot tolerance.
+    piv_rel: f64,
+    /// Perturb the covering vector (a different path through the same problem).
+    perturb_d: bool,
+}
+
+/// Round-off in a computed column is far above 1e-12 of its largest entry once
+/// `C` is ill-conditioned (contact LCPs are rank-deficient): pivots smaller
+/// than this are treated as zero.
+const MIN_RELATIVE_PIVOT: f64 = 1e-9;
+
+/// The repair ladder: each rung runs only if the previous one failed its check.
+fn ladder(o: &LemkeOptions) -> Vec<Attempt> {
+    let first = Attempt { equilibrate: o.equilibrate, piv_rel: o.piv_tol.max(MIN_RELATIVE_PIVOT), perturb_d: false };
+    if !o.fallback {
+        return vec![first];
+    }
+    vec![
+        first,
+        // A coarser pivot tolerance steps around near-singular bases.
+        Attempt { equilibrate: o.equilibrate, piv_rel: 1e-7, perturb_d: false },
+        // Another covering vector follows another path.
+        Attempt { equilibrate: o.equilibrate, piv_rel: 1e-7, perturb_d: true },
+        // The other scaling.
+        Attempt { equilibrate: !o.equilibrate, piv_rel: MIN_RELATIVE_PIVOT, perturb_d: false },
+    ]
+}
+
 fn solve_lexicographic(lcp: &Lcp, o: &LemkeOptions) -> Solution {
+    let mut best: Option<Solution> = None;
+    let mut pivots = 0;
+    for attempt in ladder(o) {
+        let mut sol = solve_attempt(lcp, o, &attempt);
+        pivots += sol.iterations;
+        sol.iterations = pivots;
+        if sol.ok() {
+            return sol;
+        }
+        // Keep the first failure's status unless a later rung gets closer.
+        if best.as_ref().is_none_or(|b| sol.residuals.natural < b.residuals.natural) {
+            best = Some(sol);
+        }
+    }
+    let mut sol = best.expect("the ladder has at least one rung");
+    sol.iterations = pivots;
+    sol
+}
+
+fn solve_attempt(lcp: &Lcp, o: &LemkeOptions, attempt: &Attempt) -> Solution {
     let n = lcp.n();
     // Equilibrate M and bring q to unit size: z scales linearly with q.
-    let scaling = if o.equilibrate { Scaling::ruiz(lcp, RUIZ_ITERATIONS) } else { Scaling::identity(n) };
+    let scaling = if attempt.equilibrate { Scaling::ruiz(lcp, RUIZ_ITERATIONS) } else { Scaling::identity(n) };
     let qmax = lcp.q().iter().fold(0.0f64, |a, v| a.max(v.abs()));
     let qscale = if qmax > 0.0 { pow2_near(1.0 / qmax) } else { 1.0 };
     let mut work = scaling.apply(lcp);
@@ -67,26 +123,34 @@ fn solve_lexicographic(lcp: &Lcp, o: &LemkeOptions) -> Solution {
         let (m, q) = work.into_parts();
         work = Lcp::new(m, q.into_iter().map(|v| v * qscale).collect()).expect("scaling keeps the LCP valid");
     }
-    let d = vec![1.0; n];
+    let d: Vec<f64> = if attempt.perturb_d { (0..n).map(covering_perturbation).collect() } else { vec![1.0; n] };
     let set = RunSettings {
-        rule: Rule::Lexicographic { piv_tol: o.piv_tol, tie_tol: o.zero_tol.min(1e-9) },
+        rule: Rule::Lexicographic { piv_tol: attempt.piv_rel, tie_tol: o.zero_tol.min(1e-9) },
         max_pivots: o.pivot_limit(n),
         refactor_every: refactor_every(n),
     };
-    let r = run(&work, &d, &set);
+    let mut r = run(&work, &d, &set);
     let mask = basic_mask(&r.basis.s, n);
-    // The final complementary basis, re-solved; the loop's values as a fallback.
-    let z_work = match r.status {
-        Status::Solved => {
-            let alpha: Vec<usize> = (0..n).filter(|&j| mask[j]).collect();
-            refine::resolve_basis(&work, &alpha).unwrap_or_else(|| r.basis.z().0)
+    let unscale =
+        |z_work: &[f64]| -> Vec<f64> { scaling.z_back(z_work).into_iter().map(|v| (v / qscale).max(0.0)).collect() };
+    if r.status == Status::Solved {
+        // Shed the round-off of the updates: refine with the kept C⁻¹ first.
+        r.basis.polish(2);
+    }
+    let mut sol = Solution::from_z(lcp, unscale(&r.basis.z().0), r.status, r.pivots);
+    let accept = |s: &Solution| s.residuals.natural <= o.accept_tol * (1.0 + qmax);
+    if sol.status == Status::Solved && !accept(&sol) {
+        // C⁻¹ drifted: re-solve the final basis from scratch by LU.
+        let alpha: Vec<usize> = (0..n).filter(|&j| mask[j]).collect();
+        if let Some(z_work) = refine::resolve_basis(&work, &alpha) {
+            let fresh = Solution::from_z(lcp, unscale(&z_work), Status::Solved, r.pivots);
+            if fresh.residuals.natural < sol.residuals.natural {
+                sol = fresh;
+            }
         }
-        _ => r.basis.z().0,
-    };
-    let z: Vec<f64> = scaling.z_back(&z_work).into_iter().map(|v| (v / qscale).max(0.0)).collect();
-    let mut sol = Solution::from_z(lcp, z, r.status, r.pivots);
-    if sol.status == Status::Solved && !(sol.residuals.natural <= o.accept_tol * (1.0 + qmax)) {
-        sol.status = Status::Numerical;
+        if !accept(&sol) {
+            sol.status = Status::Numerical;
+        }
     }
     sol.basis = Some(mask);
     sol
@@ -101,6 +165,11 @@ fn basic_mask(s: &[Var], n: usize) -> Vec<bool> {
         }
     }
     mask
+}
+
+/// A fixed, irregular covering vector in [1, 2) (golden-ratio sequence).
+fn covering_perturbation(i: usize) -> f64 {
+    1.0 + ((i as f64 + 1.0) * 0.618_033_988_749_895).fract()
 }
 
 /// The power of two nearest to `x > 0`, so scaling by it is exact.

@@ -30,7 +30,8 @@ pub struct LemkeOptions {
     pub pivoting: Pivoting,
     /// Smallest pivot accepted. `Classic`: absolute, on the problem as given.
     /// `Lexicographic`: relative to the entering column's largest entry, on
-    /// the equilibrated problem. Default 1e-12.
+    /// the equilibrated problem, and never below 1e-9 (below that a computed
+    /// entry is round-off). Default 1e-12.
     pub piv_tol: f64,
     /// The user zero. `Classic`: the Harris slack of the ratio test, absolute.
     /// `Lexicographic`: the relative tolerance under which two ratios count as
@@ -45,6 +46,10 @@ pub struct LemkeOptions {
     /// `Lexicographic` only: Ruiz-equilibrate `M` and normalize `q` before
     /// pivoting. Default true.
     pub equilibrate: bool,
+    /// `Lexicographic` only: when a run fails its check, climb the repair
+    /// ladder (coarser pivot tolerance, another covering vector, the other
+    /// scaling) before reporting failure. Default true.
+    pub fallback: bool,
 }
 
 impl Default for LemkeOptions {
@@ -56,6 +61,7 @@ impl Default for LemkeOptions {
             max_pivots: None,
             accept_tol: 1e-9,
             equilibrate: true,
+            fallback: true,
         }
     }
 }

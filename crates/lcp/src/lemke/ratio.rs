@@ -5,8 +5,9 @@
 //! Siconos' lexicolemke reports false rays on contact LCPs whose λ rows have
 //! q = 0), prefers z0, then breaks ties on the rows of `B⁻¹` divided by the
 //! pivot, column by column — the classical rule that makes Lemke finite.
-//! `Classic` is the seed note's rule: absolute tolerances, Harris slack,
-//! largest pivot, first row on ties.
+//! `Classic` is the seed note's rule, as in Moby's Lemke (Drake's
+//! `MobyLCPSolver::SolveLcpLemke`, whose `piv_tol`/`zero_tol` the seed names):
+//! absolute tolerances, Harris slack, z0 if it blocks, else the first row.
 
 use super::basis::{Basis, Column, Leaving, Var};
 
@@ -19,7 +20,7 @@ pub(crate) enum Rule {
 
 /// One basic variable seen by the ratio test.
 #[derive(Clone, Copy)]
-struct Cand {
+pub(crate) struct Cand {
     at: Leaving,
     value: f64,
     x: f64,
@@ -39,27 +40,28 @@ fn candidates(basis: &Basis, x: &Column, out: &mut Vec<Cand>) {
 }
 
 /// The leaving variable and the step length, or `None` for a ray.
-pub(crate) fn leaving(basis: &Basis, x: &Column, rule: Rule) -> Option<(Leaving, f64)> {
-    let mut c = Vec::with_capacity(basis.val_w.len());
-    candidates(basis, x, &mut c);
+/// `buf` is scratch space reused across pivots.
+pub(crate) fn leaving(basis: &Basis, x: &Column, rule: Rule, buf: &mut Vec<Cand>) -> Option<(Leaving, f64)> {
+    candidates(basis, x, buf);
     match rule {
-        Rule::Classic { piv_tol, zero_tol } => classic(&c, piv_tol, zero_tol),
-        Rule::Lexicographic { piv_tol, tie_tol } => lexicographic(basis, &c, piv_tol, tie_tol),
+        Rule::Classic { piv_tol, zero_tol } => classic(basis, buf, piv_tol, zero_tol),
+        Rule::Lexicographic { piv_tol, tie_tol } => lexicographic(basis, buf, piv_tol, tie_tol),
     }
 }
 
-fn classic(c: &[Cand], piv_tol: f64, zero_tol: f64) -> Option<(Leaving, f64)> {
+fn classic(basis: &Basis, c: &[Cand], piv_tol: f64, zero_tol: f64) -> Option<(Leaving, f64)> {
     // Pass 1 (Harris): the largest step that keeps every basic ≥ −zero_tol.
-    let theta_max = c.iter().filter(|k| k.x > piv_tol).map(|k| (k.value + zero_tol) / k.x).fold(f64::INFINITY, f64::min);
+    let theta_max =
+        c.iter().filter(|k| k.x > piv_tol).map(|k| (k.value + zero_tol) / k.x).fold(f64::INFINITY, f64::min);
     if !theta_max.is_finite() {
         return None;
     }
-    // Pass 2: among rows blocking within that step, the largest pivot; first row on ties.
-    let best = c
-        .iter()
-        .filter(|k| k.x > piv_tol && k.value / k.x <= theta_max)
-        .min_by(|a, b| b.x.total_cmp(&a.x).then(a.row.cmp(&b.row)))?;
-    Some((best.at, (best.value / best.x).max(0.0)))
+    // Pass 2: rows blocking within that step; z0 if it is one, else the first row.
+    let blocking = || c.iter().filter(|k| k.x > piv_tol && k.value / k.x <= theta_max);
+    let best = blocking()
+        .find(|k| matches!(k.at, Leaving::S(p) if basis.s[p] == Var::Z0))
+        .or_else(|| blocking().min_by_key(|k| k.row))?;
+    Some((best.at, best.value / best.x))
 }
 
 fn lexicographic(basis: &Basis, c: &[Cand], piv_tol: f64, tie_tol: f64) -> Option<(Leaving, f64)> {
@@ -110,13 +112,17 @@ fn lex_break(basis: &Basis, tied: Vec<Cand>, tie_tol: f64) -> Vec<Cand> {
 /// The first pivot, where z0 enters at the value that makes every `w ≥ 0`:
 /// the row with the most negative `q_i / d_i`.
 pub(crate) fn first_leaving(q: &[f64], d: &[f64], rule: Rule) -> usize {
-    let ratio = |i: usize| q[i] / d[i];
-    let min = (0..q.len()).map(ratio).fold(f64::INFINITY, f64::min);
     match rule {
-        // First index on ties.
-        Rule::Classic { .. } => (0..q.len()).find(|&i| ratio(i) == min).unwrap_or(0),
+        // The most negative q, first index on ties (the classic covering
+        // vector is 1 exactly where q < 0, so ratios elsewhere are meaningless).
+        Rule::Classic { .. } => {
+            let qmin = q.iter().copied().fold(f64::INFINITY, f64::min);
+            (0..q.len()).find(|&i| q[i] == qmin).unwrap_or(0)
+        }
         // Lexicographic: among ties the largest index keeps the other rows lex-positive.
         Rule::Lexicographic { tie_tol, .. } => {
+            let ratio = |i: usize| q[i] / d[i];
+            let min = (0..q.len()).map(ratio).fold(f64::INFINITY, f64::min);
             let scale = q.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             (0..q.len()).rev().find(|&i| (ratio(i) - min) * d[i] <= tie_tol * scale).unwrap_or(0)
         }

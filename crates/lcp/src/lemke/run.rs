@@ -5,6 +5,23 @@ use super::ratio::{first_leaving, leaving, Rule};
 use crate::problem::Lcp;
 use crate::solution::Status;
 use std::collections::HashSet;
+use std::hash::{BuildHasherDefault, Hasher};
+
+/// The basis hash is already well mixed: hash it as itself.
+#[derive(Default)]
+struct Identity(u64);
+
+impl Hasher for Identity {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, _: &[u8]) {
+        unreachable!("only u64 keys are hashed")
+    }
+    fn write_u64(&mut self, v: u64) {
+        self.0 = v;
+    }
+}
 
 /// Settings of one run of the loop.
 pub(crate) struct RunSettings {
@@ -20,6 +37,9 @@ pub(crate) struct Run<'a> {
     pub pivots: usize,
     pub basis: Basis<'a>,
 }
+
+/// Pivots below this fraction of their column's largest entry trigger a refactorization.
+const SMALL_PIVOT: f64 = 1e-4;
 
 /// Key of a variable for the basis hash (splitmix64 of its id).
 fn key(id: usize) -> u64 {
@@ -45,7 +65,9 @@ pub(crate) fn run<'a>(lcp: &'a Lcp, d: &'a [f64], set: &RunSettings) -> Run<'a> 
     let mut pivots = 1;
     // Basis hash: XOR of the basic variables' keys; a repeat means cycling.
     let mut hash = (0..n).fold(0u64, |h, i| h ^ key(i)) ^ key(r) ^ key(Var::Z0.id(n));
-    let mut seen = HashSet::from([hash]);
+    let mut seen: HashSet<u64, BuildHasherDefault<Identity>> = HashSet::default();
+    seen.insert(hash);
+    let mut buf = Vec::with_capacity(n);
     let mut entering = Var::Z(r);
     let status = loop {
         if pivots >= set.max_pivots {
@@ -55,13 +77,17 @@ pub(crate) fn run<'a>(lcp: &'a Lcp, d: &'a [f64], set: &RunSettings) -> Run<'a> 
         if col.xs.iter().chain(&col.xw).any(|v| !v.is_finite()) {
             break Status::Numerical;
         }
-        let Some((out, theta)) = leaving(&basis, &col, set.rule) else {
+        let lv = leaving(&basis, &col, set.rule, &mut buf);
+        let Some((out, theta)) = lv else {
             break Status::RayTermination;
         };
-        let left = match out {
-            Leaving::S(p) => basis.s[p],
-            Leaving::W(i) => Var::W(i),
+        let (left, pivot) = match out {
+            Leaving::S(p) => (basis.s[p], col.xs[p]),
+            Leaving::W(i) => (Var::W(i), col.xw[i]),
         };
+        // A pivot small against its column inflates C⁻¹'s round-off: refactor after it.
+        let xmax = col.xs.iter().chain(&col.xw).fold(0.0f64, |a, v| a.max(v.abs()));
+        let small_pivot = pivot.abs() < SMALL_PIVOT * xmax;
         basis.pivot(entering, out, &col, theta);
         pivots += 1;
         if left == Var::Z0 {
@@ -71,7 +97,7 @@ pub(crate) fn run<'a>(lcp: &'a Lcp, d: &'a [f64], set: &RunSettings) -> Run<'a> 
         if !seen.insert(hash) {
             break Status::Cycling;
         }
-        if basis.since_refactor >= set.refactor_every && !basis.refactor() {
+        if (small_pivot || basis.since_refactor >= set.refactor_every) && !basis.refactor() {
             break Status::SingularBasis;
         }
         entering = left.complement().expect("only z0 lacks a complement");
