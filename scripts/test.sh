@@ -16,8 +16,19 @@ echo "==> building and installing lcpsim with its test extras"
 "$PYTHON" -m pip install --quiet --upgrade "pip>=23" "maturin>=1.16,<2"
 "$PYTHON" -m pip install --quiet -e ".[test]"
 
+# Both suites always run, so one failing does not hide the other's results.
 echo "==> Rust tests (cargo test --workspace --exclude lcpsim-py)"
-cargo test --workspace --exclude lcpsim-py
+rust_rc=0
+cargo test --workspace --exclude lcpsim-py || rust_rc=$?
 
 echo "==> Python tests (pytest)"
-"$PYTHON" -m pytest tests "$@"
+py_rc=0
+"$PYTHON" -m pytest tests "$@" || py_rc=$?
+
+if [ "$rust_rc" -ne 0 ] || [ "$py_rc" -ne 0 ]; then
+    echo "scripts/test.sh: FAILED (cargo test exit $rust_rc, pytest exit $py_rc)" >&2
+    # pytest's own code when cargo passed (so .ci/run can tell 5 = no tests), else 1.
+    [ "$rust_rc" -eq 0 ] && exit "$py_rc"
+    exit 1
+fi
+echo "scripts/test.sh: all tests passed"
