@@ -33,6 +33,12 @@ impl FrictionBasis {
         self.k
     }
 
+    /// `(cos 2πj/k, sin 2πj/k)`.
+    #[inline]
+    pub fn cos_sin(&self, j: usize) -> (f64, f64) {
+        self.trig[j]
+    }
+
     /// Direction `d_j` for normal `n` and tangent `t1` (unit, ⟂ n).
     #[inline]
     pub fn direction(&self, n: Vec3, t1: Vec3, j: usize) -> Vec3 {
