@@ -67,9 +67,10 @@ pub fn lcp_from_views(m: ArrayView2<'_, f64>, q: ArrayView1<'_, f64>, prefix: &s
     if rows == 0 {
         return Err(value_error(format!("{prefix}the LCP is empty: M has shape (0, 0) and q has length 0")));
     }
-    // `iter()` walks in logical (row-major) order whatever the memory layout.
-    let m_rowmajor: Vec<f64> = m.iter().copied().collect();
-    let q_vec: Vec<f64> = q.iter().copied().collect();
+    // A C-contiguous array is copied as is; otherwise `iter()` walks in
+    // logical (row-major) order whatever the memory layout.
+    let m_rowmajor: Vec<f64> = m.as_slice().map_or_else(|| m.iter().copied().collect(), <[f64]>::to_vec);
+    let q_vec: Vec<f64> = q.as_slice().map_or_else(|| q.iter().copied().collect(), <[f64]>::to_vec);
     Lcp::new(m_rowmajor, q_vec).map_err(|e| lcp_error(&e, rows, prefix))
 }
 
