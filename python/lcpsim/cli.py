@@ -12,7 +12,7 @@ import argparse
 import json
 import sys
 from dataclasses import dataclass
-from typing import Callable, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
@@ -125,7 +125,7 @@ def _run_demo(args: argparse.Namespace) -> int:
         ("30° slope, mu 0.5", cube_on_slope_lcp(30.0, 0.5, k=args.k)),
         ("30° slope, s=1e-3", cube_on_slope_lcp(30.0, 0.5, k=args.k, s=1e-3)),
     ]
-    solvers = [
+    solvers: list[tuple[str, dict[str, Any]]] = [
         ("lemke lexicographic", dict(method="lemke", pivoting="lexicographic")),
         ("lemke classic", dict(method="lemke", pivoting="classic")),
         ("pgs", dict(method="pgs")),

@@ -67,7 +67,7 @@ def _read_npz(path: Path) -> tuple[Any, Any]:
 
 
 def _read_hdf5(path: Path) -> tuple[Any, Any]:
-    import h5py
+    import h5py  # type: ignore[import-untyped]
 
     try:
         f = h5py.File(path, "r")
@@ -152,7 +152,8 @@ def save_lcp(
     q = np.asarray(q, dtype=np.float64)
     meta = {"lcpsim_version": __version__, **(attrs or {})}
     if suffix in _NPZ_SUFFIXES:
-        np.savez(p, M=M, q=q, **{f"attr_{k}": np.asarray(v) for k, v in meta.items()})
+        arrays: dict[str, Any] = {"M": M, "q": q, **{f"attr_{k}": np.asarray(v) for k, v in meta.items()}}
+        np.savez(p, **arrays)
     elif suffix in _HDF5_SUFFIXES:
         import h5py
 
