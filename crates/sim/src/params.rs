@@ -58,7 +58,7 @@ impl WorldParams {
     pub fn validate(&self) -> Result<(), SimError> {
         positive("dt", self.dt)?;
         finite_vec("gravity", self.gravity)?;
-        if self.friction_dirs < 2 || self.friction_dirs % 2 != 0 {
+        if self.friction_dirs < 2 || self.friction_dirs % 2 == 1 {
             return Err(SimError::FrictionDirs { k: self.friction_dirs });
         }
         self.cone_scale.validate()?;

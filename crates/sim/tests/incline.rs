@@ -35,8 +35,8 @@ fn downhill_direction_is_the_first_friction_direction() {
 
 #[test]
 fn block_sticks_below_the_friction_angle() {
-    for mu in [0.2, 0.5, 0.9] {
-        let theta = (0.98 * mu as f64).atan().to_degrees();
+    for mu in [0.2f64, 0.5, 0.9] {
+        let theta = (0.98 * mu).atan().to_degrees();
         let mut sc = CubeOnSlope::new(theta, mu);
         sc.downhill = if mu > 0.4 { Downhill::MinusX } else { Downhill::PlusX };
         let (_, speed, _) = run_block(sc, 1000);
@@ -46,8 +46,8 @@ fn block_sticks_below_the_friction_angle() {
 
 #[test]
 fn block_slides_above_the_friction_angle_with_the_coulomb_acceleration() {
-    for mu in [0.2, 0.5, 0.9] {
-        let th = (1.02 * mu as f64).atan();
+    for mu in [0.2f64, 0.5, 0.9] {
+        let th = (1.02 * mu).atan();
         let steps = 1000;
         let (vd, speed, _) = run_block(CubeOnSlope::new(th.to_degrees(), mu), steps);
         let a = vd / (steps as f64 * 1e-3);

@@ -110,3 +110,13 @@ fn forces_at_a_point_give_torque_and_can_be_cleared() {
     w.step().unwrap();
     assert_eq!(w.body(b).unwrap().velocity(), v);
 }
+
+#[test]
+fn world_and_records_can_move_between_threads() {
+    fn send<T: Send>() {}
+    send::<World>();
+    send::<sim::StepRecord>();
+    send::<sim::Trajectory>();
+    send::<sim::OwnedLcp>();
+    send::<sim::scenes::Scene>();
+}

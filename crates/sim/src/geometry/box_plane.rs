@@ -6,7 +6,7 @@
 use super::{BoxShape, GeomContact, Placement, Plane};
 
 /// Appends one contact per corner of the box (A) with gap `≤ margin` above the plane (B).
-/// Normal = plane normal (B → A); point = the corner.
+/// Normal = plane normal (B → A); point = midway between the corner and the plane.
 pub fn box_plane(b: &BoxShape, at: &Placement, plane: &Plane, margin: f64, out: &mut Vec<GeomContact>) {
     let n = plane.normal();
     for corner in b.corners() {
