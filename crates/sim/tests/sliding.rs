@@ -37,3 +37,24 @@ fn sliding_cube_stops_after_v0_squared_over_2_mu_g() {
         assert!(rel(d, expect) < 0.005, "v0 {v0} μ {mu}: {d} m vs {expect} m ({steps} steps)");
     }
 }
+
+#[test]
+fn energy_of_a_cube_sliding_down_a_slope_does_not_grow() {
+    // Friction dissipates exactly μ N·(distance): E(t) = E0 − μ m g cos θ · s(t).
+    let (angle, mu) = (35.0f64, 0.4);
+    let mut s = CubeOnSlope::new(angle, mu).build(WorldParams::default()).unwrap();
+    let p0 = s.world.body(s.body).unwrap().position();
+    let e0 = s.world.energy();
+    let mut e = e0;
+    for _ in 0..1000 {
+        step_ok(&mut s.world);
+        let e1 = s.world.energy();
+        assert!(e1 <= e + 1e-12, "energy grew {e} → {e1}");
+        e = e1;
+    }
+    let dist = (s.world.body(s.body).unwrap().position() - p0).norm();
+    let dissipated = mu * G * angle.to_radians().cos() * dist;
+    // Semi-implicit Euler loses a little more than friction does (O(h)), never less.
+    assert!(e0 - e >= dissipated * (1.0 - 1e-9), "lost {} J, friction alone {} J", e0 - e, dissipated);
+    assert!(rel(e0 - e, dissipated) < 2e-3, "lost {} J, friction {} J", e0 - e, dissipated);
+}

@@ -38,6 +38,9 @@ pub struct StepRecord {
     pub z: Vec<f64>,
     /// `w = M₁ z + q` of the unscaled LCP: normal velocities, tangential velocities + λ, cone slacks.
     pub w: Vec<f64>,
+    /// Lemke's final complementary basis (which `z_j` were basic), when the
+    /// solver reports one: a warm start for the next, similar LCP.
+    pub basis: Option<Vec<bool>>,
 }
 
 impl StepRecord {

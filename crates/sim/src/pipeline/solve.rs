@@ -33,6 +33,7 @@ impl World {
             rec.solver_residuals = Residuals::default();
             rec.z.clear();
             rec.w.clear();
+            rec.basis = None;
             ws.z_apply.clear();
             return Ok(());
         }
@@ -63,6 +64,7 @@ impl World {
         rec.status = Some(sol.status);
         rec.iterations = sol.iterations;
         rec.solver_residuals = sol.residuals;
+        rec.basis = sol.basis;
         // Physical z (λ = s·λ_scaled), or zeros if the solver's z is unusable.
         if sol.z.len() == n && sol.z.iter().all(|v| v.is_finite()) {
             ws.lcp.unscale_z(&sol.z, &mut rec.z);
