@@ -27,6 +27,24 @@ pub struct World {
     pub(crate) record: StepRecord,
 }
 
+impl Clone for World {
+    /// A copy of the state, parameters, forces and last record — without the
+    /// LCP sink (a sink is a one-way stream; give the copy its own).
+    fn clone(&self) -> Self {
+        World {
+            params: self.params.clone(),
+            bodies: self.bodies.clone(),
+            forces: self.forces.clone(),
+            torques: self.torques.clone(),
+            time: self.time,
+            steps: self.steps,
+            sink: None,
+            ws: Workspace::default(),
+            record: self.record.clone(),
+        }
+    }
+}
+
 /// Per-step buffers, kept between steps so that a warm step does not allocate
 /// (apart from what the LCP solver itself allocates for its answer).
 #[derive(Default)]

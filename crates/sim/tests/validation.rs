@@ -120,3 +120,17 @@ fn world_and_records_can_move_between_threads() {
     send::<sim::OwnedLcp>();
     send::<sim::scenes::Scene>();
 }
+
+#[test]
+fn a_cloned_world_steps_identically_and_has_no_sink() {
+    let mut s = CubeOnSlope::new(40.0, 0.5).build(WorldParams::default()).unwrap();
+    s.world.set_sink(Box::new(sim::LcpBuffer::new()));
+    s.world.run(10).unwrap();
+    let mut copy = s.world.clone();
+    assert!(copy.take_sink().is_none());
+    s.world.run(10).unwrap();
+    copy.run(10).unwrap();
+    assert_eq!(s.world.bodies(), copy.bodies());
+    assert_eq!(s.world.time(), copy.time());
+    assert_eq!(s.world.last_record(), copy.last_record());
+}
