@@ -1,6 +1,9 @@
 //! Runs the stacking scenes and writes every LCP the default solver did not
 //! solve to `DIR/<scene>_step<k>.json` (`{"scene", "step", "status", "n",
-//! "M" (row-major), "q"}`) — reproducers for the solver.
+//! "M" (row-major), "q", "prev_z_residual"}`) — reproducers for the solver.
+//! `prev_z_residual` is the natural residual of the previous step's answer
+//! on the failing LCP (when the contacts did not change): a small value shows
+//! the LCP is solvable and nearly solved by a neighbour.
 //!
 //! `cargo run --release -p lcpsim-sim --example lcp_failures -- DIR [STEPS]`
 
@@ -24,21 +27,33 @@ fn run(name: &str, mut scene: Scene, steps: usize, dir: &str) {
     let buf = LcpBuffer::new();
     scene.world.set_sink(Box::new(buf.clone()));
     let mut failed = 0;
+    let mut prev: Option<sim::OwnedLcp> = None;
     for _ in 0..steps {
         scene.world.step().unwrap();
         for c in buf.drain() {
             if c.status != sim::lcp::Status::Solved {
                 failed += 1;
+                let prev_res = match &prev {
+                    Some(p) if p.q.len() == c.q.len() => {
+                        let l = sim::lcp::Lcp::new(c.m.clone(), c.q.clone()).unwrap();
+                        sim::lcp::Residuals::compute(&l, &p.z).1.natural
+                    }
+                    _ => f64::NAN,
+                };
+                println!("  {name} step {}: {} (n = {}), previous z residual {prev_res:.1e}, |q|∞ {:.1e}", c.step, c.status.as_str(), c.q.len(), c.q.iter().fold(0.0f64, |a, v| a.max(v.abs())));
                 let path = format!("{dir}/{name}_step{}.json", c.step);
                 let body = format!(
-                    "{{\"scene\":\"{name}\",\"step\":{},\"status\":\"{}\",\"n\":{},\"M\":{},\"q\":{}}}\n",
+                    "{{\"scene\":\"{name}\",\"step\":{},\"status\":\"{}\",\"n\":{},\"M\":{},\"q\":{},\"prev_z_residual\":{}}}\n",
                     c.step,
                     c.status.as_str(),
                     c.q.len(),
                     json_array(&c.m),
-                    json_array(&c.q)
+                    json_array(&c.q),
+                    if prev_res.is_finite() { format!("{prev_res:e}") } else { "null".into() }
                 );
                 std::fs::write(&path, body).unwrap();
+            } else {
+                prev = Some(c);
             }
         }
     }
