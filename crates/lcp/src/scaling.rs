@@ -41,31 +41,36 @@ impl Scaling {
     /// Ruiz equilibration of `M` (q plays no part): `iterations` rounds of
     /// dividing every row and every column of the current scaled matrix by the
     /// square root of its largest absolute entry, rows and columns updated
-    /// simultaneously from the same matrix. Every factor is rounded to a power
-    /// of two (nearest in log scale), so `D_r M D_c` is exact. A row or column
-    /// that is entirely zero keeps factor 1. For symmetric `M` the result is
-    /// symmetric (`row == col`). Stops early once a round changes nothing.
+    /// simultaneously from the same matrix. Every factor is a power of two, so
+    /// `D_r M D_c` is exact; the rounds work on binary exponents only (the
+    /// largest entry of a row is taken as `2^e` with `e` the largest exponent,
+    /// and `1/√2^e` rounded to the nearest power of two in log scale), which
+    /// keeps them in vectorizable integer arithmetic. A row or column that is
+    /// entirely zero keeps factor 1. For symmetric `M` the result is symmetric
+    /// (`row == col`). Stops early once a round changes nothing.
     pub fn ruiz(lcp: &Lcp, iterations: usize) -> Scaling {
         let n = lcp.n();
+        let ex: Vec<i32> = lcp.m().iter().map(|&v| exponent(v)).collect();
         let mut row_exp = vec![0i32; n];
         let mut col_exp = vec![0i32; n];
-        let mut row_max = vec![0.0f64; n];
-        let mut col_max = vec![0.0f64; n];
+        let mut row_max = vec![ZERO_EXPONENT; n];
+        let mut col_max = vec![ZERO_EXPONENT; n];
         for _ in 0..iterations {
-            // Max-abs of every row and column of the current D_r M D_c.
-            row_max.iter_mut().for_each(|v| *v = 0.0);
-            col_max.iter_mut().for_each(|v| *v = 0.0);
+            // Largest exponent of every row and column of the current D_r M D_c.
+            col_max.iter_mut().for_each(|v| *v = ZERO_EXPONENT);
             for i in 0..n {
-                let ri = pow2(row_exp[i]);
-                for (j, &mij) in lcp.row(i).iter().enumerate() {
-                    let a = (ri * mij * pow2(col_exp[j])).abs();
-                    row_max[i] = row_max[i].max(a);
-                    col_max[j] = col_max[j].max(a);
+                let ri = row_exp[i];
+                let mut rmax = ZERO_EXPONENT;
+                for ((&e, &cj), cmax) in ex[i * n..(i + 1) * n].iter().zip(&col_exp).zip(col_max.iter_mut()) {
+                    let v = e + cj;
+                    rmax = rmax.max(v);
+                    *cmax = (*cmax).max(v + ri);
                 }
+                row_max[i] = rmax + ri;
             }
             let mut changed = false;
             for (e, &m) in row_exp.iter_mut().zip(&row_max).chain(col_exp.iter_mut().zip(&col_max)) {
-                let step = inv_sqrt_exponent(m);
+                let step = inv_sqrt_step(m);
                 if step != 0 {
                     *e = (*e + step).clamp(-MAX_EXPONENT, MAX_EXPONENT);
                     changed = true;
@@ -151,14 +156,31 @@ fn pow2(e: i32) -> f64 {
     f64::from_bits(((e + 1023) as u64) << 52)
 }
 
-/// The exponent `e` with `2^e` nearest (in log scale) to `1 / √m`; 0 for a
-/// zero (or non-finite) `m`, so empty rows and columns keep their factor.
-fn inv_sqrt_exponent(m: f64) -> i32 {
-    if m <= 0.0 || !m.is_finite() {
+/// Exponent standing for an exact zero: far below any real one, and far
+/// enough from `i32::MIN` that adding scale exponents cannot overflow.
+const ZERO_EXPONENT: i32 = i32::MIN / 4;
+
+/// `floor(log2 |v|)` from the bit pattern (subnormals count as −1023);
+/// `ZERO_EXPONENT` for zero and for non-finite values.
+#[inline]
+fn exponent(v: f64) -> i32 {
+    let biased = ((v.to_bits() >> 52) & 0x7ff) as i32;
+    if v == 0.0 || biased == 0x7ff {
+        ZERO_EXPONENT
+    } else {
+        biased - 1023
+    }
+}
+
+/// For a largest entry in `[2^e, 2^(e+1))`, the exponent step nearest (in log
+/// scale, taking the interval's midpoint) to `1/√(2^(e+½))`; 0 for an empty
+/// row or column so it keeps its factor.
+#[inline]
+fn inv_sqrt_step(e: i32) -> i32 {
+    if e < -4 * MAX_EXPONENT {
         return 0;
     }
-    let e = (-0.5 * m.log2()).round();
-    e.clamp(-(MAX_EXPONENT as f64), MAX_EXPONENT as f64) as i32
+    -(e + 1).div_euclid(2)
 }
 
 #[cfg(test)]
@@ -166,10 +188,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn inv_sqrt_exponent_rounds_in_log_scale() {
-        assert_eq!(inv_sqrt_exponent(1.0), 0);
-        assert_eq!(inv_sqrt_exponent(16.0), -2);
-        assert_eq!(inv_sqrt_exponent(1.0 / 64.0), 3);
-        assert_eq!(inv_sqrt_exponent(0.0), 0);
+    fn inv_sqrt_step_rounds_in_log_scale() {
+        let step = |v: f64| inv_sqrt_step(exponent(v));
+        assert_eq!(step(1.0), 0);
+        assert_eq!(step(16.0), -2);
+        assert_eq!(step(1.0 / 64.0), 3);
+        assert_eq!(step(0.0), 0);
+        assert_eq!(step(-8.0), -2);
     }
 }

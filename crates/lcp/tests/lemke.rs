@@ -162,6 +162,29 @@ fn pivot_limit_is_reported() {
     assert_eq!((s.z.len(), s.w.len()), (40, 40));
 }
 
+/// The ladder shares one pivot budget; a subnormal q must not overflow the q normalization.
+#[test]
+fn pivot_budget_spans_the_ladder_and_tiny_q_is_fine() {
+    let lcp = generate::spd_lcp(40, 7);
+    for limit in [0usize, 1, 2, 5] {
+        let s = lcp::lemke::solve(&lcp, &LemkeOptions { max_pivots: Some(limit), ..lex() });
+        assert_eq!(s.status, Status::MaxPivots);
+        assert!(s.iterations <= limit.max(1), "limit {limit}: {} pivots", s.iterations);
+    }
+    for q in [2.2e-313, 5e-324, -5e-324, -2.2e-313] {
+        for m in [0.0, 1.0] {
+            let lcp = Lcp::new(vec![m], vec![q]).unwrap();
+            let s = lemke(&lcp);
+            if q >= 0.0 || m > 0.0 {
+                assert_eq!(s.status, Status::Solved, "m {m} q {q:e}");
+                assert_solves(&lcp, &s.z, 1e-12);
+            } else {
+                assert_eq!(s.status, Status::RayTermination);
+            }
+        }
+    }
+}
+
 #[test]
 fn method_dispatch_reaches_lemke() {
     let lcp = Lcp::new(vec![1.0], vec![-2.0]).unwrap();

@@ -27,7 +27,7 @@ use ratio::Rule;
 use run::{run, RunSettings};
 
 /// Ruiz sweeps used by the default equilibration.
-const RUIZ_ITERATIONS: usize = 8;
+const RUIZ_ITERATIONS: usize = 3;
 
 /// Solves `lcp` by Lemke's method. Never panics on numerics.
 pub fn solve(lcp: &Lcp, o: &LemkeOptions) -> Solution {
@@ -95,8 +95,13 @@ fn ladder(o: &LemkeOptions) -> Vec<Attempt> {
 fn solve_lexicographic(lcp: &Lcp, o: &LemkeOptions) -> Solution {
     let mut best: Option<Solution> = None;
     let mut pivots = 0;
+    let limit = o.pivot_limit(lcp.n());
     for attempt in ladder(o) {
-        let mut sol = solve_attempt(lcp, o, &attempt);
+        // `max_pivots` bounds the whole ladder, not each rung.
+        if pivots >= limit && best.is_some() {
+            break;
+        }
+        let mut sol = solve_attempt(lcp, o, &attempt, limit.saturating_sub(pivots));
         pivots += sol.iterations;
         sol.iterations = pivots;
         if sol.ok() {
@@ -112,12 +117,12 @@ fn solve_lexicographic(lcp: &Lcp, o: &LemkeOptions) -> Solution {
     sol
 }
 
-fn solve_attempt(lcp: &Lcp, o: &LemkeOptions, attempt: &Attempt) -> Solution {
+fn solve_attempt(lcp: &Lcp, o: &LemkeOptions, attempt: &Attempt, max_pivots: usize) -> Solution {
     let n = lcp.n();
     // Equilibrate M and bring q to unit size: z scales linearly with q.
     let scaling = if attempt.equilibrate { Scaling::ruiz(lcp, RUIZ_ITERATIONS) } else { Scaling::identity(n) };
     let qmax = lcp.q().iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    let qscale = if qmax > 0.0 { pow2_near(1.0 / qmax) } else { 1.0 };
+    let qscale = if qmax > 0.0 { pow2_inverse(qmax) } else { 1.0 };
     let mut work = scaling.apply(lcp);
     if qscale != 1.0 {
         let (m, q) = work.into_parts();
@@ -126,7 +131,7 @@ fn solve_attempt(lcp: &Lcp, o: &LemkeOptions, attempt: &Attempt) -> Solution {
     let d: Vec<f64> = if attempt.perturb_d { (0..n).map(covering_perturbation).collect() } else { vec![1.0; n] };
     let set = RunSettings {
         rule: Rule::Lexicographic { piv_tol: attempt.piv_rel, tie_tol: o.zero_tol.min(1e-9) },
-        max_pivots: o.pivot_limit(n),
+        max_pivots,
         refactor_every: refactor_every(n),
     };
     let mut r = run(&work, &d, &set);
@@ -172,7 +177,8 @@ fn covering_perturbation(i: usize) -> f64 {
     1.0 + ((i as f64 + 1.0) * 0.618_033_988_749_895).fract()
 }
 
-/// The power of two nearest to `x > 0`, so scaling by it is exact.
-fn pow2_near(x: f64) -> f64 {
-    2f64.powi(x.log2().round() as i32)
+/// A power of two near `1/x` for `x > 0`, kept normal so that scaling by it is
+/// exact and finite even for a subnormal `x` (where `1/x` overflows).
+fn pow2_inverse(x: f64) -> f64 {
+    2f64.powi((-x.log2().round()).clamp(-1000.0, 1000.0) as i32)
 }
