@@ -180,7 +180,8 @@ fn clip_and_emit(
     let mut buf_b = [Vec3::ZERO; 16];
     buf_a[..4].copy_from_slice(poly);
     let mut len = 4;
-    let tol = 1e-12 * scale;
+    // 1 nm on a 1 m box: far below any physical feature, far above round-off.
+    let tol = 1e-9 * scale;
     for (u, e) in [(u1, e1), (-u1, e1), (u2, e2), (-u2, e2)] {
         len = clip_polygon(&buf_a[..len], fc, u, e, tol, &mut buf_b);
         buf_a[..len].copy_from_slice(&buf_b[..len]);
@@ -189,7 +190,7 @@ fn clip_and_emit(
         }
     }
     let first = out.len();
-    let dup = 1e-9 * scale;
+    let dup = 1e-7 * scale;
     for &p in &buf_a[..len] {
         let (gap, point) = gap_point(p);
         if gap > margin {
@@ -205,9 +206,15 @@ fn clip_and_emit(
     }
 }
 
-/// One Sutherland–Hodgman pass: keeps the part of `input` with `u·(p − c) ≤ e`
-/// (points within `tol` outside count as inside, so boundary vertices are kept
-/// as they are instead of being re-created by an intersection).
+/// One Sutherland–Hodgman pass: keeps the part of `input` with `u·(p − c) ≤ e`.
+///
+/// Vertices within `tol` of the clip line count as *on* it and are kept as
+/// they are; an intersection is added only for an edge that runs from
+/// strictly inside (`d < −tol`) to strictly outside (`d > tol`). Without the
+/// band, two nearly coincident faces (stacked boxes, offsets ~1e-12) produce
+/// edges almost parallel to the clip line whose "intersection" lands anywhere
+/// along them: a valid but redundant extra contact that makes the contact set
+/// (and the LCP size) flicker from step to step.
 fn clip_polygon(input: &[Vec3], c: Vec3, u: Vec3, e: f64, tol: f64, output: &mut [Vec3; 16]) -> usize {
     let mut len = 0;
     let mut push = |p: Vec3, len: &mut usize| {
@@ -226,7 +233,7 @@ fn clip_polygon(input: &[Vec3], c: Vec3, u: Vec3, e: f64, tol: f64, output: &mut
             push(p, &mut len);
         }
         // A strict crossing of the plane adds the intersection point.
-        if (p_in && !q_in && dp < 0.0) || (!p_in && q_in && dq < 0.0) {
+        if (p_in && !q_in && dp < -tol) || (!p_in && q_in && dq < -tol) {
             push(p + (q - p) * (dp / (dp - dq)), &mut len);
         }
     }
@@ -290,6 +297,20 @@ mod tests {
         assert!((out[0].normal - Vec3::Z).max_abs() < 1e-9);
         assert!((out[0].gap + 1e-4).abs() < 1e-9);
         assert!((out[0].point - Vec3::new(0.0, 0.0, r - 0.5e-4)).max_abs() < 1e-9);
+    }
+
+    #[test]
+    fn nearly_coincident_faces_give_exactly_four_corners() {
+        // Stacked cubes off by round-off (the state of a resting stack after
+        // many steps): the clipping must not invent points along the edges.
+        let b = BoxShape::cube(1.0).unwrap();
+        let qa = Quat::new(1.0, 5e-14, -5e-14, -7e-14).try_normalize().unwrap();
+        let qb = Quat::new(1.0, -2e-14, 2e-14, 2e-13).try_normalize().unwrap();
+        for (dx, dy) in [(0.0, 0.0), (-3e-13, -2.5e-12), (1e-12, -1e-12), (2e-10, 3e-10)] {
+            let mut out = Vec::new();
+            box_box(&b, &place(Vec3::new(-1.6e-13, -1.0e-12, 0.5), qa), &b, &place(Vec3::new(dx, dy, 1.5), qb), 1e-3, &mut out);
+            assert_eq!(out.len(), 4, "offset ({dx}, {dy}): {out:?}");
+        }
     }
 
     #[test]
