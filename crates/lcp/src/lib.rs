@@ -13,9 +13,11 @@
 //! - [`pgs`]: projected Gauss–Seidel with relaxation.
 //! - [`newton_fb`]: damped semismooth Newton on the Fischer–Burmeister function.
 //! - [`scaling`]: diagonal scaling `D_r M D_c, D_r q` and the map back.
+//! - [`certify`]: exact (rational) check that a complementary basis solves the LCP of the floats given.
 //! - [`enumerate`]: brute-force enumeration of complementary bases (small n; tests).
 //! - [`generate`]: seeded generators of test LCPs (contact-structured, P-matrix, SPD, Murty).
 
+pub mod certify;
 pub mod enumerate;
 pub mod generate;
 pub mod lemke;
