@@ -4,6 +4,9 @@
 //! - [`contact_lcp`]: the Stewart–Trinkle / Anitescu–Potra contact LCP of
 //!   DESIGN §1 for one box on a plane; [`contact_lcp_from_parts`] builds the
 //!   same structure from any contact Jacobians (reusable by the simulator).
+//! - [`hard_contact_lcp`], [`HardScene`], [`hard_corpus`]: hard contact LCPs (issue 5):
+//!   up to 16 contacts, duplicate and nearly parallel contacts, collinear (redundant)
+//!   rows, mass ratios up to 1e4, `cond(M_b)` up to 1e8, μ in [0, 2], any k.
 //! - [`p_matrix_lcp`], [`spd_lcp`]: random LCPs with a unique solution.
 //! - [`murty`]: Murty's (1978) example, on which Lemke's method takes 2ⁿ pivots;
 //!   [`murty_unit`]: the same matrix with `q = −1`.
@@ -481,4 +484,514 @@ pub fn infeasible_examples() -> Vec<(&'static str, Lcp)> {
             build(vec![0.0, 1.0, -1.0, 0.0], vec![1.0, -1.0], "infeasible_examples"),
         ),
     ]
+}
+
+// ---------------------------------------------------------------------------
+// Hard contact LCPs (issue 5)
+// ---------------------------------------------------------------------------
+
+/// A family of hard contact LCPs ([`hard_contact_lcp`]). Every family draws a
+/// slope in [0°, 60°], a friction coefficient per contact (0 with probability
+/// 0.15, else uniform in [0, 2]), random body velocities (resting, sliding,
+/// approaching, spinning) and, in a third of the scenes, a stabilization term.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum HardKind {
+    /// One box, 5–16 contacts on its bottom face (4 corners plus random points).
+    ManyContacts,
+    /// One box, 1–8 contacts plus exact duplicates (identical rows of `J`), up to 16.
+    Duplicate,
+    /// One box, 2–8 contacts each with a twin 1e-6 m away whose normal is tilted by 1e-6 rad.
+    NearlyParallel,
+    /// One box, 3–8 contacts on one bottom edge and up to 4 on the opposite one:
+    /// collinear points, so `J_n` has redundant rows.
+    Collinear,
+    /// Two dynamic boxes stacked on the slope (12 dof), mass ratio 10^U(0, 4),
+    /// light on heavy or heavy on light; 4 contacts between them, 4 on the ground.
+    MassRatio,
+    /// A thin rod (cylinder, length 1, mass 1) lying on the slope at a random
+    /// yaw, `cond(M_b) = 10^U(2, 8)`, dense world-frame `M_b⁻¹`, 2–8 contacts along its length.
+    ThinRod,
+    /// Everything at once: a flat, ill-conditioned board under a box with a
+    /// mass ratio up to 1e4, duplicates and near-parallel twins, up to 16 contacts.
+    Mixed,
+}
+
+impl HardKind {
+    /// Every family, in declaration order.
+    pub const ALL: [HardKind; 7] = [
+        HardKind::ManyContacts,
+        HardKind::Duplicate,
+        HardKind::NearlyParallel,
+        HardKind::Collinear,
+        HardKind::MassRatio,
+        HardKind::ThinRod,
+        HardKind::Mixed,
+    ];
+
+    /// Stable snake_case name (labels, result files).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            HardKind::ManyContacts => "many_contacts",
+            HardKind::Duplicate => "duplicate",
+            HardKind::NearlyParallel => "nearly_parallel",
+            HardKind::Collinear => "collinear",
+            HardKind::MassRatio => "mass_ratio",
+            HardKind::ThinRod => "thin_rod",
+            HardKind::Mixed => "mixed",
+        }
+    }
+}
+
+/// Distance between twin contacts and tilt between their normals in [`HardKind::NearlyParallel`].
+pub const TWIN_OFFSET: f64 = 1e-6;
+
+/// Most contacts any hard scene has.
+pub const HARD_MAX_CONTACTS: usize = 16;
+
+fn dot3(a: V3, b: V3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn scale3(s: f64, a: V3) -> V3 {
+    [s * a[0], s * a[1], s * a[2]]
+}
+
+fn sub3(a: V3, b: V3) -> V3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn normalize3(a: V3) -> V3 {
+    scale3(1.0 / dot3(a, a).sqrt(), a)
+}
+
+/// Rotation of `v` by `angle` about the unit `axis` (Rodrigues).
+fn rotate3(v: V3, axis: V3, angle: f64) -> V3 {
+    let (s, c) = angle.sin_cos();
+    let along = scale3(dot3(axis, v) * (1.0 - c), axis);
+    axpy(axpy(scale3(c, v), s, cross(axis, v)), 1.0, along)
+}
+
+/// Tangent frame `(t1, t2)` of a unit normal: `t1` downhill (gravity projected
+/// on the tangent plane) as in [`BoxOnPlane`]; for a nearly horizontal plane the
+/// projection of x instead, so that normals 1e-6 rad apart get nearly equal frames.
+fn tangent_frame(n: V3) -> (V3, V3) {
+    let down = axpy([0.0, 0.0, -1.0], n[2], n); // −z − (−z·n) n
+    let t1 = if dot3(down, down) > 1e-6 { normalize3(down) } else { normalize3(axpy([1.0, 0.0, 0.0], -n[0], n)) };
+    (t1, cross(n, t1))
+}
+
+/// A rigid body of a hard scene: pose, mass and principal inertia.
+#[derive(Clone, Debug, PartialEq)]
+struct Body {
+    /// Centre of mass (world).
+    x: V3,
+    /// Principal axes (world, orthonormal, right-handed).
+    axes: [V3; 3],
+    mass: f64,
+    /// Principal moments of inertia about `axes`.
+    inertia: V3,
+    /// Half extents along `axes` (boxes; for the rod `[L/2, r, r]`).
+    half: V3,
+}
+
+impl Body {
+    /// Box of half extents `half`, resting on the plane through `base` with normal `axes[2]`.
+    fn cuboid(base: V3, axes: [V3; 3], half: V3, mass: f64) -> Body {
+        let [a, b, c] = half;
+        let inertia = [mass / 3.0 * (b * b + c * c), mass / 3.0 * (a * a + c * c), mass / 3.0 * (a * a + b * b)];
+        Body { x: axpy(base, c, axes[2]), axes, mass, inertia, half }
+    }
+
+    /// A point of the bottom (`side = −1`) or top (`side = 1`) face, `(u, v)` in [−1, 1]².
+    fn face_point(&self, u: f64, v: f64, side: f64) -> V3 {
+        let p = axpy(self.x, u * self.half[0], self.axes[0]);
+        let p = axpy(p, v * self.half[1], self.axes[1]);
+        axpy(p, side * self.half[2], self.axes[2])
+    }
+
+    /// World-frame `M_b⁻¹` block (6×6, row-major): `[1/m I, 0; 0, R I⁻¹ Rᵀ]`.
+    fn minv_block(&self) -> [[f64; 6]; 6] {
+        let mut b = [[0.0; 6]; 6];
+        for (i, row) in b.iter_mut().enumerate().take(3) {
+            row[i] = 1.0 / self.mass;
+        }
+        for i in 0..3 {
+            for j in i..3 {
+                let v: f64 = (0..3).map(|k| self.axes[k][i] * self.axes[k][j] / self.inertia[k]).sum();
+                b[3 + i][3 + j] = v;
+                b[3 + j][3 + i] = v;
+            }
+        }
+        b
+    }
+}
+
+/// One contact of a hard scene: `normal` pushes body `a` away from body `b` (or the ground).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct HardContact {
+    point: V3,
+    normal: V3,
+    a: usize,
+    b: Option<usize>,
+    mu: f64,
+    /// Gap φ ≤ 0 (penetration) for the stabilization term.
+    gap: f64,
+}
+
+/// A random hard contact scene, its ingredients exposed for tests and
+/// experiments. `z = [fn (nc); fd (nc·k); λ (nc)]` as everywhere (DESIGN §1).
+#[derive(Clone, Debug, PartialEq)]
+pub struct HardScene {
+    pub kind: HardKind,
+    /// Friction directions per contact.
+    pub k: usize,
+    /// Number of contacts (≤ [`HARD_MAX_CONTACTS`]).
+    pub nc: usize,
+    /// Degrees of freedom, 6 per dynamic body.
+    pub ndof: usize,
+    /// `J_n`, `nc × ndof`, row-major.
+    pub jn: Vec<f64>,
+    /// `J_d`, `nc·k × ndof`, row-major, row `c·k + j` = direction `j` at contact `c`.
+    pub jd: Vec<f64>,
+    /// Dense, exactly symmetric `M_b⁻¹` (`ndof²`, row-major).
+    pub minv: Vec<f64>,
+    /// Condition number of `M_b` (from the masses and principal moments).
+    pub mass_cond: f64,
+    /// `v* = v + h g` (no gyroscopic term), length `ndof`.
+    pub vstar: Vec<f64>,
+    /// Friction coefficient per contact.
+    pub mu: Vec<f64>,
+    /// Stabilization `0.2·φ/h` per contact (φ ≤ 0), all zero in two scenes of three.
+    pub b0_extra: Vec<f64>,
+    /// Unit contact normals (world), per contact.
+    pub normals: Vec<V3>,
+}
+
+impl HardScene {
+    /// Draws a scene of family `kind` with `k` friction directions from `seed`.
+    ///
+    /// # Panics
+    /// If `k == 0`.
+    pub fn random(kind: HardKind, k: usize, seed: u64) -> HardScene {
+        assert!(k > 0, "HardScene::random: k must be ≥ 1");
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let slope = rng.random_range(0.0..=60.0f64).to_radians();
+        let (st, ct) = slope.sin_cos();
+        let normal = [st, 0.0, ct];
+        let (t1, t2) = tangent_frame(normal);
+        let yaw = rng.random_range(0.0..2.0 * PI);
+        let (sy, cy) = yaw.sin_cos();
+        let a1 = axpy(scale3(cy, t1), sy, t2);
+        let a2 = axpy(scale3(-sy, t1), cy, t2);
+        let axes = [a1, a2, normal];
+        let origin = [0.0; 3];
+        let mu = |rng: &mut ChaCha8Rng| if rng.random_bool(0.15) { 0.0 } else { rng.random_range(0.0..=2.0) };
+        let stabilize = rng.random_bool(1.0 / 3.0);
+        let gap = |rng: &mut ChaCha8Rng| if stabilize { rng.random_range(-1e-3..=0.0) } else { 0.0 };
+        let ground = |rng: &mut ChaCha8Rng, point: V3, a: usize| HardContact {
+            point,
+            normal,
+            a,
+            b: None,
+            mu: mu(rng),
+            gap: gap(rng),
+        };
+        let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+        let random_box = |rng: &mut ChaCha8Rng| {
+            let half = [rng.random_range(0.1..=1.0), rng.random_range(0.1..=1.0), rng.random_range(0.1..=1.0)];
+            let mass = 10f64.powf(rng.random_range(-1.0..=1.0));
+            Body::cuboid(origin, axes, half, mass)
+        };
+
+        let mut bodies = Vec::new();
+        let mut contacts: Vec<HardContact> = Vec::new();
+        match kind {
+            HardKind::ManyContacts => {
+                let b = random_box(&mut rng);
+                let nc = rng.random_range(5..=HARD_MAX_CONTACTS);
+                for c in 0..nc {
+                    let (u, v) = face_uv(&mut rng, c);
+                    contacts.push(ground(&mut rng, b.face_point(u, v, -1.0), 0));
+                }
+                bodies.push(b);
+            }
+            HardKind::Duplicate => {
+                let b = random_box(&mut rng);
+                let base = rng.random_range(1..=8usize);
+                for c in 0..base {
+                    let (u, v) = face_uv(&mut rng, c);
+                    contacts.push(ground(&mut rng, b.face_point(u, v, -1.0), 0));
+                }
+                let copies = rng.random_range(1..=HARD_MAX_CONTACTS - base);
+                for _ in 0..copies {
+                    let c = contacts[rng.random_range(0..contacts.len())];
+                    contacts.push(c);
+                }
+                bodies.push(b);
+            }
+            HardKind::NearlyParallel => {
+                let b = random_box(&mut rng);
+                let base = rng.random_range(2..=8usize);
+                for c in 0..base {
+                    let (u, v) = face_uv(&mut rng, c);
+                    contacts.push(ground(&mut rng, b.face_point(u, v, -1.0), 0));
+                }
+                for c in 0..base {
+                    let m = mu(&mut rng);
+                    let twin = twin_of(&mut rng, contacts[c], t1, t2, m);
+                    contacts.push(twin);
+                }
+                bodies.push(b);
+            }
+            HardKind::Collinear => {
+                let b = random_box(&mut rng);
+                let on_edge = rng.random_range(3..=8usize);
+                let opposite = rng.random_range(0..=4usize);
+                for c in 0..on_edge + opposite {
+                    let v = if c < on_edge { -1.0 } else { 1.0 };
+                    let p = b.face_point(rng.random_range(-1.0..=1.0), v, -1.0);
+                    contacts.push(ground(&mut rng, p, 0));
+                }
+                bodies.push(b);
+            }
+            HardKind::MassRatio => {
+                let ratio = 10f64.powf(rng.random_range(0.0..=4.0));
+                let (lower_mass, upper_mass) = if rng.random_bool(0.5) { (ratio, 1.0) } else { (1.0, ratio) };
+                let half_l = [rng.random_range(0.3..=1.0), rng.random_range(0.3..=1.0), rng.random_range(0.1..=0.5)];
+                let half_u = [rng.random_range(0.1..=0.5), rng.random_range(0.1..=0.5), rng.random_range(0.1..=0.5)];
+                let lower = Body::cuboid(origin, axes, half_l, lower_mass);
+                let top = lower.face_point(rng.random_range(-0.5..=0.5), rng.random_range(-0.5..=0.5), 1.0);
+                let upper = Body::cuboid(top, axes, half_u, upper_mass);
+                for (u, v) in corners {
+                    contacts.push(HardContact { b: Some(0), ..ground(&mut rng, upper.face_point(u, v, -1.0), 1) });
+                }
+                for (u, v) in corners {
+                    contacts.push(ground(&mut rng, lower.face_point(u, v, -1.0), 0));
+                }
+                bodies.push(lower);
+                bodies.push(upper);
+            }
+            HardKind::ThinRod => {
+                let cond = 10f64.powf(rng.random_range(2.0..=8.0));
+                let r = (2.0 / cond).sqrt(); // mass 1: cond(M_b) = 1 / (m r²/2)
+                let length = 1.0;
+                let mut rod = Body::cuboid(origin, axes, [length / 2.0, r, r], 1.0);
+                rod.inertia =
+                    [0.5 * r * r, (3.0 * r * r + length * length) / 12.0, (3.0 * r * r + length * length) / 12.0];
+                // Axis-symmetric: any roll about the axis leaves M_b⁻¹ unchanged, the yaw makes it dense.
+                let nc = rng.random_range(2..=8usize);
+                for _ in 0..nc {
+                    let p = rod.face_point(rng.random_range(-1.0..=1.0), 0.0, -1.0);
+                    contacts.push(ground(&mut rng, p, 0));
+                }
+                bodies.push(rod);
+            }
+            HardKind::Mixed => {
+                // A flat board (thin along the normal) and a box on it, either one heavy.
+                let thin = 10f64.powf(rng.random_range(-3.0..=-1.0));
+                let ratio = 10f64.powf(rng.random_range(0.0..=4.0));
+                let (lower_mass, upper_mass) = if rng.random_bool(0.5) { (ratio, 1.0) } else { (1.0, ratio) };
+                let board = Body::cuboid(origin, axes, [1.0, rng.random_range(0.05..=1.0), thin], lower_mass);
+                let top = board.face_point(rng.random_range(-0.5..=0.5), rng.random_range(-0.5..=0.5), 1.0);
+                let half_u = [rng.random_range(0.05..=0.5), rng.random_range(0.05..=0.5), rng.random_range(0.05..=0.5)];
+                let upper = Body::cuboid(top, axes, half_u, upper_mass);
+                for (u, v) in corners {
+                    contacts.push(HardContact { b: Some(0), ..ground(&mut rng, upper.face_point(u, v, -1.0), 1) });
+                }
+                for (u, v) in corners {
+                    contacts.push(ground(&mut rng, board.face_point(u, v, -1.0), 0));
+                }
+                // Fill up to 16 with duplicates and near-parallel twins of random contacts.
+                let extra = rng.random_range(0..=HARD_MAX_CONTACTS - contacts.len());
+                for _ in 0..extra {
+                    let c = contacts[rng.random_range(0..contacts.len())];
+                    let c = if rng.random_bool(0.5) { c } else { twin_of(&mut rng, c, t1, t2, c.mu) };
+                    contacts.push(c);
+                }
+                bodies.push(board);
+                bodies.push(upper);
+            }
+        }
+        scene_from(kind, k, &mut rng, &bodies, &contacts)
+    }
+
+    /// The contact LCP of this scene with friction-cone scale `scale`.
+    ///
+    /// # Panics
+    /// If `scale` is negative or not finite.
+    pub fn lcp(&self, scale: f64) -> Lcp {
+        let parts = ContactParts {
+            k: self.k,
+            jn: &self.jn,
+            jd: &self.jd,
+            minv: MassInverse::Dense(&self.minv),
+            vstar: &self.vstar,
+            mu: &self.mu,
+            b0_extra: Some(&self.b0_extra),
+            scale,
+        };
+        match contact_lcp_from_parts(&parts) {
+            Ok(lcp) => lcp,
+            Err(e) => panic!("hard contact LCP ({}, scale = {scale}): {e}", self.kind.as_str()),
+        }
+    }
+
+    /// A label that reproduces this scene with [`HardScene::random`].
+    pub fn label(&self, seed: u64) -> String {
+        format!("{}/k{}/nc{}/seed{seed}", self.kind.as_str(), self.k, self.nc)
+    }
+}
+
+/// Bottom-face coordinates of the `c`-th contact: the 4 corners first, then random points.
+fn face_uv(rng: &mut ChaCha8Rng, c: usize) -> (f64, f64) {
+    const CORNERS: [(f64, f64); 4] = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+    match CORNERS.get(c) {
+        Some(&uv) => uv,
+        None => (rng.random_range(-1.0..=1.0), rng.random_range(-1.0..=1.0)),
+    }
+}
+
+/// A twin of contact `c`: the point moved [`TWIN_OFFSET`] within the tangent
+/// plane, the normal tilted by [`TWIN_OFFSET`] rad about a random tangent axis.
+fn twin_of(rng: &mut ChaCha8Rng, c: HardContact, t1: V3, t2: V3, mu: f64) -> HardContact {
+    let phi = rng.random_range(0.0..2.0 * PI);
+    let dir = axpy(scale3(phi.cos(), t1), phi.sin(), t2);
+    let psi = rng.random_range(0.0..2.0 * PI);
+    let axis = axpy(scale3(psi.cos(), t1), psi.sin(), t2);
+    HardContact {
+        point: axpy(c.point, TWIN_OFFSET, dir),
+        normal: normalize3(rotate3(c.normal, axis, TWIN_OFFSET)),
+        mu,
+        ..c
+    }
+}
+
+/// Jacobians, `M_b⁻¹`, velocities and friction data of bodies and contacts.
+fn scene_from(kind: HardKind, k: usize, rng: &mut ChaCha8Rng, bodies: &[Body], contacts: &[HardContact]) -> HardScene {
+    let nc = contacts.len();
+    let ndof = 6 * bodies.len();
+    // Row of J for direction d at contact c: +[d, (p − x_a) × d] on a, −[d, (p − x_b) × d] on b.
+    let row = |c: &HardContact, d: V3| -> Vec<f64> {
+        let mut r = vec![0.0; ndof];
+        let mut put = |body: usize, sign: f64| {
+            let arm = cross(sub3(c.point, bodies[body].x), d);
+            for i in 0..3 {
+                r[6 * body + i] += sign * d[i];
+                r[6 * body + 3 + i] += sign * arm[i];
+            }
+        };
+        put(c.a, 1.0);
+        if let Some(b) = c.b {
+            put(b, -1.0);
+        }
+        r
+    };
+    let mut jn = Vec::with_capacity(nc * ndof);
+    let mut jd = Vec::with_capacity(nc * k * ndof);
+    for c in contacts {
+        jn.extend(row(c, c.normal));
+        let (t1, t2) = tangent_frame(c.normal);
+        for j in 0..k {
+            let (s, co) = (2.0 * PI * j as f64 / k as f64).sin_cos();
+            jd.extend(row(c, axpy(scale3(co, t1), s, t2)));
+        }
+    }
+    let mut minv = vec![0.0; ndof * ndof];
+    for (bi, body) in bodies.iter().enumerate() {
+        let block = body.minv_block();
+        for i in 0..6 {
+            for j in 0..6 {
+                minv[(6 * bi + i) * ndof + 6 * bi + j] = block[i][j];
+            }
+        }
+    }
+    let diag: Vec<f64> =
+        bodies.iter().flat_map(|b| [b.mass, b.mass, b.mass, b.inertia[0], b.inertia[1], b.inertia[2]]).collect();
+    let mass_cond = diag.iter().fold(0.0f64, |a, &v| a.max(v)) / diag.iter().fold(f64::INFINITY, |a, &v| a.min(v));
+    // Velocities: resting, sliding in the plane, approaching it, spinning — independently per body.
+    let normal = contacts.first().map_or([0.0, 0.0, 1.0], |c| c.normal);
+    let (t1, t2) = tangent_frame(normal);
+    let mut vstar = Vec::with_capacity(ndof);
+    for _ in bodies {
+        let speed = if rng.random_bool(0.3) { 0.0 } else { rng.random_range(0.0..=2.0) };
+        let heading = rng.random_range(0.0..2.0 * PI);
+        let approach = if rng.random_bool(0.5) { 0.0 } else { rng.random_range(0.0..=0.5) };
+        let mut v = axpy(axpy(scale3(-approach, normal), speed * heading.cos(), t1), speed * heading.sin(), t2);
+        v = axpy(v, CONTACT_H, GRAVITY);
+        let omega: V3 = if rng.random_bool(0.5) {
+            [0.0; 3]
+        } else {
+            [rng.random_range(-1.0..=1.0), rng.random_range(-1.0..=1.0), rng.random_range(-1.0..=1.0)]
+        };
+        vstar.extend(v);
+        vstar.extend(omega);
+    }
+    HardScene {
+        kind,
+        k,
+        nc,
+        ndof,
+        jn,
+        jd,
+        minv,
+        mass_cond,
+        vstar,
+        mu: contacts.iter().map(|c| c.mu).collect(),
+        b0_extra: contacts.iter().map(|c| 0.2 * c.gap / CONTACT_H).collect(),
+        normals: contacts.iter().map(|c| c.normal).collect(),
+    }
+}
+
+/// A hard contact LCP of family `kind` with k = 8 friction directions and
+/// friction-cone scale `scale` (see [`HardKind`], [`HardScene`]). Deterministic per seed.
+///
+/// # Panics
+/// If `scale` is negative or not finite.
+pub fn hard_contact_lcp(kind: HardKind, scale: f64, seed: u64) -> Lcp {
+    HardScene::random(kind, 8, seed).lcp(scale)
+}
+
+/// [`hard_contact_lcp`] with `k` friction directions.
+///
+/// # Panics
+/// If `k == 0` or `scale` is negative or not finite.
+pub fn hard_contact_lcp_k(kind: HardKind, k: usize, scale: f64, seed: u64) -> Lcp {
+    HardScene::random(kind, k, seed).lcp(scale)
+}
+
+/// SplitMix64: independent per-item seeds from one corpus seed.
+fn splitmix64(mut x: u64) -> u64 {
+    x = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    x ^ (x >> 31)
+}
+
+/// The `i`-th item of [`hard_corpus`]: `(kind, k, seed)` for [`HardScene::random`].
+/// Families cycle through [`HardKind::ALL`]; one round in ten uses k = 4, one k = 16, the rest k = 8.
+pub fn hard_corpus_item(seed: u64, i: usize) -> (HardKind, usize, u64) {
+    let kinds = HardKind::ALL.len();
+    let kind = HardKind::ALL[i % kinds];
+    let k = match (i / kinds) % 10 {
+        3 => 4,
+        7 => 16,
+        _ => 8,
+    };
+    (kind, k, splitmix64(seed ^ splitmix64(i as u64)))
+}
+
+/// `count` hard contact LCPs at friction-cone scale `scale`, each with a label
+/// `kind/kK/ncN/seedS` that reproduces it (`HardScene::random(kind, K, S).lcp(scale)`).
+/// The same `seed` gives the same scenes at every scale.
+///
+/// # Panics
+/// If `scale` is negative or not finite.
+pub fn hard_corpus(seed: u64, count: usize, scale: f64) -> Vec<(String, Lcp)> {
+    (0..count)
+        .map(|i| {
+            let (kind, k, s) = hard_corpus_item(seed, i);
+            let scene = HardScene::random(kind, k, s);
+            (scene.label(s), scene.lcp(scale))
+        })
+        .collect()
 }

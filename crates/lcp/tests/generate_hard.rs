@@ -1,0 +1,313 @@
+//! Hard contact LCPs (issue 5): the DESIGN §1 structure for every family, the
+//! hardness each family promises (duplicates, twins, collinear rows, mass
+//! ratios, ill-conditioned inertia, μ = 0), determinism per seed; and, run by
+//! hand, how the default Lemke fares on them at every scale.
+
+use std::collections::BTreeMap;
+
+use lcp::certify::certify_against;
+use lcp::generate::{
+    hard_contact_lcp, hard_contact_lcp_k, hard_corpus, hard_corpus_item, ContactLayout, HardKind, HardScene,
+    HARD_MAX_CONTACTS, TWIN_OFFSET,
+};
+use lcp::{lemke, LemkeOptions, Scaling, Status};
+
+/// Cholesky succeeds ⇔ symmetric positive definite.
+fn is_positive_definite(m: &[f64], n: usize) -> bool {
+    let mut l = vec![0.0; n * n];
+    for j in 0..n {
+        let d = m[j * n + j] - (0..j).map(|k| l[j * n + k] * l[j * n + k]).sum::<f64>();
+        if d.is_nan() || d <= 0.0 {
+            return false;
+        }
+        l[j * n + j] = d.sqrt();
+        for i in j + 1..n {
+            l[i * n + j] = (m[i * n + j] - (0..j).map(|k| l[i * n + k] * l[j * n + k]).sum::<f64>()) / l[j * n + j];
+        }
+    }
+    true
+}
+
+fn row(a: &[f64], r: usize, cols: usize) -> &[f64] {
+    &a[r * cols..(r + 1) * cols]
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Row `r` of `J = [J_n; J_d]`.
+fn jrow(s: &HardScene, r: usize) -> &[f64] {
+    if r < s.nc {
+        row(&s.jn, r, s.ndof)
+    } else {
+        row(&s.jd, r - s.nc, s.ndof)
+    }
+}
+
+/// Checks the DESIGN §1 structure of the scene's LCP at scale `sc`.
+fn check_structure(s: &HardScene, sc: f64, what: &str) {
+    let lcp = s.lcp(sc);
+    let lay = ContactLayout { nc: s.nc, k: s.k };
+    let n = lay.n();
+    assert_eq!(lcp.n(), n, "{what}");
+    assert_eq!(n, s.nc * (s.k + 2), "{what}");
+    assert!(s.nc >= 1 && s.nc <= HARD_MAX_CONTACTS, "{what}: nc = {}", s.nc);
+    assert_eq!(s.ndof % 6, 0);
+    assert!(s.mu.iter().all(|&m| (0.0..=2.0).contains(&m)), "{what}: {:?}", s.mu);
+    // q: J v* (+ b0_extra) on fn and fd, exactly 0 on λ.
+    for l in lay.lambda_range() {
+        assert_eq!(lcp.q()[l], 0.0, "{what}: q[{l}]");
+    }
+    let nj = s.nc * (s.k + 1);
+    for r in 0..nj {
+        let extra = if r < s.nc { s.b0_extra[r] } else { 0.0 };
+        let want = dot(jrow(s, r), &s.vstar) + extra;
+        assert!((lcp.q()[r] - want).abs() <= 1e-12 * (1.0 + want.abs()), "{what}: q[{r}]");
+    }
+    // Cone blocks: exactly s·μ, s·E, −s·Eᵀ and 0 elsewhere in λ rows/columns.
+    for c in 0..s.nc {
+        let l = lay.lambda_index(c);
+        for j in 0..n {
+            let want = if j == c {
+                sc * s.mu[c]
+            } else if lay.fd_range().contains(&j) && (j - s.nc) / s.k == c {
+                -sc
+            } else {
+                0.0
+            };
+            assert_eq!(lcp.at(l, j), want, "{what}: M[λ{c}, {j}]");
+        }
+        for i in 0..n {
+            let want = if lay.fd_range().contains(&i) && (i - s.nc) / s.k == c { sc } else { 0.0 };
+            assert_eq!(lcp.at(i, l), want, "{what}: M[{i}, λ{c}]");
+        }
+    }
+    // A = J M_b⁻¹ Jᵀ: exactly symmetric, equal to an independent product, PSD up to round-off.
+    let mut a = vec![0.0; nj * nj];
+    let mut amax = 0.0f64;
+    for r in 0..nj {
+        for c in 0..nj {
+            a[r * nj + c] = lcp.at(r, c);
+            amax = amax.max(lcp.at(r, c).abs());
+            assert_eq!(lcp.at(r, c), lcp.at(c, r), "{what}: A not symmetric at ({r}, {c})");
+        }
+    }
+    // Round-off bound of the product: a few ulps of |J_r| |M_b⁻¹| |J_c| (cancellation in ill-conditioned M_b).
+    let abs = |v: &[f64]| v.iter().map(|x| x.abs()).collect::<Vec<f64>>();
+    let minv_abs = abs(&s.minv);
+    let minv_j: Vec<Vec<f64>> =
+        (0..nj).map(|r| (0..s.ndof).map(|i| dot(row(&s.minv, i, s.ndof), jrow(s, r))).collect()).collect();
+    let minv_j_abs: Vec<Vec<f64>> =
+        (0..nj).map(|r| (0..s.ndof).map(|i| dot(row(&minv_abs, i, s.ndof), &abs(jrow(s, r)))).collect()).collect();
+    for r in 0..nj {
+        for c in 0..nj {
+            let want = dot(jrow(s, r), &minv_j[c]);
+            let bound = 1e-14 * s.ndof as f64 * dot(&abs(jrow(s, r)), &minv_j_abs[c]);
+            assert!((a[r * nj + c] - want).abs() <= bound, "{what}: A[{r}, {c}] = {} vs {want}", a[r * nj + c]);
+        }
+    }
+    let shift = 1e-10 * amax * nj as f64;
+    let mut shifted = a.clone();
+    for i in 0..nj {
+        shifted[i * nj + i] += shift;
+    }
+    assert!(is_positive_definite(&shifted, nj), "{what}: A + {shift:e} I is not positive definite");
+    // The scale is the cone scaling of the unscaled problem, entry for entry.
+    if sc != 1.0 {
+        assert_eq!(Scaling::cone(s.nc, s.k, sc).apply(&s.lcp(1.0)), lcp, "{what}: not D M D");
+    }
+}
+
+#[test]
+fn every_family_has_the_contact_structure() {
+    for kind in HardKind::ALL {
+        for seed in 0..12 {
+            for k in [4, 8, 16] {
+                let s = HardScene::random(kind, k, seed);
+                for sc in [1.0, 1e-3, 1e-8] {
+                    check_structure(&s, sc, &format!("{} k={k} seed={seed} s={sc:e}", kind.as_str()));
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn k_8_gives_size_10_nc() {
+    for kind in HardKind::ALL {
+        for seed in 0..20 {
+            let s = HardScene::random(kind, 8, seed);
+            let lcp = hard_contact_lcp(kind, 1.0, seed);
+            assert_eq!(lcp.n(), 10 * s.nc);
+            assert_eq!(lcp, s.lcp(1.0));
+            assert_eq!(hard_contact_lcp_k(kind, 8, 0.5, seed), s.lcp(0.5));
+        }
+    }
+}
+
+#[test]
+fn families_are_as_promised() {
+    let mut max_ratio: f64 = 0.0;
+    let mut max_cond: f64 = 0.0;
+    let mut zero_mu = 0;
+    let mut nc_seen = BTreeMap::new();
+    for seed in 0..60 {
+        for kind in HardKind::ALL {
+            let s = HardScene::random(kind, 8, seed);
+            zero_mu += s.mu.iter().filter(|&&m| m == 0.0).count();
+            *nc_seen.entry(kind.as_str()).or_insert(0) = s.nc.max(*nc_seen.get(kind.as_str()).unwrap_or(&0));
+            for n in &s.normals {
+                assert!((dot(n, n) - 1.0).abs() < 1e-15);
+            }
+            let jn = |c: usize| row(&s.jn, c, s.ndof);
+            match kind {
+                HardKind::ManyContacts => assert!((5..=16).contains(&s.nc) && s.ndof == 6),
+                HardKind::Duplicate => {
+                    // Some contact repeats another exactly: identical rows of J_n and of M.
+                    let dup = (0..s.nc).any(|c| (0..c).any(|d| jn(c) == jn(d)));
+                    assert!(dup, "seed {seed}: no duplicate");
+                    let lcp = s.lcp(1.0);
+                    let (c, d) =
+                        (0..s.nc).flat_map(|c| (0..c).map(move |d| (c, d))).find(|&(c, d)| jn(c) == jn(d)).unwrap();
+                    // Equal up to round-off only: A is computed on its upper triangle and mirrored.
+                    let big = lcp.row(c).iter().fold(0.0f64, |a, v| a.max(v.abs()));
+                    for (x, y) in lcp.row(c).iter().zip(lcp.row(d)) {
+                        assert!((x - y).abs() <= 1e-13 * big, "rows {c}, {d}: {x} vs {y}");
+                    }
+                }
+                HardKind::NearlyParallel => {
+                    assert_eq!(s.nc % 2, 0);
+                    let half = s.nc / 2;
+                    for c in 0..half {
+                        let (a, b) = (s.normals[c], s.normals[c + half]);
+                        let sin = {
+                            let x = [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+                            dot(&x, &x).sqrt()
+                        };
+                        assert!((sin - TWIN_OFFSET).abs() < 1e-9 * TWIN_OFFSET + 1e-15, "tilt {sin:e}");
+                        assert_ne!(jn(c), jn(c + half));
+                    }
+                }
+                HardKind::Collinear => {
+                    // The first three contacts share a line: their J_n rows are linearly dependent.
+                    let g: Vec<f64> =
+                        (0..3).flat_map(|i| (0..3).map(move |j| (i, j))).map(|(i, j)| dot(jn(i), jn(j))).collect();
+                    let det = g[0] * (g[4] * g[8] - g[5] * g[7]) - g[1] * (g[3] * g[8] - g[5] * g[6])
+                        + g[2] * (g[3] * g[7] - g[4] * g[6]);
+                    assert!(det.abs() < 1e-12 * g[0] * g[4] * g[8], "Gram determinant {det:e}");
+                }
+                HardKind::MassRatio | HardKind::Mixed => {
+                    assert_eq!(s.ndof, 12);
+                    // The first four contacts couple both bodies; ground contacts only the lower one.
+                    assert!(jn(0)[..6].iter().any(|&v| v != 0.0) && jn(0)[6..].iter().any(|&v| v != 0.0));
+                    assert!(jn(4)[6..].iter().all(|&v| v == 0.0));
+                    let m = [s.minv[0], s.minv[6 * 12 + 6]];
+                    max_ratio = max_ratio.max(m[0] / m[1]).max(m[1] / m[0]);
+                    if kind == HardKind::Mixed {
+                        assert!(s.nc <= 16);
+                    } else {
+                        assert_eq!(s.nc, 8);
+                    }
+                }
+                HardKind::ThinRod => {
+                    assert!(s.mass_cond >= 1e2 * 0.999 && s.mass_cond <= 1e8 * 1.001, "{}", s.mass_cond);
+                    max_cond = max_cond.max(s.mass_cond);
+                    // Dense rotational block (the rod lies at a random yaw).
+                    assert!(s.minv[3 * 6 + 4] != 0.0);
+                }
+            }
+            // M_b⁻¹ symmetric positive definite.
+            assert!(is_positive_definite(&s.minv, s.ndof));
+            for i in 0..s.ndof {
+                for j in 0..s.ndof {
+                    assert_eq!(s.minv[i * s.ndof + j], s.minv[j * s.ndof + i]);
+                }
+            }
+        }
+    }
+    assert!(max_ratio > 1e3, "mass ratio reached only {max_ratio:e}");
+    assert!(max_cond > 1e7, "cond(M_b) reached only {max_cond:e}");
+    assert!(zero_mu > 0, "no μ = 0");
+    assert_eq!(nc_seen["many_contacts"], 16);
+}
+
+#[test]
+fn deterministic_per_seed() {
+    for kind in HardKind::ALL {
+        let a = hard_contact_lcp(kind, 1e-3, 42);
+        assert_eq!(a, hard_contact_lcp(kind, 1e-3, 42));
+        assert_ne!(a, hard_contact_lcp(kind, 1e-3, 43));
+        assert_eq!(HardScene::random(kind, 16, 7), HardScene::random(kind, 16, 7));
+    }
+    let c1 = hard_corpus(5, 70, 1e-2);
+    assert_eq!(c1, hard_corpus(5, 70, 1e-2));
+    assert_ne!(c1, hard_corpus(6, 70, 1e-2));
+    // Labels are unique and reproduce their LCP; the same seed gives the same scenes at every scale.
+    let mut labels: Vec<&String> = c1.iter().map(|(l, _)| l).collect();
+    labels.sort();
+    labels.dedup();
+    assert_eq!(labels.len(), 70);
+    let c2 = hard_corpus(5, 70, 1.0);
+    let mut kinds = BTreeMap::new();
+    let mut ks = BTreeMap::new();
+    for (i, ((l1, p1), (l2, p2))) in c1.iter().zip(&c2).enumerate() {
+        assert_eq!(l1, l2);
+        let (kind, k, seed) = hard_corpus_item(5, i);
+        let scene = HardScene::random(kind, k, seed);
+        assert_eq!(&scene.label(seed), l1);
+        assert_eq!(&scene.lcp(1e-2), p1);
+        assert_eq!(&scene.lcp(1.0), p2);
+        *kinds.entry(kind.as_str()).or_insert(0) += 1;
+        *ks.entry(k).or_insert(0) += 1;
+    }
+    assert_eq!(kinds.len(), HardKind::ALL.len());
+    assert_eq!(ks.keys().copied().collect::<Vec<_>>(), vec![4, 8, 16]);
+}
+
+/// The default Lemke on the hard corpus at the issue's scales, by family and
+/// status, with exact certification of its bases up to n = 40. Information for
+/// issue 5, not a gate: `cargo test --release -p lcpsim-lcp --test generate_hard -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn lemke_on_the_hard_corpus() {
+    let count: usize = std::env::var("HARD_COUNT").ok().and_then(|v| v.parse().ok()).unwrap_or(2000);
+    let opts = LemkeOptions::default();
+    for scale in [1.0, 1e-2, 1e-3, 1e-4, 1e-6, 1e-8] {
+        let corpus = hard_corpus(2026, count, scale);
+        let t = std::time::Instant::now();
+        let mut by_status: BTreeMap<&str, usize> = BTreeMap::new();
+        let mut fails: BTreeMap<String, usize> = BTreeMap::new();
+        let (mut cert_tried, mut cert_exact, mut cert_round_off, mut worst_eta) = (0, 0, 0, 0.0f64);
+        let mut first_fails = Vec::new();
+        for (label, p) in &corpus {
+            let sol = lemke::solve(p, &opts);
+            let qn = p.q().iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let ok = sol.status == Status::Solved && sol.residuals.natural <= 1e-9 * (1.0 + qn);
+            *by_status.entry(if ok { "solved" } else { sol.status.as_str() }).or_insert(0) += 1;
+            if !ok {
+                let kind = label.split('/').next().unwrap().to_string();
+                *fails.entry(kind).or_insert(0) += 1;
+                if first_fails.len() < 10 {
+                    first_fails.push(format!("{label}: {:?} natural {:.2e}", sol.status, sol.residuals.natural));
+                }
+            }
+            if let (true, Some(basis)) = (p.n() <= 40, sol.basis.as_ref()) {
+                let c = certify_against(p, basis, &sol.z);
+                cert_tried += 1;
+                cert_exact += c.certified() as usize;
+                cert_round_off += c.certified_within(1e-14) as usize;
+                worst_eta = worst_eta.max(c.backward_error);
+            }
+        }
+        println!(
+            "s = {scale:<6e} {count} LCPs in {:.1} s: {by_status:?}; failures by family {fails:?}; \
+             certified (n ≤ 40) {cert_exact}/{cert_tried} exactly, {cert_round_off}/{cert_tried} within η ≤ 1e-14 \
+             (worst η {worst_eta:.2e})",
+            t.elapsed().as_secs_f64()
+        );
+        for f in &first_fails {
+            println!("    {f}");
+        }
+    }
+}
