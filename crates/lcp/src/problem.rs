@@ -67,6 +67,13 @@ impl Lcp {
         Ok(Lcp { n, m, q })
     }
 
+    /// Builds an LCP whose validity the caller guarantees (internal use: a
+    /// power-of-two rescaling of a validated problem).
+    pub(crate) fn from_parts_unchecked(m: Vec<f64>, q: Vec<f64>) -> Self {
+        debug_assert_eq!(m.len(), q.len() * q.len());
+        Lcp { n: q.len(), m, q }
+    }
+
     /// Builds an LCP from a closure `m(i, j)`; convenient in tests and generators.
     pub fn from_fn(n: usize, m: impl Fn(usize, usize) -> f64, q: Vec<f64>) -> Result<Self, LcpError> {
         let mut data = Vec::with_capacity(n * n);

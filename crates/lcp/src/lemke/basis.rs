@@ -22,6 +22,17 @@ use crate::problem::Lcp;
 use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
 
+/// Row-major transpose of a row-major `n × n` matrix.
+fn transpose(m: &[f64], n: usize) -> Vec<f64> {
+    let mut t = vec![0.0; n * n];
+    for (i, row) in m.chunks_exact(n).enumerate() {
+        for (j, &v) in row.iter().enumerate() {
+            t[j * n + i] = v;
+        }
+    }
+    t
+}
+
 /// Variable numbering helpers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Var {
@@ -107,7 +118,7 @@ impl<'a> Basis<'a> {
             r: Vec::with_capacity(n),
             r_pos: vec![None; n],
             s: Vec::with_capacity(n),
-            mt: (0..n * n).map(|k| lcp.at(k % n, k / n)).collect(),
+            mt: transpose(lcp.m(), n),
             cinv: vec![0.0; n * n],
             val_s: Vec::with_capacity(n),
             val_w: lcp.q().to_vec(),
@@ -192,24 +203,17 @@ impl<'a> Basis<'a> {
         }
     }
 
-    /// Row of `B⁻¹` belonging to the basic variable `b`, as a dense n-vector.
-    pub(crate) fn binv_row(&self, b: Leaving, out: &mut [f64]) {
-        let m = self.m();
-        out.iter_mut().for_each(|x| *x = 0.0);
+    /// Entry `B⁻¹[b, c]` for the basic variable `b` and constraint `c`:
+    /// O(1) for a z-type basic, O(m) for a basic `w_i`.
+    pub(crate) fn binv_entry(&self, b: Leaving, c: usize) -> f64 {
+        let Some(qc) = self.r_pos[c] else {
+            // Column c of B⁻¹ outside R: the identity column of basic w_c.
+            return matches!(b, Leaving::W(i) if i == c) as u8 as f64;
+        };
         match b {
-            Leaving::S(p) => {
-                for (qi, &i) in self.r.iter().enumerate() {
-                    out[i] = self.ci(p, qi);
-                }
-            }
-            Leaving::W(i) => {
-                let mut t = vec![0.0; m];
-                self.row_times_cinv(i, &mut t);
-                for (qi, &ri) in self.r.iter().enumerate() {
-                    out[ri] = -t[qi];
-                }
-                out[i] = 1.0;
-            }
+            Leaving::S(p) => self.ci(p, qc),
+            // e_iᵀ − A[i, S] C⁻¹ restricted to R (i ∉ R, so the e_i part is 0 here).
+            Leaving::W(i) => self.s.iter().enumerate().map(|(p, &v)| self.g(i, v) * self.ci(p, qc)).sum(),
         }
     }
 

@@ -34,9 +34,9 @@ pub struct LemkeOptions {
     /// entry is round-off). Default 1e-12.
     pub piv_tol: f64,
     /// The user zero. `Classic`: the Harris slack of the ratio test, absolute.
-    /// `Lexicographic`: the relative tolerance under which two ratios count as
-    /// tied. Default 1e-6 (the seed's value); `Lexicographic` uses
-    /// `min(zero_tol, 1e-9)` for ties so that its answers stay exact.
+    /// `Lexicographic`: an upper bound on the relative tolerance under which
+    /// two ratios count as tied (it uses `min(zero_tol, 1e-13)`, and 1e-10 on
+    /// one rung of its repair ladder). Default 1e-6 (the seed's value).
     pub zero_tol: f64,
     /// Pivot limit; `None` means `max(1000, 50·n)` (Murty's 2ⁿ examples need more).
     pub max_pivots: Option<usize>,

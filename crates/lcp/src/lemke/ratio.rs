@@ -27,25 +27,36 @@ pub(crate) struct Cand {
     row: usize,
 }
 
-fn candidates(basis: &Basis, x: &Column, out: &mut Vec<Cand>) {
+/// Gathers the basics that can block (`x > 0`) and returns the largest `|x|`
+/// and the largest `|value|` over all basics (the scales tolerances refer to).
+fn candidates(basis: &Basis, x: &Column, out: &mut Vec<Cand>) -> (f64, f64) {
     out.clear();
+    let (mut xmax, mut vmax) = (0.0f64, f64::MIN_POSITIVE);
+    let mut take = |at, value: f64, x: f64, row| {
+        xmax = xmax.max(x.abs());
+        vmax = vmax.max(value.abs());
+        if x > 0.0 {
+            out.push(Cand { at, value, x, row });
+        }
+    };
     for p in 0..basis.m() {
-        out.push(Cand { at: Leaving::S(p), value: basis.val_s[p], x: x.xs[p], row: basis.row_s[p] });
+        take(Leaving::S(p), basis.val_s[p], x.xs[p], basis.row_s[p]);
     }
     for i in 0..basis.val_w.len() {
         if basis.w_basic(i) {
-            out.push(Cand { at: Leaving::W(i), value: basis.val_w[i], x: x.xw[i], row: basis.row_w[i] });
+            take(Leaving::W(i), basis.val_w[i], x.xw[i], basis.row_w[i]);
         }
     }
+    (xmax, vmax)
 }
 
 /// The leaving variable and the step length, or `None` for a ray.
 /// `buf` is scratch space reused across pivots.
 pub(crate) fn leaving(basis: &Basis, x: &Column, rule: Rule, buf: &mut Vec<Cand>) -> Option<(Leaving, f64)> {
-    candidates(basis, x, buf);
+    let (xmax, vmax) = candidates(basis, x, buf);
     match rule {
         Rule::Classic { piv_tol, zero_tol } => classic(basis, buf, piv_tol, zero_tol),
-        Rule::Lexicographic { piv_tol, tie_tol } => lexicographic(basis, buf, piv_tol, tie_tol),
+        Rule::Lexicographic { piv_tol, tie_tol } => lexicographic(basis, buf, piv_tol * xmax, tie_tol * vmax, tie_tol),
     }
 }
 
@@ -64,49 +75,47 @@ fn classic(basis: &Basis, c: &[Cand], piv_tol: f64, zero_tol: f64) -> Option<(Le
     Some((best.at, best.value / best.x))
 }
 
-fn lexicographic(basis: &Basis, c: &[Cand], piv_tol: f64, tie_tol: f64) -> Option<(Leaving, f64)> {
-    let xmax = c.iter().fold(0.0f64, |a, k| a.max(k.x.abs()));
-    let thresh = piv_tol * xmax;
-    let vscale = c.iter().fold(f64::MIN_POSITIVE, |a, k| a.max(k.value.abs()));
+/// `thresh`: smallest pivot; `vtol`: how close to zero a value must come to tie.
+fn lexicographic(basis: &Basis, c: &[Cand], thresh: f64, vtol: f64, tie_tol: f64) -> Option<(Leaving, f64)> {
     let theta = c.iter().filter(|k| k.x > thresh).map(|k| k.value.max(0.0) / k.x).fold(f64::INFINITY, f64::min);
     if !theta.is_finite() {
         return None;
     }
-    // Rows that reach zero within tie_tol·(largest basic value) at this step.
-    let mut tied: Vec<Cand> =
-        c.iter().filter(|k| k.x > thresh && k.value.max(0.0) - theta * k.x <= tie_tol * vscale).copied().collect();
-    if let Some(z0) = tied.iter().find(|k| matches!(k.at, Leaving::S(p) if basis.s[p] == Var::Z0)) {
+    // Rows that reach zero within vtol at this step.
+    let is_tied = |k: &&Cand| k.x > thresh && k.value.max(0.0) - theta * k.x <= vtol;
+    let is_z0 = |k: &&Cand| matches!(k.at, Leaving::S(p) if basis.s[p] == Var::Z0);
+    if let Some(z0) = c.iter().filter(is_tied).find(is_z0) {
         return Some((z0.at, theta));
     }
-    if tied.len() > 1 {
-        tied = lex_break(basis, tied, tie_tol);
-    }
+    let mut tied = c.iter().filter(is_tied);
+    let first = *tied.next()?;
+    let Some(&second) = tied.next() else {
+        return Some((first.at, theta));
+    };
+    let all: Vec<Cand> = [first, second].into_iter().chain(tied.copied()).collect();
     // Still tied after every column (only under round-off): the largest pivot.
-    let best = tied.iter().max_by(|a, b| a.x.total_cmp(&b.x))?;
+    let best = lex_break(basis, all, tie_tol).into_iter().max_by(|a, b| a.x.total_cmp(&b.x))?;
     Some((best.at, theta))
 }
 
-/// Keeps the candidates whose `B⁻¹` row over the pivot is lexicographically smallest.
-fn lex_break(basis: &Basis, tied: Vec<Cand>, tie_tol: f64) -> Vec<Cand> {
+/// Keeps the candidates whose `B⁻¹` row over the pivot is lexicographically
+/// smallest. Entries are computed column by column, only while ties remain:
+/// most ties are broken within the first columns.
+fn lex_break(basis: &Basis, mut rows: Vec<Cand>, tie_tol: f64) -> Vec<Cand> {
     let n = basis.val_w.len();
-    let mut rows: Vec<(Cand, Vec<f64>)> = tied
-        .into_iter()
-        .map(|k| {
-            let mut r = vec![0.0; n];
-            basis.binv_row(k.at, &mut r);
-            r.iter_mut().for_each(|v| *v /= k.x);
-            (k, r)
-        })
-        .collect();
+    let mut v = Vec::with_capacity(rows.len());
     for col in 0..n {
         if rows.len() == 1 {
             break;
         }
-        let min = rows.iter().map(|(_, r)| r[col]).fold(f64::INFINITY, f64::min);
-        let scale = rows.iter().fold(0.0f64, |a, (_, r)| a.max(r[col].abs()));
-        rows.retain(|(_, r)| r[col] <= min + tie_tol * scale);
+        v.clear();
+        v.extend(rows.iter().map(|k| basis.binv_entry(k.at, col) / k.x));
+        let min = v.iter().copied().fold(f64::INFINITY, f64::min);
+        let scale = v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+        let mut it = v.iter();
+        rows.retain(|_| *it.next().expect("one value per row") <= min + tie_tol * scale);
     }
-    rows.into_iter().map(|(k, _)| k).collect()
+    rows
 }
 
 /// The first pivot, where z0 enters at the value that makes every `w ≥ 0`:
