@@ -10,14 +10,16 @@
 //! then at most its own round-off away from an exact solution, and
 //! [`Certificate::z`] (the exact `z` rounded to nearest) measures how far.
 //!
-//! Degenerate problems need one more number. A contact LCP's `A = J M_b⁻¹ Jᵀ`
-//! is rank-deficient in real arithmetic, so at a sticking or resting contact
-//! several nonbasic `w_i` are exactly 0 *for the exact data*; the rounded
-//! floats make them ±1e-17 instead, and about half of those come out negative.
-//! No basis fixes that (adding such an index makes `M_αα` nearly singular and
-//! `z` meaningless), so the certificate also reports
-//! [`Certificate::backward_error`]: the exact `z`, clamped at 0, solves the LCP
-//! exactly once `q` changes by this relative amount per entry. A value near
+//! Degenerate problems need more than a yes or no. A contact LCP's
+//! `A = J M_b⁻¹ Jᵀ` is rank-deficient in real arithmetic, so at a sticking or
+//! resting contact several nonbasic `w_i` (or basic `z_i`) are exactly 0 *for
+//! the exact data*; the rounded floats make them ±1e-17 instead, and about half
+//! of those come out negative. No basis fixes that (adding such an index makes
+//! `M_αα` nearly singular and `z` meaningless). So the certificate also reports
+//! the exact natural residual and a componentwise backward error
+//! ([`Certificate::backward_error`]): a nonnegative rational `z̃` near the
+//! exact `z` solves *exactly* an LCP whose every entry of `M` and `q` differs
+//! from the given float by at most that relative amount. A value of a few
 //! 2⁻⁵³ means "exact up to the rounding already in the data".
 //!
 //! Power-of-two row and column scalings (exact) turn the system into integers
@@ -82,13 +84,17 @@ pub struct Certificate {
     /// Bit length of the exact (scaled, integer) determinant of `M_αα`: the
     /// size of the arithmetic, a rough measure of how ill-posed the basis is.
     pub det_bits: u64,
-    /// Componentwise backward error in `q`: the exact `z` with its negative
-    /// entries set to 0 (`z⁺`) solves the LCP of `(M, q + Δq)` exactly, where
-    /// `|Δq_i| ≤ η·(Σ_j |M_ij z⁺_j| + |q_i|)` for this `η`. 0 when certified;
-    /// ~2⁻⁵³ when only the rounding of degenerate data stands in the way (a
-    /// nonbasic `w_i` or a basic `z_i` that is 0 for the exact data);
-    /// order 1 for a wrong basis; infinite when `M_αα` is singular. The ratio is
-    /// evaluated in floating point from exact values (relative accuracy ~n·2⁻⁵³).
+    /// `‖min(z, w)‖∞` of the exact solution (the largest negative part of
+    /// `z` or `w`), rounded: 0 exactly when certified; infinite when singular.
+    pub natural_residual: f64,
+    /// Componentwise (Oettli–Prager) backward error: the smallest `η` found
+    /// such that some `z̃ ≥ 0` solves the LCP of `(M + ΔM, q + Δq)` exactly
+    /// with `|ΔM| ≤ η|M|`, `|Δq| ≤ η|q|` entrywise. `z̃` is the exact `z` with
+    /// its negative entries, and then its entries below 1e-15, 1e-12 or 1e-9
+    /// of `‖z‖∞`, set to 0 (the smallest `η` of these candidates; the residual
+    /// of each is exact, the ratio evaluated in floating point). 0 when
+    /// certified; ~2⁻⁵³ when only the rounding of degenerate data stands in
+    /// the way; order 1 for a wrong basis; infinite when `M_αα` is singular.
     pub backward_error: f64,
     /// [`certify_against`], [`certify_z`]: `max_j |z_j − z_given_j|` between
     /// the rounded exact `z` and the float `z` given (NaN if it holds a NaN).
@@ -101,8 +107,8 @@ impl Certificate {
         self.status == CertStatus::Certified
     }
 
-    /// Certified, or violated only by negative `w_i` that a relative change of
-    /// `q_i` of at most `eta` absorbs (see [`Certificate::backward_error`]).
+    /// Certified, or an exact solution of data within a relative `eta` of the
+    /// floats given (see [`Certificate::backward_error`]).
     pub fn certified_within(&self, eta: f64) -> bool {
         self.backward_error <= eta
     }
@@ -123,6 +129,7 @@ pub fn certify(lcp: &Lcp, basis: &[bool]) -> Certificate {
             w: Vec::new(),
             violations: 0,
             det_bits: 0,
+            natural_residual: f64::INFINITY,
             backward_error: f64::INFINITY,
             z_error: None,
         },
@@ -314,7 +321,8 @@ fn check(lcp: &Lcp, basis: &[bool], alpha: &[usize], ex: &Exact) -> Certificate 
             first.get_or_insert(Violation { index: i, kind, value });
         }
     }
-    let backward_error = if first.is_none() { 0.0 } else { backward_error(lcp, basis, alpha, ex) };
+    let natural_residual = z.iter().chain(&w).fold(0.0f64, |a, &v| a.max(-v));
+    let backward_error = if first.is_none() { 0.0 } else { backward_error(lcp, alpha, ex, &z) };
     Certificate {
         status: first.map_or(CertStatus::Certified, CertStatus::Violated),
         basis: basis.to_vec(),
@@ -322,6 +330,7 @@ fn check(lcp: &Lcp, basis: &[bool], alpha: &[usize], ex: &Exact) -> Certificate 
         w,
         violations,
         det_bits: ex.det.bits(),
+        natural_residual,
         backward_error,
         z_error: None,
     }
@@ -357,27 +366,47 @@ fn exact_w(lcp: &Lcp, alpha: &[usize], x: &[BigInt], ex: &Exact) -> (Vec<f64>, V
     (w, w_sign)
 }
 
-/// Componentwise backward error in `q` of the clamped exact solution
-/// `z⁺ = max(z, 0)`: with `r = M z⁺ + q`, `z⁺` solves the LCP exactly once
-/// `q_i → q_i − r_i` on the basis and `q_i → q_i − min(r_i, 0)` off it.
-/// Returns `max |Δq_i| / (Σ_j |M_ij z⁺_j| + |q_i|)`.
-fn backward_error(lcp: &Lcp, basis: &[bool], alpha: &[usize], ex: &Exact) -> f64 {
-    let clamped: Vec<BigInt> =
-        ex.x.iter().map(|v| if v.sign() == Sign::Minus { BigInt::zero() } else { v.clone() }).collect();
-    let (r, _) = exact_w(lcp, alpha, &clamped, ex);
-    let mut zc = vec![0.0; lcp.n()];
-    for (k, &j) in alpha.iter().enumerate() {
-        zc[j] = ratio_to_f64(&clamped[k], &ex.det, ex.col_exp[k]);
-    }
-    let mut eta = 0.0f64;
-    for (i, &ri) in r.iter().enumerate() {
-        let dq = if basis[i] { ri.abs() } else { (-ri).max(0.0) };
-        if dq > 0.0 {
-            let size = alpha.iter().map(|&j| (lcp.at(i, j) * zc[j]).abs()).sum::<f64>() + lcp.q()[i].abs();
-            eta = eta.max(if size > 0.0 { dq / size } else { f64::INFINITY });
+/// Relative thresholds (of `‖z‖∞`) below which [`backward_error`] tries setting `z_j` to 0.
+const ZERO_CANDIDATES: [f64; 4] = [0.0, 1e-15, 1e-12, 1e-9];
+
+/// Smallest Oettli–Prager backward error over the candidates `z̃` (see
+/// [`Certificate::backward_error`]): for `z̃ ≥ 0` and `r = M z̃ + q` (exact),
+/// row `i` needs `r_i = 0` if `z̃_i > 0` and `r_i ≥ 0` otherwise, which a
+/// relative perturbation `η` of row `i` of `(M, q)` achieves iff
+/// `|r_i − target| ≤ η·(Σ_j |M_ij| z̃_j + |q_i|)`.
+fn backward_error(lcp: &Lcp, alpha: &[usize], ex: &Exact, z: &[f64]) -> f64 {
+    let zmax = z.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let mut best = f64::INFINITY;
+    let mut last: Option<Vec<bool>> = None;
+    for tau in ZERO_CANDIDATES {
+        let keep: Vec<bool> = alpha.iter().map(|&j| z[j] > tau * zmax).collect();
+        if last.as_ref() == Some(&keep) {
+            continue;
         }
+        let x: Vec<BigInt> =
+            ex.x.iter()
+                .zip(&keep)
+                .map(|(v, &k)| if k && v.sign() == Sign::Plus { v.clone() } else { BigInt::zero() })
+                .collect();
+        let (r, _) = exact_w(lcp, alpha, &x, ex);
+        let mut zt = vec![0.0; lcp.n()];
+        let mut positive = vec![false; lcp.n()];
+        for (k, &j) in alpha.iter().enumerate() {
+            zt[j] = ratio_to_f64(&x[k], &ex.det, ex.col_exp[k]);
+            positive[j] = !x[k].is_zero();
+        }
+        let mut eta = 0.0f64;
+        for (i, &ri) in r.iter().enumerate() {
+            let need = if positive[i] { ri.abs() } else { (-ri).max(0.0) };
+            if need > 0.0 {
+                let size = alpha.iter().map(|&j| lcp.at(i, j).abs() * zt[j]).sum::<f64>() + lcp.q()[i].abs();
+                eta = eta.max(if size > 0.0 { need / size } else { f64::INFINITY });
+            }
+        }
+        best = best.min(eta);
+        last = Some(keep);
     }
-    eta
+    best
 }
 
 fn sign(v: &BigInt) -> Ordering {

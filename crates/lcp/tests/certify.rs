@@ -29,6 +29,7 @@ fn two_by_two_by_hand() {
     assert_eq!(c.w, vec![0.0; 2]);
     assert_eq!(c.violations, 0);
     assert_eq!(c.backward_error, 0.0);
+    assert_eq!(c.natural_residual, 0.0);
     assert_eq!(c.z_error, None);
     // α = {0}: z0 = 1/2, w1 = 1/2 − 1 < 0.
     let c = certify(&p, &[true, false]);
@@ -54,8 +55,10 @@ fn three_by_three_by_hand() {
     let c = certify(&p, &[true, true, true]);
     assert_eq!(violation(&c), (1, ViolationKind::NegativeZ, -7.0 / 9.0));
     assert_eq!(c.z, vec![4.0 / 9.0, -7.0 / 9.0, 8.0 / 9.0]);
-    // z⁺ = (4/9, 0, 8/9) leaves r = (7/9, 21/9, 7/9) on the basis: row 1 is all Δq.
-    assert!((c.backward_error - 1.0).abs() < 1e-15, "{}", c.backward_error);
+    assert_eq!(c.natural_residual, 7.0 / 9.0);
+    // z̃ = (4/9, 0, 8/9): r = (7/9, 21/9, 7/9); rows 0 and 2 must vanish,
+    // 7/9 of |M_0| z̃ + |q_0| = 25/9: η = 7/25 (row 1 only needs r ≥ 0).
+    assert!((c.backward_error - 0.28).abs() < 1e-15, "{}", c.backward_error);
     assert_eq!(c.w, vec![0.0; 3]);
     // A wrong basis with nonnegative z but a negative w: α = {0}.
     let c = certify(&p, &[true, false, false]);
@@ -77,6 +80,7 @@ fn exact_signs_below_round_off() {
     // …by one ulp of q1: the backward error is 2⁻⁵² / (|1·z0| + |q1|) ≈ 2⁻⁵³.
     assert!((c.backward_error - eps / (2.0 + eps)).abs() < 1e-30, "{}", c.backward_error);
     assert!(c.certified_within(2e-16) && !c.certified_within(1e-16));
+    assert_eq!(c.natural_residual, eps);
     // 0.1 is not 1/10: M = [0.1], q = [−0.3] has z = fl(0.3)/fl(0.1) exactly,
     // which rounds to the nearest double of that ratio, not to 3.
     let p = lcp(&[0.1], &[-0.3]);
@@ -182,9 +186,11 @@ fn random_spd_lcps_certify() {
 
 /// Contact LCPs (DESIGN §1) at three sizes and three scales: how many of
 /// Lemke's bases certify exactly, and how large the backward error of the rest
-/// is. Measured: every rejection is a nonbasic `w_i` of about −1e-17 whose
-/// exact-data value is 0 (sticking friction rows, dependent normal rows), all
-/// within a relative change of `q` of a few ulps. Printed with `--nocapture`.
+/// is. Measured (150 seeds each): 89 % of the bases certify exactly at
+/// nc = 1, 85 % at nc = 2, 59 % at nc = 4, the same at every scale; every
+/// rejection is a `w_i` or `z_i` of about −1e-17 whose exact-data value is 0
+/// (sticking friction rows, dependent normal rows), with a backward error
+/// below 1e-15. Printed with `--nocapture`.
 #[test]
 fn contact_lcps_certify_up_to_round_off() {
     const SEEDS: u64 = 150;

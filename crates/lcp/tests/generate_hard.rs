@@ -272,16 +272,23 @@ fn deterministic_per_seed() {
 #[ignore]
 fn lemke_on_the_hard_corpus() {
     let count: usize = std::env::var("HARD_COUNT").ok().and_then(|v| v.parse().ok()).unwrap_or(2000);
+    let cert_max_n: usize = std::env::var("CERT_MAX_N").ok().and_then(|v| v.parse().ok()).unwrap_or(40);
     let opts = LemkeOptions::default();
     for scale in [1.0, 1e-2, 1e-3, 1e-4, 1e-6, 1e-8] {
         let corpus = hard_corpus(2026, count, scale);
         let t = std::time::Instant::now();
         let mut by_status: BTreeMap<&str, usize> = BTreeMap::new();
         let mut fails: BTreeMap<String, usize> = BTreeMap::new();
-        let (mut cert_tried, mut cert_exact, mut cert_round_off, mut worst_eta) = (0, 0, 0, 0.0f64);
+        let (mut cert_tried, mut cert_exact, mut worst_eta) = (0, 0, 0.0f64);
+        // Backward error buckets: ≤ 1e-14, ≤ 1e-12, ≤ 1e-9, larger.
+        let mut eta_buckets = [0usize; 4];
+        let (mut cert_time, mut cert_worst_time, mut cert_singular) = (0.0f64, 0.0f64, 0);
+        let mut lemke_time = 0.0f64;
         let mut first_fails = Vec::new();
         for (label, p) in &corpus {
+            let t_lemke = std::time::Instant::now();
             let sol = lemke::solve(p, &opts);
+            lemke_time += t_lemke.elapsed().as_secs_f64();
             let qn = p.q().iter().fold(0.0f64, |a, v| a.max(v.abs()));
             let ok = sol.status == Status::Solved && sol.residuals.natural <= 1e-9 * (1.0 + qn);
             *by_status.entry(if ok { "solved" } else { sol.status.as_str() }).or_insert(0) += 1;
@@ -292,19 +299,27 @@ fn lemke_on_the_hard_corpus() {
                     first_fails.push(format!("{label}: {:?} natural {:.2e}", sol.status, sol.residuals.natural));
                 }
             }
-            if let (true, Some(basis)) = (p.n() <= 40, sol.basis.as_ref()) {
+            if let (true, Some(basis)) = (p.n() <= cert_max_n, sol.basis.as_ref()) {
+                let t_cert = std::time::Instant::now();
                 let c = certify_against(p, basis, &sol.z);
+                let dt = t_cert.elapsed().as_secs_f64();
+                cert_time += dt;
+                cert_worst_time = cert_worst_time.max(dt);
+                cert_singular += (c.status == lcp::certify::CertStatus::Singular) as usize;
                 cert_tried += 1;
                 cert_exact += c.certified() as usize;
-                cert_round_off += c.certified_within(1e-14) as usize;
+                let bucket = [1e-14, 1e-12, 1e-9].iter().position(|&e| c.backward_error <= e).unwrap_or(3);
+                eta_buckets[bucket] += 1;
                 worst_eta = worst_eta.max(c.backward_error);
             }
         }
         println!(
-            "s = {scale:<6e} {count} LCPs in {:.1} s: {by_status:?}; failures by family {fails:?}; \
-             certified (n ≤ 40) {cert_exact}/{cert_tried} exactly, {cert_round_off}/{cert_tried} within η ≤ 1e-14 \
-             (worst η {worst_eta:.2e})",
-            t.elapsed().as_secs_f64()
+            "s = {scale:<6e} {count} LCPs in {:.1} s (Lemke {lemke_time:.2} s): {by_status:?}; failures by family \
+             {fails:?}; certified (n ≤ {cert_max_n}) {cert_exact}/{cert_tried} exactly, backward error η \
+             ≤1e-14/≤1e-12/≤1e-9/more {eta_buckets:?} (worst {worst_eta:.2e}), {cert_singular} singular; certify {cert_time:.2} s, worst \
+             {:.1} ms",
+            t.elapsed().as_secs_f64(),
+            cert_worst_time * 1e3
         );
         for f in &first_fails {
             println!("    {f}");
