@@ -6,6 +6,10 @@ Public API (the compiled module ``lcpsim._core`` is private)::
     from lcpsim import solve_lcp, solve_lcp_batch, lcp_residual
     res = solve_lcp(M, q)                 # Lemke, lexicographic pivoting
     res.ok, res.status, res.z, res.residual
+
+    from lcpsim import World, scenes, open_corpus
+    s = scenes.cube_on_slope(30.0, 0.5)   # a ready World plus metadata
+    traj = s.world.run(1000, capture="lcps.h5")
 """
 
 from __future__ import annotations
@@ -22,6 +26,10 @@ from .lcp import (
     solve_lcp,
     solve_lcp_batch,
 )
+from .world import NO_CONTACT, BodyState, LcpStats, Stabilization, StepRecord, Trajectory, World
+from . import scenes
+from .scenes import Scene
+from .corpus import Corpus, CorpusRecord, CorpusWriter, open_corpus
 
 __all__ = [
     "__version__",
@@ -34,4 +42,17 @@ __all__ = [
     "METHODS",
     "PIVOTINGS",
     "STATUSES",
+    "World",
+    "StepRecord",
+    "Trajectory",
+    "BodyState",
+    "Stabilization",
+    "LcpStats",
+    "NO_CONTACT",
+    "scenes",
+    "Scene",
+    "Corpus",
+    "CorpusRecord",
+    "CorpusWriter",
+    "open_corpus",
 ]

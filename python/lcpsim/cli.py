@@ -52,7 +52,10 @@ def register_command(command: Command) -> Command:
 
 
 def _configure_solve(p: argparse.ArgumentParser) -> None:
-    p.add_argument("file", help="LCP file: .npz with arrays M, q, or HDF5 (.h5) with datasets /M, /q")
+    p.add_argument(
+        "file", help="LCP file: .npz with arrays M, q, HDF5 (.h5) with datasets /M, /q, or an LCP corpus (with --index)"
+    )
+    p.add_argument("--index", type=int, default=None, metavar="K", help="problem K of an LCP corpus (lcpsim simulate --capture)")
     p.add_argument("--method", choices=METHODS, default="lemke", help="solver (default: lemke)")
     p.add_argument(
         "--pivoting", choices=PIVOTINGS, default="lexicographic", help="Lemke pivoting rule (default: lexicographic)"
@@ -86,7 +89,8 @@ def _summary(path: str, res: LcpResult, pivoting: str | None) -> str:
 def _run_solve(args: argparse.Namespace) -> int:
     from .io import load_lcp
 
-    M, q = load_lcp(args.file)
+    index = getattr(args, "index", None)
+    M, q = load_lcp(args.file, index)
     lemke = args.method == "lemke"
     kwargs = (
         dict(pivoting=args.pivoting, piv_tol=args.piv_tol, zero_tol=args.zero_tol, max_pivots=args.max_pivots)
@@ -96,11 +100,14 @@ def _run_solve(args: argparse.Namespace) -> int:
     res = solve_lcp(M, q, method=args.method, **kwargs)
     if args.json:
         out = {"file": args.file, "n": int(res.z.shape[0]), **res.to_dict()}
+        if index is not None:
+            out["index"] = index
         if lemke:
             out["pivoting"] = args.pivoting
         print(json.dumps(out))
     else:
-        print(_summary(args.file, res, args.pivoting if lemke else None))
+        name = args.file if index is None else f"{args.file} [{index}]"
+        print(_summary(name, res, args.pivoting if lemke else None))
     return EXIT_OK if res.ok else EXIT_NOT_SOLVED
 
 
@@ -162,6 +169,13 @@ def _run_demo(args: argparse.Namespace) -> int:
 register_command(
     Command("demo", "solve a small built-in contact LCP with each method", _configure_demo, _run_demo)
 )
+
+
+# ---------------------------------------------------------------- simulate
+
+from . import cli_simulate as _cli_simulate  # noqa: E402  (registers `simulate`)
+
+_ = _cli_simulate
 
 
 # ---------------------------------------------------------------- main

@@ -1,5 +1,6 @@
 """Reading and writing LCPs: ``.npz`` (arrays ``M``, ``q``) or HDF5 (datasets
-``/M``, ``/q``). Every problem with a file is a :class:`LcpFileError` (a
+``/M``, ``/q``), and single problems out of an LCP corpus (HDF5 written by
+:mod:`lcpsim.corpus`; choose the problem with ``index``). Every problem with a file is a :class:`LcpFileError` (a
 ``ValueError``) whose message names the file and what is wrong; a missing file
 is a :class:`FileNotFoundError`."""
 
@@ -116,18 +117,39 @@ def _validate(path: Path, M: Any, q: Any) -> tuple[NDArray[np.float64], NDArray[
     return M, q
 
 
-def load_lcp(path: str | os.PathLike[str]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Loads ``(M, q)`` as float64 arrays from an ``.npz`` or HDF5 file.
+def load_lcp(
+    path: str | os.PathLike[str], index: int | None = None
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Loads ``(M, q)`` as float64 arrays from an ``.npz`` or HDF5 file, or
+    problem ``index`` of an LCP corpus (:mod:`lcpsim.corpus`; negative counts
+    from the end). A corpus needs ``index``; a single-LCP file refuses one.
 
     Raises :class:`FileNotFoundError` if the file does not exist and
     :class:`LcpFileError` if it is not a valid LCP file (unreadable, missing
-    array, wrong shapes or dtype, non-finite entries)."""
+    array, wrong shapes or dtype, non-finite entries, bad index)."""
     p = Path(path)
     if not p.exists():
         raise FileNotFoundError(f"{path}: no such file")
     if p.is_dir():
         raise LcpFileError(f"{path}: is a directory, not an LCP file")
     fmt = file_format(p)
+    if fmt == "hdf5":
+        from . import corpus
+
+        if corpus.is_corpus(p):
+            try:
+                with corpus.open_corpus(p) as c:
+                    if index is None:
+                        raise LcpFileError(
+                            f"{path}: an LCP corpus of {len(c)} problems; choose one with an index "
+                            f"(lcpsim solve FILE --index K, K in 0..{len(c) - 1})"
+                        )
+                    rec = c[index]
+            except corpus.CorpusError as e:
+                raise LcpFileError(str(e)) from None
+            return _validate(p, rec.M, rec.q)
+    if index is not None:
+        raise LcpFileError(f"{path}: holds a single LCP, not a corpus (no index {index} to choose)")
     M, q = _read_npz(p) if fmt == "npz" else _read_hdf5(p)
     return _validate(p, M, q)
 

@@ -3,12 +3,13 @@
 //! Glue only — conversion, validation messages, GIL release — mirroring the
 //! core crates one module each: `problem` (numpy → `Lcp`), `method` (name +
 //! options → `Method`), `solution` (`Solution` → dict), `lcp` (the solver
-//! functions), `errors`. The simulator's bindings will live in `sim.rs`.
+//! functions), `errors`. `sim` (the simulator: `World`, scenes, LCP capture).
 
 mod errors;
 mod lcp;
 mod method;
 mod problem;
+mod sim;
 mod solution;
 
 use pyo3::prelude::*;
@@ -30,5 +31,14 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(lcp::solve_lcp_batch, m)?)?;
     m.add_function(wrap_pyfunction!(lcp::lcp_residual, m)?)?;
     m.add_function(wrap_pyfunction!(lcp::lcp_residuals, m)?)?;
+    // The simulator.
+    m.add_class::<sim::World>()?;
+    m.add_function(wrap_pyfunction!(sim::build_scene, m)?)?;
+    let scenes = PyDict::new(py);
+    for (name, params) in sim::SCENES {
+        scenes.set_item(name, params.to_vec())?;
+    }
+    m.add("SCENES", scenes)?;
+    m.add("MU_COMBINE", sim::MU_COMBINE.to_vec())?;
     Ok(())
 }

@@ -1,0 +1,658 @@
+//! Bindings of the `sim` crate: `World` (a `sim::World` behind a mutex, so the
+//! class is `Sync`), its step records and trajectories as dicts of numpy
+//! arrays, scenes (`sim/scenes.rs`) and LCP capture (`sim/capture.rs`).
+//!
+//! `run` releases the GIL; any `SimError` is a `ValueError` naming the field
+//! and value; a panic in the core is caught and becomes a `RuntimeError`.
+
+mod capture;
+mod convert;
+mod scenes;
+
+pub use scenes::{build_scene, SCENES};
+
+use crate::errors::{panic_error, value_error};
+use crate::method::method_from_py;
+use capture::{status_code, CaptureBuffer};
+use convert::{cone_scale, cone_scale_to_py, mat3, mu_combine_name, opt_vec3, quat, real, sim_error, vec3};
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use sim::contact::FrictionBasis;
+use sim::geometry::Shape;
+use sim::math::Vec3;
+use sim::{BodyDesc, BodyId, Plane, Restitution, Stabilization, StepRecord, Trajectory, WorldParams};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::Mutex;
+
+pub use convert::MU_COMBINE;
+
+/// Runs `f`, turning a panic into a `RuntimeError` and a `SimError` into a `ValueError`.
+fn guarded<T>(f: impl FnOnce() -> Result<T, sim::SimError>) -> PyResult<T> {
+    match catch_unwind(AssertUnwindSafe(f)) {
+        Ok(Ok(v)) => Ok(v),
+        Ok(Err(e)) => Err(sim_error(&e)),
+        Err(payload) => Err(panic_error(payload)),
+    }
+}
+
+/// A rigid-body world (see `lcpsim.World` for the documented wrapper).
+#[pyclass(module = "lcpsim._core", name = "World")]
+pub struct World {
+    world: Mutex<sim::World>,
+    /// The buffer the world's sink fills, while capturing (and after, until drained).
+    capture: Option<CaptureBuffer>,
+    capturing: bool,
+}
+
+impl World {
+    pub fn wrap(world: sim::World) -> World {
+        World { world: Mutex::new(world), capture: None, capturing: false }
+    }
+
+    fn inner(&mut self) -> &mut sim::World {
+        self.world.get_mut().unwrap_or_else(|e| e.into_inner())
+    }
+
+    fn shared(&self) -> std::sync::MutexGuard<'_, sim::World> {
+        self.world.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    pub fn params_clone(&self) -> WorldParams {
+        self.shared().params().clone()
+    }
+
+    fn add(&mut self, desc: BodyDesc) -> PyResult<usize> {
+        let w = self.inner();
+        guarded(|| w.add_body(desc)).map(|id| id.0)
+    }
+}
+
+/// Fills a body description's common fields from Python arguments.
+#[allow(clippy::too_many_arguments)]
+fn describe(
+    mut d: BodyDesc,
+    mass: &Bound<'_, PyAny>,
+    position: &Bound<'_, PyAny>,
+    orientation: &Bound<'_, PyAny>,
+    velocity: &Bound<'_, PyAny>,
+    angular_velocity: &Bound<'_, PyAny>,
+    mu: &Bound<'_, PyAny>,
+    is_static: bool,
+    inertia: Option<&Bound<'_, PyAny>>,
+) -> PyResult<BodyDesc> {
+    d = d
+        .mass(real(mass, "mass")?)
+        .position(vec3(position, "position")?)
+        .orientation(quat(orientation, "orientation")?)
+        .velocity(vec3(velocity, "velocity")?)
+        .angular_velocity(vec3(angular_velocity, "angular_velocity")?)
+        .mu(real(mu, "mu")?)
+        .fixed(is_static);
+    if let Some(i) = inertia.filter(|i| !i.is_none()) {
+        d = d.inertia(mat3(i, "inertia")?);
+    }
+    Ok(d)
+}
+
+fn arr3<'py>(py: Python<'py>, v: Vec3) -> Bound<'py, PyArray1<f64>> {
+    PyArray1::from_vec(py, v.to_array().to_vec())
+}
+
+/// A flat vector as a numpy array of shape `shape`.
+fn shaped<'py, const D: usize>(py: Python<'py>, v: Vec<f64>, shape: [usize; D]) -> PyResult<Bound<'py, PyAny>> {
+    Ok(PyArray1::from_vec(py, v).reshape(shape.to_vec())?.into_any())
+}
+
+/// One step record as a dict (see `lcpsim.world.StepRecord`).
+fn record_to_dict<'py>(py: Python<'py>, r: &StepRecord) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let nc = r.nc();
+    let k = r.friction_dirs;
+    d.set_item("step", r.step)?;
+    d.set_item("time", r.time)?;
+    d.set_item("dt", r.dt)?;
+    d.set_item("contacts", nc)?;
+    d.set_item("friction_dirs", k)?;
+    d.set_item("lcp_size", r.lcp_size)?;
+    d.set_item("scale", r.scale)?;
+    d.set_item("status", r.status.map(|s| s.as_str()))?;
+    d.set_item("iterations", r.iterations)?;
+    d.set_item("residual", r.residuals.natural)?;
+    d.set_item("min_z", r.residuals.min_z)?;
+    d.set_item("min_w", r.residuals.min_w)?;
+    d.set_item("max_complementarity", r.residuals.max_complementarity)?;
+    d.set_item("solver_residual", r.solver_residuals.natural)?;
+    d.set_item("zeroed", r.zeroed)?;
+    let has_z = r.z.len() == nc * (k + 2);
+    let z = if has_z { r.z.clone() } else { vec![0.0; nc * (k + 2)] };
+    d.set_item("fn", PyArray1::from_vec(py, z[..nc].to_vec()))?;
+    d.set_item("fd", shaped(py, z[nc..nc * (k + 1)].to_vec(), [nc, k])?)?;
+    d.set_item("lam", PyArray1::from_vec(py, z[nc * (k + 1)..].to_vec()))?;
+    d.set_item("z", PyArray1::from_vec(py, z))?;
+    d.set_item("w", PyArray1::from_vec(py, r.w.clone()))?;
+    let mut points = Vec::with_capacity(3 * nc);
+    let mut normals = Vec::with_capacity(3 * nc);
+    let mut tangents = Vec::with_capacity(3 * nc);
+    let mut friction = Vec::with_capacity(3 * nc);
+    let mut directions = Vec::with_capacity(3 * nc * k);
+    let basis = FrictionBasis::new(k.max(2));
+    for (i, c) in r.contacts.iter().enumerate() {
+        points.extend_from_slice(&c.point.to_array());
+        normals.extend_from_slice(&c.normal.to_array());
+        tangents.extend_from_slice(&c.tangent.to_array());
+        friction.extend_from_slice(&if has_z { r.friction_impulse(i) } else { Vec3::ZERO }.to_array());
+        for j in 0..k {
+            directions.extend_from_slice(&basis.direction(c.normal, c.tangent, j).to_array());
+        }
+    }
+    d.set_item("points", shaped(py, points, [nc, 3])?)?;
+    d.set_item("normals", shaped(py, normals, [nc, 3])?)?;
+    d.set_item("tangents", shaped(py, tangents, [nc, 3])?)?;
+    d.set_item("friction", shaped(py, friction, [nc, 3])?)?;
+    d.set_item("directions", shaped(py, directions, [nc, k, 3])?)?;
+    d.set_item("gaps", PyArray1::from_vec(py, r.contacts.iter().map(|c| c.gap).collect::<Vec<_>>()))?;
+    d.set_item("mu", PyArray1::from_vec(py, r.contacts.iter().map(|c| c.mu).collect::<Vec<_>>()))?;
+    d.set_item("body_a", PyArray1::from_vec(py, r.contacts.iter().map(|c| c.body_a as i64).collect::<Vec<_>>()))?;
+    d.set_item("body_b", PyArray1::from_vec(py, r.contacts.iter().map(|c| c.body_b as i64).collect::<Vec<_>>()))?;
+    match &r.basis {
+        Some(b) => d.set_item("basis", PyArray1::from_vec(py, b.clone()))?,
+        None => d.set_item("basis", py.None())?,
+    }
+    Ok(d)
+}
+
+/// Per-step extras gathered while running (beyond `sim::Trajectory`).
+#[derive(Default)]
+struct Extras {
+    normal_impulse: Vec<f64>,
+    friction_impulse: Vec<f64>,
+    max_lambda: Vec<f64>,
+    solver_residual: Vec<f64>,
+    status: Vec<i8>,
+}
+
+impl Extras {
+    fn push(&mut self, r: &StepRecord) {
+        let ok_z = r.z.len() == r.nc() * (r.friction_dirs + 2);
+        let (fnsum, fric, lam) = if ok_z && r.nc() > 0 {
+            let f = (0..r.nc()).map(|i| r.friction_impulse(i)).fold(Vec3::ZERO, |a, b| a + b);
+            (r.total_normal_impulse(), f, r.lambdas().iter().copied().fold(0.0, f64::max))
+        } else {
+            (0.0, Vec3::ZERO, 0.0)
+        };
+        self.normal_impulse.push(fnsum);
+        self.friction_impulse.extend_from_slice(&fric.to_array());
+        self.max_lambda.push(lam);
+        self.solver_residual.push(r.solver_residuals.natural);
+        self.status.push(r.status.map_or(-1, status_code));
+    }
+}
+
+fn trajectory_to_dict<'py>(py: Python<'py>, t: Trajectory, x: Extras) -> PyResult<Bound<'py, PyDict>> {
+    let (n, b) = (t.len(), t.bodies);
+    let d = PyDict::new(py);
+    d.set_item("time", PyArray1::from_vec(py, t.time))?;
+    d.set_item("position", shaped(py, t.position, [n, b, 3])?)?;
+    d.set_item("orientation", shaped(py, t.orientation, [n, b, 4])?)?;
+    d.set_item("velocity", shaped(py, t.velocity, [n, b, 3])?)?;
+    d.set_item("angular_velocity", shaped(py, t.angular_velocity, [n, b, 3])?)?;
+    d.set_item("contacts", PyArray1::from_vec(py, t.contacts.iter().map(|&c| c as i64).collect::<Vec<_>>()))?;
+    d.set_item("lcp_size", PyArray1::from_vec(py, t.lcp_size.iter().map(|&c| c as i64).collect::<Vec<_>>()))?;
+    d.set_item("status", PyArray1::from_vec(py, x.status))?;
+    d.set_item("iterations", PyArray1::from_vec(py, t.iterations.iter().map(|&c| c as i64).collect::<Vec<_>>()))?;
+    d.set_item("residual", PyArray1::from_vec(py, t.residual))?;
+    d.set_item("solver_residual", PyArray1::from_vec(py, x.solver_residual))?;
+    d.set_item("normal_impulse", PyArray1::from_vec(py, x.normal_impulse))?;
+    d.set_item("friction_impulse", shaped(py, x.friction_impulse, [n, 3])?)?;
+    d.set_item("max_lambda", PyArray1::from_vec(py, x.max_lambda))?;
+    Ok(d)
+}
+
+#[pymethods]
+impl World {
+    #[new]
+    #[pyo3(signature = (
+        dt = None, gravity = None, friction_dirs = None, cone_scale = None, method = "lemke",
+        margin = None, velocity_margin = true, erp = None, slop = None, speculative = true,
+        restitution = None, restitution_threshold = None, mu_combine = "min", mu_override = None,
+        **options
+    ))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        dt: Option<&Bound<'_, PyAny>>,
+        gravity: Option<&Bound<'_, PyAny>>,
+        friction_dirs: Option<&Bound<'_, PyAny>>,
+        cone_scale: Option<&Bound<'_, PyAny>>,
+        method: &str,
+        margin: Option<&Bound<'_, PyAny>>,
+        velocity_margin: bool,
+        erp: Option<&Bound<'_, PyAny>>,
+        slop: Option<&Bound<'_, PyAny>>,
+        speculative: bool,
+        restitution: Option<&Bound<'_, PyAny>>,
+        restitution_threshold: Option<&Bound<'_, PyAny>>,
+        mu_combine: &str,
+        mu_override: Option<&Bound<'_, PyAny>>,
+        options: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<World> {
+        let d = WorldParams::default();
+        let or = |v: Option<&Bound<'_, PyAny>>, name: &str, default: f64| -> PyResult<f64> {
+            v.filter(|v| !v.is_none()).map_or(Ok(default), |v| real(v, name))
+        };
+        let params = WorldParams {
+            dt: or(dt, "dt", d.dt)?,
+            gravity: opt_vec3(gravity, "gravity")?.unwrap_or(d.gravity),
+            friction_dirs: friction_dirs
+                .filter(|v| !v.is_none())
+                .map_or(Ok(d.friction_dirs), |v| convert::count(v, "friction_dirs"))?,
+            cone_scale: convert::cone_scale(cone_scale)?,
+            margin: or(margin, "margin", d.margin)?,
+            velocity_margin,
+            stabilization: Stabilization {
+                erp: or(erp, "erp", d.stabilization.erp)?,
+                slop: or(slop, "slop", d.stabilization.slop)?,
+                speculative,
+            },
+            restitution: Restitution {
+                coefficient: or(restitution, "restitution", d.restitution.coefficient)?,
+                threshold: or(restitution_threshold, "restitution_threshold", d.restitution.threshold)?,
+            },
+            mu_combine: convert::mu_combine(mu_combine)?,
+            mu_override: mu_override.filter(|m| !m.is_none()).map(|m| real(m, "mu_override")).transpose()?,
+            method: method_from_py(method, options)?,
+        };
+        guarded(|| sim::World::new(params)).map(World::wrap)
+    }
+
+    /// The parameters as a dict (cone_scale: "none", "dt" or the number).
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let p = self.params_clone();
+        let d = PyDict::new(py);
+        d.set_item("dt", p.dt)?;
+        d.set_item("gravity", p.gravity.to_array().to_vec())?;
+        d.set_item("friction_dirs", p.friction_dirs)?;
+        d.set_item("cone_scale", cone_scale_to_py(py, p.cone_scale)?)?;
+        d.set_item("scale", p.scale())?;
+        d.set_item("margin", p.margin)?;
+        d.set_item("velocity_margin", p.velocity_margin)?;
+        d.set_item("erp", p.stabilization.erp)?;
+        d.set_item("slop", p.stabilization.slop)?;
+        d.set_item("speculative", p.stabilization.speculative)?;
+        d.set_item("restitution", p.restitution.coefficient)?;
+        d.set_item("restitution_threshold", p.restitution.threshold)?;
+        d.set_item("mu_combine", mu_combine_name(p.mu_combine))?;
+        d.set_item("mu_override", p.mu_override)?;
+        d.set_item("method", p.method.name())?;
+        d.set_item("method_config", format!("{:?}", p.method))?;
+        Ok(d)
+    }
+
+    /// Replaces the solver (name + options as in `solve_lcp`).
+    #[pyo3(signature = (method = "lemke", **options))]
+    fn set_method(&mut self, method: &str, options: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+        let m = method_from_py(method, options)?;
+        self.inner().set_method(m);
+        Ok(())
+    }
+
+    /// Replaces the friction-cone scale (None, "dt" or a number > 0).
+    #[pyo3(signature = (scale = None))]
+    fn set_cone_scale(&mut self, scale: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let s = cone_scale(scale)?;
+        let w = self.inner();
+        let p = WorldParams { cone_scale: s, ..w.params().clone() };
+        guarded(|| w.set_params(p))
+    }
+
+    /// A copy of the state and parameters (without any LCP capture).
+    fn copy(&self) -> World {
+        World::wrap(self.shared().clone())
+    }
+
+    #[getter]
+    fn time(&self) -> f64 {
+        self.shared().time()
+    }
+
+    #[getter]
+    fn steps(&self) -> u64 {
+        self.shared().steps()
+    }
+
+    #[getter]
+    fn body_count(&self) -> usize {
+        self.shared().body_count()
+    }
+
+    /// Kinetic + gravitational potential energy (J).
+    fn energy(&self) -> f64 {
+        self.shared().energy()
+    }
+
+    // ----- bodies -----
+
+    #[pyo3(signature = (half_extents, mass = None, position = None, orientation = None, velocity = None,
+                        angular_velocity = None, mu = None, is_static = false, inertia = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_box(
+        &mut self,
+        py: Python<'_>,
+        half_extents: &Bound<'_, PyAny>,
+        mass: Option<&Bound<'_, PyAny>>,
+        position: Option<&Bound<'_, PyAny>>,
+        orientation: Option<&Bound<'_, PyAny>>,
+        velocity: Option<&Bound<'_, PyAny>>,
+        angular_velocity: Option<&Bound<'_, PyAny>>,
+        mu: Option<&Bound<'_, PyAny>>,
+        is_static: bool,
+        inertia: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        let he = vec3(half_extents, "half_extents")?;
+        let d = body_args(py, BodyDesc::cuboid(he), mass, position, orientation, velocity, angular_velocity, mu, is_static, inertia)?;
+        self.add(d)
+    }
+
+    #[pyo3(signature = (radius, mass = None, position = None, orientation = None, velocity = None,
+                        angular_velocity = None, mu = None, is_static = false, inertia = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_sphere(
+        &mut self,
+        py: Python<'_>,
+        radius: &Bound<'_, PyAny>,
+        mass: Option<&Bound<'_, PyAny>>,
+        position: Option<&Bound<'_, PyAny>>,
+        orientation: Option<&Bound<'_, PyAny>>,
+        velocity: Option<&Bound<'_, PyAny>>,
+        angular_velocity: Option<&Bound<'_, PyAny>>,
+        mu: Option<&Bound<'_, PyAny>>,
+        is_static: bool,
+        inertia: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        let r = real(radius, "radius")?;
+        let d = body_args(py, BodyDesc::sphere(r), mass, position, orientation, velocity, angular_velocity, mu, is_static, inertia)?;
+        self.add(d)
+    }
+
+    /// A static plane `normal·x = offset` (normal normalized; the solid is below it).
+    /// `tangent` sets the first friction direction (projected into the plane).
+    #[pyo3(signature = (normal, offset = None, mu = None, tangent = None))]
+    fn add_plane(
+        &mut self,
+        normal: &Bound<'_, PyAny>,
+        offset: Option<&Bound<'_, PyAny>>,
+        mu: Option<&Bound<'_, PyAny>>,
+        tangent: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        let n = vec3(normal, "normal")?;
+        let off = offset.map(|o| real(o, "offset")).transpose()?.unwrap_or(0.0);
+        let mu = mu.map(|m| real(m, "mu")).transpose()?.unwrap_or(0.5);
+        let t = opt_vec3(tangent, "tangent")?;
+        let w = self.inner();
+        guarded(|| {
+            let mut p = Plane::new(n, off)?;
+            if let Some(t) = t {
+                p = p.with_friction_tangent(t)?;
+            }
+            w.add_plane(p, mu)
+        })
+        .map(|id| id.0)
+    }
+
+    /// A static slope through `(0, 0, offset)`-shifted origin at `angle_deg`
+    /// descending towards `downhill` ("+x" or "-x"); its first friction
+    /// direction is the downhill direction, turned by `tangent_angle` (rad) about the normal.
+    #[pyo3(signature = (angle_deg, mu = None, downhill = "+x", offset = None, tangent_angle = None))]
+    fn add_slope(
+        &mut self,
+        angle_deg: &Bound<'_, PyAny>,
+        mu: Option<&Bound<'_, PyAny>>,
+        downhill: &str,
+        offset: Option<&Bound<'_, PyAny>>,
+        tangent_angle: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        let a = convert::angle_deg(real(angle_deg, "angle_deg")?)?;
+        let mu = mu.map(|m| real(m, "mu")).transpose()?.unwrap_or(0.5);
+        let side = convert::downhill(downhill)?;
+        let off = offset.map(|o| real(o, "offset")).transpose()?.unwrap_or(0.0);
+        let ta = tangent_angle.map(|o| real(o, "tangent_angle")).transpose()?.unwrap_or(0.0);
+        if !ta.is_finite() {
+            return Err(value_error(format!("tangent_angle must be finite, got {}", crate::errors::py_float(ta))));
+        }
+        let w = self.inner();
+        guarded(|| {
+            let mut p = Plane::slope_deg(a, side)?.with_offset(off)?;
+            if ta != 0.0 {
+                let t = sim::math::Quat::from_axis_angle(p.normal(), ta).rotate(p.friction_tangent());
+                p = p.with_friction_tangent(t)?;
+            }
+            w.add_plane(p, mu)
+        })
+        .map(|id| id.0)
+    }
+
+    /// A body's description and state as a dict.
+    fn body<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyDict>> {
+        let w = self.shared();
+        let b = w.body(BodyId(index)).map_err(|e| sim_error(&e))?;
+        let d = PyDict::new(py);
+        d.set_item("index", index)?;
+        d.set_item("kind", b.shape().kind())?;
+        d.set_item("is_static", b.is_static())?;
+        d.set_item("mass", b.mass())?;
+        d.set_item("mu", b.mu())?;
+        d.set_item("position", arr3(py, b.position()))?;
+        d.set_item("orientation", PyArray1::from_vec(py, b.orientation().to_array().to_vec()))?;
+        d.set_item("velocity", arr3(py, b.velocity()))?;
+        d.set_item("angular_velocity", arr3(py, b.angular_velocity()))?;
+        let i = b.inertia();
+        d.set_item("inertia", shaped(py, i.m.iter().flatten().copied().collect(), [3, 3])?)?;
+        match b.shape() {
+            Shape::Box(x) => d.set_item("half_extents", arr3(py, x.half_extents))?,
+            Shape::Sphere { radius } => d.set_item("radius", *radius)?,
+            Shape::Plane(p) => {
+                d.set_item("normal", arr3(py, p.normal()))?;
+                d.set_item("offset", p.offset())?;
+                d.set_item("tangent", arr3(py, p.friction_tangent()))?;
+                d.set_item("downhill", p.downhill().map(|v| arr3(py, v)))?;
+            }
+        }
+        Ok(d)
+    }
+
+    /// Positions (B, 3), orientations (B, 4), velocities (B, 3), angular velocities (B, 3).
+    fn state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let w = self.shared();
+        let nb = w.body_count();
+        let (mut p, mut q, mut v, mut o) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for b in w.bodies() {
+            p.extend_from_slice(&b.position().to_array());
+            q.extend_from_slice(&b.orientation().to_array());
+            v.extend_from_slice(&b.velocity().to_array());
+            o.extend_from_slice(&b.angular_velocity().to_array());
+        }
+        let d = PyDict::new(py);
+        d.set_item("position", shaped(py, p, [nb, 3])?)?;
+        d.set_item("orientation", shaped(py, q, [nb, 4])?)?;
+        d.set_item("velocity", shaped(py, v, [nb, 3])?)?;
+        d.set_item("angular_velocity", shaped(py, o, [nb, 3])?)?;
+        d.set_item("is_static", w.bodies().iter().map(|b| b.is_static()).collect::<Vec<_>>())?;
+        Ok(d)
+    }
+
+    fn set_position(&mut self, body: usize, position: &Bound<'_, PyAny>) -> PyResult<()> {
+        let p = vec3(position, "position")?;
+        let w = self.inner();
+        guarded(|| w.set_position(BodyId(body), p))
+    }
+
+    fn set_orientation(&mut self, body: usize, orientation: &Bound<'_, PyAny>) -> PyResult<()> {
+        let q = quat(orientation, "orientation")?;
+        let w = self.inner();
+        guarded(|| w.set_orientation(BodyId(body), q))
+    }
+
+    fn set_velocity(&mut self, body: usize, velocity: &Bound<'_, PyAny>) -> PyResult<()> {
+        let v = vec3(velocity, "velocity")?;
+        let w = self.inner();
+        guarded(|| w.set_velocity(BodyId(body), v))
+    }
+
+    fn set_angular_velocity(&mut self, body: usize, angular_velocity: &Bound<'_, PyAny>) -> PyResult<()> {
+        let v = vec3(angular_velocity, "angular_velocity")?;
+        let w = self.inner();
+        guarded(|| w.set_angular_velocity(BodyId(body), v))
+    }
+
+    fn set_mu(&mut self, body: usize, mu: &Bound<'_, PyAny>) -> PyResult<()> {
+        let m = real(mu, "mu")?;
+        let w = self.inner();
+        guarded(|| w.set_mu(BodyId(body), m))
+    }
+
+    // ----- forces -----
+
+    /// A constant force (world frame, N); `point` relative to the centre of
+    /// mass in the body frame (None: at the centre of mass).
+    #[pyo3(signature = (body, force, point = None))]
+    fn apply_force(&mut self, body: usize, force: &Bound<'_, PyAny>, point: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+        let f = vec3(force, "force")?;
+        let p = opt_vec3(point, "point")?;
+        let w = self.inner();
+        guarded(|| w.apply_force(BodyId(body), f, p))
+    }
+
+    /// A constant torque (world frame, N·m).
+    fn apply_torque(&mut self, body: usize, torque: &Bound<'_, PyAny>) -> PyResult<()> {
+        let t = vec3(torque, "torque")?;
+        let w = self.inner();
+        guarded(|| w.apply_torque(BodyId(body), t))
+    }
+
+    fn clear_forces(&mut self) {
+        self.inner().clear_forces();
+    }
+
+    // ----- stepping -----
+
+    /// One step; returns its record as a dict.
+    fn step<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let w = self.inner();
+        let rec = guarded(|| w.step().map(|r| r.clone()))?;
+        record_to_dict(py, &rec)
+    }
+
+    /// The record of the last step.
+    fn last_record<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        record_to_dict(py, self.shared().last_record())
+    }
+
+    /// Runs up to `steps` steps with the GIL released and returns the
+    /// trajectory as a dict of arrays. Stops early (after at least one step)
+    /// once the LCP capture holds `max_capture_bytes`, so the caller can drain it.
+    #[pyo3(signature = (steps, max_capture_bytes = None))]
+    fn run<'py>(&mut self, py: Python<'py>, steps: usize, max_capture_bytes: Option<usize>) -> PyResult<Bound<'py, PyDict>> {
+        let capture = self.capture.clone();
+        let limit = max_capture_bytes.filter(|_| self.capturing);
+        let w = self.inner();
+        let out = py.detach(|| {
+            catch_unwind(AssertUnwindSafe(|| {
+                let mut traj = Trajectory::with_capacity(steps, w.body_count());
+                let mut extras = Extras::default();
+                for _ in 0..steps {
+                    if let Err(e) = w.step() {
+                        return (traj, extras, Some(e));
+                    }
+                    traj.push(w);
+                    extras.push(w.last_record());
+                    if let (Some(lim), Some(c)) = (limit, capture.as_ref()) {
+                        if c.lock().bytes() >= lim {
+                            break;
+                        }
+                    }
+                }
+                (traj, extras, None)
+            }))
+        });
+        match out {
+            Err(payload) => Err(panic_error(payload)),
+            Ok((_, _, Some(e))) => Err(value_error(format!("step {}: {e}", self.shared().steps()))),
+            Ok((traj, extras, None)) => trajectory_to_dict(py, traj, extras),
+        }
+    }
+
+    // ----- LCP capture -----
+
+    /// Starts capturing every solved LCP into a buffer (see `drain_capture`).
+    fn start_capture(&mut self) {
+        let buf = CaptureBuffer::default();
+        self.capture = Some(buf.clone());
+        self.capturing = true;
+        self.inner().set_sink(Box::new(buf));
+    }
+
+    /// Stops capturing (whatever is still buffered stays drainable).
+    fn stop_capture(&mut self) {
+        self.capturing = false;
+        self.inner().take_sink();
+    }
+
+    #[getter]
+    fn capturing(&self) -> bool {
+        self.capturing
+    }
+
+    /// LCPs waiting in the capture buffer.
+    fn captured_count(&self) -> usize {
+        self.capture.as_ref().map_or(0, |c| c.lock().len())
+    }
+
+    /// Takes the captured LCPs: a dict with flat `M`, `q`, `z`, `w` (problems
+    /// concatenated) and per-problem `n`, `step`, `time`, `contacts`,
+    /// `friction_dirs`, `scale`, `status` (index into STATUSES),
+    /// `iterations`, `method`.
+    fn drain_capture<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let buf = self.capture.clone().unwrap_or_default();
+        buf.drain(py)
+    }
+
+    fn __repr__(&self) -> String {
+        let w = self.shared();
+        format!("World(bodies={}, steps={}, time={})", w.body_count(), w.steps(), w.time())
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn body_args(
+    py: Python<'_>,
+    d: BodyDesc,
+    mass: Option<&Bound<'_, PyAny>>,
+    position: Option<&Bound<'_, PyAny>>,
+    orientation: Option<&Bound<'_, PyAny>>,
+    velocity: Option<&Bound<'_, PyAny>>,
+    angular_velocity: Option<&Bound<'_, PyAny>>,
+    mu: Option<&Bound<'_, PyAny>>,
+    is_static: bool,
+    inertia: Option<&Bound<'_, PyAny>>,
+) -> PyResult<BodyDesc> {
+    let one = 1.0f64.into_pyobject(py)?.into_any();
+    let half = 0.5f64.into_pyobject(py)?.into_any();
+    let zero3 = (0.0f64, 0.0f64, 0.0f64).into_pyobject(py)?.into_any();
+    let ident = (1.0f64, 0.0f64, 0.0f64, 0.0f64).into_pyobject(py)?.into_any();
+    describe(
+        d,
+        &pick(mass, &one),
+        &pick(position, &zero3),
+        &pick(orientation, &ident),
+        &pick(velocity, &zero3),
+        &pick(angular_velocity, &zero3),
+        &pick(mu, &half),
+        is_static,
+        inertia,
+    )
+}
+
+/// `o` unless it is missing or None, else `default`.
+fn pick<'py>(o: Option<&Bound<'py, PyAny>>, default: &Bound<'py, PyAny>) -> Bound<'py, PyAny> {
+    o.filter(|v| !v.is_none()).cloned().unwrap_or_else(|| default.clone())
+}

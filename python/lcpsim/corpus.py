@@ -1,0 +1,595 @@
+"""LCP corpora: every LCP a simulation solves, streamed to an HDF5 file.
+
+::
+
+    from lcpsim import scenes, open_corpus
+    s = scenes.cube_on_slope(45.2, 1.0, cone_scale="dt")
+    s.world.run(2000, capture="slope.h5")         # streams every LCP to slope.h5
+    with open_corpus("slope.h5") as c:
+        print(len(c), c.metadata["scene"])
+        for rec in c:                              # constant memory
+            rec.M, rec.q, rec.z, rec.w, rec.status, rec.scale, rec.step
+    M, q = load_lcp("slope.h5", 3)                 # or: lcpsim solve slope.h5 --index 3
+
+The layout (documented in ``docs/corpus.md``) is a handful of growing 1-D
+datasets — the problems concatenated, plus an index with one row per LCP —
+written in HDF5's single-writer/multiple-reader (SWMR) mode and flushed after
+every chunk, so that a run killed at any moment leaves a file that opens and
+holds every LCP up to the last flush. ``M``, ``q``, ``z``, ``w`` are exactly
+what the solver saw and returned: the *scaled* LCP (``D M D``, ``D q`` with
+``D = diag(I, I, s·I)``, DESIGN §1); :meth:`CorpusRecord.unscaled` undoes it.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Iterator, Mapping
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from . import _core
+
+__all__ = [
+    "FORMAT",
+    "FORMAT_VERSION",
+    "CorpusError",
+    "CorpusWriter",
+    "CorpusRecord",
+    "Corpus",
+    "open_corpus",
+    "load_lcp",
+    "is_corpus",
+]
+
+#: Value of the root attribute ``format``.
+FORMAT = "lcpsim-corpus"
+#: Value of the root attribute ``format_version``.
+FORMAT_VERSION = 1
+#: Solver names, indexed by ``/index/method``.
+METHOD_NAMES: tuple[str, ...] = (*_core.METHODS, "custom")
+
+# name → (dtype, chunk length) of the per-LCP index datasets; `n` is written
+# last and its length is the number of complete records.
+_INDEX: dict[str, tuple[str, int]] = {
+    "m_offset": ("i8", 4096),
+    "v_offset": ("i8", 4096),
+    "step": ("i8", 4096),
+    "time": ("f8", 4096),
+    "contacts": ("i4", 4096),
+    "friction_dirs": ("i4", 4096),
+    "scale": ("f8", 4096),
+    "status": ("i1", 4096),
+    "pivots": ("i8", 4096),
+    "method": ("i1", 4096),
+    "run": ("i4", 4096),
+    "n": ("i4", 4096),
+}
+_DATA = {"M": 1 << 16, "q": 1 << 12, "z": 1 << 12, "w": 1 << 12}
+
+
+class CorpusError(ValueError):
+    """A file that is not a readable LCP corpus, or a bad record index."""
+
+
+def _h5py() -> Any:
+    import h5py  # type: ignore[import-untyped]
+
+    return h5py
+
+
+def _open_read(path: Path) -> Any:
+    """Opens an HDF5 file for reading, also one whose writer died without
+    closing it (SWMR read mode ignores the 'file is open for writing' flag)."""
+    h5py = _h5py()
+    try:
+        return h5py.File(path, "r", libver="latest", swmr=True)
+    except OSError:
+        pass
+    try:
+        return h5py.File(path, "r")
+    except OSError as e:
+        raise CorpusError(f"{path}: not a readable HDF5 file ({e})") from None
+
+
+def _append(ds: Any, values: NDArray[Any]) -> None:
+    if values.size == 0:
+        return
+    n0 = ds.shape[0]
+    ds.resize((n0 + values.shape[0],))
+    ds[n0:] = values
+
+
+class CorpusWriter:
+    """Streams LCPs to an HDF5 corpus (constant memory; see ``docs/corpus.md``).
+
+    ``metadata`` (JSON-ready: scene, config, seed, …) is stored once for the
+    file; :meth:`begin_run` adds a run with its own metadata, and the LCPs
+    appended after it carry its number. :meth:`flush` makes everything written
+    so far durable: a crash after it leaves a readable file. Use as a context
+    manager or call :meth:`close`.
+    """
+
+    def __init__(
+        self,
+        path: str | os.PathLike[str],
+        metadata: Mapping[str, Any] | None = None,
+        *,
+        compression: str | None = None,
+    ) -> None:
+        from . import __version__
+
+        h5py = _h5py()
+        self.path = Path(path)
+        self._f = h5py.File(self.path, "w", libver="latest")
+        f = self._f
+        f.attrs["format"] = FORMAT
+        f.attrs["format_version"] = FORMAT_VERSION
+        f.attrs["lcpsim_version"] = __version__
+        f.attrs["created"] = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+        f.attrs["metadata"] = json.dumps(_jsonable(dict(metadata or {})))
+        f.attrs["status_names"] = json.dumps(list(_core.STATUSES))
+        f.attrs["method_names"] = json.dumps(list(METHOD_NAMES))
+        kw: dict[str, Any] = {"compression": compression} if compression else {}
+        data = f.create_group("data")
+        self._data = {
+            k: data.create_dataset(k, shape=(0,), maxshape=(None,), chunks=(c,), dtype="f8", **kw)
+            for k, c in _DATA.items()
+        }
+        index = f.create_group("index")
+        self._index = {
+            k: index.create_dataset(k, shape=(0,), maxshape=(None,), chunks=(c,), dtype=t)
+            for k, (t, c) in _INDEX.items()
+        }
+        runs = f.create_group("runs")
+        self._runs = {
+            "json": runs.create_dataset("json", shape=(0,), maxshape=(None,), chunks=(4096,), dtype="u1"),
+            "offset": runs.create_dataset("offset", shape=(0,), maxshape=(None,), chunks=(256,), dtype="i8"),
+            "length": runs.create_dataset("length", shape=(0,), maxshape=(None,), chunks=(256,), dtype="i8"),
+        }
+        # From here on the file's structure is fixed and every write keeps it readable.
+        f.swmr_mode = True
+        self._count = 0
+        self._m_end = 0
+        self._v_end = 0
+        self._run = -1
+        self._run_bytes = 0
+        self._closed = False
+
+    def __len__(self) -> int:
+        """LCPs written."""
+        return self._count
+
+    @property
+    def runs(self) -> int:
+        return self._run + 1
+
+    def begin_run(self, metadata: Mapping[str, Any] | None = None) -> int:
+        """Starts a new run (its metadata stored as JSON); returns its number."""
+        self._check_open()
+        blob = np.frombuffer(json.dumps(_jsonable(dict(metadata or {}))).encode(), dtype=np.uint8)
+        _append(self._runs["json"], blob)
+        _append(self._runs["offset"], np.array([self._run_bytes], dtype=np.int64))
+        _append(self._runs["length"], np.array([blob.size], dtype=np.int64))
+        self._run_bytes += blob.size
+        self._run += 1
+        return self._run
+
+    def append(self, captured: Mapping[str, Any]) -> int:
+        """Appends a batch of LCPs in the compiled module's capture layout:
+        flat ``M``, ``q``, ``z``, ``w`` (problems concatenated) and per-problem
+        ``n``, ``step``, ``time``, ``contacts``, ``friction_dirs``, ``scale``,
+        ``status`` (index into :data:`lcpsim.STATUSES`), ``iterations``,
+        ``method`` (names). Returns the number appended."""
+        self._check_open()
+        n = np.asarray(captured["n"], dtype=np.int64)
+        b = int(n.size)
+        if b == 0:
+            return 0
+        if self._run < 0:
+            self.begin_run({})
+        M = np.asarray(captured["M"], dtype=np.float64)
+        q = np.asarray(captured["q"], dtype=np.float64)
+        z = np.asarray(captured["z"], dtype=np.float64)
+        w = np.asarray(captured["w"], dtype=np.float64)
+        sq, lin = int((n * n).sum()), int(n.sum())
+        if M.shape != (sq,) or q.shape != (lin,) or z.shape != (lin,) or w.shape != (lin,):
+            raise CorpusError(
+                f"inconsistent batch: n sums to {lin} (n² to {sq}) but M, q, z, w have "
+                f"{M.shape}, {q.shape}, {z.shape}, {w.shape} values"
+            )
+        m_off = self._m_end + np.concatenate([[0], np.cumsum(n * n)[:-1]])
+        v_off = self._v_end + np.concatenate([[0], np.cumsum(n)[:-1]])
+        methods = captured.get("method")
+        codes = np.array(
+            [METHOD_NAMES.index(m) if m in METHOD_NAMES else len(METHOD_NAMES) - 1 for m in methods]
+            if methods is not None
+            else [len(METHOD_NAMES) - 1] * b,
+            dtype=np.int8,
+        )
+        # Data first, then the index, `n` last: a reader counts only complete records.
+        for key, arr in (("M", M), ("q", q), ("z", z), ("w", w)):
+            _append(self._data[key], arr)
+        rows: dict[str, NDArray[Any]] = {
+            "m_offset": m_off,
+            "v_offset": v_off,
+            "step": np.asarray(captured.get("step", np.full(b, -1)), dtype=np.int64),
+            "time": np.asarray(captured.get("time", np.full(b, np.nan)), dtype=np.float64),
+            "contacts": np.asarray(captured.get("contacts", np.zeros(b)), dtype=np.int32),
+            "friction_dirs": np.asarray(captured.get("friction_dirs", np.zeros(b)), dtype=np.int32),
+            "scale": np.asarray(captured.get("scale", np.ones(b)), dtype=np.float64),
+            "status": np.asarray(captured["status"], dtype=np.int8),
+            "pivots": np.asarray(captured.get("iterations", np.zeros(b)), dtype=np.int64),
+            "method": codes,
+            "run": np.full(b, self._run, dtype=np.int32),
+            "n": n.astype(np.int32),
+        }
+        for key in _INDEX:
+            _append(self._index[key], rows[key])
+        self._m_end += sq
+        self._v_end += lin
+        self._count += b
+        return b
+
+    def add(
+        self,
+        M: ArrayLike,
+        q: ArrayLike,
+        z: ArrayLike | None = None,
+        w: ArrayLike | None = None,
+        *,
+        status: str = "solved",
+        scale: float = 1.0,
+        step: int = -1,
+        time: float = float("nan"),
+        contacts: int = 0,
+        friction_dirs: int = 0,
+        pivots: int = 0,
+        method: str = "custom",
+    ) -> int:
+        """Appends one LCP (z, w default to NaN when not known); returns its index."""
+        M_ = np.asarray(M, dtype=np.float64)
+        q_ = np.asarray(q, dtype=np.float64).ravel()
+        n = q_.size
+        if M_.shape != (n, n):
+            raise CorpusError(f"M has shape {M_.shape} but q has length {n}")
+        z_ = np.full(n, np.nan) if z is None else np.asarray(z, dtype=np.float64).ravel()
+        w_ = np.full(n, np.nan) if w is None else np.asarray(w, dtype=np.float64).ravel()
+        if z_.size != n or w_.size != n:
+            raise CorpusError(f"z and w must have length {n}, got {z_.size} and {w_.size}")
+        if status not in _core.STATUSES:
+            raise CorpusError(f"unknown status {status!r} (valid: {', '.join(_core.STATUSES)})")
+        self.append(
+            {
+                "M": M_.ravel(),
+                "q": q_,
+                "z": z_,
+                "w": w_,
+                "n": [n],
+                "step": [step],
+                "time": [time],
+                "contacts": [contacts],
+                "friction_dirs": [friction_dirs],
+                "scale": [scale],
+                "status": [_core.STATUSES.index(status)],
+                "iterations": [pivots],
+                "method": [method],
+            }
+        )
+        return self._count - 1
+
+    def flush(self) -> None:
+        """Makes everything written so far durable and visible to readers."""
+        self._check_open()
+        self._f.flush()
+
+    def close(self) -> None:
+        if not self._closed:
+            self._closed = True
+            self._f.close()
+
+    def _check_open(self) -> None:
+        if self._closed:
+            raise CorpusError(f"{self.path}: corpus writer is closed")
+
+    def __enter__(self) -> "CorpusWriter":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
+
+
+@dataclass(frozen=True)
+class CorpusRecord:
+    """One LCP of a corpus: exactly what the solver saw (the scaled LCP) and returned."""
+
+    index: int
+    M: NDArray[np.float64]
+    q: NDArray[np.float64]
+    z: NDArray[np.float64]
+    w: NDArray[np.float64]
+    status: str
+    scale: float
+    step: int
+    time: float
+    contacts: int
+    friction_dirs: int
+    pivots: int
+    method: str
+    run: int
+
+    @property
+    def n(self) -> int:
+        return int(self.q.shape[0])
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "solved"
+
+    def _lambda_rows(self) -> slice | None:
+        nc, k = self.contacts, self.friction_dirs
+        if nc > 0 and k > 0 and nc * (k + 2) == self.n:
+            return slice(nc * (k + 1), self.n)
+        return None
+
+    def unscaled(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The unscaled LCP ``(D⁻¹ M D⁻¹, D⁻¹ q)`` with ``D = diag(I, I, s·I)`` (s = ``scale``);
+        ``(M, q)`` itself when s = 1 or the layout is not the contact LCP's."""
+        lam = self._lambda_rows()
+        if lam is None or self.scale == 1.0:
+            return self.M, self.q
+        d = np.ones(self.n)
+        d[lam] = 1.0 / self.scale
+        return self.M * d[:, None] * d[None, :], self.q * d
+
+    def physical_z(self) -> NDArray[np.float64]:
+        """``z`` with λ mapped back to physical units (``λ = s·λ_scaled``)."""
+        lam = self._lambda_rows()
+        z = self.z.copy()
+        if lam is not None:
+            z[lam] *= self.scale
+        return z
+
+
+class Corpus:
+    """A corpus opened for reading (see :func:`open_corpus`).
+
+    ``len(c)`` LCPs; ``c[i]`` is a :class:`CorpusRecord`; iterating reads the
+    data in blocks (bounded memory). The per-LCP index is loaded at once as
+    arrays: ``c.n``, ``c.step``, ``c.time``, ``c.contacts``, ``c.scale``,
+    ``c.status`` (strings), ``c.pivots``, ``c.method`` (strings), ``c.run``.
+    ``c.metadata`` is the file's metadata, ``c.runs`` each run's.
+    """
+
+    def __init__(self, path: str | os.PathLike[str]) -> None:
+        self.path = Path(path)
+        if not self.path.exists():
+            raise FileNotFoundError(f"{path}: no such file")
+        f = _open_read(self.path)
+        self._f = f
+        try:
+            if f.attrs.get("format") != FORMAT:
+                raise CorpusError(f"{path}: not an lcpsim LCP corpus (no root attribute format={FORMAT!r})")
+            version = int(f.attrs.get("format_version", 0))
+            if version > FORMAT_VERSION:
+                raise CorpusError(f"{path}: corpus format version {version} is newer than this lcpsim reads")
+            self.format_version = version
+            self.lcpsim_version = str(f.attrs.get("lcpsim_version", ""))
+            self.created = str(f.attrs.get("created", ""))
+            self.metadata: dict[str, Any] = json.loads(f.attrs.get("metadata", "{}"))
+            self.status_names: list[str] = json.loads(f.attrs["status_names"])
+            self.method_names: list[str] = json.loads(f.attrs["method_names"])
+            idx = {k: f["index"][k][()] for k in _INDEX}
+            data_len = {k: f["data"][k].shape[0] for k in _DATA}
+            # Complete records only: as many as every index dataset holds and
+            # whose data lies within the data written.
+            count = min(v.shape[0] for v in idx.values())
+            idx = {k: v[:count] for k, v in idx.items()}
+            n = idx["n"].astype(np.int64)
+            m_end = idx["m_offset"] + n * n
+            v_end = idx["v_offset"] + n
+            ok = (m_end <= data_len["M"]) & (v_end <= min(data_len["q"], data_len["z"], data_len["w"]))
+            if not ok.all():
+                count = int(np.argmin(ok))
+                idx = {k: v[:count] for k, v in idx.items()}
+            self._idx = idx
+            runs = f["runs"]
+            r_count = min(runs["offset"].shape[0], runs["length"].shape[0])
+            blob = runs["json"][()].tobytes()
+            self.runs: list[dict[str, Any]] = []
+            for o, ln in zip(runs["offset"][:r_count], runs["length"][:r_count]):
+                try:
+                    self.runs.append(json.loads(blob[int(o) : int(o) + int(ln)].decode()))
+                except ValueError:
+                    break
+        except KeyError as e:
+            f.close()
+            raise CorpusError(f"{path}: damaged corpus, missing {e}") from None
+        except BaseException:
+            f.close()
+            raise
+
+    def __len__(self) -> int:
+        return int(self._idx["n"].shape[0])
+
+    # Index arrays.
+    @property
+    def n(self) -> NDArray[np.int64]:
+        return self._idx["n"].astype(np.int64)
+
+    @property
+    def step(self) -> NDArray[np.int64]:
+        return self._idx["step"]
+
+    @property
+    def time(self) -> NDArray[np.float64]:
+        return self._idx["time"]
+
+    @property
+    def contacts(self) -> NDArray[np.int64]:
+        return self._idx["contacts"].astype(np.int64)
+
+    @property
+    def friction_dirs(self) -> NDArray[np.int64]:
+        return self._idx["friction_dirs"].astype(np.int64)
+
+    @property
+    def scale(self) -> NDArray[np.float64]:
+        return self._idx["scale"]
+
+    @property
+    def status(self) -> NDArray[np.str_]:
+        names = np.array(self.status_names + ["unknown"])
+        codes = self._idx["status"].astype(np.int64)
+        return names[np.where((codes >= 0) & (codes < len(self.status_names)), codes, len(self.status_names))]
+
+    @property
+    def pivots(self) -> NDArray[np.int64]:
+        return self._idx["pivots"]
+
+    @property
+    def method(self) -> NDArray[np.str_]:
+        names = np.array(self.method_names + ["unknown"])
+        codes = self._idx["method"].astype(np.int64)
+        return names[np.where((codes >= 0) & (codes < len(self.method_names)), codes, len(self.method_names))]
+
+    @property
+    def run(self) -> NDArray[np.int64]:
+        return self._idx["run"].astype(np.int64)
+
+    def _check(self, index: Any) -> int:
+        if isinstance(index, bool) or not isinstance(index, (int, np.integer)):
+            raise CorpusError(f"index must be an integer, got {index!r}")
+        i = int(index)
+        count = len(self)
+        if i < 0:
+            i += count
+        if not 0 <= i < count:
+            raise CorpusError(f"{self.path}: index {index} out of range (the corpus holds {count} LCPs)")
+        return i
+
+    def _record(self, i: int, M: NDArray[np.float64], q: Any, z: Any, w: Any) -> CorpusRecord:
+        ix = self._idx
+        n = int(ix["n"][i])
+        st = int(ix["status"][i])
+        me = int(ix["method"][i])
+        return CorpusRecord(
+            index=i,
+            M=M.reshape(n, n),
+            q=q,
+            z=z,
+            w=w,
+            status=self.status_names[st] if 0 <= st < len(self.status_names) else "unknown",
+            scale=float(ix["scale"][i]),
+            step=int(ix["step"][i]),
+            time=float(ix["time"][i]),
+            contacts=int(ix["contacts"][i]),
+            friction_dirs=int(ix["friction_dirs"][i]),
+            pivots=int(ix["pivots"][i]),
+            method=self.method_names[me] if 0 <= me < len(self.method_names) else "unknown",
+            run=int(ix["run"][i]),
+        )
+
+    def __getitem__(self, index: int) -> CorpusRecord:
+        i = self._check(index)
+        n = int(self._idx["n"][i])
+        mo, vo = int(self._idx["m_offset"][i]), int(self._idx["v_offset"][i])
+        d = self._f["data"]
+        return self._record(
+            i, d["M"][mo : mo + n * n], d["q"][vo : vo + n], d["z"][vo : vo + n], d["w"][vo : vo + n]
+        )
+
+    def records(self, start: int = 0, stop: int | None = None, *, block_bytes: int = 8 << 20) -> Iterator[CorpusRecord]:
+        """Records ``start … stop-1``, read in blocks of about ``block_bytes``."""
+        stop = len(self) if stop is None else min(stop, len(self))
+        d = self._f["data"]
+        ix = self._idx
+        i = max(start, 0)
+        while i < stop:
+            # One block: consecutive records up to block_bytes of M.
+            j = i
+            m0, v0 = int(ix["m_offset"][i]), int(ix["v_offset"][i])
+            m1, v1 = m0, v0
+            while j < stop and (j == i or 8 * (m1 - m0) < block_bytes):
+                n = int(ix["n"][j])
+                m1 = int(ix["m_offset"][j]) + n * n
+                v1 = int(ix["v_offset"][j]) + n
+                j += 1
+            M, q, z, w = d["M"][m0:m1], d["q"][v0:v1], d["z"][v0:v1], d["w"][v0:v1]
+            for r in range(i, j):
+                n = int(ix["n"][r])
+                mo, vo = int(ix["m_offset"][r]) - m0, int(ix["v_offset"][r]) - v0
+                yield self._record(
+                    r, M[mo : mo + n * n], q[vo : vo + n], z[vo : vo + n], w[vo : vo + n]
+                )
+            i = j
+
+    def __iter__(self) -> Iterator[CorpusRecord]:
+        return self.records()
+
+    def close(self) -> None:
+        self._f.close()
+
+    def __enter__(self) -> "Corpus":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
+
+    def __repr__(self) -> str:
+        return f"Corpus({str(self.path)!r}, {len(self)} LCPs, scene={self.metadata.get('scene')!r})"
+
+
+def open_corpus(path: str | os.PathLike[str]) -> Corpus:
+    """Opens a corpus for reading (also one whose writer was interrupted)."""
+    return Corpus(path)
+
+
+def load_lcp(path: str | os.PathLike[str], index: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``(M, q)`` of LCP ``index`` of a corpus (negative counts from the end)."""
+    with Corpus(path) as c:
+        r = c[index]
+        return r.M, r.q
+
+
+def load_record(path: str | os.PathLike[str], index: int) -> CorpusRecord:
+    """LCP ``index`` of a corpus with everything recorded about it."""
+    with Corpus(path) as c:
+        return c[index]
+
+
+def is_corpus(path: str | os.PathLike[str]) -> bool:
+    """Whether ``path`` is an HDF5 file with the corpus format attribute."""
+    p = Path(path)
+    if not p.is_file():
+        return False
+    with open(p, "rb") as fh:
+        if fh.read(8) != b"\x89HDF\r\n\x1a\n":
+            return False
+    try:
+        f = _open_read(p)
+    except CorpusError:
+        return False
+    with f:
+        return bool(f.attrs.get("format") == FORMAT)
+
+
+def _jsonable(x: Any) -> Any:
+    if isinstance(x, Mapping):
+        return {str(k): _jsonable(v) for k, v in x.items()}
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    if isinstance(x, np.integer):
+        return int(x)
+    if isinstance(x, np.floating):
+        return float(x)
+    if isinstance(x, (list, tuple)):
+        return [_jsonable(v) for v in x]
+    if isinstance(x, (str, int, float, bool)) or x is None:
+        return x
+    return str(x)
+

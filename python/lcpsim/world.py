@@ -1,0 +1,884 @@
+"""The simulator: a :class:`World` of rigid bodies stepped with the
+Stewart–Trinkle / Anitescu–Potra contact LCP (DESIGN §1).
+
+::
+
+    from lcpsim import World
+    w = World(dt=1e-3, cone_scale=None, method="lemke")
+    w.add_ground(mu=0.5)
+    cube = w.add_box(size=1.0, mass=1.0, position=(0, 0, 0.5))
+    rec = w.step()                  # StepRecord: contacts, lcp_size, status, fn, fd, lam, ...
+    traj = w.run(1000)              # Trajectory of numpy arrays
+    traj.positions[-1, cube]
+
+Conventions (DESIGN §8): SI units, gravity (0, 0, −9.81), quaternions
+(w, x, y, z) rotating body → world, velocities ``[v; ω]`` in the world frame,
+LCP unknowns ``z = [fn; fd; λ]`` (impulses in N·s, λ ≈ sliding speed in m/s).
+
+The stepping loop runs in Rust (``run`` releases the GIL); this module only
+converts. Invalid parameters — negative mass or μ, dt ≤ 0, a zero-size box, a
+zero quaternion, NaN anywhere — raise :class:`ValueError` naming the field and
+the value. A solver that fails is not an error: its status is in the record.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence, Union
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from . import _core
+from .lcp import METHODS, STATUSES
+
+if TYPE_CHECKING:
+    from .corpus import CorpusWriter
+
+__all__ = [
+    "World",
+    "StepRecord",
+    "Trajectory",
+    "BodyState",
+    "Stabilization",
+    "LcpStats",
+    "NO_CONTACT",
+    "MU_COMBINE",
+    "quat_angle",
+]
+
+#: Status of a step without contacts (no LCP was solved).
+NO_CONTACT = "no_contact"
+#: Rules for combining two bodies' μ into the contact's μ.
+MU_COMBINE: tuple[str, ...] = tuple(_core.MU_COMBINE)
+
+# Trajectory status codes from the compiled module: -1 = no contact, else an index into STATUSES.
+_STATUS_NAMES = np.array([NO_CONTACT, *STATUSES])
+
+Vec = Union[Sequence[float], NDArray[np.float64]]
+CaptureTarget = Union[str, "os.PathLike[str]", "CorpusWriter", None]
+
+
+def _vec(x: Any, name: str, n: int = 3) -> tuple[float, ...]:
+    """``n`` finite reals from any sequence, else a ValueError naming ``name``."""
+    try:
+        a = np.asarray(x, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a sequence of {n} real numbers, got {x!r}") from None
+    if a.shape != (n,):
+        raise ValueError(f"{name} must be a sequence of {n} real numbers, got {x!r}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be finite, got {x!r}")
+    return tuple(float(v) for v in a)
+
+
+def quat_angle(q0: ArrayLike, q1: ArrayLike) -> NDArray[np.float64] | float:
+    """Rotation angle (rad) between unit quaternions ``q0`` and ``q1`` (w, x, y, z);
+    broadcasts over leading dimensions."""
+    d = np.abs(np.sum(np.asarray(q0, dtype=float) * np.asarray(q1, dtype=float), axis=-1))
+    a = 2.0 * np.arccos(np.clip(d, -1.0, 1.0))
+    return float(a) if np.ndim(a) == 0 else a
+
+
+@dataclass(frozen=True)
+class Stabilization:
+    """Penetration stabilization of ``b0`` (DESIGN §1).
+
+    A contact with gap φ > 0 inside the margin adds ``φ/h`` when ``speculative``
+    (it may close within the step, not overshoot); a penetrating one adds
+    ``erp·min(0, φ + slop)/h``. A body resting at φ = 0 gets no term.
+    """
+
+    #: Fraction of the penetration removed per step, in [0, 1].
+    erp: float = 0.2
+    #: Penetration left uncorrected (m), ≥ 0.
+    slop: float = 0.0
+    #: Use the positive gap of contacts inside the margin.
+    speculative: bool = True
+
+    @classmethod
+    def none(cls) -> "Stabilization":
+        """No correction at all: ``b0 = J_n v*``."""
+        return cls(erp=0.0, slop=0.0, speculative=False)
+
+
+@dataclass(frozen=True)
+class BodyState:
+    """One body: its shape, mass properties and current state."""
+
+    index: int
+    kind: str  # "box", "sphere" or "plane"
+    is_static: bool
+    mass: float  # inf for static bodies
+    mu: float
+    position: NDArray[np.float64]
+    orientation: NDArray[np.float64]  # (w, x, y, z)
+    velocity: NDArray[np.float64]  # (6,): [v; ω]
+    inertia: NDArray[np.float64]  # (3, 3), body frame
+    half_extents: NDArray[np.float64] | None = None
+    radius: float | None = None
+    normal: NDArray[np.float64] | None = None
+    offset: float | None = None
+    tangent: NDArray[np.float64] | None = None
+    downhill: NDArray[np.float64] | None = None
+
+
+@dataclass(frozen=True)
+class StepRecord:
+    """What one step did.
+
+    ``status`` is the LCP's status, or ``"no_contact"`` when there was no
+    contact (nothing solved). ``residual`` is ``‖min(z, w)‖∞`` of the physical
+    ``z`` on the unscaled LCP (N·s and m/s); ``solver_residual`` is what the
+    solver saw (the scaled LCP). Per contact (``nc`` of them, ``k`` friction
+    directions): ``fn`` (nc,), ``fd`` (nc, k), ``lam`` (nc,) in physical units
+    (``λ = s·λ_scaled``), ``points``/``normals``/``tangents`` (nc, 3),
+    ``directions`` (nc, k, 3) the friction directions ``d_j``, ``friction``
+    (nc, 3) the friction impulse vector ``Σ_j fd_j d_j`` on body A, ``gaps``,
+    ``mu``, ``body_a``/``body_b`` (the normal points from B to A).
+    """
+
+    step: int
+    time: float
+    dt: float
+    contacts: int
+    friction_dirs: int
+    lcp_size: int
+    scale: float
+    status: str
+    pivots: int
+    residual: float
+    solver_residual: float
+    min_z: float
+    min_w: float
+    max_complementarity: float
+    zeroed: bool
+    fn: NDArray[np.float64]
+    fd: NDArray[np.float64]
+    lam: NDArray[np.float64]
+    z: NDArray[np.float64]
+    w: NDArray[np.float64]
+    points: NDArray[np.float64]
+    normals: NDArray[np.float64]
+    tangents: NDArray[np.float64]
+    directions: NDArray[np.float64]
+    friction: NDArray[np.float64]
+    gaps: NDArray[np.float64]
+    mu: NDArray[np.float64]
+    body_a: NDArray[np.int64]
+    body_b: NDArray[np.int64]
+    basis: NDArray[np.bool_] | None = None
+
+    @property
+    def ok(self) -> bool:
+        """True when there was no LCP or it was solved."""
+        return self.status in ("solved", NO_CONTACT)
+
+    @property
+    def total_normal_impulse(self) -> float:
+        """Σ fn (N·s)."""
+        return float(self.fn.sum())
+
+    @property
+    def total_impulse(self) -> NDArray[np.float64]:
+        """Σ over contacts of ``n·fn + Σ_j d_j fd_j``: the contact impulse on the A bodies (N·s)."""
+        if self.contacts == 0:
+            return np.zeros(3)
+        return np.asarray((self.normals * self.fn[:, None]).sum(axis=0) + self.friction.sum(axis=0))
+
+    def patterns(self, zero: float = 1e-12) -> NDArray[np.bool_]:
+        """The seed's pattern per contact (nc, 3): whether fn, Σfd, λ exceed ``zero``."""
+        return np.stack([self.fn > zero, self.fd.sum(axis=1) > zero, self.lam > zero], axis=1)
+
+    def between(self, a: int, b: int) -> NDArray[np.bool_]:
+        """Mask of the contacts between bodies ``a`` and ``b`` (either order)."""
+        return ((self.body_a == a) & (self.body_b == b)) | ((self.body_a == b) & (self.body_b == a))
+
+    @classmethod
+    def _from_core(cls, d: Mapping[str, Any]) -> "StepRecord":
+        return cls(
+            step=int(d["step"]),
+            time=float(d["time"]),
+            dt=float(d["dt"]),
+            contacts=int(d["contacts"]),
+            friction_dirs=int(d["friction_dirs"]),
+            lcp_size=int(d["lcp_size"]),
+            scale=float(d["scale"]),
+            status=d["status"] if d["status"] is not None else NO_CONTACT,
+            pivots=int(d["iterations"]),
+            residual=float(d["residual"]),
+            solver_residual=float(d["solver_residual"]),
+            min_z=float(d["min_z"]),
+            min_w=float(d["min_w"]),
+            max_complementarity=float(d["max_complementarity"]),
+            zeroed=bool(d["zeroed"]),
+            fn=d["fn"],
+            fd=d["fd"],
+            lam=d["lam"],
+            z=d["z"],
+            w=d["w"],
+            points=d["points"],
+            normals=d["normals"],
+            tangents=d["tangents"],
+            directions=d["directions"],
+            friction=d["friction"],
+            gaps=d["gaps"],
+            mu=d["mu"],
+            body_a=d["body_a"],
+            body_b=d["body_b"],
+            basis=d["basis"],
+        )
+
+
+@dataclass(frozen=True)
+class LcpStats:
+    """LCP statistics of a run: how many LCPs were solved and how they ended."""
+
+    steps: int
+    count: int  # steps with an LCP
+    failures: int  # LCPs not solved
+    by_status: dict[str, int]  # every status that occurred (LCP steps only)
+    max_residual: float  # physical units; 0 without LCPs
+    pivots_median: float
+    pivots_max: int
+    max_lcp_size: int
+    max_contacts: int
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "steps": self.steps,
+            "count": self.count,
+            "failures": self.failures,
+            "by_status": dict(self.by_status),
+            "max_residual": self.max_residual,
+            "pivots_median": self.pivots_median,
+            "pivots_max": self.pivots_max,
+            "max_lcp_size": self.max_lcp_size,
+            "max_contacts": self.max_contacts,
+        }
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """The state after every step of a run, and each step's LCP outcome.
+
+    ``T`` steps, ``B`` bodies (static ones included, in body order):
+    ``time`` (T,) the time after each step; ``positions`` (T, B, 3);
+    ``orientations`` (T, B, 4) as (w, x, y, z); ``velocities`` (T, B, 6) as
+    ``[v; ω]``. Per step: ``status`` (T,) strings (``"no_contact"`` without an
+    LCP), ``pivots``, ``residual`` (physical units), ``solver_residual``,
+    ``lcp_size``, ``contacts``, ``normal_impulse`` (Σ fn, N·s),
+    ``friction_impulse`` (T, 3) (Σ over contacts of the friction impulse on
+    body A), ``max_lambda`` (largest physical λ, m/s). ``initial_*`` hold the
+    state before the first step.
+    """
+
+    dt: float
+    time: NDArray[np.float64]
+    positions: NDArray[np.float64]
+    orientations: NDArray[np.float64]
+    velocities: NDArray[np.float64]
+    status: NDArray[np.str_]
+    pivots: NDArray[np.int64]
+    residual: NDArray[np.float64]
+    solver_residual: NDArray[np.float64]
+    lcp_size: NDArray[np.int64]
+    contacts: NDArray[np.int64]
+    normal_impulse: NDArray[np.float64]
+    friction_impulse: NDArray[np.float64]
+    max_lambda: NDArray[np.float64]
+    initial_positions: NDArray[np.float64]
+    initial_orientations: NDArray[np.float64]
+    initial_velocities: NDArray[np.float64]
+
+    def __len__(self) -> int:
+        return int(self.time.shape[0])
+
+    @property
+    def steps(self) -> int:
+        return len(self)
+
+    @property
+    def bodies(self) -> int:
+        return int(self.initial_positions.shape[0])
+
+    @property
+    def linear_velocities(self) -> NDArray[np.float64]:
+        """(T, B, 3)."""
+        return self.velocities[:, :, :3]
+
+    @property
+    def angular_velocities(self) -> NDArray[np.float64]:
+        """(T, B, 3)."""
+        return self.velocities[:, :, 3:]
+
+    @property
+    def ok(self) -> NDArray[np.bool_]:
+        """(T,) True where there was no LCP or it was solved."""
+        return np.isin(self.status, ("solved", NO_CONTACT))
+
+    @property
+    def failures(self) -> int:
+        """Steps whose LCP was not solved."""
+        return int((~self.ok).sum())
+
+    def displacement(self, body: int) -> NDArray[np.float64]:
+        """Final minus initial position of ``body`` (m)."""
+        if len(self) == 0:
+            return np.zeros(3)
+        return np.asarray(self.positions[-1, body] - self.initial_positions[body])
+
+    def tilt(self, body: int) -> NDArray[np.float64]:
+        """(T,) rotation angle of ``body`` from its initial orientation (rad)."""
+        return np.asarray(quat_angle(self.orientations[:, body], self.initial_orientations[body]), dtype=float)
+
+    def lcp_stats(self) -> LcpStats:
+        """Counts, failures by status, max residual and pivot statistics over the LCP steps."""
+        has = self.status != NO_CONTACT
+        statuses, counts = np.unique(self.status[has], return_counts=True)
+        piv = self.pivots[has]
+        return LcpStats(
+            steps=len(self),
+            count=int(has.sum()),
+            failures=self.failures,
+            by_status={str(s): int(c) for s, c in zip(statuses, counts)},
+            max_residual=float(self.residual[has].max(initial=0.0)),
+            pivots_median=float(np.median(piv)) if piv.size else 0.0,
+            pivots_max=int(piv.max(initial=0)),
+            max_lcp_size=int(self.lcp_size.max(initial=0)),
+            max_contacts=int(self.contacts.max(initial=0)),
+        )
+
+    @classmethod
+    def _from_parts(
+        cls, dt: float, parts: Sequence[Mapping[str, Any]], initial: Mapping[str, NDArray[np.float64]]
+    ) -> "Trajectory":
+        def cat(key: str) -> NDArray[Any]:
+            return parts[0][key] if len(parts) == 1 else np.concatenate([p[key] for p in parts])
+
+        return cls(
+            dt=dt,
+            time=cat("time"),
+            positions=cat("position"),
+            orientations=cat("orientation"),
+            velocities=np.concatenate([cat("velocity"), cat("angular_velocity")], axis=2),
+            status=_STATUS_NAMES[cat("status").astype(np.int64) + 1],
+            pivots=cat("iterations"),
+            residual=cat("residual"),
+            solver_residual=cat("solver_residual"),
+            lcp_size=cat("lcp_size"),
+            contacts=cat("contacts"),
+            normal_impulse=cat("normal_impulse"),
+            friction_impulse=cat("friction_impulse"),
+            max_lambda=cat("max_lambda"),
+            initial_positions=initial["position"],
+            initial_orientations=initial["orientation"],
+            initial_velocities=np.concatenate([initial["velocity"], initial["angular_velocity"]], axis=1),
+        )
+
+
+def _stabilization(s: Stabilization | Mapping[str, Any] | str | None) -> Stabilization:
+    if s is None:
+        return Stabilization()
+    if isinstance(s, Stabilization):
+        return s
+    if isinstance(s, str):
+        if s == "none":
+            return Stabilization.none()
+        if s == "default":
+            return Stabilization()
+        raise ValueError(f"stabilization must be None, 'none', 'default', a Stabilization or a mapping, got {s!r}")
+    if isinstance(s, Mapping):
+        unknown = set(s) - {"erp", "slop", "speculative"}
+        if unknown:
+            raise ValueError(f"unknown stabilization field(s) {sorted(unknown)} (valid: erp, slop, speculative)")
+        return Stabilization(**s)
+    raise ValueError(f"stabilization must be None, 'none', a Stabilization or a mapping, got {s!r}")
+
+
+def _cone_scale(s: Any) -> Any:
+    """None / "none" / "dt" / a number > 0, validated here with a clear message."""
+    if s is None or (isinstance(s, str) and s.lower() in ("none", "unscaled", "1")):
+        return None
+    if isinstance(s, str) and s.lower() in ("dt", "h", "timestep", "time_step"):
+        return "dt"
+    if isinstance(s, bool) or not isinstance(s, (int, float, np.integer, np.floating, str)):
+        raise ValueError(f"cone_scale must be None, 'dt' or a number > 0, got {s!r}")
+    try:
+        x = float(s)
+    except ValueError:
+        raise ValueError(f"cone_scale must be None, 'dt' or a number > 0, got {s!r}") from None
+    if not (math.isfinite(x) and x > 0):
+        raise ValueError(f"cone_scale must be None, 'dt' or a number > 0, got {s!r}")
+    return x
+
+
+class World:
+    """A rigid-body world stepped with the contact LCP of DESIGN §1.
+
+    Parameters
+    ----------
+    dt:
+        Time step h (s), > 0.
+    gravity:
+        (m/s²).
+    friction_dirs:
+        Friction directions per contact k (even, ≥ 2); LCP size is (k + 2)
+        per contact.
+    cone_scale:
+        The friction-cone scale s: None (unscaled, s = 1), ``"dt"`` (s = h,
+        the seed's choice) or a number > 0.
+    method:
+        LCP solver: ``"lemke"`` (default), ``"pgs"`` or ``"newton_fb"``;
+        ``**solver_options`` as for :func:`lcpsim.solve_lcp` (e.g.
+        ``pivoting="classic"``, ``zero_tol=1e-6``).
+    margin:
+        Contacts with gap φ ≤ margin enter the LCP (m).
+    velocity_margin:
+        Widen each pair's margin by how far it can close in one step.
+    stabilization:
+        :class:`Stabilization` (default ERP 0.2, no slop, speculative gaps),
+        a mapping of its fields, or ``"none"``.
+    restitution, restitution_threshold:
+        Newton restitution coefficient e in [0, 1] (default 0) and the
+        approach speed below which there is no bounce (m/s).
+    mu_combine:
+        How two bodies' μ combine: one of :data:`MU_COMBINE` (default "min").
+    mu_override:
+        If set, every contact uses this μ.
+    """
+
+    def __init__(
+        self,
+        dt: float = 1e-3,
+        gravity: Vec = (0.0, 0.0, -9.81),
+        friction_dirs: int = 8,
+        cone_scale: float | str | None = None,
+        method: str = "lemke",
+        *,
+        margin: float = 1e-3,
+        velocity_margin: bool = True,
+        stabilization: Stabilization | Mapping[str, Any] | str | None = None,
+        restitution: float = 0.0,
+        restitution_threshold: float = 1e-2,
+        mu_combine: str = "min",
+        mu_override: float | None = None,
+        **solver_options: Any,
+    ) -> None:
+        if not isinstance(method, str) or method not in METHODS:
+            raise ValueError(f"unknown method {method!r} (valid: {', '.join(METHODS)})")
+        if isinstance(friction_dirs, bool) or not isinstance(friction_dirs, (int, np.integer)):
+            raise ValueError(f"friction_dirs must be an even integer >= 2, got {friction_dirs!r}")
+        if friction_dirs < 2 or friction_dirs % 2:
+            raise ValueError(f"friction_dirs must be even and >= 2, got {friction_dirs}")
+        if not isinstance(mu_combine, str) or mu_combine not in MU_COMBINE:
+            raise ValueError(f"unknown mu_combine {mu_combine!r} (valid: {', '.join(MU_COMBINE)})")
+        stab = _stabilization(stabilization)
+        scale = _cone_scale(cone_scale)
+        self._core = _core.World(
+            dt=dt,
+            gravity=_vec(gravity, "gravity"),
+            friction_dirs=int(friction_dirs),
+            cone_scale=scale,
+            method=method,
+            margin=margin,
+            velocity_margin=bool(velocity_margin),
+            erp=stab.erp,
+            slop=stab.slop,
+            speculative=bool(stab.speculative),
+            restitution=restitution,
+            restitution_threshold=restitution_threshold,
+            mu_combine=mu_combine,
+            mu_override=mu_override,
+            **solver_options,
+        )
+        self._method = method
+        self._solver_options = {k: v for k, v in solver_options.items() if v is not None}
+        #: Name and parameters of the scene that built this world (see :mod:`lcpsim.scenes`).
+        self.scene: str | None = None
+        self.scene_params: dict[str, Any] = {}
+
+    @classmethod
+    def _wrap(cls, core: Any, method: str, solver_options: Mapping[str, Any]) -> "World":
+        w = cls.__new__(cls)
+        w._core = core
+        w._method = method
+        w._solver_options = dict(solver_options)
+        w.scene = None
+        w.scene_params = {}
+        return w
+
+    # ----- parameters -----
+
+    @property
+    def dt(self) -> float:
+        return float(self._core.params()["dt"])
+
+    @property
+    def params(self) -> dict[str, Any]:
+        """Every parameter in force (``cone_scale``: "none", "dt" or the number; ``scale``: the numeric s)."""
+        p = dict(self._core.params())
+        p["solver_options"] = dict(self._solver_options)
+        return p
+
+    @property
+    def method(self) -> str:
+        return self._method
+
+    @property
+    def solver_options(self) -> dict[str, Any]:
+        return dict(self._solver_options)
+
+    def set_method(self, method: str = "lemke", **options: Any) -> None:
+        """Replaces the LCP solver (options as for :func:`lcpsim.solve_lcp`)."""
+        if not isinstance(method, str) or method not in METHODS:
+            raise ValueError(f"unknown method {method!r} (valid: {', '.join(METHODS)})")
+        self._core.set_method(method, **options)
+        self._method = method
+        self._solver_options = {k: v for k, v in options.items() if v is not None}
+
+    def set_cone_scale(self, cone_scale: float | str | None) -> None:
+        """Replaces the friction-cone scale (None, "dt" or a number > 0)."""
+        self._core.set_cone_scale(_cone_scale(cone_scale))
+
+    def config(self) -> dict[str, Any]:
+        """A JSON-ready description: parameters, solver, scene and bodies (for result files)."""
+        from . import __version__
+
+        bodies = []
+        for i in range(self.body_count):
+            b = self.body(i)
+            d: dict[str, Any] = {"kind": b.kind, "static": b.is_static, "mu": b.mu}
+            if not b.is_static:
+                d["mass"] = b.mass
+            for key in ("half_extents", "radius", "normal", "offset"):
+                v = getattr(b, key)
+                if v is not None:
+                    d[key] = v.tolist() if isinstance(v, np.ndarray) else v
+            bodies.append(d)
+        return {
+            "lcpsim_version": __version__,
+            "scene": self.scene,
+            "scene_params": _jsonable(self.scene_params),
+            "params": _jsonable(self.params),
+            "method": self._method,
+            "solver_options": _jsonable(self._solver_options),
+            "bodies": bodies,
+        }
+
+    # ----- bodies -----
+
+    def add_box(
+        self,
+        half_extents: Vec | None = None,
+        mass: float = 1.0,
+        position: Vec = (0.0, 0.0, 0.0),
+        orientation: Vec = (1.0, 0.0, 0.0, 0.0),
+        velocity: Vec = (0.0, 0.0, 0.0),
+        angular_velocity: Vec = (0.0, 0.0, 0.0),
+        mu: float = 0.5,
+        *,
+        size: float | Vec | None = None,
+        static: bool = False,
+        inertia: ArrayLike | None = None,
+    ) -> int:
+        """Adds a box and returns its index.
+
+        Give either ``half_extents`` (3 values, m) or ``size`` (a cube's edge,
+        or the 3 full extents). ``velocity`` may hold 6 values ``[v; ω]``.
+        ``inertia`` (3×3, body frame) defaults to the solid box's.
+        A ``static`` box never moves."""
+        if (half_extents is None) == (size is None):
+            raise ValueError("give exactly one of half_extents and size")
+        if size is not None:
+            sz = (_real(size, "size"),) * 3 if np.ndim(size) == 0 else _vec(size, "size")
+            for v in sz:
+                if not (math.isfinite(v) and v > 0):
+                    raise ValueError(f"size must be > 0 and finite, got {size!r}")
+            he: Any = tuple(0.5 * v for v in sz)
+        else:
+            he = half_extents
+        v, wv = _velocities(velocity, angular_velocity)
+        return int(
+            self._core.add_box(
+                he, mass, position, orientation, v, wv, mu, is_static=bool(static), inertia=_inertia(inertia)
+            )
+        )
+
+    def add_sphere(
+        self,
+        radius: float,
+        mass: float = 1.0,
+        position: Vec = (0.0, 0.0, 0.0),
+        orientation: Vec = (1.0, 0.0, 0.0, 0.0),
+        velocity: Vec = (0.0, 0.0, 0.0),
+        angular_velocity: Vec = (0.0, 0.0, 0.0),
+        mu: float = 0.5,
+        *,
+        static: bool = False,
+        inertia: ArrayLike | None = None,
+    ) -> int:
+        """Adds a solid sphere and returns its index (``velocity`` may hold ``[v; ω]``)."""
+        v, wv = _velocities(velocity, angular_velocity)
+        return int(
+            self._core.add_sphere(
+                radius, mass, position, orientation, v, wv, mu, is_static=bool(static), inertia=_inertia(inertia)
+            )
+        )
+
+    def add_plane(
+        self, normal: Vec = (0.0, 0.0, 1.0), offset: float = 0.0, mu: float = 0.5, *, tangent: Vec | None = None
+    ) -> int:
+        """Adds a static plane ``normal·x = offset`` (solid below it) and returns
+        its index. ``tangent`` sets its contacts' first friction direction
+        (default: downhill on a tilted plane, else x projected into the plane)."""
+        return int(self._core.add_plane(normal, offset, mu, tangent))
+
+    def add_ground(self, mu: float = 0.5, height: float = 0.0) -> int:
+        """Adds the level ground ``z = height``."""
+        return self.add_plane((0.0, 0.0, 1.0), height, mu)
+
+    def add_slope(
+        self,
+        angle_deg: float,
+        mu: float = 0.5,
+        *,
+        downhill: str = "+x",
+        offset: float = 0.0,
+        tangent_angle: float = 0.0,
+    ) -> int:
+        """Adds a static slope through the origin at ``angle_deg`` in [0, 90),
+        descending towards ``downhill`` ("+x" or "-x"), shifted along its normal
+        by ``offset``. The first friction direction is the downhill direction,
+        turned by ``tangent_angle`` (rad) about the normal (π/k puts the slope
+        on a bisector of two friction directions)."""
+        return int(self._core.add_slope(angle_deg, mu, downhill, offset, tangent_angle))
+
+    @property
+    def body_count(self) -> int:
+        return int(self._core.body_count)
+
+    def __len__(self) -> int:
+        return self.body_count
+
+    def body(self, index: int) -> BodyState:
+        """A body's shape, mass properties and state."""
+        d = self._core.body(_index(index))
+        return BodyState(
+            index=int(d["index"]),
+            kind=d["kind"],
+            is_static=bool(d["is_static"]),
+            mass=float(d["mass"]),
+            mu=float(d["mu"]),
+            position=d["position"],
+            orientation=d["orientation"],
+            velocity=np.concatenate([d["velocity"], d["angular_velocity"]]),
+            inertia=d["inertia"],
+            half_extents=d.get("half_extents"),
+            radius=d.get("radius"),
+            normal=d.get("normal"),
+            offset=d.get("offset"),
+            tangent=d.get("tangent"),
+            downhill=d.get("downhill"),
+        )
+
+    @property
+    def positions(self) -> NDArray[np.float64]:
+        """(B, 3) centres of mass."""
+        return np.asarray(self._core.state()["position"])
+
+    @property
+    def orientations(self) -> NDArray[np.float64]:
+        """(B, 4) unit quaternions (w, x, y, z)."""
+        return np.asarray(self._core.state()["orientation"])
+
+    @property
+    def velocities(self) -> NDArray[np.float64]:
+        """(B, 6) velocities ``[v; ω]`` (world frame)."""
+        s = self._core.state()
+        return np.concatenate([s["velocity"], s["angular_velocity"]], axis=1)
+
+    def set_position(self, body: int, position: Vec) -> None:
+        self._core.set_position(_index(body), position)
+
+    def set_orientation(self, body: int, orientation: Vec) -> None:
+        """Sets the orientation (normalized; a zero quaternion is an error)."""
+        self._core.set_orientation(_index(body), orientation)
+
+    def set_velocity(self, body: int, velocity: Vec) -> None:
+        """Sets the linear velocity (3 values) or ``[v; ω]`` (6 values) of a dynamic body."""
+        if np.ndim(velocity) == 1 and np.size(velocity) == 6:
+            v6 = _vec(velocity, "velocity", 6)
+            self._core.set_velocity(_index(body), v6[:3])
+            self._core.set_angular_velocity(_index(body), v6[3:])
+        else:
+            self._core.set_velocity(_index(body), velocity)
+
+    def set_angular_velocity(self, body: int, angular_velocity: Vec) -> None:
+        self._core.set_angular_velocity(_index(body), angular_velocity)
+
+    def set_mu(self, body: int, mu: float) -> None:
+        self._core.set_mu(_index(body), mu)
+
+    # ----- forces -----
+
+    def apply_force(self, body: int, force: Vec, point: Vec | None = None) -> None:
+        """A constant force (world frame, N) on ``body`` every step until
+        :meth:`clear_forces`. ``point`` is where it acts, relative to the
+        centre of mass in the body frame (it moves with the body); None means
+        the centre of mass (no torque). Gravity is separate."""
+        self._core.apply_force(_index(body), force, point)
+
+    def apply_torque(self, body: int, torque: Vec) -> None:
+        """A constant torque (world frame, N·m) every step until cleared."""
+        self._core.apply_torque(_index(body), torque)
+
+    def clear_forces(self) -> None:
+        """Removes all applied forces and torques."""
+        self._core.clear_forces()
+
+    # ----- stepping -----
+
+    @property
+    def time(self) -> float:
+        """Time at the start of the next step (s)."""
+        return float(self._core.time)
+
+    @property
+    def steps(self) -> int:
+        """Steps taken so far."""
+        return int(self._core.steps)
+
+    def energy(self) -> float:
+        """Kinetic + gravitational potential energy (J)."""
+        return float(self._core.energy())
+
+    def step(self) -> StepRecord:
+        """One time step: forces → detect → assemble → solve → integrate."""
+        return StepRecord._from_core(self._core.step())
+
+    @property
+    def last_record(self) -> StepRecord:
+        """The record of the last step."""
+        return StepRecord._from_core(self._core.last_record())
+
+    def run(
+        self,
+        steps: int,
+        capture: CaptureTarget = None,
+        *,
+        chunk_steps: int = 10_000,
+        chunk_bytes: int = 64 << 20,
+    ) -> Trajectory:
+        """Runs ``steps`` steps (the loop in Rust, GIL released) and returns the :class:`Trajectory`.
+
+        ``capture``: a path or a :class:`lcpsim.corpus.CorpusWriter`; every
+        LCP solved is streamed to it (HDF5, see ``docs/corpus.md``), drained
+        from Rust every ``chunk_steps`` steps or ``chunk_bytes`` of captured
+        data and flushed, so memory stays bounded and an interrupted run
+        leaves a readable file. A path is created (overwritten) with this
+        world's :meth:`config` as metadata and closed at the end."""
+        if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 0:
+            raise ValueError(f"steps must be a non-negative integer, got {steps!r}")
+        if isinstance(chunk_steps, bool) or not isinstance(chunk_steps, (int, np.integer)) or chunk_steps < 1:
+            raise ValueError(f"chunk_steps must be a positive integer, got {chunk_steps!r}")
+        initial = self._core.state()
+        if capture is None:
+            parts = []
+            done = 0
+            while True:
+                part = self._core.run(min(int(steps) - done, 100_000))
+                parts.append(part)
+                done += len(part["time"])
+                if done >= steps:
+                    break
+            return Trajectory._from_parts(self.dt, parts, initial)
+        from .corpus import CorpusWriter
+
+        own = not isinstance(capture, CorpusWriter)
+        writer = CorpusWriter(capture, metadata=self.config()) if own else capture
+        assert isinstance(writer, CorpusWriter)
+        try:
+            writer.begin_run(self.config())
+            self._core.start_capture()
+            parts = []
+            done = 0
+            try:
+                while True:
+                    part = self._core.run(min(int(steps) - done, chunk_steps), max_capture_bytes=int(chunk_bytes))
+                    parts.append(part)
+                    done += len(part["time"])
+                    writer.append(self._core.drain_capture())
+                    writer.flush()
+                    if done >= steps:
+                        break
+            finally:
+                self._core.stop_capture()
+                writer.append(self._core.drain_capture())
+                writer.flush()
+        finally:
+            if own:
+                writer.close()
+        return Trajectory._from_parts(self.dt, parts, initial)
+
+    def copy(self) -> "World":
+        """An independent copy of the state, parameters and forces (no capture)."""
+        w = World._wrap(self._core.copy(), self._method, self._solver_options)
+        w.scene = self.scene
+        w.scene_params = dict(self.scene_params)
+        return w
+
+    def __repr__(self) -> str:
+        scene = f", scene={self.scene!r}" if self.scene else ""
+        return f"World(bodies={self.body_count}, steps={self.steps}, time={self.time:g}{scene})"
+
+
+def _index(i: Any) -> int:
+    if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or i < 0:
+        raise ValueError(f"body must be a body index (int >= 0), got {i!r}")
+    return int(i)
+
+
+def _real(x: Any, name: str) -> float:
+    if isinstance(x, bool) or not isinstance(x, (int, float, np.integer, np.floating)):
+        raise ValueError(f"{name} must be a real number, got {x!r}")
+    return float(x)
+
+
+def _velocities(velocity: Any, angular_velocity: Any) -> tuple[Any, Any]:
+    """``velocity`` with 6 values is ``[v; ω]``."""
+    if velocity is not None and np.ndim(velocity) == 1 and np.size(velocity) == 6:
+        v6 = _vec(velocity, "velocity", 6)
+        if angular_velocity is not None and np.any(np.asarray(angular_velocity, dtype=float) != 0):
+            raise ValueError("give the angular velocity either in a 6-value velocity or as angular_velocity, not both")
+        return v6[:3], v6[3:]
+    return velocity, angular_velocity
+
+
+def _inertia(inertia: ArrayLike | None) -> Any:
+    if inertia is None:
+        return None
+    a = np.asarray(inertia, dtype=float)
+    if a.shape != (3, 3):
+        raise ValueError(f"inertia must be a 3x3 matrix, got shape {a.shape}")
+    return a
+
+
+def _jsonable(x: Any) -> Any:
+    """Numbers, strings, lists and dicts only (numpy scalars and arrays converted)."""
+    if isinstance(x, Mapping):
+        return {str(k): _jsonable(v) for k, v in x.items()}
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    if isinstance(x, (np.integer,)):
+        return int(x)
+    if isinstance(x, (np.floating,)):
+        return float(x)
+    if isinstance(x, (list, tuple)):
+        return [_jsonable(v) for v in x]
+    if isinstance(x, Iterable) and not isinstance(x, (str, bytes)):
+        return [_jsonable(v) for v in x]
+    return x
+
