@@ -168,7 +168,7 @@ def cube_on_slope(
 def resting_cube(mu: float = 0.5, *, size: float = 1.0, mass: float = 1.0, **world: Any) -> Scene:
     """A cube at rest on level ground: Σfn = m·g·h every step, no drift."""
     s = cube_on_slope(0.0, mu, size=size, mass=mass, **world)
-    s.name = "resting_cube"
+    s.name = s.world.scene = "resting_cube"
     return s
 
 

@@ -440,7 +440,8 @@ class World:
         Widen each pair's margin by how far it can close in one step.
     stabilization:
         :class:`Stabilization` (default ERP 0.2, no slop, speculative gaps),
-        a mapping of its fields, or ``"none"``.
+        a mapping of its fields, or ``"none"``; its fields ``erp``, ``slop``,
+        ``speculative`` may also be given as keywords.
     restitution, restitution_threshold:
         Newton restitution coefficient e in [0, 1] (default 0) and the
         approach speed below which there is no bounce (m/s).
@@ -476,6 +477,9 @@ class World:
         if not isinstance(mu_combine, str) or mu_combine not in MU_COMBINE:
             raise ValueError(f"unknown mu_combine {mu_combine!r} (valid: {', '.join(MU_COMBINE)})")
         stab = _stabilization(stabilization)
+        direct = {k: solver_options.pop(k) for k in ("erp", "slop", "speculative") if k in solver_options}
+        if direct:
+            stab = Stabilization(**{**stab.__dict__, **direct})
         scale = _cone_scale(cone_scale)
         self._core = _core.World(
             dt=dt,
