@@ -64,3 +64,171 @@ def lcp_residual(m: ArrayLike, q: ArrayLike, z: ArrayLike) -> float:
 
 def lcp_residuals(m: ArrayLike, q: ArrayLike, z: ArrayLike) -> ResidualsDict:
     """w = M z + q and every residual of z."""
+
+# ----------------------------------------------------------------- simulator
+
+#: Scene name → its parameter names (the Rust `sim::scenes` structs' fields).
+SCENES: dict[str, list[str]]
+#: ["min", "max", "product", "geometric_mean", "average"]
+MU_COMBINE: list[str]
+
+class StepDict(TypedDict):
+    step: int
+    time: float
+    dt: float
+    contacts: int
+    friction_dirs: int
+    lcp_size: int
+    scale: float
+    status: str | None  # None without contacts
+    iterations: int
+    residual: float  # physical units (unscaled LCP)
+    min_z: float
+    min_w: float
+    max_complementarity: float
+    solver_residual: float  # as the solver saw it (scaled LCP)
+    zeroed: bool
+    fn: NDArray[np.float64]  # (nc,)
+    fd: NDArray[np.float64]  # (nc, k)
+    lam: NDArray[np.float64]  # (nc,), physical units
+    z: NDArray[np.float64]  # (nc (k + 2),), physical units
+    w: NDArray[np.float64]
+    points: NDArray[np.float64]  # (nc, 3)
+    normals: NDArray[np.float64]  # (nc, 3)
+    tangents: NDArray[np.float64]  # (nc, 3)
+    friction: NDArray[np.float64]  # (nc, 3)
+    directions: NDArray[np.float64]  # (nc, k, 3)
+    gaps: NDArray[np.float64]
+    mu: NDArray[np.float64]
+    body_a: NDArray[np.int64]
+    body_b: NDArray[np.int64]
+    basis: NDArray[np.bool_] | None
+
+class RunDict(TypedDict):
+    time: NDArray[np.float64]  # (T,)
+    position: NDArray[np.float64]  # (T, B, 3)
+    orientation: NDArray[np.float64]  # (T, B, 4)
+    velocity: NDArray[np.float64]  # (T, B, 3)
+    angular_velocity: NDArray[np.float64]  # (T, B, 3)
+    contacts: NDArray[np.int64]
+    lcp_size: NDArray[np.int64]
+    status: NDArray[np.int8]  # -1 no contact, else an index into STATUSES
+    iterations: NDArray[np.int64]
+    residual: NDArray[np.float64]
+    solver_residual: NDArray[np.float64]
+    normal_impulse: NDArray[np.float64]
+    friction_impulse: NDArray[np.float64]  # (T, 3)
+    max_lambda: NDArray[np.float64]
+
+class CaptureDict(TypedDict):
+    M: NDArray[np.float64]  # row-major M of every LCP, concatenated
+    q: NDArray[np.float64]  # concatenated
+    z: NDArray[np.float64]
+    w: NDArray[np.float64]
+    n: NDArray[np.int64]
+    step: NDArray[np.int64]
+    time: NDArray[np.float64]
+    contacts: NDArray[np.int64]
+    friction_dirs: NDArray[np.int64]
+    scale: NDArray[np.float64]
+    status: NDArray[np.int8]  # index into STATUSES
+    iterations: NDArray[np.int64]
+    method: list[str]
+
+class StateDict(TypedDict):
+    position: NDArray[np.float64]  # (B, 3)
+    orientation: NDArray[np.float64]  # (B, 4)
+    velocity: NDArray[np.float64]  # (B, 3)
+    angular_velocity: NDArray[np.float64]  # (B, 3)
+    is_static: list[bool]
+
+class World:
+    """`sim::World` (use `lcpsim.World`). Invalid input raises ValueError."""
+
+    def __init__(
+        self,
+        dt: float | None = None,
+        gravity: ArrayLike | None = None,
+        friction_dirs: int | None = None,
+        cone_scale: float | str | None = None,
+        method: str = "lemke",
+        margin: float | None = None,
+        velocity_margin: bool = True,
+        erp: float | None = None,
+        slop: float | None = None,
+        speculative: bool = True,
+        restitution: float | None = None,
+        restitution_threshold: float | None = None,
+        mu_combine: str = "min",
+        mu_override: float | None = None,
+        **options: Any,
+    ) -> None: ...
+    @property
+    def time(self) -> float: ...
+    @property
+    def steps(self) -> int: ...
+    @property
+    def body_count(self) -> int: ...
+    @property
+    def capturing(self) -> bool: ...
+    def params(self) -> dict[str, Any]: ...
+    def set_method(self, method: str = "lemke", **options: Any) -> None: ...
+    def set_cone_scale(self, scale: float | str | None = None) -> None: ...
+    def copy(self) -> World: ...
+    def energy(self) -> float: ...
+    def add_box(
+        self,
+        half_extents: ArrayLike,
+        mass: float | None = None,
+        position: ArrayLike | None = None,
+        orientation: ArrayLike | None = None,
+        velocity: ArrayLike | None = None,
+        angular_velocity: ArrayLike | None = None,
+        mu: float | None = None,
+        is_static: bool = False,
+        inertia: ArrayLike | None = None,
+    ) -> int: ...
+    def add_sphere(
+        self,
+        radius: float,
+        mass: float | None = None,
+        position: ArrayLike | None = None,
+        orientation: ArrayLike | None = None,
+        velocity: ArrayLike | None = None,
+        angular_velocity: ArrayLike | None = None,
+        mu: float | None = None,
+        is_static: bool = False,
+        inertia: ArrayLike | None = None,
+    ) -> int: ...
+    def add_plane(
+        self, normal: ArrayLike, offset: float | None = None, mu: float | None = None, tangent: ArrayLike | None = None
+    ) -> int: ...
+    def add_slope(
+        self,
+        angle_deg: float,
+        mu: float | None = None,
+        downhill: str = "+x",
+        offset: float | None = None,
+        tangent_angle: float | None = None,
+    ) -> int: ...
+    def body(self, index: int) -> dict[str, Any]: ...
+    def state(self) -> StateDict: ...
+    def set_position(self, body: int, position: ArrayLike) -> None: ...
+    def set_orientation(self, body: int, orientation: ArrayLike) -> None: ...
+    def set_velocity(self, body: int, velocity: ArrayLike) -> None: ...
+    def set_angular_velocity(self, body: int, angular_velocity: ArrayLike) -> None: ...
+    def set_mu(self, body: int, mu: float) -> None: ...
+    def apply_force(self, body: int, force: ArrayLike, point: ArrayLike | None = None) -> None: ...
+    def apply_torque(self, body: int, torque: ArrayLike) -> None: ...
+    def clear_forces(self) -> None: ...
+    def step(self) -> StepDict: ...
+    def last_record(self) -> StepDict: ...
+    def run(self, steps: int, max_capture_bytes: int | None = None) -> RunDict:
+        """Runs with the GIL released; stops early once the capture holds max_capture_bytes."""
+    def start_capture(self) -> None: ...
+    def stop_capture(self) -> None: ...
+    def captured_count(self) -> int: ...
+    def drain_capture(self) -> CaptureDict: ...
+
+def build_scene(name: str, params: dict[str, Any] | None, template: World) -> tuple[World, dict[str, Any]]:
+    """Scene `name` built with the template's parameters; ids in the dict: body, ground, bodies."""

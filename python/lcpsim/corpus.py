@@ -396,7 +396,7 @@ class Corpus:
             if not ok.all():
                 count = int(np.argmin(ok))
                 idx = {k: v[:count] for k, v in idx.items()}
-            self._idx = idx
+            self._idx: dict[str, NDArray[Any]] = idx
             runs = f["runs"]
             r_count = min(runs["offset"].shape[0], runs["length"].shape[0])
             blob = runs["json"][()].tobytes()
@@ -419,47 +419,47 @@ class Corpus:
     # Index arrays.
     @property
     def n(self) -> NDArray[np.int64]:
-        return self._idx["n"].astype(np.int64)
+        return np.asarray(self._idx["n"], dtype=np.int64)
 
     @property
     def step(self) -> NDArray[np.int64]:
-        return self._idx["step"]
+        return np.asarray(self._idx["step"], dtype=np.int64)
 
     @property
     def time(self) -> NDArray[np.float64]:
-        return self._idx["time"]
+        return np.asarray(self._idx["time"], dtype=np.float64)
 
     @property
     def contacts(self) -> NDArray[np.int64]:
-        return self._idx["contacts"].astype(np.int64)
+        return np.asarray(self._idx["contacts"], dtype=np.int64)
 
     @property
     def friction_dirs(self) -> NDArray[np.int64]:
-        return self._idx["friction_dirs"].astype(np.int64)
+        return np.asarray(self._idx["friction_dirs"], dtype=np.int64)
 
     @property
     def scale(self) -> NDArray[np.float64]:
-        return self._idx["scale"]
+        return np.asarray(self._idx["scale"], dtype=np.float64)
 
     @property
     def status(self) -> NDArray[np.str_]:
         names = np.array(self.status_names + ["unknown"])
         codes = self._idx["status"].astype(np.int64)
-        return names[np.where((codes >= 0) & (codes < len(self.status_names)), codes, len(self.status_names))]
+        return np.asarray(names[np.where((codes >= 0) & (codes < len(self.status_names)), codes, len(self.status_names))])
 
     @property
     def pivots(self) -> NDArray[np.int64]:
-        return self._idx["pivots"]
+        return np.asarray(self._idx["pivots"], dtype=np.int64)
 
     @property
     def method(self) -> NDArray[np.str_]:
         names = np.array(self.method_names + ["unknown"])
         codes = self._idx["method"].astype(np.int64)
-        return names[np.where((codes >= 0) & (codes < len(self.method_names)), codes, len(self.method_names))]
+        return np.asarray(names[np.where((codes >= 0) & (codes < len(self.method_names)), codes, len(self.method_names))])
 
     @property
     def run(self) -> NDArray[np.int64]:
-        return self._idx["run"].astype(np.int64)
+        return np.asarray(self._idx["run"], dtype=np.int64)
 
     def _check(self, index: Any) -> int:
         if isinstance(index, bool) or not isinstance(index, (int, np.integer)):

@@ -194,7 +194,7 @@ class StepRecord:
 
     def between(self, a: int, b: int) -> NDArray[np.bool_]:
         """Mask of the contacts between bodies ``a`` and ``b`` (either order)."""
-        return ((self.body_a == a) & (self.body_b == b)) | ((self.body_a == b) & (self.body_b == a))
+        return np.asarray(((self.body_a == a) & (self.body_b == b)) | ((self.body_a == b) & (self.body_b == a)))
 
     @classmethod
     def _from_core(cls, d: Mapping[str, Any]) -> "StepRecord":
@@ -353,7 +353,7 @@ class Trajectory:
 
     @classmethod
     def _from_parts(
-        cls, dt: float, parts: Sequence[Mapping[str, Any]], initial: Mapping[str, NDArray[np.float64]]
+        cls, dt: float, parts: Sequence[Mapping[str, Any]], initial: Mapping[str, Any]
     ) -> "Trajectory":
         def cat(key: str) -> NDArray[Any]:
             return parts[0][key] if len(parts) == 1 else np.concatenate([p[key] for p in parts])
@@ -477,7 +477,9 @@ class World:
         if not isinstance(mu_combine, str) or mu_combine not in MU_COMBINE:
             raise ValueError(f"unknown mu_combine {mu_combine!r} (valid: {', '.join(MU_COMBINE)})")
         stab = _stabilization(stabilization)
-        direct = {k: solver_options.pop(k) for k in ("erp", "slop", "speculative") if k in solver_options}
+        direct: dict[str, Any] = {
+            k: solver_options.pop(k) for k in ("erp", "slop", "speculative") if k in solver_options
+        }
         if direct:
             stab = Stabilization(**{**stab.__dict__, **direct})
         scale = _cone_scale(cone_scale)
@@ -788,7 +790,7 @@ class World:
             raise ValueError(f"steps must be a non-negative integer, got {steps!r}")
         if isinstance(chunk_steps, bool) or not isinstance(chunk_steps, (int, np.integer)) or chunk_steps < 1:
             raise ValueError(f"chunk_steps must be a positive integer, got {chunk_steps!r}")
-        initial = self._core.state()
+        initial: Mapping[str, Any] = self._core.state()
         if capture is None:
             parts = []
             done = 0
@@ -802,8 +804,7 @@ class World:
         from .corpus import CorpusWriter
 
         own = not isinstance(capture, CorpusWriter)
-        writer = CorpusWriter(capture, metadata=self.config()) if own else capture
-        assert isinstance(writer, CorpusWriter)
+        writer = capture if isinstance(capture, CorpusWriter) else CorpusWriter(capture, metadata=self.config())
         try:
             writer.begin_run(self.config())
             self._core.start_capture()
