@@ -27,14 +27,35 @@ pub(crate) struct Cand {
     row: usize,
 }
 
+/// Scratch buffers reused across pivots.
+#[derive(Default)]
+pub(crate) struct Scratch {
+    cands: Vec<Cand>,
+    tied: Vec<Cand>,
+    lex: Vec<f64>,
+}
+
+/// The outcome of a ratio test.
+pub(crate) struct Choice {
+    pub at: Leaving,
+    /// Step length: the entering variable's new value.
+    pub theta: f64,
+    /// Largest `|x|` over the basics: the scale of this column.
+    pub xmax: f64,
+}
+
 /// Gathers the basics that can block (`x > 0`) and returns the largest `|x|`
 /// and the largest `|value|` over all basics (the scales tolerances refer to).
 fn candidates(basis: &Basis, x: &Column, out: &mut Vec<Cand>) -> (f64, f64) {
     out.clear();
     let (mut xmax, mut vmax) = (0.0f64, f64::MIN_POSITIVE);
     let mut take = |at, value: f64, x: f64, row| {
-        xmax = xmax.max(x.abs());
-        vmax = vmax.max(value.abs());
+        if x.abs() > xmax {
+            xmax = x.abs();
+        }
+        if value.abs() > vmax {
+            vmax = value.abs();
+        }
         if x > 0.0 {
             out.push(Cand { at, value, x, row });
         }
@@ -51,13 +72,13 @@ fn candidates(basis: &Basis, x: &Column, out: &mut Vec<Cand>) -> (f64, f64) {
 }
 
 /// The leaving variable and the step length, or `None` for a ray.
-/// `buf` is scratch space reused across pivots.
-pub(crate) fn leaving(basis: &Basis, x: &Column, rule: Rule, buf: &mut Vec<Cand>) -> Option<(Leaving, f64)> {
-    let (xmax, vmax) = candidates(basis, x, buf);
-    match rule {
-        Rule::Classic { piv_tol, zero_tol } => classic(basis, buf, piv_tol, zero_tol),
-        Rule::Lexicographic { piv_tol, tie_tol } => lexicographic(basis, buf, piv_tol * xmax, tie_tol * vmax, tie_tol),
-    }
+pub(crate) fn leaving(basis: &Basis, x: &Column, rule: Rule, sc: &mut Scratch) -> Option<Choice> {
+    let (xmax, vmax) = candidates(basis, x, &mut sc.cands);
+    let (at, theta) = match rule {
+        Rule::Classic { piv_tol, zero_tol } => classic(basis, &sc.cands, piv_tol, zero_tol),
+        Rule::Lexicographic { piv_tol, tie_tol } => lexicographic(basis, sc, piv_tol * xmax, tie_tol * vmax, tie_tol),
+    }?;
+    Some(Choice { at, theta, xmax })
 }
 
 fn classic(basis: &Basis, c: &[Cand], piv_tol: f64, zero_tol: f64) -> Option<(Leaving, f64)> {
@@ -76,34 +97,38 @@ fn classic(basis: &Basis, c: &[Cand], piv_tol: f64, zero_tol: f64) -> Option<(Le
 }
 
 /// `thresh`: smallest pivot; `vtol`: how close to zero a value must come to tie.
-fn lexicographic(basis: &Basis, c: &[Cand], thresh: f64, vtol: f64, tie_tol: f64) -> Option<(Leaving, f64)> {
-    let theta = c.iter().filter(|k| k.x > thresh).map(|k| k.value.max(0.0) / k.x).fold(f64::INFINITY, f64::min);
+fn lexicographic(basis: &Basis, sc: &mut Scratch, thresh: f64, vtol: f64, tie_tol: f64) -> Option<(Leaving, f64)> {
+    let mut theta = f64::INFINITY;
+    for k in sc.cands.iter().filter(|k| k.x > thresh) {
+        let r = if k.value > 0.0 { k.value / k.x } else { 0.0 };
+        if r < theta {
+            theta = r;
+        }
+    }
     if !theta.is_finite() {
         return None;
     }
-    // Rows that reach zero within vtol at this step.
-    let is_tied = |k: &&Cand| k.x > thresh && k.value.max(0.0) - theta * k.x <= vtol;
-    let is_z0 = |k: &&Cand| matches!(k.at, Leaving::S(p) if basis.s[p] == Var::Z0);
-    if let Some(z0) = c.iter().filter(is_tied).find(is_z0) {
-        return Some((z0.at, theta));
+    // Rows that reach zero within vtol at this step; z0 among them ends the run.
+    sc.tied.clear();
+    for k in sc.cands.iter().filter(|k| k.x > thresh && k.value.max(0.0) - theta * k.x <= vtol) {
+        if matches!(k.at, Leaving::S(p) if basis.s[p] == Var::Z0) {
+            return Some((k.at, theta));
+        }
+        sc.tied.push(*k);
     }
-    let mut tied = c.iter().filter(is_tied);
-    let first = *tied.next()?;
-    let Some(&second) = tied.next() else {
-        return Some((first.at, theta));
-    };
-    let all: Vec<Cand> = [first, second].into_iter().chain(tied.copied()).collect();
+    if sc.tied.len() > 1 {
+        lex_break(basis, &mut sc.tied, &mut sc.lex, tie_tol);
+    }
     // Still tied after every column (only under round-off): the largest pivot.
-    let best = lex_break(basis, all, tie_tol).into_iter().max_by(|a, b| a.x.total_cmp(&b.x))?;
+    let best = sc.tied.iter().max_by(|a, b| a.x.total_cmp(&b.x))?;
     Some((best.at, theta))
 }
 
 /// Keeps the candidates whose `B⁻¹` row over the pivot is lexicographically
 /// smallest. Entries are computed column by column, only while ties remain:
 /// most ties are broken within the first columns.
-fn lex_break(basis: &Basis, mut rows: Vec<Cand>, tie_tol: f64) -> Vec<Cand> {
+fn lex_break(basis: &Basis, rows: &mut Vec<Cand>, v: &mut Vec<f64>, tie_tol: f64) {
     let n = basis.val_w.len();
-    let mut v = Vec::with_capacity(rows.len());
     for col in 0..n {
         if rows.len() == 1 {
             break;
@@ -115,7 +140,6 @@ fn lex_break(basis: &Basis, mut rows: Vec<Cand>, tie_tol: f64) -> Vec<Cand> {
         let mut it = v.iter();
         rows.retain(|_| *it.next().expect("one value per row") <= min + tie_tol * scale);
     }
-    rows
 }
 
 /// The first pivot, where z0 enters at the value that makes every `w ≥ 0`:

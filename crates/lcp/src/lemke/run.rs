@@ -1,7 +1,7 @@
 //! The complementary pivoting loop, shared by both pivoting rules.
 
 use super::basis::{Basis, Column, Leaving, Var};
-use super::ratio::{first_leaving, leaving, Rule};
+use super::ratio::{first_leaving, leaving, Choice, Rule, Scratch};
 use crate::problem::Lcp;
 use crate::solution::Status;
 use std::collections::HashSet;
@@ -67,7 +67,7 @@ pub(crate) fn run<'a>(lcp: &'a Lcp, d: &'a [f64], set: &RunSettings) -> Run<'a> 
     let mut hash = (0..n).fold(0u64, |h, i| h ^ key(i)) ^ key(r) ^ key(Var::Z0.id(n));
     let mut seen: HashSet<u64, BuildHasherDefault<Identity>> = HashSet::default();
     seen.insert(hash);
-    let mut buf = Vec::with_capacity(n);
+    let mut scratch = Scratch::default();
     let mut entering = Var::Z(r);
     let status = loop {
         if pivots >= set.max_pivots {
@@ -77,8 +77,7 @@ pub(crate) fn run<'a>(lcp: &'a Lcp, d: &'a [f64], set: &RunSettings) -> Run<'a> 
         if col.xs.iter().chain(&col.xw).any(|v| !v.is_finite()) {
             break Status::Numerical;
         }
-        let lv = leaving(&basis, &col, set.rule, &mut buf);
-        let Some((out, theta)) = lv else {
+        let Some(Choice { at: out, theta, xmax }) = leaving(&basis, &col, set.rule, &mut scratch) else {
             break Status::RayTermination;
         };
         let (left, pivot) = match out {
@@ -86,7 +85,6 @@ pub(crate) fn run<'a>(lcp: &'a Lcp, d: &'a [f64], set: &RunSettings) -> Run<'a> 
             Leaving::W(i) => (Var::W(i), col.xw[i]),
         };
         // A pivot small against its column inflates C⁻¹'s round-off: refactor after it.
-        let xmax = col.xs.iter().chain(&col.xw).fold(0.0f64, |a, v| a.max(v.abs()));
         let small_pivot = pivot.abs() < SMALL_PIVOT * xmax;
         basis.pivot(entering, out, &col, theta);
         pivots += 1;
