@@ -170,17 +170,40 @@ struct Extras {
     max_lambda: Vec<f64>,
     solver_residual: Vec<f64>,
     status: Vec<i8>,
+    /// Friction directions' cosines and sines, built once per run.
+    basis: Option<FrictionBasis>,
 }
 
 impl Extras {
+    fn with_capacity(steps: usize) -> Self {
+        Extras {
+            normal_impulse: Vec::with_capacity(steps),
+            friction_impulse: Vec::with_capacity(3 * steps),
+            max_lambda: Vec::with_capacity(steps),
+            solver_residual: Vec::with_capacity(steps),
+            status: Vec::with_capacity(steps),
+            basis: None,
+        }
+    }
+
     fn push(&mut self, r: &StepRecord) {
-        let ok_z = r.z.len() == r.nc() * (r.friction_dirs + 2);
-        let (fnsum, fric, lam) = if ok_z && r.nc() > 0 {
-            let f = (0..r.nc()).map(|i| r.friction_impulse(i)).fold(Vec3::ZERO, |a, b| a + b);
-            (r.total_normal_impulse(), f, r.lambdas().iter().copied().fold(0.0, f64::max))
-        } else {
-            (0.0, Vec3::ZERO, 0.0)
-        };
+        let (nc, k) = (r.nc(), r.friction_dirs);
+        let (mut fnsum, mut fric, mut lam) = (0.0, Vec3::ZERO, 0.0);
+        if nc > 0 && r.z.len() == nc * (k + 2) {
+            if !matches!(&self.basis, Some(b) if b.k() == k) {
+                self.basis = Some(FrictionBasis::new(k));
+            }
+            let basis = self.basis.as_ref().expect("set above");
+            fnsum = r.total_normal_impulse();
+            for (i, c) in r.contacts.iter().enumerate() {
+                for (j, &f) in r.friction_of(i).iter().enumerate() {
+                    if f != 0.0 {
+                        fric += basis.direction(c.normal, c.tangent, j) * f;
+                    }
+                }
+            }
+            lam = r.lambdas().iter().copied().fold(0.0, f64::max);
+        }
         self.normal_impulse.push(fnsum);
         self.friction_impulse.extend_from_slice(&fric.to_array());
         self.max_lambda.push(lam);
@@ -349,7 +372,18 @@ impl World {
         inertia: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
         let he = vec3(half_extents, "half_extents")?;
-        let d = body_args(py, BodyDesc::cuboid(he), mass, position, orientation, velocity, angular_velocity, mu, is_static, inertia)?;
+        let d = body_args(
+            py,
+            BodyDesc::cuboid(he),
+            mass,
+            position,
+            orientation,
+            velocity,
+            angular_velocity,
+            mu,
+            is_static,
+            inertia,
+        )?;
         self.add(d)
     }
 
@@ -370,7 +404,18 @@ impl World {
         inertia: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
         let r = real(radius, "radius")?;
-        let d = body_args(py, BodyDesc::sphere(r), mass, position, orientation, velocity, angular_velocity, mu, is_static, inertia)?;
+        let d = body_args(
+            py,
+            BodyDesc::sphere(r),
+            mass,
+            position,
+            orientation,
+            velocity,
+            angular_velocity,
+            mu,
+            is_static,
+            inertia,
+        )?;
         self.add(d)
     }
 
@@ -538,7 +583,7 @@ impl World {
     /// One step; returns its record as a dict.
     fn step<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let w = self.inner();
-        let rec = guarded(|| w.step().map(|r| r.clone()))?;
+        let rec = guarded(|| w.step().cloned())?;
         record_to_dict(py, &rec)
     }
 
@@ -551,14 +596,19 @@ impl World {
     /// trajectory as a dict of arrays. Stops early (after at least one step)
     /// once the LCP capture holds `max_capture_bytes`, so the caller can drain it.
     #[pyo3(signature = (steps, max_capture_bytes = None))]
-    fn run<'py>(&mut self, py: Python<'py>, steps: usize, max_capture_bytes: Option<usize>) -> PyResult<Bound<'py, PyDict>> {
+    fn run<'py>(
+        &mut self,
+        py: Python<'py>,
+        steps: usize,
+        max_capture_bytes: Option<usize>,
+    ) -> PyResult<Bound<'py, PyDict>> {
         let capture = self.capture.clone();
         let limit = max_capture_bytes.filter(|_| self.capturing);
         let w = self.inner();
         let out = py.detach(|| {
             catch_unwind(AssertUnwindSafe(|| {
                 let mut traj = Trajectory::with_capacity(steps, w.body_count());
-                let mut extras = Extras::default();
+                let mut extras = Extras::with_capacity(steps);
                 for _ in 0..steps {
                     if let Err(e) = w.step() {
                         return (traj, extras, Some(e));

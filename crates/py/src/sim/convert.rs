@@ -61,7 +61,8 @@ pub fn quat(value: &Bound<'_, PyAny>, field: &str) -> PyResult<Quat> {
 /// A 3×3 matrix from a nested sequence or a (3, 3) array.
 pub fn mat3(value: &Bound<'_, PyAny>, field: &str) -> PyResult<Mat3> {
     let bad = || value_error(format!("{field} must be a 3x3 matrix of real numbers, got {}", repr(value)));
-    let rows: Vec<Bound<'_, PyAny>> = value.try_iter().map_err(|_| bad())?.collect::<PyResult<_>>().map_err(|_| bad())?;
+    let rows: Vec<Bound<'_, PyAny>> =
+        value.try_iter().map_err(|_| bad())?.collect::<PyResult<_>>().map_err(|_| bad())?;
     if rows.len() != 3 {
         return Err(bad());
     }
@@ -84,10 +85,7 @@ pub fn cone_scale(value: Option<&Bound<'_, PyAny>>) -> PyResult<ConeScale> {
             "dt" | "h" | "timestep" | "time_step" => Ok(ConeScale::TimeStep),
             _ => match s.parse::<f64>() {
                 Ok(x) => Ok(ConeScale::Value(x)),
-                Err(_) => Err(value_error(format!(
-                    "cone_scale must be None, \"dt\" or a number > 0, got {}",
-                    repr(v)
-                ))),
+                Err(_) => Err(value_error(format!("cone_scale must be None, \"dt\" or a number > 0, got {}", repr(v)))),
             },
         };
     }
@@ -115,12 +113,7 @@ pub fn mu_combine(name: &str) -> PyResult<MuCombine> {
         "product" => MuCombine::Product,
         "geometric_mean" => MuCombine::GeometricMean,
         "average" => MuCombine::Average,
-        _ => {
-            return Err(value_error(format!(
-                "unknown mu_combine {name:?} (valid: {})",
-                MU_COMBINE.join(", ")
-            )))
-        }
+        _ => return Err(value_error(format!("unknown mu_combine {name:?} (valid: {})", MU_COMBINE.join(", ")))),
     })
 }
 
