@@ -29,7 +29,7 @@ pub mod scaling;
 pub mod solution;
 
 pub use lemke::{LemkeOptions, Pivoting};
-pub use method::{solve, Method};
+pub use method::{solve, solve_warm, Method};
 pub use newton_fb::NewtonFbOptions;
 pub use pgs::PgsOptions;
 pub use problem::{Lcp, LcpError};

@@ -38,8 +38,14 @@ impl Method {
 
 /// Solves `lcp` with `method`. Never panics on numerics; see `Solution::status`.
 pub fn solve(lcp: &Lcp, method: &Method) -> Solution {
+    solve_warm(lcp, method, None)
+}
+
+/// As [`solve`], starting Lemke from a guessed complementary basis (see
+/// [`crate::lemke::solve_warm`]); the other methods ignore the guess.
+pub fn solve_warm(lcp: &Lcp, method: &Method, basis: Option<&[bool]>) -> Solution {
     match method {
-        Method::Lemke(o) => crate::lemke::solve(lcp, o),
+        Method::Lemke(o) => crate::lemke::solve_warm(lcp, o, basis),
         Method::Pgs(o) => crate::pgs::solve(lcp, o),
         Method::NewtonFb(o) => crate::newton_fb::solve(lcp, o),
     }

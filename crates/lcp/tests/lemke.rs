@@ -185,6 +185,41 @@ fn pivot_budget_spans_the_ladder_and_tiny_q_is_fine() {
     }
 }
 
+/// Issue 5: a warm start from the answer's own basis needs no pivot; from a
+/// neighbouring problem's basis it needs fewer; from a wrong one it still solves.
+#[test]
+fn warm_start_saves_pivots_and_never_hurts() {
+    let (mut cold, mut warm) = (0usize, 0usize);
+    for seed in 0..300u64 {
+        let nc = [1usize, 2, 4][seed as usize % 3];
+        let lcp = generate::contact_lcp(nc, 8, 1e-3, seed);
+        let first = lemke(&lcp);
+        assert_eq!(first.status, Status::Solved);
+        let basis = first.basis.clone().unwrap();
+        let again = lcp::lemke::solve_warm(&lcp, &lex(), Some(&basis));
+        assert_eq!(again.status, Status::Solved);
+        assert_eq!(again.iterations, 0, "seed {seed}");
+        assert_solves(&lcp, &again.z, 1e-9);
+        // The next time step: same structure, q moved a little.
+        let (m, q) = lcp.clone().into_parts();
+        let q2: Vec<f64> =
+            q.iter().enumerate().map(|(i, v)| v * (1.0 + 0.01 * ((i * 7 + seed as usize) % 5) as f64)).collect();
+        let next = Lcp::new(m, q2).unwrap();
+        let c = lemke(&next);
+        let w = lcp::lemke::solve_warm(&next, &lex(), Some(&basis));
+        assert_eq!((c.status, w.status), (Status::Solved, Status::Solved), "seed {seed}");
+        assert_solves(&next, &w.z, 1e-9);
+        cold += c.iterations;
+        warm += w.iterations;
+        // A basis of nonsense still ends in a checked solution.
+        let wrong: Vec<bool> = (0..lcp.n()).map(|j| (j + seed as usize) % 3 == 0).collect();
+        let s = lcp::lemke::solve_warm(&lcp, &lex(), Some(&wrong));
+        assert_eq!(s.status, Status::Solved, "seed {seed}");
+        assert_solves(&lcp, &s.z, 1e-9);
+    }
+    assert!(2 * warm <= cold, "warm {warm} pivots vs cold {cold}");
+}
+
 #[test]
 fn method_dispatch_reaches_lemke() {
     let lcp = Lcp::new(vec![1.0], vec![-2.0]).unwrap();

@@ -129,6 +129,42 @@ impl<'a> Basis<'a> {
         }
     }
 
+    /// The complementary basis `{z_j : j ∈ α} ∪ {w_i : i ∉ α}`, factored.
+    /// `None` when `M_αα` is numerically singular.
+    pub(crate) fn complementary(lcp: &'a Lcp, d: &'a [f64], alpha: &[usize]) -> Option<Self> {
+        let mut b = Basis::slack(lcp, d);
+        for (p, &j) in alpha.iter().enumerate() {
+            b.r.push(j);
+            b.r_pos[j] = Some(p);
+            b.s.push(Var::Z(j));
+            b.val_s.push(0.0);
+            b.row_s.push(j);
+        }
+        b.refactor().then_some(b)
+    }
+
+    /// The most negative basic value and where it sits.
+    pub(crate) fn most_negative(&self) -> (f64, Leaving) {
+        let mut best = (f64::INFINITY, Leaving::S(0));
+        for (p, &v) in self.val_s.iter().enumerate() {
+            if v < best.0 {
+                best = (v, Leaving::S(p));
+            }
+        }
+        for (i, &v) in self.val_w.iter().enumerate() {
+            if self.r_pos[i].is_none() && v < best.0 {
+                best = (v, Leaving::W(i));
+            }
+        }
+        best
+    }
+
+    /// XOR of the basic variables' keys (see `run::key`).
+    pub(crate) fn hash(&self, n: usize) -> u64 {
+        let w = (0..n).filter(|&i| self.r_pos[i].is_none()).fold(0u64, |h, i| h ^ super::run::key(i));
+        self.s.iter().fold(w, |h, v| h ^ super::run::key(v.id(n)))
+    }
+
     #[inline]
     pub(crate) fn m(&self) -> usize {
         self.s.len()

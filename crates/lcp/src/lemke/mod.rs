@@ -24,16 +24,26 @@ use crate::scaling::Scaling;
 use crate::solution::{Solution, Status};
 use basis::Var;
 use ratio::Rule;
-use run::{run, RunSettings};
+use run::RunSettings;
 
 /// Ruiz sweeps used by the default equilibration.
 const RUIZ_ITERATIONS: usize = 3;
 
 /// Solves `lcp` by Lemke's method. Never panics on numerics.
 pub fn solve(lcp: &Lcp, o: &LemkeOptions) -> Solution {
+    solve_warm(lcp, o, None)
+}
+
+/// Solves `lcp` starting from a guessed complementary basis (`basis[j]`: z_j
+/// basic), typically the previous time step's `Solution::basis`. If that
+/// basis still solves the problem, no pivot is needed; otherwise Lemke runs
+/// from it with the covering vector `d = B·1`, and the usual cold start
+/// follows if that fails. A basis of the wrong length is ignored. `Classic`
+/// pivoting ignores the guess (the seed's Lemke started cold).
+pub fn solve_warm(lcp: &Lcp, o: &LemkeOptions, basis: Option<&[bool]>) -> Solution {
     match o.pivoting {
         Pivoting::Classic => solve_classic(lcp, o),
-        Pivoting::Lexicographic => solve_lexicographic(lcp, o),
+        Pivoting::Lexicographic => solve_lexicographic(lcp, o, basis),
     }
 }
 
@@ -54,7 +64,7 @@ fn solve_classic(lcp: &Lcp, o: &LemkeOptions) -> Solution {
         max_pivots: o.pivot_limit(lcp.n()),
         refactor_every: refactor_every(lcp.n()),
     };
-    let r = run(lcp, &d, &set);
+    let r = run::run(lcp, &d, &set);
     let (z, _) = r.basis.z();
     let mut sol = Solution::from_z(lcp, z, r.status, r.pivots);
     sol.basis = Some(basic_mask(&r.basis.s, lcp.n()));
@@ -110,16 +120,21 @@ fn ladder(o: &LemkeOptions) -> Vec<Attempt> {
     ]
 }
 
-fn solve_lexicographic(lcp: &Lcp, o: &LemkeOptions) -> Solution {
+fn solve_lexicographic(lcp: &Lcp, o: &LemkeOptions, warm: Option<&[bool]>) -> Solution {
     let mut best: Option<Solution> = None;
     let mut pivots = 0;
     let limit = o.pivot_limit(lcp.n());
-    for attempt in ladder(o) {
+    let rungs = ladder(o);
+    // A warm start runs first, on the first rung's settings; the cold ladder follows if it fails.
+    let alpha: Option<Vec<usize>> =
+        warm.filter(|b| b.len() == lcp.n()).map(|b| (0..b.len()).filter(|&j| b[j]).collect());
+    let warm_rung = alpha.as_ref().map(|a| (rungs[0], Some(a.as_slice())));
+    for (attempt, start) in warm_rung.into_iter().chain(rungs.iter().map(|&r| (r, None))) {
         // `max_pivots` bounds the whole ladder, not each rung.
         if pivots >= limit && best.is_some() {
             break;
         }
-        let mut sol = solve_attempt(lcp, o, &attempt, limit.saturating_sub(pivots));
+        let mut sol = solve_attempt(lcp, o, &attempt, limit.saturating_sub(pivots), start);
         pivots += sol.iterations;
         sol.iterations = pivots;
         if sol.ok() {
@@ -135,20 +150,39 @@ fn solve_lexicographic(lcp: &Lcp, o: &LemkeOptions) -> Solution {
     sol
 }
 
-fn solve_attempt(lcp: &Lcp, o: &LemkeOptions, attempt: &Attempt, max_pivots: usize) -> Solution {
+/// One rung: scale, pivot (from the complementary basis `start` if given),
+/// re-solve the final basis, map back and check.
+fn solve_attempt(
+    lcp: &Lcp,
+    o: &LemkeOptions,
+    attempt: &Attempt,
+    max_pivots: usize,
+    start: Option<&[usize]>,
+) -> Solution {
     let n = lcp.n();
     // Equilibrate M and bring q to unit size: z scales linearly with q.
     let scaling = if attempt.equilibrate { Scaling::ruiz(lcp, RUIZ_ITERATIONS) } else { Scaling::identity(n) };
     let qmax = lcp.q().iter().fold(0.0f64, |a, v| a.max(v.abs()));
     let qscale = if qmax > 0.0 { pow2_inverse(qmax) } else { 1.0 };
     let work = scaling.apply_pow2(lcp, qscale);
-    let d: Vec<f64> = if attempt.perturb_d { (0..n).map(covering_perturbation).collect() } else { vec![1.0; n] };
+    let d: Vec<f64> = match start {
+        Some(alpha) => run::warm_covering(&work, alpha),
+        None if attempt.perturb_d => (0..n).map(covering_perturbation).collect(),
+        None => vec![1.0; n],
+    };
     let set = RunSettings {
         rule: Rule::Lexicographic { piv_tol: attempt.piv_rel, tie_tol: o.zero_tol.min(attempt.tie_tol) },
         max_pivots,
         refactor_every: refactor_every(n),
     };
-    let mut r = run(&work, &d, &set);
+    let run = match start {
+        Some(alpha) => run::run_warm(&work, &d, alpha, &set),
+        None => Some(run::run(&work, &d, &set)),
+    };
+    // A singular warm basis: nothing pivoted, the cold ladder takes over.
+    let Some(mut r) = run else {
+        return Solution::from_z(lcp, vec![0.0; n], Status::SingularBasis, 0);
+    };
     let mask = basic_mask(&r.basis.s, n);
     let unscale =
         |z_work: &[f64]| -> Vec<f64> { scaling.z_back(z_work).into_iter().map(|v| (v / qscale).max(0.0)).collect() };

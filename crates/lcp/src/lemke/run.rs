@@ -41,8 +41,12 @@ pub(crate) struct Run<'a> {
 /// Pivots below this fraction of their column's largest entry trigger a refactorization.
 const SMALL_PIVOT: f64 = 1e-4;
 
+/// A warm basis whose values dip below zero by less than this (relative)
+/// is taken as it is; the residual check after the run has the last word.
+const WARM_FEASIBLE: f64 = 1e-12;
+
 /// Key of a variable for the basis hash (splitmix64 of its id).
-fn key(id: usize) -> u64 {
+pub(crate) fn key(id: usize) -> u64 {
     let mut x = (id as u64).wrapping_add(0x9E37_79B9_7F4A_7C15);
     x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
@@ -62,13 +66,68 @@ pub(crate) fn run<'a>(lcp: &'a Lcp, d: &'a [f64], set: &RunSettings) -> Run<'a> 
     let r = first_leaving(lcp.q(), d, set.rule);
     basis.column(Var::Z0, &mut col);
     basis.pivot(Var::Z0, Leaving::W(r), &col, -lcp.q()[r] / d[r]);
-    let mut pivots = 1;
+    let hash = (0..n).fold(0u64, |h, i| h ^ key(i)) ^ key(r) ^ key(Var::Z0.id(n));
+    pivot_loop(basis, col, Var::Z(r), 1, hash, set)
+}
+
+/// The covering vector that makes a warm start's first pivot uniform:
+/// `d = B·1` for the complementary basis `α`, so that `B⁻¹(−d) = −1`.
+pub(crate) fn warm_covering(lcp: &Lcp, alpha: &[usize]) -> Vec<f64> {
+    let mut in_alpha = vec![false; lcp.n()];
+    alpha.iter().for_each(|&j| in_alpha[j] = true);
+    (0..lcp.n())
+        .map(|i| {
+            let row = lcp.row(i);
+            (!in_alpha[i]) as u8 as f64 - alpha.iter().map(|&j| row[j]).sum::<f64>()
+        })
+        .collect()
+}
+
+/// Runs Lemke from the complementary basis `α` (a previous answer's basis)
+/// with `d = warm_covering(lcp, α)`. `None` when `M_αα` is singular.
+pub(crate) fn run_warm<'a>(lcp: &'a Lcp, d: &'a [f64], alpha: &[usize], set: &RunSettings) -> Option<Run<'a>> {
+    let n = lcp.n();
+    let mut basis = Basis::complementary(lcp, d, alpha)?;
+    let (worst, at) = basis.most_negative();
+    // The old basis still solves the new problem, up to round-off (the answer
+    // is checked by its residual afterwards): no pivot at all.
+    let scale = basis.val_s.iter().chain(&basis.val_w).fold(1.0f64, |a, v| a.max(v.abs()));
+    if worst >= -WARM_FEASIBLE * scale {
+        return Some(Run { status: Status::Solved, pivots: 0, basis });
+    }
+    // z0 enters; every basic moves by +θ (x = −1), so the most negative leaves.
+    let mut col = Column { xs: Vec::with_capacity(n), xw: vec![0.0; n] };
+    basis.column(Var::Z0, &mut col);
+    let x = match at {
+        Leaving::S(p) => col.xs[p],
+        Leaving::W(i) => col.xw[i],
+    };
+    if !(x < 0.0) {
+        return None;
+    }
+    let left = match at {
+        Leaving::S(p) => basis.s[p],
+        Leaving::W(i) => Var::W(i),
+    };
+    basis.pivot(Var::Z0, at, &col, worst / x);
+    let hash = basis.hash(n);
+    Some(pivot_loop(basis, col, left.complement()?, 1, hash, set))
+}
+
+/// The main loop from an almost-complementary basis with z0 basic.
+fn pivot_loop<'a>(
+    mut basis: Basis<'a>,
+    mut col: Column,
+    mut entering: Var,
+    mut pivots: usize,
+    mut hash: u64,
+    set: &RunSettings,
+) -> Run<'a> {
+    let n = basis.val_w.len();
     // Basis hash: XOR of the basic variables' keys; a repeat means cycling.
-    let mut hash = (0..n).fold(0u64, |h, i| h ^ key(i)) ^ key(r) ^ key(Var::Z0.id(n));
     let mut seen: HashSet<u64, BuildHasherDefault<Identity>> = HashSet::default();
     seen.insert(hash);
     let mut scratch = Scratch::default();
-    let mut entering = Var::Z(r);
     let status = loop {
         if pivots >= set.max_pivots {
             break Status::MaxPivots;
