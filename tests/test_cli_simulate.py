@@ -55,6 +55,9 @@ def test_options_reach_the_world(capsys):
     assert d["lcp"]["max_lcp_size"] == 4 * 6 and d["slide"] == pytest.approx(0.0, abs=1e-9)
     rc, d = simulate_json(capsys, "box_stack", "--n", "4", "--steps", "50", "--scale", "1e-3")
     assert rc == 0 and d["bodies"] == 4 and d["slide"] is None and d["world"]["scale"] == 1e-3
+    rc, d = simulate_json(capsys, "box_pile", "--nx", "2", "--ny", "1", "--nz", "2", "--yaw", "0.3", "--seed", "3",
+                          "--steps", "0")
+    assert rc == 0 and d["steps"] == 0 and d["lcp"]["count"] == 0 and d["params"]["seed"] == 3
 
 
 def test_text_summary(capsys):

@@ -265,3 +265,19 @@ def test_cli_solve_index(slope_corpus):
     assert main(["solve", str(path), "--index", "3"]) == 0
     assert main(["solve", str(path)]) == 2
     assert main(["solve", str(path), "--index", "300"]) == 2
+
+
+def test_captured_scaled_lcp_is_d_m_d_of_the_unscaled_one():
+    """Same state, two cone scales: M_s = D M_1 D and q_s = D q_1 with D = diag(I, I, s I)."""
+    caps = {}
+    for s in (1.0, 1e-3):
+        sc = scenes.cube_on_slope(30.0, 0.5, speed=0.2, cone_scale=None if s == 1.0 else s)
+        caps[s] = drain_reference(sc, 1)
+    d = np.r_[np.ones(36), np.full(4, 1e-3)]
+    M1, Ms = caps[1.0]["M"].reshape(40, 40), caps[1e-3]["M"].reshape(40, 40)
+    np.testing.assert_allclose(Ms, d[:, None] * M1 * d[None, :], rtol=1e-14, atol=0)
+    np.testing.assert_allclose(caps[1e-3]["q"], d * caps[1.0]["q"], rtol=1e-14, atol=0)
+    # fn and fd agree; λ_scaled = λ / s.
+    z1, zs = caps[1.0]["z"], caps[1e-3]["z"]
+    np.testing.assert_allclose(zs[:36], z1[:36], rtol=1e-9, atol=1e-15)
+    np.testing.assert_allclose(zs[36:] * 1e-3, z1[36:], rtol=1e-9)

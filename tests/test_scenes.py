@@ -76,7 +76,9 @@ def test_bad_scene_parameters(call, words):
 def test_resting_cube_carries_m_g_h_and_does_not_drift():
     for mass in (1.0, 3.5):
         s = scenes.resting_cube(0.5, mass=mass)
+        e0 = s.world.energy()
         traj = s.world.run(1000)
+        assert s.world.energy() <= e0 + 1e-12
         assert traj.failures == 0
         np.testing.assert_allclose(traj.normal_impulse, mass * G * H, rtol=1e-12)
         assert np.abs(traj.velocities[:, s.body]).max() < 1e-9
