@@ -232,3 +232,31 @@ class World:
 
 def build_scene(name: str, params: dict[str, Any] | None, template: World) -> tuple[World, dict[str, Any]]:
     """Scene `name` built with the template's parameters; ids in the dict: body, ground, bodies."""
+
+# Seeded test-LCP generators (crates/py/src/generate.rs → lcp::generate).
+# Contact generators return (M, q, label, nc, k); the others (M, q, label).
+
+#: Hard-contact families: "many_contacts", "duplicate", "nearly_parallel",
+#: "collinear", "mass_ratio", "thin_rod", "mixed".
+HARD_KINDS: list[str]
+
+def contact_lcp(
+    nc: int, k: int = 8, scale: float = 1.0, seed: int = 0
+) -> tuple[NDArray[np.float64], NDArray[np.float64], str, int, int]:
+    """Contact LCP of a unit cube on a random slope (DESIGN §1)."""
+
+def spd_lcp(n: int, seed: int = 0) -> tuple[NDArray[np.float64], NDArray[np.float64], str]:
+    """Random LCP with M = A Aᵀ/n + 0.1 I."""
+
+def p_matrix_lcp(n: int, seed: int = 0) -> tuple[NDArray[np.float64], NDArray[np.float64], str]:
+    """Random LCP with a nonsymmetric positive definite M."""
+
+def hard_contact_lcp(
+    kind: str, scale: float = 1.0, seed: int = 0, k: int = 8
+) -> tuple[NDArray[np.float64], NDArray[np.float64], str, int, int]:
+    """Hard contact LCP of one family."""
+
+def hard_corpus(
+    seed: int, count: int, scale: float = 1.0
+) -> list[tuple[NDArray[np.float64], NDArray[np.float64], str, int, int]]:
+    """`count` hard contact LCPs cycling through the families."""

@@ -6,6 +6,7 @@
 //! functions), `errors`. `sim` (the simulator: `World`, scenes, LCP capture).
 
 mod errors;
+mod generate;
 mod lcp;
 mod method;
 mod problem;
@@ -40,5 +41,12 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     }
     m.add("SCENES", scenes)?;
     m.add("MU_COMBINE", sim::MU_COMBINE.to_vec())?;
+    // Seeded test-LCP generators.
+    m.add_function(wrap_pyfunction!(generate::contact_lcp, m)?)?;
+    m.add_function(wrap_pyfunction!(generate::spd_lcp, m)?)?;
+    m.add_function(wrap_pyfunction!(generate::p_matrix_lcp, m)?)?;
+    m.add_function(wrap_pyfunction!(generate::hard_contact_lcp, m)?)?;
+    m.add_function(wrap_pyfunction!(generate::hard_corpus, m)?)?;
+    m.add("HARD_KINDS", generate::hard_kinds())?;
     Ok(())
 }
