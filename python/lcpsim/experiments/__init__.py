@@ -1,0 +1,61 @@
+"""The seed note's experiments (DESIGN §2, issue 4), as plain functions of a
+JSON-ready config with an explicit seed::
+
+    from lcpsim.experiments import run_experiment
+    r = run_experiment("slope", {"angle_deg": 45.2, "scale": 1e-3, "solver": "seed"})
+    r["outcome"], r["slide_distance_m"], r["config"], r["lcpsim_version"]
+
+=================  =========================================================
+``failure-rate``   failures of a solver over the seed corpus per scale
+``slope``          the 45°+ slope test: rest, slide or tip
+``critical-scale`` the scale below which the slope cube is held
+``invariance``     fn, fd unchanged and λ·s by scaling
+``patterns``       sign patterns (fn, Σfd, λ) per contact, scaled × unscaled
+``push``           the pushed cube at 9.79 N
+=================  =========================================================
+
+Each returns a dict carrying ``config``, ``seed`` and ``lcpsim_version``;
+:mod:`.sweep` maps them over a Dask cluster, :mod:`.report` runs them all.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Callable, Mapping
+
+from . import critical_scale, failure_rate, invariance, patterns, push, slope
+from .presets import PRESETS, Solver, parse_solver
+
+__all__ = ["EXPERIMENTS", "DEFAULTS", "run_experiment", "experiment_name", "PRESETS", "Solver", "parse_solver"]
+
+#: Experiment name → run function.
+EXPERIMENTS: dict[str, Callable[[Mapping[str, Any] | None], dict[str, Any]]] = {
+    "failure-rate": failure_rate.run,
+    "slope": slope.run,
+    "critical-scale": critical_scale.run,
+    "invariance": invariance.run,
+    "patterns": patterns.run,
+    "push": push.run,
+}
+
+#: Experiment name → its config defaults.
+DEFAULTS: dict[str, dict[str, Any]] = {
+    "failure-rate": failure_rate.DEFAULTS,
+    "slope": slope.DEFAULTS,
+    "critical-scale": critical_scale.DEFAULTS,
+    "invariance": invariance.DEFAULTS,
+    "patterns": patterns.DEFAULTS,
+    "push": push.DEFAULTS,
+}
+
+
+def experiment_name(name: str) -> str:
+    """The canonical name (``failure_rate`` and ``failure-rate`` both work)."""
+    key = str(name).strip().replace("_", "-")
+    if key not in EXPERIMENTS:
+        raise ValueError(f"unknown experiment {name!r} (valid: {', '.join(EXPERIMENTS)})")
+    return key
+
+
+def run_experiment(name: str, config: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    """Runs experiment ``name`` with ``config`` (missing keys take the defaults)."""
+    return EXPERIMENTS[experiment_name(name)](config)

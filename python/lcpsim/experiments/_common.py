@@ -1,0 +1,155 @@
+"""Shared pieces of the experiments: scales, configs, the result envelope.
+
+Every experiment is a plain function ``run(config) -> dict`` of a JSON-ready
+config (a mapping; missing keys take the experiment's defaults, unknown keys
+are an error) that carries an explicit ``seed``. The returned dict carries the
+full config, the seed and the lcpsim version, so a result file says what made
+it, and a Dask worker can run any case from its config alone.
+"""
+
+from __future__ import annotations
+
+import math
+import platform
+import time
+from typing import Any, Iterable, Mapping
+
+import numpy as np
+
+__all__ = [
+    "G",
+    "parse_scale",
+    "scale_value",
+    "scale_label",
+    "parse_scales",
+    "merge_config",
+    "envelope",
+    "jsonable",
+]
+
+#: Gravity (m/s²), DESIGN §8.
+G = 9.81
+
+
+def parse_scale(x: Any) -> float | str | None:
+    """A friction-cone scale as the World takes it: ``None`` (unscaled, s = 1),
+    ``"dt"`` (s = time step) or a number > 0. Accepts the strings ``none``,
+    ``unscaled``, ``dt``, ``h`` and numbers (``1`` means unscaled)."""
+    if x is None:
+        return None
+    if isinstance(x, str):
+        t = x.strip().lower()
+        if t in ("none", "unscaled", ""):
+            return None
+        if t in ("dt", "h"):
+            return "dt"
+        try:
+            v = float(t)
+        except ValueError:
+            raise ValueError(f"a scale must be none, dt or a number > 0, got {x!r}") from None
+    elif isinstance(x, bool) or not isinstance(x, (int, float, np.integer, np.floating)):
+        raise ValueError(f"a scale must be none, dt or a number > 0, got {x!r}")
+    else:
+        v = float(x)
+    if not (math.isfinite(v) and v > 0):
+        raise ValueError(f"a scale must be none, dt or a number > 0, got {x!r}")
+    return None if v == 1.0 else v
+
+
+def scale_value(scale: float | str | None, dt: float) -> float:
+    """The numeric s of a parsed scale."""
+    if scale is None:
+        return 1.0
+    if scale == "dt":
+        return float(dt)
+    return float(scale)
+
+
+def scale_label(scale: float | str | None) -> str:
+    """``none``, ``dt`` or the number (``%g``)."""
+    if scale is None:
+        return "none"
+    if scale == "dt":
+        return "dt"
+    return f"{float(scale):g}"
+
+
+def parse_scales(text: str | Iterable[Any]) -> list[float | str | None]:
+    """A comma-separated list (or an iterable) of scales."""
+    items = [t for t in text.split(",") if t.strip()] if isinstance(text, str) else list(text)
+    if not items:
+        raise ValueError("give at least one scale")
+    return [parse_scale(t) for t in items]
+
+
+def merge_config(name: str, defaults: Mapping[str, Any], config: Mapping[str, Any] | None) -> dict[str, Any]:
+    """``defaults`` updated by ``config``; an unknown key is a ValueError naming it."""
+    cfg = dict(defaults)
+    for k, v in (config or {}).items():
+        if k not in defaults:
+            raise ValueError(f"{name}: unknown config key {k!r} (valid: {', '.join(sorted(defaults))})")
+        cfg[k] = v
+    return cfg
+
+
+def envelope(experiment: str, config: Mapping[str, Any], started: float) -> dict[str, Any]:
+    """The header every result carries: experiment, config, seed, version, timing."""
+    from .. import __version__
+
+    return {
+        "experiment": experiment,
+        "lcpsim_version": __version__,
+        "seed": config.get("seed"),
+        "config": jsonable(dict(config)),
+        "wall_time_s": time.perf_counter() - started,
+        "python": platform.python_version(),
+    }
+
+
+def jsonable(x: Any) -> Any:
+    """Plain JSON types only: numpy scalars and arrays converted, non-finite floats as strings."""
+    if isinstance(x, Mapping):
+        return {str(k): jsonable(v) for k, v in x.items()}
+    if isinstance(x, np.ndarray):
+        return jsonable(x.tolist())
+    if isinstance(x, (list, tuple)):
+        return [jsonable(v) for v in x]
+    if isinstance(x, (bool, np.bool_)):
+        return bool(x)
+    if isinstance(x, np.integer):
+        return int(x)
+    if isinstance(x, (float, np.floating)):
+        f = float(x)
+        return f if math.isfinite(f) else ("inf" if f > 0 else "-inf" if f < 0 else "nan")
+    return x
+
+
+def body_energy(traj: Any, world: Any, body: int) -> np.ndarray:
+    """(T + 1,) kinetic + potential energy (J) of one body before the first
+    step and after every step: ½ m|v|² + ½ ωᵀ R I Rᵀ ω − m g·x."""
+    b = world.body(body)
+    m = float(b.mass)
+    inertia = np.asarray(b.inertia, dtype=float)
+    gvec = np.asarray(world.params["gravity"], dtype=float)
+    pos = np.concatenate([traj.initial_positions[None, body], traj.positions[:, body]])
+    quat = np.concatenate([traj.initial_orientations[None, body], traj.orientations[:, body]])
+    vel = np.concatenate([traj.initial_velocities[None, body], traj.velocities[:, body]])
+    w, x, y, z = (quat / np.linalg.norm(quat, axis=1, keepdims=True)).T
+    R = np.stack(
+        [
+            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], axis=-1),
+            np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], axis=-1),
+            np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1),
+        ],
+        axis=1,
+    )
+    om_b = np.einsum("tji,tj->ti", R, vel[:, 3:])  # body-frame ω = Rᵀ ω
+    kin = 0.5 * m * (vel[:, :3] ** 2).sum(axis=1) + 0.5 * np.einsum("ti,ij,tj->t", om_b, inertia, om_b)
+    return np.asarray(kin - m * pos @ gvec)
+
+
+def downsample(n: int, max_points: int = 250) -> np.ndarray:
+    """Indices of at most ``max_points`` evenly spread samples of ``n`` (first and last kept)."""
+    if n <= max_points:
+        return np.arange(n)
+    return np.unique(np.linspace(0, n - 1, max_points).round().astype(np.int64))
