@@ -43,7 +43,7 @@ pub fn solve(lcp: &Lcp, o: &LemkeOptions) -> Solution {
 pub fn solve_warm(lcp: &Lcp, o: &LemkeOptions, basis: Option<&[bool]>) -> Solution {
     match o.pivoting {
         Pivoting::Classic => solve_classic(lcp, o),
-        Pivoting::Lexicographic => solve_lexicographic(lcp, o, basis),
+        Pivoting::Lexicographic => solve_lexicographic(lcp, o, basis.filter(|_| o.warm_start)),
     }
 }
 

@@ -50,6 +50,9 @@ pub struct LemkeOptions {
     /// ladder (coarser pivot tolerance, another covering vector, the other
     /// scaling) before reporting failure. Default true.
     pub fallback: bool,
+    /// `Lexicographic` only: start from the basis guess passed to
+    /// `solve_warm` (e.g. the simulator's previous step). Default true.
+    pub warm_start: bool,
 }
 
 impl Default for LemkeOptions {
@@ -62,6 +65,7 @@ impl Default for LemkeOptions {
             accept_tol: 1e-9,
             equilibrate: true,
             fallback: true,
+            warm_start: true,
         }
     }
 }

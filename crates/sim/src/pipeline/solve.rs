@@ -42,7 +42,11 @@ impl World {
         let lcp = ws.lcp.take_lcp().map_err(SimError::Lcp)?;
         let (sol, method) = match solver {
             Some(f) => (f(&lcp), "custom"),
-            None => (lcp::solve(&lcp, &self.params.method), self.params.method.name()),
+            // Warm start from the previous step's basis when the LCP kept its size.
+            None => {
+                let warm = rec.basis.as_deref().filter(|b| b.len() == n);
+                (lcp::solve_warm(&lcp, &self.params.method, warm), self.params.method.name())
+            }
         };
         if let Some(sink) = self.sink.as_mut() {
             sink.capture(&CapturedLcp {
