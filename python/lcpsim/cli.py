@@ -174,8 +174,9 @@ register_command(
 # ---------------------------------------------------------------- simulate
 
 from . import cli_simulate as _cli_simulate  # noqa: E402  (registers `simulate`)
+from . import cli_experiments as _cli_experiments  # noqa: E402  (registers the experiments, report, sweep)
 
-_ = _cli_simulate
+_ = _cli_simulate, _cli_experiments
 
 
 # ---------------------------------------------------------------- main

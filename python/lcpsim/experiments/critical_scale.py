@@ -22,6 +22,7 @@ from typing import Any, Mapping
 
 from . import slope
 from ._common import envelope, merge_config
+from .presets import parse_solver
 
 __all__ = ["DEFAULTS", "run", "HELD"]
 
@@ -32,7 +33,7 @@ DEFAULTS: dict[str, Any] = {
     "seed": 0,
     "angle_deg": 45.0001,
     "mu": 1.0,
-    "solver": "seed",
+    "solver": "robust",
     "seconds": 1.0,
     "dt": 1e-3,
     "friction_dirs": 8,
@@ -99,6 +100,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     out = envelope("critical-scale", cfg, t0)
     out.update(
         {
+            "solver": parse_solver(cfg["solver"]).to_dict(),
             "critical_scale": critical,
             "bracket": bracket,
             "note": note,

@@ -67,6 +67,15 @@ def _stats(ef: np.ndarray, ed: np.ndarray, rf: np.ndarray, rd: np.ndarray, rl: n
     }
 
 
+def _hist(rel: np.ndarray) -> dict[str, Any]:
+    """Counts of per-LCP relative errors in decades 1e-18 … 1 (exact zeros apart)."""
+    edges = np.arange(-18, 1, dtype=float)
+    pos = rel[rel > 0]
+    lg = np.clip(np.log10(pos), edges[0], edges[-1] - 1e-9) if pos.size else pos
+    counts, _ = np.histogram(lg, bins=edges)
+    return {"log10_edges": edges.tolist(), "counts": counts.tolist(), "zeros": int((rel == 0).sum())}
+
+
 def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """Runs the comparison; returns ``{"lcps", "max_abs_dfn", "max_abs_dfd", "max_rel_lambda_err", …}``."""
     t0 = time.perf_counter()
@@ -165,6 +174,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
             "all_pairs": _stats(*(cat(allp[k]) for k in keys)),
             "different_basis_lcps": listed,
             "examples": examples,
+            "rel_error_hist": _hist(rel),
             "rel_error_quantiles": {
                 q: float(np.quantile(rel, float(q))) if rel.size else 0.0 for q in ("0.5", "0.9", "0.99", "1.0")
             },
