@@ -46,24 +46,37 @@ echo "==> pip: drake, mujoco, pybullet (numpy pinned to $(cat "$constraints"))"
 }
 
 if [ "${SKIP_WHEEL:-0}" != 1 ]; then
-    echo "==> lcpsim wheel from $root (maturin, release, abi3)"
-    "$py" -m pip install --quiet "maturin>=1.16,<2"
+    # Built from the committed HEAD (git archive), so the benchmark measures a
+    # commit and not whatever is half-edited in the work tree; LCPSIM_WORKTREE=1
+    # builds the work tree as it is. Dependencies are reused from $root/target.
     wheels="$(mktemp -d)"
-    (cd "$root" && "$venv/bin/maturin" build --release --quiet --out "$wheels")
+    if [ "${LCPSIM_WORKTREE:-0}" = 1 ]; then
+        src="$root"; rev="$(git -C "$root" rev-parse --short HEAD)+worktree"
+    else
+        src="$(mktemp -d)"; rev="$(git -C "$root" rev-parse --short HEAD)"
+        git -C "$root" archive HEAD | tar -x -C "$src"
+    fi
+    echo "==> lcpsim wheel from $src ($rev; maturin, release, abi3)"
+    "$py" -m pip install --quiet "maturin>=1.16,<2"
+    (cd "$src" && CARGO_TARGET_DIR="$root/target" "$venv/bin/maturin" build --release --quiet --out "$wheels")
     "$py" -m pip install --quiet --force-reinstall --no-deps "$wheels"/lcpsim-*.whl
     # lcpsim's own dependencies, without upgrading numpy.
     "$py" -m pip install --quiet -c "$constraints" scipy h5py
+    echo "$rev" >"$venv/lcpsim-revision.txt"
     rm -rf "$wheels"
+    [ "$src" = "$root" ] || rm -rf "$src"
 fi
 
 echo "==> versions"
 "$py" - <<'PY'
 import importlib, sys
 print("python", sys.version.split()[0])
-for name in ["numpy", "siconos", "pydrake", "mujoco", "pybullet", "lcpsim"]:
+from importlib.metadata import version
+for module, dist in [("numpy", "numpy"), ("siconos.numerics", None), ("pydrake.solvers", "drake"),
+                     ("mujoco", "mujoco"), ("pybullet", "pybullet"), ("lcpsim", "lcpsim")]:
     try:
-        m = importlib.import_module(name)
-        print(name, getattr(m, "__version__", "?"))
+        importlib.import_module(module)
+        print(module, version(dist) if dist else "(Debian python3-siconos)")
     except Exception as e:  # report, don't fail: run.py skips a missing peer
-        print(name, "NOT AVAILABLE:", e)
+        print(module, "NOT AVAILABLE:", e)
 PY
