@@ -144,7 +144,7 @@ fn pivot_loop<'a>(
             Leaving::W(i) => (Var::W(i), col.xw[i]),
         };
         // A pivot small against its column inflates C⁻¹'s round-off: refactor after it.
-        let small_pivot = pivot.abs() < SMALL_PIVOT * xmax;
+        let small_pivot = matches!(set.rule, Rule::Lexicographic { .. }) && pivot.abs() < SMALL_PIVOT * xmax;
         basis.pivot(entering, out, &col, theta);
         pivots += 1;
         if left == Var::Z0 {
