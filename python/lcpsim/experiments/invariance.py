@@ -57,7 +57,9 @@ SEED_VALUE = 1e-16
 
 
 def _stats(ef: np.ndarray, ed: np.ndarray, rf: np.ndarray, rd: np.ndarray, rl: np.ndarray) -> dict[str, float]:
-    m = lambda a: float(a.max(initial=0.0))  # noqa: E731
+    def m(a: np.ndarray) -> float:
+        return float(a.max(initial=0.0))
+
     return {
         "max_abs_dfn": m(ef),
         "max_abs_dfd": m(ed),
@@ -147,20 +149,22 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
             # The first LCP of this size with friction, as the seed showed (sizes 20 and 40).
             cand = np.nonzero(sb & (np.abs(z0[:, nc:m]).max(axis=1) > 0))[0]
             if cand.size:
-                j = int(cand[0])
+                e = int(cand[0])
                 examples.append(
                     {
-                        "lcp": int(g.index[j]),
-                        "simulation": corpus.sims[int(g.sim[j])].name,
-                        "step": int(g.step[j]),
+                        "lcp": int(g.index[e]),
+                        "simulation": corpus.sims[int(g.sim[e])].name,
+                        "step": int(g.step[e]),
                         "n": g.n,
                         "contacts": nc,
-                        "before": z0[j].tolist(),
-                        "after": (z1[j] / np.where(np.arange(g.n) >= m, s, 1.0)).tolist(),
-                        "after_mapped": z1[j].tolist(),
+                        "before": z0[e].tolist(),
+                        "after": (z1[e] / np.where(np.arange(g.n) >= m, s, 1.0)).tolist(),
+                        "after_mapped": z1[e].tolist(),
                     }
                 )
-    cat = lambda parts: np.concatenate(parts) if parts else np.zeros(0)  # noqa: E731
+    def cat(parts: list[np.ndarray]) -> np.ndarray:
+        return np.concatenate(parts) if parts else np.zeros(0)
+
     head = _stats(*(cat(same[k]) for k in keys))
     out = envelope("invariance", cfg, t0)
     rel = cat(per_lcp_rel)

@@ -32,6 +32,7 @@ import time
 from typing import Any, Mapping
 
 import numpy as np
+from numpy.typing import NDArray
 
 from ._common import envelope, merge_config, parse_scale, scale_label, scale_value
 from .failure_rate import _corpus_config
@@ -68,7 +69,7 @@ DEFAULTS: dict[str, Any] = {
 }
 
 
-def contact_patterns(g: Group, r: ScaledSolve, zero_rel: float) -> np.ndarray:
+def contact_patterns(g: Group, r: ScaledSolve, zero_rel: float) -> NDArray[np.int64]:
     """(b, nc) pattern codes 0…7 (index into :data:`PATTERNS`) of physical answers ``r``."""
     nc, k = g.contacts, g.friction_dirs
     m = nc * (k + 1)
@@ -84,7 +85,8 @@ def contact_patterns(g: Group, r: ScaledSolve, zero_rel: float) -> np.ndarray:
     pn = fn > zero_rel * fscale
     pd = fd > zero_rel * fscale
     pl = lam > zero_rel * lscale
-    return (pn.astype(np.int64) << 2) | (pd.astype(np.int64) << 1) | pl.astype(np.int64)
+    codes: NDArray[np.int64] = (pn.astype(np.int64) << 2) | (pd.astype(np.int64) << 1) | pl.astype(np.int64)
+    return codes
 
 
 def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:

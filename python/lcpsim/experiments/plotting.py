@@ -6,7 +6,6 @@ back from JSON) and writes one figure to ``path``.
 
 from __future__ import annotations
 
-import math
 import os
 from typing import Any, Mapping, Sequence
 
@@ -266,7 +265,3 @@ def plot_result(result: Mapping[str, Any], path: str | os.PathLike[str]) -> str:
     if kind == "push":
         return plot_push([result], path)
     raise ValueError(f"no plot for experiment {kind!r}")
-
-
-def _fmt(x: float) -> str:  # pragma: no cover - helper for callers
-    return "—" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{x:.3g}"

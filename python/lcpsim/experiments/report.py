@@ -10,6 +10,7 @@ default) — and says why they differ.
 
 from __future__ import annotations
 
+import functools
 import html
 import json
 import math
@@ -181,10 +182,10 @@ def make_report(
     corp = step("seed corpus", lambda: generate(cc))
     results["corpus"] = {"config": cc, **corp.summary(), "simulations_spec": [s.to_dict() for s in simulations(cc)]}
 
-    fr = {
-        s: step(f"failure rate ({s})", lambda s=s: failure_rate.run({**base, "solver": s, "scales": SCALES}))
-        for s in ("seed", "robust")
-    }
+    fr: dict[str, dict[str, Any]] = {}
+    for name in ("seed", "robust"):
+        cfg = {**base, "solver": name, "scales": SCALES}
+        fr[name] = step(f"failure rate ({name})", functools.partial(failure_rate.run, cfg))
     fr_sim = step(
         "failure rate (seed, simulated)",
         lambda: failure_rate.run({**base, "solver": "seed", "scales": SCALES, "mode": "simulate"}),
@@ -280,14 +281,17 @@ def make_report(
 def _row(fr: dict[str, Any], scale: str) -> dict[str, Any] | None:
     for r in fr["rows"]:
         if r["scale"] == scale:
-            return r
+            row: dict[str, Any] = r
+            return row
     return None
 
 
 def _document(res: dict[str, Any], figs: dict[str, str], out: str, seed: int, quick: bool, wall: float) -> Doc:
     from .. import __version__
 
-    rel = lambda k: os.path.relpath(figs[k], out)  # noqa: E731
+    def rel(k: str) -> str:
+        return os.path.relpath(figs[k], out)
+
     d = Doc()
     d.h(1, "lcpsim: the seed note's experiments")
     d.p(

@@ -158,15 +158,16 @@ def simulations(config: Mapping[str, Any] | None = None) -> list[SimSpec]:
         v = rng.normal(0.0, 0.5, size=3)
         v[2] = 0.0
         h = float(rng.uniform(0.02, 0.3))
+        qn = q / np.linalg.norm(q)
         sims.append(
             SimSpec(
                 f"tumble_{i}",
                 angle,
                 round(mu, 6),
                 round(h, 6),
-                tuple(float(x) for x in q / np.linalg.norm(q)),
-                tuple(float(x) for x in v),
-                tuple(float(x) for x in wv),
+                (float(qn[0]), float(qn[1]), float(qn[2]), float(qn[3])),
+                (float(v[0]), float(v[1]), float(v[2])),
+                (float(wv[0]), float(wv[1]), float(wv[2])),
                 steps=steps,
             )
         )
@@ -236,7 +237,8 @@ def _matrix_quat(R: NDArray[np.float64]) -> NDArray[np.float64]:
         s = math.sqrt(1.0 + R[2, 2] - R[0, 0] - R[1, 1]) * 2
         q = [(R[1, 0] - R[0, 1]) / s, (R[0, 2] + R[2, 0]) / s, (R[1, 2] + R[2, 1]) / s, 0.25 * s]
     out = np.asarray(q, dtype=float)
-    return out / np.linalg.norm(out)
+    unit: NDArray[np.float64] = out / np.linalg.norm(out)
+    return unit
 
 
 @dataclass

@@ -175,7 +175,7 @@ class ResultStore:
         self._f: Any = None
         if self.kind == "parquet":
             try:
-                import pyarrow  # noqa: F401
+                import pyarrow  # type: ignore[import-untyped]  # noqa: F401
             except ImportError:
                 raise ValueError(f"{path}: Parquet output needs pyarrow (pip install pyarrow); use a .h5 file") from None
             self.path.mkdir(parents=True, exist_ok=True)
@@ -303,7 +303,7 @@ def _read_hdf5(path: Path) -> list[dict[str, Any]]:
 
 
 def _write_parquet_part(directory: Path, record: Mapping[str, Any]) -> None:
-    import pyarrow as pa  # type: ignore[import-untyped]
+    import pyarrow as pa
     import pyarrow.parquet as pq  # type: ignore[import-untyped]
 
     table = pa.table(
@@ -318,7 +318,7 @@ def _write_parquet_part(directory: Path, record: Mapping[str, Any]) -> None:
 def _read_parquet(directory: Path) -> list[dict[str, Any]]:
     import pyarrow.parquet as pq
 
-    out = []
+    out: list[dict[str, Any]] = []
     for p in sorted(directory.glob("*.parquet")):
         t = pq.read_table(p)
         out.extend(json.loads(s) for s in t.column("json").to_pylist())
@@ -388,7 +388,10 @@ def run_sweep(
     ``stop_after``: stop after that many new results (for tests: an interrupted
     sweep). ``on_result(record, client)`` is called after each record is stored.
     """
-    from dask.distributed import Client, LocalCluster, as_completed
+    import importlib
+
+    distributed: Any = importlib.import_module("dask.distributed")  # untyped
+    Client, LocalCluster, as_completed = distributed.Client, distributed.LocalCluster, distributed.as_completed
 
     t0 = time.perf_counter()
     out = output or cfg.get("output")
