@@ -86,8 +86,11 @@ def load_config(path: str | os.PathLike[str]) -> dict[str, Any]:
     return cfg
 
 
-def _yaml_scale(v: Any) -> Any:
-    # YAML reads 1e-3 (without a dot) as a string; accept it as a number.
+def _yaml_number(v: Any) -> Any:
+    """YAML reads 1e-3 (no dot) as a string: numbers written so become floats
+    (lists too); other strings ("none", "dt", "seed", …) stay."""
+    if isinstance(v, list):
+        return [_yaml_number(x) for x in v]
     if isinstance(v, str):
         try:
             return float(v)
@@ -132,9 +135,7 @@ def expand_cases(cfg: Mapping[str, Any]) -> list[dict[str, Any]]:
         keys = list(grid)
         for values in itertools.product(*(grid[k] for k in keys)):
             for seed in seeds:
-                c = {**base, **{k: _yaml_scale(v) if k in ("scale", "lo", "hi") else v for k, v in zip(keys, values)}}
-                if "scale" in base and "scale" not in grid:
-                    c["scale"] = _yaml_scale(base["scale"])
+                c = {k: _yaml_number(v) if k != "solver" else v for k, v in {**base, **dict(zip(keys, values))}.items()}
                 c["seed"] = int(seed)
                 full = merge_config(exp, DEFAULTS[exp], c)
                 cid = case_id(exp, full)
@@ -447,6 +448,7 @@ def run_sweep(
     return {
         "output": str(out),
         "cases": len(cases),
+        "case_ids": [c["id"] for c in cases],
         "done_before": before,
         "ran": ran,
         "complete": total == len(cases),
@@ -470,6 +472,8 @@ _SUMMARY_KEYS = {
 def summary_text(summary: Mapping[str, Any], records: Iterable[Mapping[str, Any]] | None = None) -> str:
     """A short text summary of a sweep and its results."""
     recs = list(records) if records is not None else load_results(summary["output"])
+    order = {cid: i for i, cid in enumerate(summary.get("case_ids", []))}
+    recs.sort(key=lambda r: order.get(r["id"], len(order)))
     lines = [
         f"sweep: {summary['finished']}/{summary['cases']} cases in {summary['output']} "
         f"({summary['done_before']} already there, {summary['ran']} run now, {summary['failed']} failed) "
