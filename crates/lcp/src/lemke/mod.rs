@@ -19,6 +19,7 @@ mod run;
 
 pub use options::{LemkeOptions, Pivoting};
 
+use crate::newton_fb::NewtonFbOptions;
 use crate::problem::Lcp;
 use crate::scaling::Scaling;
 use crate::solution::{Solution, Status};
@@ -96,7 +97,8 @@ const MIN_RELATIVE_PIVOT: f64 = 1e-9;
 /// stack LCP that 1e-9 and 0 fail on.
 const TIE_TOL: f64 = 1e-13;
 
-/// The repair ladder: each rung runs only if the previous one failed its check.
+/// The repair ladder: each rung runs only if the previous one failed its check;
+/// after the last, a Newton–FB polish of the closest answer (see `solve_lexicographic`).
 fn ladder(o: &LemkeOptions) -> Vec<Attempt> {
     let first = Attempt {
         equilibrate: o.equilibrate,
@@ -147,6 +149,19 @@ fn solve_lexicographic(lcp: &Lcp, o: &LemkeOptions, warm: Option<&[bool]>) -> So
     }
     let mut sol = best.expect("the ladder has at least one rung");
     sol.iterations = pivots;
+    // (Not when the pivot budget ran out: that limit is the caller's to set.)
+    if o.fallback && sol.status != Status::MaxPivots {
+        // Last rung: Newton–Fischer–Burmeister polish from the closest answer.
+        // Its z is accepted only by the same residual check (it solves M, not
+        // a regularized M); its basis is the support of z.
+        let qmax = lcp.q().iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let tol = o.accept_tol * (1.0 + qmax);
+        let polished = crate::newton_fb::solve_from(lcp, &sol.z, &NewtonFbOptions { tol, ..Default::default() });
+        if polished.residuals.natural <= tol && polished.residuals.natural < sol.residuals.natural {
+            let basis = polished.z.iter().zip(&polished.w).map(|(z, w)| z > w).collect();
+            sol = Solution { status: Status::Solved, iterations: pivots, basis: Some(basis), ..polished };
+        }
+    }
     sol
 }
 
@@ -206,6 +221,13 @@ fn solve_attempt(
         }
     }
     sol.basis = Some(mask);
+    // A run that ended on a (false) ray or a singular basis may still stand at
+    // an answer: the residual check, not the pivoting, decides. Its basis is
+    // then the support of z, as the pivoting's basis is not complementary.
+    if matches!(sol.status, Status::RayTermination | Status::SingularBasis | Status::Cycling) && accept(&sol) {
+        sol.status = Status::Solved;
+        sol.basis = Some(sol.z.iter().zip(&sol.w).map(|(z, w)| z > w).collect());
+    }
     sol
 }
 
