@@ -741,7 +741,7 @@ def write_report(results: dict[str, Any], solvers: list[Solver], sim_md: list[st
 
 def parse_args(argv: list[str] | None) -> argparse.Namespace:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--contact-per-size", type=int, default=100, help="contact LCPs per size and scale")
+    ap.add_argument("--contact-per-size", type=int, default=300, help="contact LCPs per size and scale")
     ap.add_argument("--contact-scales", default="1,1e-2,1e-3,1e-4,1e-6,1e-8")
     ap.add_argument("--seed-per-size", type=int, default=100, help="seed-corpus LCPs per size and scale")
     ap.add_argument("--seed-scales", default="1,1e-2,1e-3,1e-4,1e-6,1e-8")

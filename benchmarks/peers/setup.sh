@@ -9,7 +9,7 @@
 #     imports with numpy 1.24 (DESIGN §6).
 #
 # Idempotent; needs root for apt-get (as on these machines). Not part of the
-# test suite or CI. Usage:  bash benchmarks/peers/setup.sh  [then]  bash benchmarks/peers/run.sh
+# test suite or CI. Usage:  bash benchmarks/peers/setup.sh  &&  benchmarks/peers/.venv/bin/python benchmarks/peers/run.py
 #
 # Environment: PEERS_VENV (default benchmarks/peers/.venv), SKIP_APT=1,
 # SKIP_WHEEL=1 (reuse the installed lcpsim), DRAKE_SPEC / MUJOCO_SPEC /
