@@ -229,6 +229,25 @@ fn warm_start_saves_pivots_and_never_hurts() {
     assert!(2 * warm <= cold, "warm {warm} pivots vs cold {cold}");
 }
 
+/// Issue 5 forensics: the trace has one record per pivot, numbered by rung,
+/// starting with z0 entering.
+#[test]
+fn pivot_trace_matches_the_pivot_count() {
+    for seed in 0..50u64 {
+        let lcp = generate::contact_lcp(4, 8, 1e-3, seed);
+        let n = lcp.n();
+        for o in [lex(), LemkeOptions::classic()] {
+            let (s, trace) = lcp::lemke::solve_traced(&lcp, &o, None);
+            assert_eq!(s, lcp::lemke::solve(&lcp, &o), "tracing must not change the answer");
+            assert_eq!(trace.len(), s.iterations, "seed {seed}");
+            if let Some(first) = trace.first() {
+                assert_eq!(first.entering, 2 * n, "z0 enters first");
+            }
+            assert!(trace.iter().all(|r| r.entering <= 2 * n && r.leaving <= 2 * n && r.pivot.abs() <= r.column_max));
+        }
+    }
+}
+
 #[test]
 fn method_dispatch_reaches_lemke() {
     let lcp = Lcp::new(vec![1.0], vec![-2.0]).unwrap();

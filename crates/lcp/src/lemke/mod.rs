@@ -18,6 +18,7 @@ mod refine;
 mod run;
 
 pub use options::{LemkeOptions, Pivoting};
+pub use run::PivotRecord;
 
 use crate::newton_fb::NewtonFbOptions;
 use crate::problem::Lcp;
@@ -42,9 +43,21 @@ pub fn solve(lcp: &Lcp, o: &LemkeOptions) -> Solution {
 /// follows if that fails. A basis of the wrong length is ignored. `Classic`
 /// pivoting ignores the guess (the seed's Lemke started cold).
 pub fn solve_warm(lcp: &Lcp, o: &LemkeOptions, basis: Option<&[bool]>) -> Solution {
+    solve_inner(lcp, o, basis, None)
+}
+
+/// As [`solve_warm`], also returning every pivot taken (over all rungs of
+/// the repair ladder): the pivot trace of a failure dump.
+pub fn solve_traced(lcp: &Lcp, o: &LemkeOptions, basis: Option<&[bool]>) -> (Solution, Vec<PivotRecord>) {
+    let mut trace = Vec::new();
+    let sol = solve_inner(lcp, o, basis, Some(&mut trace));
+    (sol, trace)
+}
+
+fn solve_inner(lcp: &Lcp, o: &LemkeOptions, basis: Option<&[bool]>, trace: Option<&mut Vec<PivotRecord>>) -> Solution {
     match o.pivoting {
-        Pivoting::Classic => solve_classic(lcp, o),
-        Pivoting::Lexicographic => solve_lexicographic(lcp, o, basis.filter(|_| o.warm_start)),
+        Pivoting::Classic => solve_classic(lcp, o, trace),
+        Pivoting::Lexicographic => solve_lexicographic(lcp, o, basis.filter(|_| o.warm_start), trace),
     }
 }
 
@@ -53,7 +66,7 @@ fn refactor_every(n: usize) -> usize {
     n.max(50)
 }
 
-fn solve_classic(lcp: &Lcp, o: &LemkeOptions) -> Solution {
+fn solve_classic(lcp: &Lcp, o: &LemkeOptions, trace: Option<&mut Vec<PivotRecord>>) -> Solution {
     // z = 0 when no q_i is below −zero_tol.
     if lcp.q().iter().all(|&v| v > -o.zero_tol) {
         return Solution::from_z(lcp, vec![0.0; lcp.n()], Status::Solved, 0);
@@ -62,10 +75,14 @@ fn solve_classic(lcp: &Lcp, o: &LemkeOptions) -> Solution {
     let d: Vec<f64> = lcp.q().iter().map(|&v| if v < 0.0 { 1.0 } else { 0.0 }).collect();
     let set = RunSettings {
         rule: Rule::Classic { piv_tol: o.piv_tol, zero_tol: o.zero_tol },
+        trace: trace.is_some(),
         max_pivots: o.pivot_limit(lcp.n()),
         refactor_every: refactor_every(lcp.n()),
     };
     let r = run::run(lcp, &d, &set);
+    if let Some(t) = trace {
+        t.extend_from_slice(&r.trace);
+    }
     let (z, _) = r.basis.z();
     let mut sol = Solution::from_z(lcp, z, r.status, r.pivots);
     sol.basis = Some(basic_mask(&r.basis.s, lcp.n()));
@@ -122,7 +139,12 @@ fn ladder(o: &LemkeOptions) -> Vec<Attempt> {
     ]
 }
 
-fn solve_lexicographic(lcp: &Lcp, o: &LemkeOptions, warm: Option<&[bool]>) -> Solution {
+fn solve_lexicographic(
+    lcp: &Lcp,
+    o: &LemkeOptions,
+    warm: Option<&[bool]>,
+    mut trace: Option<&mut Vec<PivotRecord>>,
+) -> Solution {
     let mut best: Option<Solution> = None;
     let mut pivots = 0;
     let limit = o.pivot_limit(lcp.n());
@@ -131,12 +153,12 @@ fn solve_lexicographic(lcp: &Lcp, o: &LemkeOptions, warm: Option<&[bool]>) -> So
     let alpha: Option<Vec<usize>> =
         warm.filter(|b| b.len() == lcp.n()).map(|b| (0..b.len()).filter(|&j| b[j]).collect());
     let warm_rung = alpha.as_ref().map(|a| (rungs[0], Some(a.as_slice())));
-    for (attempt, start) in warm_rung.into_iter().chain(rungs.iter().map(|&r| (r, None))) {
+    for (rung, (attempt, start)) in warm_rung.into_iter().chain(rungs.iter().map(|&r| (r, None))).enumerate() {
         // `max_pivots` bounds the whole ladder, not each rung.
         if pivots >= limit && best.is_some() {
             break;
         }
-        let mut sol = solve_attempt(lcp, o, &attempt, limit.saturating_sub(pivots), start);
+        let mut sol = solve_attempt(lcp, o, &attempt, limit.saturating_sub(pivots), start, trace.as_deref_mut(), rung);
         pivots += sol.iterations;
         sol.iterations = pivots;
         if sol.ok() {
@@ -173,6 +195,8 @@ fn solve_attempt(
     attempt: &Attempt,
     max_pivots: usize,
     start: Option<&[usize]>,
+    trace: Option<&mut Vec<PivotRecord>>,
+    rung: usize,
 ) -> Solution {
     let n = lcp.n();
     // Equilibrate M and bring q to unit size: z scales linearly with q.
@@ -187,6 +211,7 @@ fn solve_attempt(
     };
     let set = RunSettings {
         rule: Rule::Lexicographic { piv_tol: attempt.piv_rel, tie_tol: o.zero_tol.min(attempt.tie_tol) },
+        trace: trace.is_some(),
         max_pivots,
         refactor_every: refactor_every(n),
     };
@@ -198,6 +223,9 @@ fn solve_attempt(
     let Some(mut r) = run else {
         return Solution::from_z(lcp, vec![0.0; n], Status::SingularBasis, 0);
     };
+    if let Some(t) = trace {
+        t.extend(r.trace.drain(..).map(|p| PivotRecord { rung, ..p }));
+    }
     let mask = basic_mask(&r.basis.s, n);
     let unscale =
         |z_work: &[f64]| -> Vec<f64> { scaling.z_back(z_work).into_iter().map(|v| (v / qscale).max(0.0)).collect() };

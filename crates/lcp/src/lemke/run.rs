@@ -26,6 +26,8 @@ impl Hasher for Identity {
 /// Settings of one run of the loop.
 pub(crate) struct RunSettings {
     pub rule: Rule,
+    /// Record every pivot in `Run::trace`.
+    pub trace: bool,
     pub max_pivots: usize,
     /// Refactor `C⁻¹` after this many updates.
     pub refactor_every: usize,
@@ -36,6 +38,23 @@ pub(crate) struct Run<'a> {
     pub status: Status,
     pub pivots: usize,
     pub basis: Basis<'a>,
+    /// Pivots taken, when `RunSettings::trace` asked for them.
+    pub trace: Vec<PivotRecord>,
+}
+
+/// One pivot, for failure forensics. Variables are numbered `w_i → i`,
+/// `z_j → n + j`, `z0 → 2n`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PivotRecord {
+    /// Rung of the repair ladder (0 = the first run; a warm start counts as one).
+    pub rung: usize,
+    pub entering: usize,
+    pub leaving: usize,
+    /// Step length: the entering variable's new value (working units).
+    pub theta: f64,
+    /// The pivot element and the largest entry of its column.
+    pub pivot: f64,
+    pub column_max: f64,
 }
 
 /// Pivots below this fraction of their column's largest entry trigger a refactorization.
@@ -59,15 +78,17 @@ pub(crate) fn run<'a>(lcp: &'a Lcp, d: &'a [f64], set: &RunSettings) -> Run<'a> 
     let mut basis = Basis::slack(lcp, d);
     // q ≥ 0: z = 0 solves it.
     if lcp.q().iter().all(|&v| v >= 0.0) {
-        return Run { status: Status::Solved, pivots: 0, basis };
+        return Run { status: Status::Solved, pivots: 0, basis, trace: Vec::new() };
     }
     let mut col = Column { xs: Vec::with_capacity(n), xw: vec![0.0; n] };
     // z0 enters at the value that makes every w ≥ 0.
     let r = first_leaving(lcp.q(), d, set.rule);
     basis.column(Var::Z0, &mut col);
-    basis.pivot(Var::Z0, Leaving::W(r), &col, -lcp.q()[r] / d[r]);
+    let theta = -lcp.q()[r] / d[r];
+    let first = record(n, Var::Z0, Var::W(r), theta, col.xw[r], &col);
+    basis.pivot(Var::Z0, Leaving::W(r), &col, theta);
     let hash = (0..n).fold(0u64, |h, i| h ^ key(i)) ^ key(r) ^ key(Var::Z0.id(n));
-    pivot_loop(basis, col, Var::Z(r), 1, hash, set)
+    pivot_loop(basis, col, Var::Z(r), 1, hash, set, first)
 }
 
 /// The covering vector that makes a warm start's first pivot uniform:
@@ -93,7 +114,7 @@ pub(crate) fn run_warm<'a>(lcp: &'a Lcp, d: &'a [f64], alpha: &[usize], set: &Ru
     // is checked by its residual afterwards): no pivot at all.
     let scale = basis.val_s.iter().chain(&basis.val_w).fold(1.0f64, |a, v| a.max(v.abs()));
     if worst >= -WARM_FEASIBLE * scale {
-        return Some(Run { status: Status::Solved, pivots: 0, basis });
+        return Some(Run { status: Status::Solved, pivots: 0, basis, trace: Vec::new() });
     }
     // z0 enters; every basic moves by +θ (x = −1), so the most negative leaves.
     let mut col = Column { xs: Vec::with_capacity(n), xw: vec![0.0; n] };
@@ -109,9 +130,10 @@ pub(crate) fn run_warm<'a>(lcp: &'a Lcp, d: &'a [f64], alpha: &[usize], set: &Ru
         Leaving::S(p) => basis.s[p],
         Leaving::W(i) => Var::W(i),
     };
+    let first = record(n, Var::Z0, left, worst / x, x, &col);
     basis.pivot(Var::Z0, at, &col, worst / x);
     let hash = basis.hash(n);
-    Some(pivot_loop(basis, col, left.complement()?, 1, hash, set))
+    Some(pivot_loop(basis, col, left.complement()?, 1, hash, set, first))
 }
 
 /// The main loop from an almost-complementary basis with z0 basic.
@@ -122,8 +144,10 @@ fn pivot_loop<'a>(
     mut pivots: usize,
     mut hash: u64,
     set: &RunSettings,
+    first: PivotRecord,
 ) -> Run<'a> {
     let n = basis.val_w.len();
+    let mut trace = if set.trace { vec![first] } else { Vec::new() };
     // Basis hash: XOR of the basic variables' keys; a repeat means cycling.
     let mut seen: HashSet<u64, BuildHasherDefault<Identity>> = HashSet::default();
     seen.insert(hash);
@@ -145,6 +169,9 @@ fn pivot_loop<'a>(
         };
         // A pivot small against its column inflates C⁻¹'s round-off: refactor after it.
         let small_pivot = matches!(set.rule, Rule::Lexicographic { .. }) && pivot.abs() < SMALL_PIVOT * xmax;
+        if set.trace {
+            trace.push(PivotRecord { column_max: xmax, ..record(n, entering, left, theta, pivot, &col) });
+        }
         basis.pivot(entering, out, &col, theta);
         pivots += 1;
         if left == Var::Z0 {
@@ -159,5 +186,11 @@ fn pivot_loop<'a>(
         }
         entering = left.complement().expect("only z0 lacks a complement");
     };
-    Run { status, pivots, basis }
+    Run { status, pivots, basis, trace }
+}
+
+/// A trace entry (rung 0; the caller renumbers).
+fn record(n: usize, entering: Var, leaving: Var, theta: f64, pivot: f64, col: &Column) -> PivotRecord {
+    let column_max = col.xs.iter().chain(&col.xw).fold(0.0f64, |a, v| a.max(v.abs()));
+    PivotRecord { rung: 0, entering: entering.id(n), leaving: leaving.id(n), theta, pivot, column_max }
 }
