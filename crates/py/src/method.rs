@@ -11,7 +11,8 @@ pub const METHODS: [&str; 3] = ["lemke", "pgs", "newton_fb"];
 /// Pivoting rules accepted by Lemke's `pivoting=`.
 pub const PIVOTINGS: [&str; 2] = ["lexicographic", "classic"];
 
-const LEMKE_OPTIONS: [&str; 6] = ["pivoting", "piv_tol", "zero_tol", "max_pivots", "accept_tol", "equilibrate"];
+const LEMKE_OPTIONS: [&str; 8] =
+    ["pivoting", "piv_tol", "zero_tol", "max_pivots", "accept_tol", "equilibrate", "fallback", "warm_start"];
 const PGS_OPTIONS: [&str; 3] = ["omega", "max_iterations", "tol"];
 const NEWTON_FB_OPTIONS: [&str; 6] =
     ["max_iterations", "tol", "armijo_sigma", "backtrack", "max_backtracks", "descent_rho"];
@@ -69,10 +70,7 @@ fn boolean(name: &str, value: &Bound<'_, PyAny>) -> PyResult<bool> {
 }
 
 fn unknown_option(method: &str, name: &str, valid: &[&str]) -> PyErr {
-    value_error(format!(
-        "unknown option {name:?} for method {method:?} (valid options: {})",
-        valid.join(", ")
-    ))
+    value_error(format!("unknown option {name:?} for method {method:?} (valid options: {})", valid.join(", ")))
 }
 
 fn lemke_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<LemkeOptions> {
@@ -84,18 +82,13 @@ fn lemke_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<LemkeOptions> 
         }
         match name.as_str() {
             "pivoting" => {
-                let s: String = value.extract().map_err(|_| {
-                    value_error(format!("option pivoting must be a string, got {}", repr(&value)))
-                })?;
+                let s: String = value
+                    .extract()
+                    .map_err(|_| value_error(format!("option pivoting must be a string, got {}", repr(&value))))?;
                 o.pivoting = match s.as_str() {
                     "lexicographic" => Pivoting::Lexicographic,
                     "classic" => Pivoting::Classic,
-                    _ => {
-                        return Err(value_error(format!(
-                            "unknown pivoting {s:?} (valid: {})",
-                            PIVOTINGS.join(", ")
-                        )))
-                    }
+                    _ => return Err(value_error(format!("unknown pivoting {s:?} (valid: {})", PIVOTINGS.join(", ")))),
                 };
             }
             "piv_tol" => o.piv_tol = tolerance(&name, &value)?,
@@ -103,6 +96,8 @@ fn lemke_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<LemkeOptions> 
             "accept_tol" => o.accept_tol = tolerance(&name, &value)?,
             "max_pivots" => o.max_pivots = if value.is_none() { None } else { Some(count(&name, &value)?) },
             "equilibrate" => o.equilibrate = boolean(&name, &value)?,
+            "fallback" => o.fallback = boolean(&name, &value)?,
+            "warm_start" => o.warm_start = boolean(&name, &value)?,
             _ => return Err(unknown_option("lemke", &name, &LEMKE_OPTIONS)),
         }
     }

@@ -16,12 +16,25 @@ fn messy_world(params: WorldParams) -> World {
     w.add_plane(sim::Plane::slope_deg(20.0, sim::Downhill::PlusX).unwrap(), 0.8).unwrap();
     let q = Quat::from_axis_angle(Vec3::new(0.3, 1.0, 0.1), 0.4);
     let lower = w
-        .add_body(BodyDesc::cuboid(Vec3::new(0.5, 0.4, 0.3)).mass(2.0).orientation(q).position(Vec3::new(0.0, 0.0, 0.9)).velocity(Vec3::new(0.3, -0.2, -0.5)).angular_velocity(Vec3::new(0.5, 1.0, -0.3)).mu(0.6))
+        .add_body(
+            BodyDesc::cuboid(Vec3::new(0.5, 0.4, 0.3))
+                .mass(2.0)
+                .orientation(q)
+                .position(Vec3::new(0.0, 0.0, 0.9))
+                .velocity(Vec3::new(0.3, -0.2, -0.5))
+                .angular_velocity(Vec3::new(0.5, 1.0, -0.3))
+                .mu(0.6),
+        )
         .unwrap();
     // Lower it until its lowest corner touches the slope.
     let plane = sim::Plane::slope_deg(20.0, sim::Downhill::PlusX).unwrap();
     let b = w.body(lower).unwrap().clone();
-    let lowest = sim::geometry::BoxShape::new(Vec3::new(0.5, 0.4, 0.3)).unwrap().corners().iter().map(|&c| plane.distance(b.point_to_world(c))).fold(f64::INFINITY, f64::min);
+    let lowest = sim::geometry::BoxShape::new(Vec3::new(0.5, 0.4, 0.3))
+        .unwrap()
+        .corners()
+        .iter()
+        .map(|&c| plane.distance(b.point_to_world(c)))
+        .fold(f64::INFINITY, f64::min);
     w.set_position(lower, b.position() - plane.normal() * lowest).unwrap();
     // A ball resting on the box's top face region (contact between two dynamic bodies).
     let top = w.body(lower).unwrap().point_to_world(Vec3::new(0.0, 0.0, 0.3));
@@ -74,7 +87,8 @@ fn a_block_equals_j_minv_jt_computed_densely() {
     let basis = sim::contact::FrictionBasis::new(k);
     let mut jrows: Vec<Vec<f64>> = vec![vec![0.0; 6 * nb]; nc * (k + 1)];
     for (i, c) in contacts.iter().enumerate() {
-        let dirs: Vec<Vec3> = std::iter::once(c.normal).chain((0..k).map(|j| basis.direction(c.normal, c.tangent, j))).collect();
+        let dirs: Vec<Vec3> =
+            std::iter::once(c.normal).chain((0..k).map(|j| basis.direction(c.normal, c.tangent, j))).collect();
         for (r, d) in dirs.iter().enumerate() {
             let row = if r == 0 { i } else { nc + i * k + r - 1 };
             for (body, sign) in [(c.body_a, 1.0), (c.body_b, -1.0)] {
@@ -176,7 +190,9 @@ fn physical_impulses_do_not_depend_on_the_scale_and_lambda_is_the_sliding_speed(
 
 #[test]
 fn every_solved_lcp_reaches_the_sink() {
-    let mut s = CubeOnSlope::new(30.0, 0.3).build(WorldParams { cone_scale: ConeScale::TimeStep, ..Default::default() }).unwrap();
+    let mut s = CubeOnSlope::new(30.0, 0.3)
+        .build(WorldParams { cone_scale: ConeScale::TimeStep, ..Default::default() })
+        .unwrap();
     let buf = LcpBuffer::new();
     s.world.set_sink(Box::new(buf.clone()));
     let mut records = Vec::new();
@@ -226,14 +242,21 @@ fn every_solved_lcp_reaches_the_sink() {
 fn a_failed_solve_is_recorded_and_the_step_goes_on() {
     let mut s = BoxStack::new(1).build(WorldParams::default()).unwrap();
     // A solver that gives up with NaNs: no impulse, the box falls freely this step.
-    let mut nan = |l: &Lcp| Solution { z: vec![f64::NAN; l.n()], w: vec![f64::NAN; l.n()], status: Status::Numerical, iterations: 3, residuals: Default::default(), basis: None };
+    let mut nan = |l: &Lcp| Solution {
+        z: vec![f64::NAN; l.n()],
+        w: vec![f64::NAN; l.n()],
+        status: Status::Numerical,
+        iterations: 3,
+        residuals: Default::default(),
+        basis: None,
+    };
     let r = s.world.step_with(&mut nan).unwrap().clone();
     assert_eq!(r.status, Some(Status::Numerical));
     assert_eq!(r.iterations, 3);
     assert!(r.zeroed);
     assert!(r.z.iter().all(|&v| v == 0.0));
     assert!((s.world.body(s.body).unwrap().velocity().z + G * 1e-3).abs() < 1e-15);
-    // A finite but failed answer is used as given (clamped at 0).
+    // A finite but failed answer is recorded, not applied.
     let mut partial = |l: &Lcp| {
         let mut z = vec![0.0; l.n()];
         z[0] = 0.004;
@@ -242,8 +265,9 @@ fn a_failed_solve_is_recorded_and_the_step_goes_on() {
     };
     let r = s.world.step_with(&mut partial).unwrap().clone();
     assert_eq!(r.status, Some(Status::MaxPivots));
-    assert!(!r.zeroed);
+    assert!(r.zeroed);
     assert_eq!(r.z[1], -1.0, "the record keeps the solver's answer");
+    assert!((s.world.body(s.body).unwrap().velocity().z + 2.0 * G * 1e-3).abs() < 1e-12, "no impulse applied");
     // Then the default solver recovers: ERP pushes the box back up and it settles.
     for _ in 0..3000 {
         s.world.step().unwrap();
@@ -251,7 +275,14 @@ fn a_failed_solve_is_recorded_and_the_step_goes_on() {
     let b = s.world.body(s.body).unwrap();
     assert!((b.position().z - 0.5).abs() < 1e-6, "z = {}", b.position().z);
     // A wrong-length z is unusable too.
-    let mut short = |_: &Lcp| Solution { z: vec![0.0; 1], w: vec![0.0; 1], status: Status::Solved, iterations: 0, residuals: Default::default(), basis: None };
+    let mut short = |_: &Lcp| Solution {
+        z: vec![0.0; 1],
+        w: vec![0.0; 1],
+        status: Status::Solved,
+        iterations: 0,
+        residuals: Default::default(),
+        basis: None,
+    };
     assert!(s.world.step_with(&mut short).unwrap().zeroed);
     let _ = lcp::Method::default();
 }

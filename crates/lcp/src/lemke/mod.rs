@@ -85,6 +85,14 @@ fn solve_classic(lcp: &Lcp, o: &LemkeOptions, trace: Option<&mut Vec<PivotRecord
     }
     let (z, _) = r.basis.z();
     let mut sol = Solution::from_z(lcp, z, r.status, r.pivots);
+    // z0 left, but does z solve the problem? Moby's check, with the user zero
+    // on the problem as given: z, w ≥ −zero_tol and |z_i w_i| < zero_tol.
+    let res = &sol.residuals;
+    if sol.status == Status::Solved
+        && !(res.min_z >= -o.zero_tol && res.min_w >= -o.zero_tol && res.max_complementarity < o.zero_tol)
+    {
+        sol.status = Status::Numerical;
+    }
     sol.basis = Some(basic_mask(&r.basis.s, lcp.n()));
     sol
 }

@@ -32,7 +32,8 @@ pub struct StepRecord {
     pub residuals: Residuals,
     /// Residuals as the solver reported them (scaled LCP).
     pub solver_residuals: Residuals,
-    /// The solver's `z` was unusable (wrong length or not finite): zero impulses were applied.
+    /// The solve failed (status other than solved, or a `z` of the wrong
+    /// length or not finite): zero impulses were applied this step.
     pub zeroed: bool,
     /// Physical `z = [fn (nc); fd (nc·k); λ (nc)]` (N·s; λ in m/s), `λ = s·λ_scaled`.
     pub z: Vec<f64>,
@@ -86,12 +87,18 @@ impl StepRecord {
     pub fn friction_impulse(&self, i: usize) -> Vec3 {
         let c = &self.contacts[i];
         let basis = FrictionBasis::new(self.friction_dirs);
-        self.friction_of(i).iter().enumerate().map(|(j, &f)| basis.direction(c.normal, c.tangent, j) * f).fold(Vec3::ZERO, |a, b| a + b)
+        self.friction_of(i)
+            .iter()
+            .enumerate()
+            .map(|(j, &f)| basis.direction(c.normal, c.tangent, j) * f)
+            .fold(Vec3::ZERO, |a, b| a + b)
     }
 
     /// Total contact impulse on body A of all contacts, `Σ (n fn + Σ d_j fd_j)`.
     pub fn total_impulse(&self) -> Vec3 {
-        (0..self.nc()).map(|i| self.contacts[i].normal * self.z[i] + self.friction_impulse(i)).fold(Vec3::ZERO, |a, b| a + b)
+        (0..self.nc())
+            .map(|i| self.contacts[i].normal * self.z[i] + self.friction_impulse(i))
+            .fold(Vec3::ZERO, |a, b| a + b)
     }
 
     /// The seed's contact pattern of contact `i`: whether `fn`, `Σ fd`, `λ` exceed `zero`.

@@ -1,7 +1,6 @@
 //! Stage `solve`: hand the LCP to the solver, capture it, map the answer back
 //! to physical units and fill the step record. A failed solve never aborts
-//! the step: its status is recorded, its `z` is used if finite (clamped at 0,
-//! as impulses must be), otherwise no impulse is applied.
+//! the step: its status and answer are recorded, and no impulse is applied.
 
 use super::capture::CapturedLcp;
 use crate::error::SimError;
@@ -80,9 +79,16 @@ impl World {
         // Residuals on the unscaled LCP, in physical units.
         ws.lcp.unscaled_w(&rec.z, &mut rec.w);
         rec.residuals = Residuals::of(&rec.z, &rec.w);
-        // Impulses to apply: never negative.
+        // Impulses to apply: never negative, and none at all from a failed
+        // solve (its last iterate can be anything; Moby's Lemke, the seed's,
+        // returns z = 0 on failure too). The record keeps the solver's answer.
         ws.z_apply.clear();
-        ws.z_apply.extend(rec.z.iter().map(|v| v.max(0.0)));
+        if sol.status == lcp::Status::Solved {
+            ws.z_apply.extend(rec.z.iter().map(|v| v.max(0.0)));
+        } else {
+            rec.zeroed = true;
+            ws.z_apply.resize(n, 0.0);
+        }
         Ok(())
     }
 }
