@@ -46,7 +46,8 @@ A solve counts as failed if the solver says so or its physical residual is
 above the tolerance; "said solved, wrong" counts those the solver called solved.
 
 Writes ``benchmarks/RESULTS.md`` (with the simulation throughput of
-``sim_peers.py`` unless ``--no-sim``) and ``benchmarks/peers/results.json``.
+``sim_peers.py`` unless ``--no-sim``) and ``benchmarks/peers/results.json.gz`` (raw per-problem results: labels,
+sizes, statuses, residuals, median times; gzip-compressed JSON).
 """
 
 from __future__ import annotations
@@ -54,6 +55,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import datetime as _dt
+import gzip
 import importlib
 import json
 import os
@@ -76,7 +78,7 @@ import numpy as np  # noqa: E402
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent.parent
 RESULTS_MD = ROOT / "benchmarks" / "RESULTS.md"
-RESULTS_JSON = HERE / "results.json"
+RESULTS_JSON = HERE / "results.json.gz"  # gzip-compressed JSON
 
 # ---------------------------------------------------------------------------
 # Console: peers print from C to fds 1 and 2; those go to a log, progress to the real stderr.
@@ -685,6 +687,8 @@ def write_report(results: dict[str, Any], solvers: list[Solver], sim_md: list[st
         f"benchmarks/peers/.venv/bin/python {results['command']}",
         "```",
         "",
+        "Raw per-problem results (statuses, residuals, median times): `benchmarks/peers/results.json.gz`.",
+        "",
         "## Machine and versions",
         "",
         f"- date: {results['date']} (run took {results['duration_s'] / 60:.1f} min)",
@@ -757,6 +761,23 @@ def write_report(results: dict[str, Any], solvers: list[Solver], sim_md: list[st
 # ---------------------------------------------------------------------------
 
 
+def render_only() -> int:
+    """RESULTS.md from the last run's results.json.gz (e.g. after a change of wording)."""
+    with gzip.open(RESULTS_JSON, "rt") as f:
+        results = json.load(f)
+    solvers = [Solver(k, v["name"], v["family"], lambda M, q: None, v["call"])  # type: ignore[arg-type,return-value]
+               for k, v in results["solvers"].items()]
+    sim_md = None
+    if results.get("simulation"):
+        sys.path.insert(0, str(HERE))
+        import sim_peers
+
+        sim_md = sim_peers.render(results["simulation"])
+    write_report(results, solvers, sim_md)
+    say(f"rewrote {RESULTS_MD.relative_to(ROOT)} from {RESULTS_JSON.relative_to(ROOT)}")
+    return 0
+
+
 def parse_args(argv: list[str] | None) -> argparse.Namespace:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--contact-per-size", type=int, default=300, help="contact LCPs per size and scale")
@@ -775,12 +796,15 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     ap.add_argument("--skip-solvers", default="", help="comma-separated solver keys to leave out")
     ap.add_argument("--no-sim", action="store_true", help="leave out the simulation throughput (sim_peers.py)")
     ap.add_argument("--quick", action="store_true", help="smoke run: few problems, one pass")
-    ap.add_argument("--no-write", action="store_true", help="print only; do not write RESULTS.md / results.json")
+    ap.add_argument("--no-write", action="store_true", help="print only; do not write RESULTS.md / results.json.gz")
+    ap.add_argument("--render", action="store_true", help="rewrite RESULTS.md from results.json.gz without running")
     return ap.parse_args(argv)
 
 
 def main(argv: list[str] | None = None) -> int:
     args = parse_args(argv)
+    if args.render:
+        return render_only()
     if args.quick:
         args.contact_per_size, args.seed_per_size, args.hard_count = 5, 5, 7
         args.spd, args.passes, args.repeats = "40:2,200:1", 1, 2
@@ -885,7 +909,8 @@ def main(argv: list[str] | None = None) -> int:
     )
     _, results["targets"] = headline(results, solvers, args.tol)
     if not args.no_write:
-        RESULTS_JSON.write_text(json.dumps(results, separators=(",", ":"), default=str))
+        with open(RESULTS_JSON, "wb") as raw, gzip.GzipFile(fileobj=raw, mode="wb", mtime=0) as gz:
+            gz.write(json.dumps(results, separators=(",", ":"), default=str).encode())
         write_report(results, solvers, sim_md)
         say(f"wrote {RESULTS_MD.relative_to(ROOT)} and {RESULTS_JSON.relative_to(ROOT)}")
     return 0
