@@ -22,17 +22,6 @@ use crate::problem::Lcp;
 use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
 
-/// Row-major transpose of a row-major `n × n` matrix.
-fn transpose(m: &[f64], n: usize) -> Vec<f64> {
-    let mut t = vec![0.0; n * n];
-    for (i, row) in m.chunks_exact(n).enumerate() {
-        for (j, &v) in row.iter().enumerate() {
-            t[j * n + i] = v;
-        }
-    }
-    t
-}
-
 /// Variable numbering helpers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Var {
@@ -88,8 +77,9 @@ pub(crate) struct Basis<'a> {
     r_pos: Vec<Option<usize>>,
     /// z-type basic columns, in `C` row order (`C⁻¹` row `p` belongs to `s[p]`).
     pub(crate) s: Vec<Var>,
-    /// `Mᵀ`, row-major: column `j` of `M` is contiguous.
-    mt: Vec<f64>,
+    /// The columns of `G = [M | d]` for the z-type basics, contiguous, in `s`
+    /// order (slot `p` is `G[:, s[p]]`): the axpys of `column` read them.
+    gs: Vec<f64>,
     /// `C⁻¹`, row-major with stride `n`; only the leading `m × m` block is live.
     cinv: Vec<f64>,
     /// Values of the z-type basics, by position in `s`.
@@ -118,8 +108,9 @@ impl<'a> Basis<'a> {
             r: Vec::with_capacity(n),
             r_pos: vec![None; n],
             s: Vec::with_capacity(n),
-            mt: transpose(lcp.m(), n),
-            cinv: vec![0.0; n * n],
+            gs: Vec::with_capacity(n * n.min(64)),
+            // Grown row by row as `C` grows (`ensure_rows`).
+            cinv: Vec::new(),
             val_s: Vec::with_capacity(n),
             val_w: lcp.q().to_vec(),
             row_s: Vec::with_capacity(n),
@@ -137,6 +128,7 @@ impl<'a> Basis<'a> {
             b.r.push(j);
             b.r_pos[j] = Some(p);
             b.s.push(Var::Z(j));
+            b.set_gs(p, Var::Z(j));
             b.val_s.push(0.0);
             b.row_s.push(j);
         }
@@ -217,24 +209,18 @@ impl<'a> Basis<'a> {
         // contiguous axpys over the columns of M (rows of Mᵀ).
         out.xw.clear();
         match e {
-            Var::Z(j) => out.xw.extend(self.mt[j * n..(j + 1) * n].iter().map(|v| -v)),
+            Var::Z(j) => out.xw.extend(self.lcp.m().iter().skip(j).step_by(n).map(|v| -v)),
             Var::Z0 => out.xw.extend(self.d.iter().map(|v| -v)),
             Var::W(k) => {
                 out.xw.resize(n, 0.0);
                 out.xw[k] = 1.0;
             }
         }
-        for (p, &v) in self.s.iter().enumerate() {
-            let u = out.xs[p];
-            if u == 0.0 {
-                continue;
-            }
-            let col = match v {
-                Var::Z(j) => &self.mt[j * n..(j + 1) * n],
-                _ => self.d,
-            };
-            for (x, g) in out.xw.iter_mut().zip(col) {
-                *x += u * g;
+        for (col, &u) in self.gs.chunks_exact(n).zip(&out.xs) {
+            if u != 0.0 {
+                for (x, g) in out.xw.iter_mut().zip(col) {
+                    *x += u * g;
+                }
             }
         }
     }
@@ -250,6 +236,26 @@ impl<'a> Basis<'a> {
             Leaving::S(p) => self.ci(p, qc),
             // e_iᵀ − A[i, S] C⁻¹ restricted to R (i ∉ R, so the e_i part is 0 here).
             Leaving::W(i) => self.s.iter().enumerate().map(|(p, &v)| self.g(i, v) * self.ci(p, qc)).sum(),
+        }
+    }
+
+    /// Writes `G[:, v]` into slot `p` of `gs` (appending when `p` is the end).
+    fn set_gs(&mut self, p: usize, v: Var) {
+        let n = self.n;
+        if self.gs.len() < (p + 1) * n {
+            self.gs.resize((p + 1) * n, 0.0);
+        }
+        let slot = &mut self.gs[p * n..(p + 1) * n];
+        match v {
+            Var::Z(j) => slot.iter_mut().zip(self.lcp.m().iter().skip(j).step_by(n)).for_each(|(g, m)| *g = *m),
+            _ => slot.copy_from_slice(self.d),
+        }
+    }
+
+    /// Makes room in `C⁻¹` for `rows` rows of stride n.
+    fn ensure_rows(&mut self, rows: usize) {
+        if self.cinv.len() < rows * self.n {
+            self.cinv.resize(rows * self.n, 0.0);
         }
     }
 
@@ -305,6 +311,7 @@ impl<'a> Basis<'a> {
             }
         }
         self.s[p] = e;
+        self.set_gs(p, e);
         self.val_s[p] = theta;
     }
 
@@ -314,6 +321,7 @@ impl<'a> Basis<'a> {
         // v = rᵀ C⁻¹ with r = A[i, S] = −G[i, S].
         let mut v = std::mem::take(&mut self.tmp);
         self.row_times_cinv(i, &mut v);
+        self.ensure_rows(m + 1);
         for r in 0..m {
             let f = u[r] / sigma;
             for c in 0..m {
@@ -329,6 +337,7 @@ impl<'a> Basis<'a> {
         self.r_pos[i] = Some(m);
         self.r.push(i);
         self.s.push(e);
+        self.set_gs(m, e);
         self.val_s.push(theta);
         self.row_s.push(self.row_w[i]);
     }
@@ -361,6 +370,7 @@ impl<'a> Basis<'a> {
                 self.cinv[p * n + c] = self.cinv[last * n + c];
             }
             self.s[p] = self.s[last];
+            self.gs.copy_within(last * n..(last + 1) * n, p * n);
             self.val_s[p] = self.val_s[last];
         }
         if qi != last {
@@ -372,6 +382,7 @@ impl<'a> Basis<'a> {
             self.r_pos[moved] = Some(qi);
         }
         self.s.pop();
+        self.gs.truncate(last * n);
         self.val_s.pop();
         self.row_s.pop();
         self.r.pop();
@@ -418,6 +429,7 @@ impl<'a> Basis<'a> {
                 return false;
             }
             let inv = lu.inverse();
+            self.ensure_rows(m);
             for a in 0..m {
                 for b in 0..m {
                     self.cinv[a * n + b] = inv[(a, b)];

@@ -29,7 +29,7 @@ use ratio::Rule;
 use run::RunSettings;
 
 /// Ruiz sweeps used by the default equilibration.
-const RUIZ_ITERATIONS: usize = 3;
+const RUIZ_ITERATIONS: usize = 8;
 
 /// Solves `lcp` by Lemke's method. Never panics on numerics.
 pub fn solve(lcp: &Lcp, o: &LemkeOptions) -> Solution {
