@@ -6,6 +6,8 @@ Public API (the compiled module ``lcpsim._core`` is private)::
     from lcpsim import solve_lcp, solve_lcp_batch, lcp_residual
     res = solve_lcp(M, q)                 # Lemke, lexicographic pivoting
     res.ok, res.status, res.z, res.residual
+    solve_lcp(M, q, certify=True).certified   # exact rational check of the final basis
+    solve_lcp(M, q, dump="dumps/").dump_path  # failure dump (None when solved)
 
     from lcpsim import World, scenes, open_corpus
     s = scenes.cube_on_slope(30.0, 0.5)   # a ready World plus metadata
@@ -26,6 +28,7 @@ from .lcp import (
     solve_lcp,
     solve_lcp_batch,
 )
+from .certification import Certificate, certify
 from .world import NO_CONTACT, BodyState, LcpStats, Stabilization, StepRecord, Trajectory, World
 from . import scenes
 from .scenes import Scene
@@ -42,6 +45,8 @@ __all__ = [
     "METHODS",
     "PIVOTINGS",
     "STATUSES",
+    "certify",
+    "Certificate",
     "World",
     "StepRecord",
     "Trajectory",

@@ -53,16 +53,21 @@ def register_command(command: Command) -> Command:
 
 def _configure_solve(p: argparse.ArgumentParser) -> None:
     p.add_argument(
-        "file", help="LCP file: .npz with arrays M, q, HDF5 (.h5) with datasets /M, /q, or an LCP corpus (with --index)"
+        "file",
+        help="LCP file: .npz with arrays M, q, HDF5 (.h5) with datasets /M, /q, an LCP corpus (with --index), "
+        "or a failure dump (solve_lcp(..., dump=DIR)): replayed with its method and options unless overridden",
     )
     p.add_argument("--index", type=int, default=None, metavar="K", help="problem K of an LCP corpus (lcpsim simulate --capture)")
-    p.add_argument("--method", choices=METHODS, default="lemke", help="solver (default: lemke)")
+    # Defaults are None here so that a dump's options apply unless given on the command line.
+    p.add_argument("--method", choices=METHODS, default=None, help="solver (default: lemke)")
     p.add_argument(
-        "--pivoting", choices=PIVOTINGS, default="lexicographic", help="Lemke pivoting rule (default: lexicographic)"
+        "--pivoting", choices=PIVOTINGS, default=None, help="Lemke pivoting rule (default: lexicographic)"
     )
-    p.add_argument("--piv-tol", type=float, default=1e-12, help="Lemke: smallest pivot (default: 1e-12)")
-    p.add_argument("--zero-tol", type=float, default=1e-6, help="Lemke: the user zero (default: 1e-6)")
+    p.add_argument("--piv-tol", type=float, default=None, help="Lemke: smallest pivot (default: 1e-12)")
+    p.add_argument("--zero-tol", type=float, default=None, help="Lemke: the user zero (default: 1e-6)")
     p.add_argument("--max-pivots", type=int, default=None, help="Lemke: pivot limit (default: max(1000, 50 n))")
+    p.add_argument("--certify", action="store_true", help="check the final basis exactly (rational arithmetic)")
+    p.add_argument("--dump", metavar="DIR", default=None, help="if not solved, write a failure dump into DIR")
     p.add_argument("--json", action="store_true", help="print the result as JSON (status, ok, pivots, residual, z, w)")
 
 
@@ -80,34 +85,94 @@ def _summary(path: str, res: LcpResult, pivoting: str | None) -> str:
         f"pivots:    {res.pivots}" if res.method == "lemke" else f"iterations: {res.pivots}",
         f"residual:  {res.residual:.3e}   ‖min(z, Mz+q)‖∞",
         f"min z, w:  {res.min_z:.3e}, {res.min_w:.3e}   max |z_i w_i|: {res.max_complementarity:.3e}",
-        f"z = {_format_vector(res.z)}",
-        f"w = {_format_vector(res.w)}",
     ]
+    c = res.certificate
+    if c is not None:
+        extra = "" if c.violation is None else f"; first violation {c.violation['kind']} at {c.violation['index']}"
+        lines.append(
+            f"certified: {c.certified} ({c.status}; backward error η = {c.backward_error:.2e}, exact residual "
+            f"{c.natural_residual:.2e}, {c.violations} violation(s){extra})"
+        )
+    if res.dump_path:
+        lines.append(f"dump:      {res.dump_path}")
+    lines += [f"z = {_format_vector(res.z)}", f"w = {_format_vector(res.w)}"]
     return "\n".join(lines)
 
 
-def _run_solve(args: argparse.Namespace) -> int:
-    from .io import load_lcp
+def _solve_options(args: argparse.Namespace, lemke: bool) -> dict[str, Any]:
+    """The Lemke options given on the command line (only those given)."""
+    if not lemke:
+        return {}
+    given = {
+        "pivoting": args.pivoting,
+        "piv_tol": args.piv_tol,
+        "zero_tol": args.zero_tol,
+        "max_pivots": args.max_pivots,
+    }
+    return {k: v for k, v in given.items() if v is not None}
 
+
+def _run_replay(args: argparse.Namespace) -> int:
+    from .forensics import load_dump, replay
+
+    if getattr(args, "index", None) is not None:
+        raise CliError(f"{args.file}: a failure dump holds one LCP; --index does not apply")
+    dump = load_dump(args.file)
+    method = args.method or dump.method
+    overrides = _solve_options(args, method == "lemke")
+    rep = replay(dump, method=args.method, certify=args.certify, dump=args.dump, **overrides)
+    res = rep.result
+    pivoting = rep.options.get("pivoting", "lexicographic") if rep.method == "lemke" else None
+    if args.json:
+        out = {"file": args.file, "n": int(res.z.shape[0]), **res.to_dict(), "replay": rep.to_dict()}
+        if pivoting is not None:
+            out["pivoting"] = pivoting
+        print(json.dumps(out))
+    else:
+        opts = ", ".join(f"{k}={v}" for k, v in rep.options.items())
+        lines = [
+            f"replay of a failure dump written by lcpsim {dump.lcpsim_version or '?'}: dumped status {dump.status!r}",
+            f"options:   {rep.method}({opts})",
+            dump.trace_summary(),
+            _summary(args.file, res, pivoting),
+        ]
+        if rep.overridden:
+            lines.append(
+                f"replay:    with changed options: status {res.status!r} (dumped {dump.status!r})"
+                + (f", z differs by up to {rep.max_abs_dz:.3e}" if not rep.same_z else ", z identical")
+            )
+        elif rep.reproduced:
+            lines.append(f"replay:    reproduces the dump (status {dump.status!r}, z identical)")
+        elif rep.same_status:
+            lines.append(f"replay:    reproduces status {dump.status!r}; z differs by up to {rep.max_abs_dz:.3e}")
+        else:
+            lines.append(f"replay:    does NOT reproduce the dump: status {res.status!r}, dumped {dump.status!r}")
+        print("\n".join(lines))
+    return EXIT_OK if res.ok else EXIT_NOT_SOLVED
+
+
+def _run_solve(args: argparse.Namespace) -> int:
+    from .io import is_dump, load_lcp
+
+    if is_dump(args.file):
+        return _run_replay(args)
     index = getattr(args, "index", None)
     M, q = load_lcp(args.file, index)
-    lemke = args.method == "lemke"
-    kwargs = (
-        dict(pivoting=args.pivoting, piv_tol=args.piv_tol, zero_tol=args.zero_tol, max_pivots=args.max_pivots)
-        if lemke
-        else {}
-    )
-    res = solve_lcp(M, q, method=args.method, **kwargs)
+    method = args.method or "lemke"
+    lemke = method == "lemke"
+    kwargs = _solve_options(args, lemke)
+    pivoting = kwargs.get("pivoting", "lexicographic") if lemke else None
+    res = solve_lcp(M, q, method=method, certify=args.certify, dump=args.dump, **kwargs)
     if args.json:
         out = {"file": args.file, "n": int(res.z.shape[0]), **res.to_dict()}
         if index is not None:
             out["index"] = index
         if lemke:
-            out["pivoting"] = args.pivoting
+            out["pivoting"] = pivoting
         print(json.dumps(out))
     else:
         name = args.file if index is None else f"{args.file} [{index}]"
-        print(_summary(name, res, args.pivoting if lemke else None))
+        print(_summary(name, res, pivoting))
     return EXIT_OK if res.ok else EXIT_NOT_SOLVED
 
 

@@ -1,6 +1,7 @@
 """The seed's experiments on the command line (issue 4)::
 
     lcpsim failure-rate --scales none,1e-3,1e-4,1e-6 --solver seed
+    lcpsim failure-rate --solvers seed,robust,pgs,newton_fb --corpus seed,hard --scales none,1e-2,1e-3,1e-4,1e-6,1e-8
     lcpsim slope --angle-deg 45.0001 --mu 1 --scale 1e-3 --solver seed --seconds 1
     lcpsim critical-scale --angle-deg 45.2 --mu 1 --solver seed
     lcpsim invariance --digits 20
@@ -96,8 +97,21 @@ def _header(r: dict[str, Any]) -> str:
 def _cfg_failure_rate(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scales", default="none,1e-3,1e-4,1e-6", help="comma-separated scales (default: none,1e-3,1e-4,1e-6)")
     p.add_argument("--tol", type=float, default=1e-6, help="physical-unit residual tolerance (default: 1e-6)")
+    p.add_argument("--rel-tol", type=float, default=1e-9,
+                   help="also count residuals above REL_TOL·(1 + ‖q‖∞), physical units (default: 1e-9, issue 5)")
     p.add_argument("--mode", choices=("resolve", "simulate"), default="resolve",
                    help="re-solve the corpus LCPs per scale (default) or re-simulate per scale")
+    g = p.add_argument_group("comparison (issue 5)")
+    g.add_argument("--solvers", default=None, metavar="LIST",
+                   help="comma-separated solvers to compare, e.g. seed,robust,pgs,newton_fb (overrides --solver)")
+    g.add_argument("--corpus", default="seed", metavar="LIST",
+                   help="comma-separated corpora: seed (the seed corpus) and/or hard (lcpsim.generate.hard_corpus) "
+                   "(default: seed)")
+    g.add_argument("--hard-count", type=int, default=None, metavar="N", help="LCPs in the hard corpus (default: 200)")
+    g.add_argument("--certify", default=None, metavar="LIST",
+                   help="solvers whose answers are certified exactly (n ≤ --certify-max-n); 'none' for none "
+                   "(default: robust/lemke when listed)")
+    g.add_argument("--certify-max-n", type=int, default=40, metavar="N", help="largest LCP certified (default: 40)")
     _common(p)
     _corpus_opts(p)
 
@@ -117,13 +131,70 @@ def _text_failure_rate(r: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+def _share(count: Any, total: Any) -> str:
+    if count is None or not total:
+        return "—"
+    return f"{count}/{total} ({100 * count / total:.1f}%)"
+
+
+def _text_comparison(r: dict[str, Any]) -> str:
+    lines = [
+        f"lcpsim {r['lcpsim_version']} failure-rate comparison, seed {r['seed']}, mode {r['mode']}",
+        f"residual failures in physical units (λ = s·λ_scaled, unscaled LCP): '> tol' means > {r['tol']:g}, "
+        f"'> rel' means > {r['rel_tol']:g}·(1 + ‖q‖∞); certified (n ≤ {r['certify_max_n']}): exact / "
+        "backward error η ≤ 1e-14 / exact residual ≤ 1e-14·(1 + ‖q‖∞)",
+    ]
+    for name, c in (r.get("corpora") or {}).items():
+        if name == "hard":
+            lines.append(f"hard corpus: {c['lcps']} LCPs (seed {c['seed']}, n up to {c['max_n']}), "
+                         + ", ".join(f"{k} {v}" for k, v in c["by_kind"].items()))
+        elif "lcps" in c:
+            lines.append(f"seed corpus: {c['lcps']} LCPs")
+    lines.append("")
+    hdr = (f"{'solver':<10} {'corpus':<6} {'scale':>7} {'LCPs':>6} {'status':>7} {'> tol':>6} {'> rel':>6}"
+           f" {'acc.wrong':>9}  {'certified exact':>19} {'η ≤ 1e-14':>19} {'exact resid.':>19}")
+    lines += [hdr, "-" * len(hdr)]
+    for row in r["comparison"]:
+        rel = "—" if row.get("rel_residual_failures") is None else row["rel_residual_failures"]
+        n = row.get("cert_lcps")
+        lines.append(
+            f"{row['solver']:<10} {row['corpus']:<6} {row['scale']:>7} {row['lcps']:>6} {row['status_failures']:>7}"
+            f" {row['residual_failures']:>6} {rel:>6} {row['accepted_wrong']:>9}  {_share(row.get('certified'), n):>19}"
+            f" {_share(row.get('certified_eta'), n):>19} {_share(row.get('certified_residual'), n):>19}"
+        )
+    return "\n".join(lines)
+
+
+def _text_failure_rate_any(r: dict[str, Any]) -> str:
+    if len(r.get("solvers") or []) > 1 or len(r.get("corpora") or {}) > 1 or "hard" in (r.get("corpora") or {}):
+        return _text_comparison(r)
+    text = _text_failure_rate(r)
+    if r.get("certify"):
+        text += "\n\n" + _text_comparison(r)
+    return text
+
+
 def _run_failure_rate(args: argparse.Namespace) -> int:
     from .experiments import failure_rate
     from .experiments._common import parse_scales
 
     cfg = {**_base(args), **_corpus_cfg(args), "scales": parse_scales(args.scales), "tol": args.tol, "mode": args.mode}
     cfg["scales"] = ["none" if s is None else s for s in cfg["scales"]]
-    return _emit(args, failure_rate.run(cfg), _text_failure_rate)
+    cfg["rel_tol"] = args.rel_tol
+    if args.solvers:
+        from .experiments.presets import parse_solver
+
+        names = [t.strip() for t in args.solvers.split(",") if t.strip()]
+        for n in names:
+            parse_solver(n)
+        cfg["solvers"] = names
+    cfg["corpora"] = [t.strip() for t in args.corpus.split(",") if t.strip()]
+    if args.hard_count is not None:
+        cfg["hard"] = {"count": args.hard_count}
+    if args.certify is not None:
+        cfg["certify"] = [] if args.certify.strip().lower() in ("none", "") else args.certify
+    cfg["certify_max_n"] = args.certify_max_n
+    return _emit(args, failure_rate.run(cfg), _text_failure_rate_any)
 
 
 # ---------------------------------------------------------------- slope
@@ -398,7 +469,7 @@ def _run_sweep(args: argparse.Namespace) -> int:
 
 
 for _name, _help, _cfg, _run in (
-    ("failure-rate", "failure rate of a solver over the seed corpus per friction-cone scale", _cfg_failure_rate, _run_failure_rate),
+    ("failure-rate", "failure rate of solvers over the seed and hard corpora per friction-cone scale", _cfg_failure_rate, _run_failure_rate),
     ("slope", "the seed's slope test: does a μ = 1 cube slide, rest or tip?", _cfg_slope, _run_slope),
     ("critical-scale", "the cone scale below which the slope cube is held instead of sliding", _cfg_critical, _run_critical),
     ("invariance", "fn, fd unchanged and λ·s by cone scaling, over the seed corpus", _cfg_invariance, _run_invariance),

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["LcpFileError", "load_lcp", "save_lcp", "file_format"]
+__all__ = ["LcpFileError", "load_lcp", "save_lcp", "file_format", "is_dump"]
 
 _NPZ_SUFFIXES = {".npz"}
 _HDF5_SUFFIXES = {".h5", ".hdf5", ".hdf", ".he5"}
@@ -44,6 +44,32 @@ def file_format(path: str | os.PathLike[str]) -> str:
     raise LcpFileError(
         f"{path}: unknown LCP file format (expected .npz with arrays M, q or HDF5 .h5 with datasets /M, /q)"
     )
+
+
+def is_dump(path: str | os.PathLike[str]) -> bool:
+    """Whether ``path`` is a failure dump (:mod:`lcpsim.forensics`): an HDF5
+    file whose ``format`` attribute is ``"lcpsim-failure-dump"``. A dump also
+    holds ``/M`` and ``/q``, so :func:`load_lcp` reads it like any LCP file."""
+    p = Path(path)
+    if not p.is_file():
+        return False
+    try:
+        if file_format(p) != "hdf5":
+            return False
+    except LcpFileError:
+        return False
+    import h5py  # type: ignore[import-untyped]
+
+    from .forensics import DUMP_FORMAT
+
+    try:
+        with h5py.File(p, "r") as f:
+            fmt = f.attrs.get("format")
+    except OSError:
+        return False
+    if isinstance(fmt, bytes):
+        fmt = fmt.decode(errors="replace")
+    return bool(fmt == DUMP_FORMAT)
 
 
 def _read_npz(path: Path) -> tuple[Any, Any]:

@@ -11,13 +11,17 @@ panics into Python).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Any, Iterator
+import os
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any, Iterator
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
+
+if TYPE_CHECKING:
+    from .certification import Certificate
 
 __all__ = [
     "LcpResult",
@@ -61,6 +65,15 @@ class LcpResult:
     and ``max_complementarity = max |z_i w_i|`` complete the picture.
     ``pivots`` counts Lemke pivots, or iterations for PGS and Newton–FB.
     ``basis`` (Lemke only) marks the ``z_j`` basic at the end, else None.
+
+    ``certified`` (``solve_lcp(..., certify=True)``): True when the final
+    basis solves the LCP of the floats as given exactly (rational
+    arithmetic), False when it does not, None when not attempted (no
+    ``certify=True``, or no basis); ``certificate`` holds the details
+    (:class:`~lcpsim.certification.Certificate`: status, backward error η,
+    exact natural residual, violations). ``dump_path``
+    (``solve_lcp(..., dump=DIR)``): the failure dump written for this
+    result, else None.
     """
 
     z: NDArray[np.float64]
@@ -74,6 +87,9 @@ class LcpResult:
     max_complementarity: float
     method: str
     basis: NDArray[np.bool_] | None = None
+    certified: bool | None = None
+    certificate: Certificate | None = None
+    dump_path: str | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict (arrays as lists)."""
@@ -89,6 +105,9 @@ class LcpResult:
             "z": self.z.tolist(),
             "w": self.w.tolist(),
             "basis": None if self.basis is None else self.basis.tolist(),
+            "certified": self.certified,
+            "certificate": None if self.certificate is None else self.certificate.to_dict(),
+            "dump_path": self.dump_path,
         }
 
 
@@ -194,6 +213,8 @@ def solve_lcp(
     piv_tol: float = 1e-12,
     zero_tol: float = 1e-6,
     max_pivots: int | None = None,
+    certify: bool = False,
+    dump: str | os.PathLike[str] | None = None,
     **options: Any,
 ) -> LcpResult:
     """Solve the LCP ``(M, q)``: ``z >= 0``, ``w = M z + q >= 0``, ``z·w = 0``.
@@ -218,6 +239,18 @@ def solve_lcp(
         ``equilibrate``; pgs: ``omega``, ``max_iterations``, ``tol``;
         newton_fb: ``max_iterations``, ``tol``, ``armijo_sigma``, ``backtrack``,
         ``max_backtracks``, ``descent_rho``. A value of None means the default.
+    certify:
+        Recompute the final basis's solution in exact rational arithmetic from
+        the floats as given and check ``z >= 0``, ``w >= 0``, ``z·w = 0``
+        exactly: sets ``certified`` (None when there is no basis, e.g. PGS)
+        and ``certificate`` (with the backward error η). Milliseconds at
+        n = 40, growing quickly beyond.
+    dump:
+        A directory: when the result is not ``solved``, the LCP is re-solved
+        with a pivot trace (Lemke) and a failure dump (HDF5: ``M``, ``q``,
+        method and options, status, ``z``, ``w``, residuals, trace, lcpsim
+        version) is written there; its path is ``dump_path``. Replay it with
+        ``lcpsim solve DUMP`` or :func:`lcpsim.forensics.replay`.
 
     Raises
     ------
@@ -230,9 +263,11 @@ def solve_lcp(
     opts = _options(method, pivoting, piv_tol, zero_tol, max_pivots, options)
     M_ = _as_real_array(M, "M", 2)
     q_ = _as_real_array(q, "q", 1)
+    if not isinstance(certify, (bool, np.bool_)):
+        raise ValueError(f"certify must be True or False, got {certify!r}")
     d = _core.solve_lcp(M_, q_, method, **opts)
     status = d["status"]
-    return LcpResult(
+    res = LcpResult(
         z=d["z"],
         w=d["w"],
         status=status,
@@ -245,6 +280,17 @@ def solve_lcp(
         method=d["method"],
         basis=d["basis"],
     )
+    if certify and res.basis is not None:
+        from .certification import Certificate
+
+        cert = Certificate._from_core(_core.certify_lcp(M_, q_, np.ascontiguousarray(res.basis, dtype=bool), res.z))
+        res = replace(res, certified=cert.certified, certificate=cert)
+    if dump is not None and not res.ok:
+        from .forensics import write_dump
+
+        path = write_dump(dump, M_, q_, method, opts, res)
+        res = replace(res, dump_path=str(path))
+    return res
 
 
 def solve_lcp_batch(

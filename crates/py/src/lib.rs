@@ -5,6 +5,7 @@
 //! options → `Method`), `solution` (`Solution` → dict), `lcp` (the solver
 //! functions), `errors`. `sim` (the simulator: `World`, scenes, LCP capture).
 
+mod certify;
 mod errors;
 mod generate;
 mod lcp;
@@ -48,5 +49,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(generate::hard_contact_lcp, m)?)?;
     m.add_function(wrap_pyfunction!(generate::hard_corpus, m)?)?;
     m.add("HARD_KINDS", generate::hard_kinds())?;
+    // Exact certification and the pivot trace of failure dumps (issue 5).
+    m.add_function(wrap_pyfunction!(certify::certify_lcp, m)?)?;
+    m.add_function(wrap_pyfunction!(certify::certify_lcp_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(certify::solve_lcp_traced, m)?)?;
     Ok(())
 }
