@@ -201,6 +201,41 @@ def test_failure_rate_counts():
     assert sim["rows"][0]["s"] == 1e-3 and sim["rows"][0]["failures"] == 0 and sim["rows"][0]["lcps"] > 0
 
 
+def test_failure_rate_comparison():
+    """Issue 5 item 5: solvers × {seed, hard} × scales, one row each; `rows` stays
+    the first solver on the first corpus; robust is certified (n ≤ 40)."""
+    r = failure_rate.run({**SMALL, "solvers": ["seed", "robust", "pgs", "newton_fb"], "corpora": ["seed", "hard"],
+                          "scales": ["none", 1e-6], "max_lcps": 150, "hard": {"count": 7}})
+    assert [(c["solver"], c["corpus"], c["scale"]) for c in r["comparison"]][:3] == [
+        ("seed", "seed", "none"), ("seed", "seed", "1e-06"), ("robust", "seed", "none")]
+    assert len(r["comparison"]) == 4 * 2 * 2 and r["certify"] == ["robust"]
+    assert r["solver"]["name"] == "seed" and [row["scale"] for row in r["rows"]] == ["none", "1e-06"]
+    assert r["corpora"]["hard"]["lcps"] == 7 and r["corpora"]["seed"]["lcps"] == 150
+    for c in r["comparison"]:
+        assert {"lcps", "status_failures", "residual_failures", "rel_residual_failures", "accepted_wrong",
+                "certified", "certified_eta", "cert_lcps"} <= set(c)
+        if c["solver"] == "robust":
+            assert c["status_failures"] == 0 and c["residual_failures"] == 0
+            assert c["cert_lcps"] > 0 and 0 <= c["certified"] <= c["certified_eta"] <= c["cert_lcps"]
+            assert c["corpus"] == "hard" or c["certified"] > 0
+            assert c["certified_either"] == c["cert_lcps"]
+        else:
+            assert c["certified"] is None
+    seed_hard = [c for c in r["comparison"] if c["solver"] == "seed" and c["corpus"] == "hard"]
+    assert seed_hard[-1]["residual_failures"] > 0  # the seed's setting fails on the hard corpus at s = 1e-6
+    json.dumps(r)
+    with pytest.raises(ValueError, match="corpora"):
+        failure_rate.run({**SMALL, "corpora": ["seed", "soft"]})
+
+
+def test_cli_failure_rate_comparison(capsys):
+    assert main(["failure-rate", "--solvers", "seed,robust", "--corpus", "seed,hard", "--scales", "none,1e-8",
+                 "--corpus-steps", "80", "--corpus-random", "0", "--max-lcps", "100", "--hard-count", "7"]) == 0
+    out = capsys.readouterr().out
+    assert "comparison" in out and "hard corpus: 7 LCPs" in out and "certified exact" in out
+    assert out.count("robust ") >= 4
+
+
 def test_every_result_carries_config_seed_version():
     small = {
         "failure-rate": {**SMALL, "scales": ["none"], "seed": 5},
@@ -299,7 +334,8 @@ def test_report_quick(tmp_path, capsys):
     assert summary["index_html"].endswith("index.html")
     for text in (html, md):
         assert "3.9 %" in text and "4e-3" in text and "0.004895" in text and "1e-16" in text
-        for name in ("Failure rate", "Slope test", "Critical scale", "Scaling invariance", "Contact patterns", "Pushed cube"):
+        for name in ("Failure rate", "Slope test", "Critical scale", "Scaling invariance", "Contact patterns", "Pushed cube",
+                     "Solver comparison"):
             assert name in text
     for fig in summary["figures"].values():
         p = out / fig

@@ -260,3 +260,46 @@ def hard_corpus(
     seed: int, count: int, scale: float = 1.0
 ) -> list[tuple[NDArray[np.float64], NDArray[np.float64], str, int, int]]:
     """`count` hard contact LCPs cycling through the families."""
+
+# Exact certification and failure forensics (crates/py/src/certify.rs, issue 5).
+
+class ViolationDict(TypedDict):
+    index: int
+    kind: str  # "negative_z" | "negative_w" | "complementarity"
+    value: float
+
+class CertificateDict(TypedDict):
+    status: str  # "certified" | "violated" | "singular"
+    basis: NDArray[np.bool_]
+    z: NDArray[np.float64]  # exact basis solution, rounded; empty when singular
+    w: NDArray[np.float64]
+    violations: int
+    violation: ViolationDict | None  # the first one
+    det_bits: int
+    natural_residual: float  # of the exact solution; inf when singular
+    backward_error: float  # Oettli–Prager η; 0 when certified, inf when singular
+    z_error: float | None  # max |z_exact − z| when z was given
+
+class TraceDict(TypedDict):
+    # One entry per pivot over every rung; variables: w_i → i, z_j → n + j, z0 → 2n.
+    rung: NDArray[np.int64]
+    entering: NDArray[np.int64]
+    leaving: NDArray[np.int64]
+    theta: NDArray[np.float64]
+    pivot: NDArray[np.float64]
+    column_max: NDArray[np.float64]
+
+def certify_lcp(
+    m: ArrayLike, q: ArrayLike, basis: NDArray[np.bool_] | None = None, z: ArrayLike | None = None
+) -> CertificateDict:
+    """Exact check of `basis` (compared with `z` if given), or of the support of `z`."""
+
+def certify_lcp_batch(
+    ms: ArrayLike, qs: ArrayLike, bases: NDArray[np.bool_], zs: ArrayLike | None = None, threads: int = 1
+) -> list[CertificateDict]:
+    """`certify_lcp` over a (b, n, n) / (b, n) stack with the GIL released."""
+
+def solve_lcp_traced(
+    m: ArrayLike, q: ArrayLike, method: str = "lemke", warm: NDArray[np.bool_] | None = None, **options: Any
+) -> tuple[SolutionDict, TraceDict]:
+    """Lemke with its pivot trace (method must be "lemke")."""

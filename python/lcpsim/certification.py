@@ -20,7 +20,7 @@ few 1e-16 means "exact up to the rounding already in the data";
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Mapping
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -96,7 +96,7 @@ class Certificate:
         }
 
     @classmethod
-    def _from_core(cls, d: dict[str, Any]) -> Certificate:
+    def _from_core(cls, d: Mapping[str, Any]) -> Certificate:
         v = d["violation"]
         return cls(
             status=str(d["status"]),

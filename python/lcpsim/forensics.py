@@ -69,11 +69,12 @@ def _options_json(options: Mapping[str, Any]) -> str:
 
 
 def variable_name(index: int, n: int) -> str:
-    """The name of Lemke variable ``index`` in a pivot trace: ``w_i``, ``z_j`` or ``z0``."""
+    """The name of Lemke variable ``index`` in a pivot trace: ``w[i]``, ``z[j]``
+    (0-based) or ``z0`` (the artificial variable)."""
     if index < n:
-        return f"w{index}"
+        return f"w[{index}]"
     if index < 2 * n:
-        return f"z{index - n}"
+        return f"z[{index - n}]"
     return "z0"
 
 
@@ -105,7 +106,7 @@ def write_dump(
     h.update(opts_json.encode())
     path = d / f"lcpsim-dump-{result.status}-n{q.shape[0]}-{h.hexdigest()[:12]}.h5"
 
-    trace: dict[str, NDArray[Any]] | None = None
+    trace: Mapping[str, object] | None = None
     trace_status = ""
     if method == "lemke":
         sol, trace = _core.solve_lcp_traced(M, q, method, None, **dict(options))

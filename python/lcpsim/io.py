@@ -1,6 +1,7 @@
 """Reading and writing LCPs: ``.npz`` (arrays ``M``, ``q``) or HDF5 (datasets
 ``/M``, ``/q``), and single problems out of an LCP corpus (HDF5 written by
-:mod:`lcpsim.corpus`; choose the problem with ``index``). Every problem with a file is a :class:`LcpFileError` (a
+:mod:`lcpsim.corpus`; choose the problem with ``index``); :func:`is_dump` recognizes a failure dump
+(:mod:`lcpsim.forensics`), which also reads as an LCP. Every problem with a file is a :class:`LcpFileError` (a
 ``ValueError``) whose message names the file and what is wrong; a missing file
 is a :class:`FileNotFoundError`."""
 
@@ -44,32 +45,6 @@ def file_format(path: str | os.PathLike[str]) -> str:
     raise LcpFileError(
         f"{path}: unknown LCP file format (expected .npz with arrays M, q or HDF5 .h5 with datasets /M, /q)"
     )
-
-
-def is_dump(path: str | os.PathLike[str]) -> bool:
-    """Whether ``path`` is a failure dump (:mod:`lcpsim.forensics`): an HDF5
-    file whose ``format`` attribute is ``"lcpsim-failure-dump"``. A dump also
-    holds ``/M`` and ``/q``, so :func:`load_lcp` reads it like any LCP file."""
-    p = Path(path)
-    if not p.is_file():
-        return False
-    try:
-        if file_format(p) != "hdf5":
-            return False
-    except LcpFileError:
-        return False
-    import h5py  # type: ignore[import-untyped]
-
-    from .forensics import DUMP_FORMAT
-
-    try:
-        with h5py.File(p, "r") as f:
-            fmt = f.attrs.get("format")
-    except OSError:
-        return False
-    if isinstance(fmt, bytes):
-        fmt = fmt.decode(errors="replace")
-    return bool(fmt == DUMP_FORMAT)
 
 
 def _read_npz(path: Path) -> tuple[Any, Any]:
@@ -116,6 +91,32 @@ def _read_hdf5(path: Path) -> tuple[Any, Any]:
             except (OSError, TypeError, ValueError) as e:
                 raise LcpFileError(f"{path}: cannot read dataset '/{key}' ({e})") from None
         return out[0], out[1]
+
+
+def is_dump(path: str | os.PathLike[str]) -> bool:
+    """Whether ``path`` is a failure dump (:mod:`lcpsim.forensics`): an HDF5
+    file whose ``format`` attribute is ``"lcpsim-failure-dump"``. A dump also
+    holds ``/M`` and ``/q``, so :func:`load_lcp` reads it like any LCP file."""
+    p = Path(path)
+    if not p.is_file():
+        return False
+    try:
+        if file_format(p) != "hdf5":
+            return False
+    except LcpFileError:
+        return False
+    import h5py
+
+    from .forensics import DUMP_FORMAT
+
+    try:
+        with h5py.File(p, "r") as f:
+            fmt = f.attrs.get("format")
+    except OSError:
+        return False
+    if isinstance(fmt, bytes):
+        fmt = fmt.decode(errors="replace")
+    return bool(fmt == DUMP_FORMAT)
 
 
 def _validate(path: Path, M: Any, q: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
