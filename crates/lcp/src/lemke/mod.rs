@@ -71,8 +71,10 @@ fn solve_classic(lcp: &Lcp, o: &LemkeOptions, trace: Option<&mut Vec<PivotRecord
     if lcp.q().iter().all(|&v| v > -o.zero_tol) {
         return Solution::from_z(lcp, vec![0.0; lcp.n()], Status::Solved, 0);
     }
-    // Covering vector 1 where q < 0, 0 elsewhere (Moby's choice).
-    let d: Vec<f64> = lcp.q().iter().map(|&v| if v < 0.0 { 1.0 } else { 0.0 }).collect();
+    // The standard covering vector d = 1. (Moby uses 1 only where q < 0; with
+    // d_i = 0 elsewhere Lemke loses its guarantee and this rule ray-terminates
+    // on nearly every step of a cube resting on a 30° slope.)
+    let d = vec![1.0; lcp.n()];
     let set = RunSettings {
         rule: Rule::Classic { piv_tol: o.piv_tol, zero_tol: o.zero_tol },
         trace: trace.is_some(),

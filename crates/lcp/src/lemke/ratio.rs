@@ -146,8 +146,7 @@ fn lex_break(basis: &Basis, rows: &mut Vec<Cand>, v: &mut Vec<f64>, tie_tol: f64
 /// the row with the most negative `q_i / d_i`.
 pub(crate) fn first_leaving(q: &[f64], d: &[f64], rule: Rule) -> usize {
     match rule {
-        // The most negative q, first index on ties (the classic covering
-        // vector is 1 exactly where q < 0, so ratios elsewhere are meaningless).
+        // The most negative q, first index on ties.
         Rule::Classic { .. } => {
             let qmin = q.iter().copied().fold(f64::INFINITY, f64::min);
             (0..q.len()).find(|&i| q[i] == qmin).unwrap_or(0)

@@ -168,7 +168,7 @@ fn pivot_loop<'a>(
             Leaving::W(i) => (Var::W(i), col.xw[i]),
         };
         // A pivot small against its column inflates C⁻¹'s round-off: refactor after it.
-        let small_pivot = matches!(set.rule, Rule::Lexicographic { .. }) && pivot.abs() < SMALL_PIVOT * xmax;
+        let small_pivot = pivot.abs() < SMALL_PIVOT * xmax;
         if set.trace {
             trace.push(PivotRecord { column_max: xmax, ..record(n, entering, left, theta, pivot, &col) });
         }
@@ -181,7 +181,11 @@ fn pivot_loop<'a>(
         if !seen.insert(hash) {
             break Status::Cycling;
         }
-        if (small_pivot || basis.since_refactor >= set.refactor_every) && !basis.refactor() {
+        // A singular refactorization ends the robust rule; the classic rule,
+        // like the seed's Lemke, has no such check and goes on with its updated
+        // inverse (its answer is still checked when z0 leaves).
+        let robust = matches!(set.rule, Rule::Lexicographic { .. });
+        if (small_pivot || basis.since_refactor >= set.refactor_every) && !basis.refactor() && robust {
             break Status::SingularBasis;
         }
         entering = left.complement().expect("only z0 lacks a complement");
