@@ -235,7 +235,8 @@ def test_trajectory_arrays():
     assert (traj.lcp_size == 40).all() and (traj.contacts == 4).all()
     stats = traj.lcp_stats()
     assert stats.count == 250 and stats.failures == 0 and stats.by_status == {"solved": 250}
-    assert stats.max_lcp_size == 40 and stats.pivots_max >= stats.pivots_median > 0
+    # Warm-started from the previous step, most steps need no pivot at all.
+    assert stats.max_lcp_size == 40 and stats.pivots_max >= stats.pivots_median >= 0 and stats.pivots_max > 0
     np.testing.assert_array_equal(traj.initial_positions[cube], [0, 0, 0.5])
     # A second run continues in time.
     t2 = w.run(10)
