@@ -134,3 +134,13 @@ fn a_cloned_world_steps_identically_and_has_no_sink() {
     assert_eq!(s.world.time(), copy.time());
     assert_eq!(s.world.last_record(), copy.last_record());
 }
+
+/// The stages are public: `detect` called on its own (before `forces_stage`
+/// has computed free velocities) must not panic.
+#[test]
+fn detect_alone_does_not_panic() {
+    let mut s = sim::scenes::CubeOnSlope::new(30.0, 0.7).build(sim::WorldParams::default()).unwrap();
+    s.world.detect();
+    s.world.assemble();
+    assert!(s.world.step().is_ok());
+}

@@ -13,6 +13,11 @@ use crate::world::World;
 impl World {
     /// Stage `detect`: fills the contact list for this step.
     pub fn detect(&mut self) {
+        // Called on its own, before this step's `forces_stage`: run it first.
+        if !self.free_velocities_ready() {
+            self.ws.contacts.clear();
+            return;
+        }
         let h = self.params.dt;
         let ws = &mut self.ws;
         ws.contacts.clear();

@@ -116,8 +116,17 @@ impl World {
         Ok(())
     }
 
+    /// Free velocities for every body, computing them (stage `forces_stage`)
+    /// if a stage is called out of order; `false` if that fails.
+    pub(crate) fn free_velocities_ready(&mut self) -> bool {
+        self.ws.v_free.len() == self.bodies.len() || self.forces_stage().is_ok()
+    }
+
     /// Stage `assemble`: the contact LCP from this step's contacts and free velocities.
     pub fn assemble(&mut self) {
+        if !self.free_velocities_ready() {
+            self.ws.contacts.clear();
+        }
         let p = AssemblyParams {
             h: self.params.dt,
             k: self.params.friction_dirs,
