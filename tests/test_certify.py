@@ -148,6 +148,8 @@ def test_batch_matches_single():
 
 def test_classic_failure_basis_is_not_certified():
     """A failed classic solve has a basis, but not one that solves the LCP."""
-    p = hard_corpus(0, 30, 1e-4)[8]
+    from test_dump import classic_failure
+
+    p = classic_failure()
     res = solve_lcp(p.M, p.q, pivoting="classic", certify=True)
     assert not res.ok and res.certified is False and res.certificate.status in ("violated", "singular")
