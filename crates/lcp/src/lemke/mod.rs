@@ -244,7 +244,18 @@ fn solve_attempt(
         r.basis.polish(2);
     }
     let mut sol = Solution::from_z(lcp, unscale(&r.basis.z().0), r.status, r.pivots);
-    let accept = |s: &Solution| s.residuals.natural <= o.accept_tol * (1.0 + qmax);
+    // Accepted in the units given and in the equilibrated ones, where
+    // z' = qs·D_c⁻¹·z and w' = qs·D_r·w: a cone-scaled problem's λ rows are
+    // divided by s on the way back to physical units, and the equilibration
+    // undoes that scaling, so its units are the ones that matter.
+    let qw_max = work.q().iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let accept = |s: &Solution| {
+        let work_residual = (0..n).fold(0.0f64, |a, i| {
+            let (zw, ww) = (qscale * s.z[i] / scaling.col[i], qscale * scaling.row[i] * s.w[i]);
+            a.max(zw.min(ww).abs())
+        });
+        s.residuals.natural <= o.accept_tol * (1.0 + qmax) && work_residual <= o.accept_tol * (1.0 + qw_max)
+    };
     if sol.status == Status::Solved && !accept(&sol) {
         // C⁻¹ drifted: re-solve the final basis from scratch by LU.
         let alpha: Vec<usize> = (0..n).filter(|&j| mask[j]).collect();
