@@ -118,7 +118,8 @@ impl PushedCube {
         finite("height", self.height)?;
         let mut world = World::new(params)?;
         let ground = world.add_ground(self.mu)?;
-        let body = world.add_box(Vec3::splat(0.5 * self.size), self.mass, Vec3::new(0.0, 0.0, 0.5 * self.size), self.mu)?;
+        let body =
+            world.add_box(Vec3::splat(0.5 * self.size), self.mass, Vec3::new(0.0, 0.0, 0.5 * self.size), self.mu)?;
         let point = if self.height != 0.0 { Some(Vec3::new(0.0, 0.0, self.height)) } else { None };
         world.apply_force(body, Vec3::new(self.force, 0.0, 0.0), point)?;
         Ok(Scene { world, body, ground, bodies: vec![body] })
@@ -152,16 +153,33 @@ impl Default for CubeDrop {
 }
 
 impl CubeDrop {
-    pub fn build(&self, mut params: WorldParams) -> Result<Scene, SimError> {
-        non_negative("height", self.height)?;
-        if let Some(e) = self.restitution {
-            params.restitution = Restitution { coefficient: e, ..params.restitution };
-        }
-        let mut world = World::new(params)?;
-        let ground = world.add_ground(self.mu)?;
-        let body = world.add_box(Vec3::splat(0.5 * self.size), self.mass, Vec3::new(0.0, 0.0, self.height + 0.5 * self.size), self.mu)?;
+    pub fn build(&self, params: WorldParams) -> Result<Scene, SimError> {
+        let (mut world, ground) = drop_world(params, self.height, self.mu, self.restitution)?;
+        let body = world.add_box(
+            Vec3::splat(0.5 * self.size),
+            self.mass,
+            Vec3::new(0.0, 0.0, self.height + 0.5 * self.size),
+            self.mu,
+        )?;
         Ok(Scene { world, body, ground, bodies: vec![body] })
     }
+}
+
+/// A world with level ground for a drop from `height`, with the drop's
+/// restitution (if set) overriding the world's.
+fn drop_world(
+    mut params: WorldParams,
+    height: f64,
+    mu: f64,
+    restitution: Option<f64>,
+) -> Result<(World, BodyId), SimError> {
+    non_negative("height", height)?;
+    if let Some(e) = restitution {
+        params.restitution = Restitution { coefficient: e, ..params.restitution };
+    }
+    let mut world = World::new(params)?;
+    let ground = world.add_ground(mu)?;
+    Ok((world, ground))
 }
 
 /// [`CubeDrop`] from `height` with the other defaults.
@@ -191,13 +209,8 @@ impl Default for BallDrop {
 }
 
 impl BallDrop {
-    pub fn build(&self, mut params: WorldParams) -> Result<Scene, SimError> {
-        non_negative("height", self.height)?;
-        if let Some(e) = self.restitution {
-            params.restitution = Restitution { coefficient: e, ..params.restitution };
-        }
-        let mut world = World::new(params)?;
-        let ground = world.add_ground(self.mu)?;
+    pub fn build(&self, params: WorldParams) -> Result<Scene, SimError> {
+        let (mut world, ground) = drop_world(params, self.height, self.mu, self.restitution)?;
         let body = world.add_sphere(self.radius, self.mass, Vec3::new(0.0, 0.0, self.height + self.radius), self.mu)?;
         Ok(Scene { world, body, ground, bodies: vec![body] })
     }
@@ -332,7 +345,11 @@ impl BoxPile {
                         BodyDesc::cuboid(Vec3::splat(h))
                             .mass(self.mass)
                             .mu(self.mu)
-                            .position(Vec3::new(ix as f64 * step - ox, iy as f64 * step - oy, h + iz as f64 * self.size))
+                            .position(Vec3::new(
+                                ix as f64 * step - ox,
+                                iy as f64 * step - oy,
+                                h + iz as f64 * self.size,
+                            ))
                             .orientation(Quat::from_axis_angle(Vec3::Z, yaw)),
                     )?;
                     bodies.push(id);
