@@ -22,6 +22,47 @@ use crate::problem::Lcp;
 use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
 
+/// Below this size `C⁻¹` is refactored by `gauss_jordan_inverse`, above by faer's LU.
+const SMALL_INVERSE: usize = 48;
+
+/// Inverts the row-major `m × m` matrix `a` (destroyed) into `inv` by
+/// Gauss–Jordan elimination with partial pivoting. `false` when a pivot falls
+/// below 1e-14 of the largest entry of `a` (numerically singular), the same
+/// test the LU path applies to `U`'s diagonal.
+fn gauss_jordan_inverse(a: &mut [f64], inv: &mut [f64], m: usize) -> bool {
+    let amax = a.iter().fold(0.0f64, |x, v| x.max(v.abs()));
+    inv.iter_mut().for_each(|v| *v = 0.0);
+    (0..m).for_each(|i| inv[i * m + i] = 1.0);
+    for col in 0..m {
+        let piv = (col..m).max_by(|&x, &y| a[x * m + col].abs().total_cmp(&a[y * m + col].abs())).unwrap_or(col);
+        let p = a[piv * m + col];
+        if !(p.abs() > 1e-14 * amax) {
+            return false;
+        }
+        if piv != col {
+            for k in 0..m {
+                a.swap(piv * m + k, col * m + k);
+                inv.swap(piv * m + k, col * m + k);
+            }
+        }
+        let ip = 1.0 / p;
+        for k in 0..m {
+            a[col * m + k] *= ip;
+            inv[col * m + k] *= ip;
+        }
+        for r in 0..m {
+            let f = a[r * m + col];
+            if r != col && f != 0.0 {
+                for k in 0..m {
+                    a[r * m + k] -= f * a[col * m + k];
+                    inv[r * m + k] -= f * inv[col * m + k];
+                }
+            }
+        }
+    }
+    true
+}
+
 /// Variable numbering helpers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Var {
@@ -418,7 +459,19 @@ impl<'a> Basis<'a> {
     pub(crate) fn refactor(&mut self) -> bool {
         let (n, m) = (self.n, self.m());
         self.since_refactor = 0;
-        if m > 0 {
+        if m > 0 && m <= SMALL_INVERSE {
+            // Small C (the warm-started simulator step): Gauss–Jordan in place,
+            // without faer's setup cost, which dominates below a few dozen rows.
+            let mut c: Vec<f64> = (0..m * m).map(|k| self.a(self.r[k / m], self.s[k % m])).collect();
+            let mut inv = vec![0.0; m * m];
+            if !gauss_jordan_inverse(&mut c, &mut inv, m) {
+                return false;
+            }
+            self.ensure_rows(m);
+            for a in 0..m {
+                self.cinv[a * n..a * n + m].copy_from_slice(&inv[a * m..(a + 1) * m]);
+            }
+        } else if m > 0 {
             let c = Mat::<f64>::from_fn(m, m, |a, b| self.a(self.r[a], self.s[b]));
             let lu = c.partial_piv_lu();
             let u = lu.U();
