@@ -103,6 +103,11 @@ impl Lcp {
         &self.q
     }
 
+    /// `‖q‖∞`: the scale tolerances on `w` refer to.
+    pub fn q_norm_inf(&self) -> f64 {
+        self.q.iter().fold(0.0f64, |a, v| a.max(v.abs()))
+    }
+
     /// Entry `M[i, j]`.
     #[inline]
     pub fn at(&self, i: usize, j: usize) -> f64 {

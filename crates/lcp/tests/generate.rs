@@ -2,6 +2,9 @@
 //! physics of its scene; the matrix generators have the class they promise;
 //! everything is a pure function of its seed.
 
+mod common;
+use common::is_positive_definite;
+
 use lcp::generate::{
     contact_lcp, contact_lcp_from_parts, infeasible_lcp, murty, murty_unit, p_matrix_lcp, spd_lcp, BoxOnPlane,
     ContactLayout, ContactParts, MassInverse, PartsError, BOX_MINV_DIAG, CONTACT_H, GRAVITY,
@@ -15,22 +18,6 @@ fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
 
 fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-}
-
-/// Cholesky succeeds ⇔ symmetric positive definite.
-fn is_positive_definite(m: &[f64], n: usize) -> bool {
-    let mut l = vec![0.0; n * n];
-    for j in 0..n {
-        let d = m[j * n + j] - (0..j).map(|k| l[j * n + k] * l[j * n + k]).sum::<f64>();
-        if d.is_nan() || d <= 0.0 {
-            return false;
-        }
-        l[j * n + j] = d.sqrt();
-        for i in j + 1..n {
-            l[i * n + j] = (m[i * n + j] - (0..j).map(|k| l[i * n + k] * l[j * n + k]).sum::<f64>()) / l[j * n + j];
-        }
-    }
-    true
 }
 
 /// Determinant by Gaussian elimination with partial pivoting.

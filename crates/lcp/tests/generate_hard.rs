@@ -3,6 +3,9 @@
 //! ratios, ill-conditioned inertia, μ = 0), determinism per seed; and, run by
 //! hand, how the default Lemke fares on them at every scale.
 
+mod common;
+use common::is_positive_definite;
+
 use std::collections::BTreeMap;
 
 use lcp::certify::certify_against;
@@ -11,22 +14,6 @@ use lcp::generate::{
     HARD_MAX_CONTACTS, TWIN_OFFSET,
 };
 use lcp::{lemke, LemkeOptions, Scaling, Status};
-
-/// Cholesky succeeds ⇔ symmetric positive definite.
-fn is_positive_definite(m: &[f64], n: usize) -> bool {
-    let mut l = vec![0.0; n * n];
-    for j in 0..n {
-        let d = m[j * n + j] - (0..j).map(|k| l[j * n + k] * l[j * n + k]).sum::<f64>();
-        if d.is_nan() || d <= 0.0 {
-            return false;
-        }
-        l[j * n + j] = d.sqrt();
-        for i in j + 1..n {
-            l[i * n + j] = (m[i * n + j] - (0..j).map(|k| l[i * n + k] * l[j * n + k]).sum::<f64>()) / l[j * n + j];
-        }
-    }
-    true
-}
 
 fn row(a: &[f64], r: usize, cols: usize) -> &[f64] {
     &a[r * cols..(r + 1) * cols]

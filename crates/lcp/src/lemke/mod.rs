@@ -186,7 +186,7 @@ fn solve_lexicographic(
         // Last rung: Newton–Fischer–Burmeister polish from the closest answer.
         // Its z is accepted only by the same residual check (it solves M, not
         // a regularized M); its basis is the support of z.
-        let qmax = lcp.q().iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let qmax = lcp.q_norm_inf();
         let tol = o.accept_tol * (1.0 + qmax);
         let polished = crate::newton_fb::solve_from(lcp, &sol.z, &NewtonFbOptions { tol, ..Default::default() });
         if polished.residuals.natural <= tol && polished.residuals.natural < sol.residuals.natural {
@@ -211,7 +211,7 @@ fn solve_attempt(
     let n = lcp.n();
     // Equilibrate M and bring q to unit size: z scales linearly with q.
     let scaling = if attempt.equilibrate { Scaling::ruiz(lcp, RUIZ_ITERATIONS) } else { Scaling::identity(n) };
-    let qmax = lcp.q().iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let qmax = lcp.q_norm_inf();
     let qscale = if qmax > 0.0 { pow2_inverse(qmax) } else { 1.0 };
     let work = scaling.apply_pow2(lcp, qscale);
     let d: Vec<f64> = match start {
@@ -248,7 +248,7 @@ fn solve_attempt(
     // z' = qs·D_c⁻¹·z and w' = qs·D_r·w: a cone-scaled problem's λ rows are
     // divided by s on the way back to physical units, and the equilibration
     // undoes that scaling, so its units are the ones that matter.
-    let qw_max = work.q().iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let qw_max = work.q_norm_inf();
     let accept = |s: &Solution| {
         let work_residual = (0..n).fold(0.0f64, |a, i| {
             let (zw, ww) = (qscale * s.z[i] / scaling.col[i], qscale * scaling.row[i] * s.w[i]);
