@@ -25,7 +25,7 @@ pub struct Scaling {
 }
 
 /// Exponents beyond this are clamped so that `2^e` stays a normal, finite number.
-const MAX_EXPONENT: i32 = 1000;
+const MAX_EXPONENT: i16 = 1000;
 
 impl Scaling {
     /// No scaling: all factors 1.
@@ -50,9 +50,12 @@ impl Scaling {
     /// (`row == col`). Stops early once a round changes nothing.
     pub fn ruiz(lcp: &Lcp, iterations: usize) -> Scaling {
         let n = lcp.n();
-        let ex: Vec<i32> = lcp.m().iter().map(|&v| exponent(v)).collect();
-        let mut row_exp = vec![0i32; n];
-        let mut col_exp = vec![0i32; n];
+        // Exponents as i16 (entries span ±1075, factors ±MAX_EXPONENT): the
+        // row and column maxima then vectorize on any x86-64 (`pmaxsw`).
+        let mut ex = vec![0i16; n * n];
+        ex.iter_mut().zip(lcp.m()).for_each(|(e, &v)| *e = exponent(v));
+        let mut row_exp = vec![0i16; n];
+        let mut col_exp = vec![0i16; n];
         let mut row_max = vec![ZERO_EXPONENT; n];
         let mut col_max = vec![ZERO_EXPONENT; n];
         for _ in 0..iterations {
@@ -80,7 +83,8 @@ impl Scaling {
                 break;
             }
         }
-        Scaling { row: row_exp.into_iter().map(pow2).collect(), col: col_exp.into_iter().map(pow2).collect() }
+        let pow = |e: i16| pow2(e as i32);
+        Scaling { row: row_exp.into_iter().map(pow).collect(), col: col_exp.into_iter().map(pow).collect() }
     }
 
     /// The seed's friction-cone scaling for `nc` contacts with `k` directions
@@ -165,23 +169,27 @@ impl Scaling {
 /// `2^e` built from its bit pattern (exact; |e| ≤ MAX_EXPONENT keeps it normal).
 #[inline]
 fn pow2(e: i32) -> f64 {
-    let e = e.clamp(-MAX_EXPONENT, MAX_EXPONENT);
+    let e = e.clamp(-(MAX_EXPONENT as i32), MAX_EXPONENT as i32);
     f64::from_bits(((e + 1023) as u64) << 52)
 }
 
-/// Exponent standing for an exact zero: far below any real one, and far
-/// enough from `i32::MIN` that adding scale exponents cannot overflow.
-const ZERO_EXPONENT: i32 = i32::MIN / 4;
+/// Exponent standing for an exact zero: below any real one by more than
+/// `4·MAX_EXPONENT`, and far enough from `i16::MIN` that adding two scale
+/// exponents cannot overflow.
+const ZERO_EXPONENT: i16 = -16_000;
 
 /// `floor(log2 |v|)` from the bit pattern (subnormals count as −1023);
-/// `ZERO_EXPONENT` for zero and for non-finite values.
+/// `ZERO_EXPONENT` for zero and for non-finite values. Reads only the upper
+/// 32 bits, so that a slice of them converts in 32-bit SIMD lanes: a
+/// subnormal below 2⁻¹⁰⁴⁴ (upper mantissa bits all zero) counts as zero.
 #[inline]
-fn exponent(v: f64) -> i32 {
-    let biased = ((v.to_bits() >> 52) & 0x7ff) as i32;
-    if v == 0.0 || biased == 0x7ff {
+fn exponent(v: f64) -> i16 {
+    let hi = (v.to_bits() >> 32) as u32;
+    let biased = (hi >> 20) & 0x7ff;
+    if (hi & 0x7fff_ffff == 0) | (biased == 0x7ff) {
         ZERO_EXPONENT
     } else {
-        biased - 1023
+        biased as i16 - 1023
     }
 }
 
@@ -189,7 +197,7 @@ fn exponent(v: f64) -> i32 {
 /// scale, taking the interval's midpoint) to `1/√(2^(e+½))`; 0 for an empty
 /// row or column so it keeps its factor.
 #[inline]
-fn inv_sqrt_step(e: i32) -> i32 {
+fn inv_sqrt_step(e: i16) -> i16 {
     if e < -4 * MAX_EXPONENT {
         return 0;
     }
