@@ -94,7 +94,8 @@ impl Var {
 pub(crate) struct Column {
     /// Entries for the z-type basics, by position in `S`.
     pub(crate) xs: Vec<f64>,
-    /// Entries for basic `w_i`, indexed by row `i` (unused where `i ∈ R`).
+    /// Entries for basic `w_i`, indexed by row `i`; 0 where `i ∈ R` (so
+    /// the ratio test and the value update can sweep all rows branch-free).
     pub(crate) xw: Vec<f64>,
 }
 
@@ -125,7 +126,7 @@ pub(crate) struct Basis<'a> {
     cinv: Vec<f64>,
     /// Values of the z-type basics, by position in `s`.
     pub(crate) val_s: Vec<f64>,
-    /// Values of basic `w_i`, by row (meaningless where `i ∈ R`).
+    /// Values of basic `w_i`, by row; 0 where `i ∈ R` (nonbasic `w_i`).
     pub(crate) val_w: Vec<f64>,
     /// Tableau row of each z-type basic (parallel to `s`) and of each basic
     /// `w_i`: the entering variable takes the leaving one's row. Only the
@@ -172,6 +173,7 @@ impl<'a> Basis<'a> {
             b.set_gs(p, Var::Z(j));
             b.val_s.push(0.0);
             b.row_s.push(j);
+            b.val_w[j] = 0.0;
         }
         b.refactor().then_some(b)
     }
@@ -237,8 +239,16 @@ impl<'a> Basis<'a> {
     pub(crate) fn column(&mut self, e: Var, out: &mut Column) {
         let (n, m) = (self.n, self.m());
         // a_e restricted to R.
-        for (qi, &i) in self.r.iter().enumerate() {
-            self.tmp[qi] = self.a(i, e);
+        let (lcp, d, t) = (self.lcp, self.d, &mut self.tmp[..m]);
+        match e {
+            Var::Z(j) => t.iter_mut().zip(&self.r).for_each(|(t, &i)| *t = -lcp.at(i, j)),
+            Var::Z0 => t.iter_mut().zip(&self.r).for_each(|(t, &i)| *t = -d[i]),
+            Var::W(k) => {
+                t.iter_mut().for_each(|t| *t = 0.0);
+                if let Some(qk) = self.r_pos[k] {
+                    t[qk] = 1.0;
+                }
+            }
         }
         // x_S = C⁻¹ a_e[R].
         out.xs.clear();
@@ -264,6 +274,9 @@ impl<'a> Basis<'a> {
                 }
             }
         }
+        for &i in &self.r {
+            out.xw[i] = 0.0;
+        }
     }
 
     /// Entry `B⁻¹[b, c]` for the basic variable `b` and constraint `c`:
@@ -276,7 +289,7 @@ impl<'a> Basis<'a> {
         match b {
             Leaving::S(p) => self.ci(p, qc),
             // e_iᵀ − A[i, S] C⁻¹ restricted to R (i ∉ R, so the e_i part is 0 here).
-            Leaving::W(i) => self.s.iter().enumerate().map(|(p, &v)| self.g(i, v) * self.ci(p, qc)).sum(),
+            Leaving::W(i) => (0..self.m()).map(|p| self.gs[p * self.n + i] * self.ci(p, qc)).sum(),
         }
     }
 
@@ -306,7 +319,7 @@ impl<'a> Basis<'a> {
         let t = &mut t[..m];
         t.iter_mut().for_each(|x| *x = 0.0);
         for p in 0..m {
-            let a = -self.g(i, self.s[p]);
+            let a = -self.gs[p * n + i];
             if a != 0.0 {
                 for (tc, c) in t.iter_mut().zip(&self.cinv[p * n..p * n + m]) {
                     *tc += a * c;
@@ -321,10 +334,9 @@ impl<'a> Basis<'a> {
         for (v, xs) in self.val_s.iter_mut().zip(&x.xs) {
             *v -= theta * xs;
         }
-        for i in 0..self.n {
-            if self.r_pos[i].is_none() {
-                self.val_w[i] -= theta * x.xw[i];
-            }
+        // (x.xw and val_w are 0 on the rows of R, which stay 0.)
+        for (v, xw) in self.val_w.iter_mut().zip(&x.xw) {
+            *v -= theta * xw;
         }
         match (e, l) {
             (Var::W(i), Leaving::S(p)) => self.shrink(i, p, theta),
@@ -377,6 +389,7 @@ impl<'a> Basis<'a> {
         self.tmp = v;
         self.r_pos[i] = Some(m);
         self.r.push(i);
+        self.val_w[i] = 0.0;
         self.s.push(e);
         self.set_gs(m, e);
         self.val_s.push(theta);
@@ -449,6 +462,7 @@ impl<'a> Basis<'a> {
         self.tmp = t;
         self.r[qi] = k;
         self.r_pos[k] = Some(qi);
+        self.val_w[k] = 0.0;
         self.row_w[i] = self.row_w[k];
         self.r_pos[i] = None;
         self.val_w[i] = theta;
@@ -495,13 +509,11 @@ impl<'a> Basis<'a> {
             self.val_s[p] = (0..m).map(|c| self.ci(p, c) * q[self.r[c]]).sum();
         }
         for i in 0..n {
-            if self.r_pos[i].is_none() {
-                let mut acc = q[i];
-                for p in 0..m {
-                    acc += self.g(i, self.s[p]) * self.val_s[p];
-                }
-                self.val_w[i] = acc;
-            }
+            self.val_w[i] = if self.r_pos[i].is_none() {
+                (0..m).fold(q[i], |acc, p| acc + self.gs[p * n + i] * self.val_s[p])
+            } else {
+                0.0
+            };
         }
         true
     }
@@ -518,8 +530,8 @@ impl<'a> Basis<'a> {
             worst = 0.0f64;
             for (qi, &i) in self.r.iter().enumerate() {
                 let mut acc = self.lcp.q()[i];
-                for (p, &v) in self.s.iter().enumerate() {
-                    acc += self.g(i, v) * self.val_s[p];
+                for p in 0..m {
+                    acc += self.gs[p * n + i] * self.val_s[p];
                 }
                 res[qi] = acc;
                 worst = worst.max(acc.abs());

@@ -12,6 +12,7 @@
 //! absolute tolerances and trusts its own values, as the seed note's did.
 
 mod basis;
+mod kernels;
 mod options;
 mod ratio;
 mod refine;

@@ -10,6 +10,7 @@
 //! absolute tolerances, Harris slack, z0 if it blocks, else the first row.
 
 use super::basis::{Basis, Column, Leaving, Var};
+use super::kernels::{max_abs_finite, min_ratio};
 
 /// A ratio rule with its tolerances.
 #[derive(Clone, Copy, Debug)]
@@ -44,18 +45,17 @@ pub(crate) struct Choice {
     pub xmax: f64,
 }
 
-/// Gathers the basics that can block (`x > 0`) and returns the largest `|x|`
-/// and the largest `|value|` over all basics (the scales tolerances refer to).
-fn candidates(basis: &Basis, x: &Column, out: &mut Vec<Cand>) -> (f64, f64) {
+/// The largest `|x|` over the column, `None` if an entry is not finite.
+pub(crate) fn column_max(x: &Column) -> Option<f64> {
+    let (s, s_ok) = max_abs_finite(&x.xs, 0.0);
+    let (m, w_ok) = max_abs_finite(&x.xw, s);
+    (s_ok && w_ok).then_some(m)
+}
+
+/// Gathers the basics that can block (`x > 0`), for the classic rule.
+fn candidates(basis: &Basis, x: &Column, out: &mut Vec<Cand>) {
     out.clear();
-    let (mut xmax, mut vmax) = (0.0f64, f64::MIN_POSITIVE);
     let mut take = |at, value: f64, x: f64, row| {
-        if x.abs() > xmax {
-            xmax = x.abs();
-        }
-        if value.abs() > vmax {
-            vmax = value.abs();
-        }
         if x > 0.0 {
             out.push(Cand { at, value, x, row });
         }
@@ -68,16 +68,22 @@ fn candidates(basis: &Basis, x: &Column, out: &mut Vec<Cand>) -> (f64, f64) {
             take(Leaving::W(i), basis.val_w[i], x.xw[i], basis.row_w[i]);
         }
     }
-    (xmax, vmax)
 }
 
-/// The leaving variable and the step length, or `None` for a ray.
-pub(crate) fn leaving(basis: &Basis, x: &Column, rule: Rule, sc: &mut Scratch) -> Option<Choice> {
-    let (xmax, vmax) = candidates(basis, x, &mut sc.cands);
+/// The leaving variable and the step length, or `None` for a ray. `xmax`
+/// is [`column_max`] of `x`.
+pub(crate) fn leaving(basis: &Basis, x: &Column, xmax: f64, rule: Rule, sc: &mut Scratch) -> Option<Choice> {
     let (at, theta) = match rule {
-        Rule::Classic { piv_tol, zero_tol } => classic(basis, &sc.cands, piv_tol, zero_tol),
-        Rule::Lexicographic { piv_tol, tie_tol } => lexicographic(basis, sc, piv_tol * xmax, tie_tol * vmax, tie_tol),
-    }?;
+        Rule::Classic { piv_tol, zero_tol } => {
+            candidates(basis, x, &mut sc.cands);
+            classic(basis, &sc.cands, piv_tol, zero_tol)?
+        }
+        Rule::Lexicographic { piv_tol, tie_tol } => {
+            // The largest |value| over all basics (rows of R hold 0).
+            let vmax = max_abs_finite(&basis.val_w, max_abs_finite(&basis.val_s, f64::MIN_POSITIVE).0).0;
+            lexicographic(basis, x, sc, piv_tol * xmax, tie_tol * vmax, tie_tol)?
+        }
+    };
     Some(Choice { at, theta, xmax })
 }
 
@@ -97,24 +103,35 @@ fn classic(basis: &Basis, c: &[Cand], piv_tol: f64, zero_tol: f64) -> Option<(Le
 }
 
 /// `thresh`: smallest pivot; `vtol`: how close to zero a value must come to tie.
-fn lexicographic(basis: &Basis, sc: &mut Scratch, thresh: f64, vtol: f64, tie_tol: f64) -> Option<(Leaving, f64)> {
-    let mut theta = f64::INFINITY;
-    for k in sc.cands.iter().filter(|k| k.x > thresh) {
-        let r = if k.value > 0.0 { k.value / k.x } else { 0.0 };
-        if r < theta {
-            theta = r;
-        }
-    }
+/// Two sweeps over the basics (z-type, then `w` by row; the rows of `R` have
+/// `x = 0` and never block): the smallest ratio, then the rows tied with it.
+fn lexicographic(
+    basis: &Basis,
+    x: &Column,
+    sc: &mut Scratch,
+    thresh: f64,
+    vtol: f64,
+    tie_tol: f64,
+) -> Option<(Leaving, f64)> {
+    let theta = min_ratio(&basis.val_w, &x.xw, thresh, min_ratio(&basis.val_s, &x.xs, thresh, f64::INFINITY));
     if !theta.is_finite() {
         return None;
     }
     // Rows that reach zero within vtol at this step; z0 among them ends the run.
     sc.tied.clear();
-    for k in sc.cands.iter().filter(|k| k.x > thresh && k.value.max(0.0) - theta * k.x <= vtol) {
-        if matches!(k.at, Leaving::S(p) if basis.s[p] == Var::Z0) {
-            return Some((k.at, theta));
+    let ties = |v: f64, x: f64| x > thresh && v.max(0.0) - theta * x <= vtol;
+    for (p, (&v, &xp)) in basis.val_s.iter().zip(&x.xs).enumerate() {
+        if ties(v, xp) {
+            if basis.s[p] == Var::Z0 {
+                return Some((Leaving::S(p), theta));
+            }
+            sc.tied.push(Cand { at: Leaving::S(p), value: v, x: xp, row: basis.row_s[p] });
         }
-        sc.tied.push(*k);
+    }
+    for (i, (&v, &xi)) in basis.val_w.iter().zip(&x.xw).enumerate() {
+        if ties(v, xi) {
+            sc.tied.push(Cand { at: Leaving::W(i), value: v, x: xi, row: basis.row_w[i] });
+        }
     }
     if sc.tied.len() > 1 {
         lex_break(basis, &mut sc.tied, &mut sc.lex, tie_tol);

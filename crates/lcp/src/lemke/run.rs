@@ -1,7 +1,7 @@
 //! The complementary pivoting loop, shared by both pivoting rules.
 
 use super::basis::{Basis, Column, Leaving, Var};
-use super::ratio::{first_leaving, leaving, Choice, Rule, Scratch};
+use super::ratio::{column_max, first_leaving, leaving, Choice, Rule, Scratch};
 use crate::problem::Lcp;
 use crate::solution::Status;
 use std::collections::HashSet;
@@ -157,10 +157,10 @@ fn pivot_loop<'a>(
             break Status::MaxPivots;
         }
         basis.column(entering, &mut col);
-        if col.xs.iter().chain(&col.xw).any(|v| !v.is_finite()) {
+        let Some(xmax) = column_max(&col) else {
             break Status::Numerical;
-        }
-        let Some(Choice { at: out, theta, xmax }) = leaving(&basis, &col, set.rule, &mut scratch) else {
+        };
+        let Some(Choice { at: out, theta, xmax }) = leaving(&basis, &col, xmax, set.rule, &mut scratch) else {
             break Status::RayTermination;
         };
         let (left, pivot) = match out {
