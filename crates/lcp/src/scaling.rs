@@ -52,8 +52,7 @@ impl Scaling {
         let n = lcp.n();
         // Exponents as i16 (entries span ±1075, factors ±MAX_EXPONENT): the
         // row and column maxima then vectorize on any x86-64 (`pmaxsw`).
-        let mut ex = vec![0i16; n * n];
-        ex.iter_mut().zip(lcp.m()).for_each(|(e, &v)| *e = exponent(v));
+        let ex: Vec<i16> = lcp.m().iter().map(|&v| exponent(v)).collect();
         let mut row_exp = vec![0i16; n];
         let mut col_exp = vec![0i16; n];
         let mut row_max = vec![ZERO_EXPONENT; n];
