@@ -4,6 +4,7 @@ ValueError naming the field and the value for every invalid input."""
 from __future__ import annotations
 
 import dataclasses
+import pickle
 import re
 
 import numpy as np
@@ -61,6 +62,24 @@ def test_result_fields_and_types(method):
     assert res.max_complementarity == pytest.approx(np.abs(res.z * res.w).max(), abs=1e-15)
     d = res.to_dict()
     assert set(d) >= {"status", "ok", "pivots", "residual", "z", "w"}
+
+
+@pytest.mark.parametrize("method", ["lemke", "pgs", "newton_fb"])
+def test_result_equals_one_built_by_its_constructor(method):
+    # solve_lcp builds its result without LcpResult.__init__ (issue 2); it must
+    # behave exactly like one that went through it.
+    res = solve_lcp(M2, Q2, method=method)
+    built = LcpResult(**{f.name: getattr(res, f.name) for f in dataclasses.fields(LcpResult)})
+    assert repr(res) == repr(built)
+    assert res.certified is None and res.certificate is None and res.dump_path is None
+    assert dataclasses.asdict(res).keys() == dataclasses.asdict(built).keys()
+    assert res.to_dict() == built.to_dict()
+    again = pickle.loads(pickle.dumps(res))
+    assert repr(again) == repr(res)
+    for mutate in (lambda: setattr(res, "ok", False), lambda: delattr(res, "z"),
+                   lambda: setattr(res, "extra", 1)):
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            mutate()
 
 
 def test_defaults_solve_small_spd():
@@ -214,9 +233,14 @@ def test_private_core_validates_too():
         _core.solve_lcp(M2, Q2, "lemke", nope=1)
     with pytest.raises(ValueError, match="z has length 3"):
         _core.lcp_residual(M2, Q2, np.ones(3))
-    d = _core.solve_lcp(M2, Q2)
-    assert set(d) == {"z", "w", "status", "iterations", "natural", "min_z", "min_w", "max_complementarity",
-                      "basis", "method"}
+    # The dict becomes an LcpResult's __dict__: its keys are the result's fields
+    # but the three that only the Python layer sets (their defaults apply).
+    python_only = {"certified", "certificate", "dump_path"}
+    fields = {f.name for f in dataclasses.fields(LcpResult)}
+    for method in ("lemke", "pgs", "newton_fb"):
+        d = _core.solve_lcp(M2, Q2, method)
+        assert set(d) == fields - python_only, method
+        assert all(LcpResult.__dataclass_fields__[k].default is None for k in python_only)
 
 
 def test_lcp_result_dataclass_fields():

@@ -21,16 +21,20 @@ STATUSES: list[str]
 METHOD_OPTIONS: dict[str, list[str]]
 
 class SolutionDict(TypedDict):
+    """Keyed by the fields of ``lcpsim.LcpResult`` that a solve determines
+    (the wrapper makes it the result's ``__dict__``)."""
+
     z: NDArray[np.float64]
     w: NDArray[np.float64]
     status: str
-    iterations: int
-    natural: float
+    ok: bool
+    pivots: int
+    residual: float
     min_z: float
     min_w: float
     max_complementarity: float
-    basis: NDArray[np.bool_] | None
     method: str
+    basis: NDArray[np.bool_] | None
 
 class BatchDict(TypedDict):
     z: NDArray[np.float64]  # (b, n)

@@ -54,7 +54,7 @@ _LEMKE_DEFAULTS: dict[str, Any] = {
 _REAL_KINDS = frozenset("biuf")
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class LcpResult:
     """The outcome of one LCP solve.
 
@@ -161,6 +161,21 @@ class LcpBatchResult:
         return counts
 
 
+_new_object = object.__new__
+_set_attribute = object.__setattr__
+
+
+def _result_from_core(fields: dict[str, Any]) -> LcpResult:
+    """The :class:`LcpResult` of the compiled solver's dict, which holds every
+    field but ``certified``, ``certificate`` and ``dump_path`` (their class
+    defaults, None, apply). The dict becomes the instance's ``__dict__``, as
+    pydantic's ``model_construct`` does: ``LcpResult.__init__`` would set the
+    fields one ``object.__setattr__`` at a time, a microsecond per solve."""
+    res = _new_object(LcpResult)
+    _set_attribute(res, "__dict__", fields)
+    return res
+
+
 def _as_real_array(x: ArrayLike, name: str, ndim: int) -> NDArray[np.float64]:
     """``x`` as a float64 array with ``ndim`` dimensions, or a ValueError naming ``name``."""
     if isinstance(x, np.ndarray) and x.dtype == np.float64 and x.ndim == ndim:
@@ -265,21 +280,7 @@ def solve_lcp(
     q_ = _as_real_array(q, "q", 1)
     if not isinstance(certify, (bool, np.bool_)):
         raise ValueError(f"certify must be True or False, got {certify!r}")
-    d = _core.solve_lcp(M_, q_, method, **opts)
-    status = d["status"]
-    res = LcpResult(
-        z=d["z"],
-        w=d["w"],
-        status=status,
-        ok=status == "solved",
-        pivots=d["iterations"],
-        residual=d["natural"],
-        min_z=d["min_z"],
-        min_w=d["min_w"],
-        max_complementarity=d["max_complementarity"],
-        method=d["method"],
-        basis=d["basis"],
-    )
+    res = _result_from_core(_core.solve_lcp(M_, q_, method, **opts))
     if certify and res.basis is not None:
         from .certification import Certificate
 
