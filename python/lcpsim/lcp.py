@@ -161,19 +161,14 @@ class LcpBatchResult:
         return counts
 
 
+# solve_lcp builds its LcpResult from the compiled solver's dict, which holds
+# every field but certified, certificate and dump_path (their class defaults,
+# None, apply): the dict becomes the instance's __dict__, as pydantic's
+# model_construct does. LcpResult.__init__ would set the fields one
+# object.__setattr__ at a time, over a microsecond per solve (issue 2).
 _new_object = object.__new__
 _set_attribute = object.__setattr__
-
-
-def _result_from_core(fields: dict[str, Any]) -> LcpResult:
-    """The :class:`LcpResult` of the compiled solver's dict, which holds every
-    field but ``certified``, ``certificate`` and ``dump_path`` (their class
-    defaults, None, apply). The dict becomes the instance's ``__dict__``, as
-    pydantic's ``model_construct`` does: ``LcpResult.__init__`` would set the
-    fields one ``object.__setattr__`` at a time, a microsecond per solve."""
-    res = _new_object(LcpResult)
-    _set_attribute(res, "__dict__", fields)
-    return res
+_FLOAT64 = np.dtype(np.float64)
 
 
 def _as_real_array(x: ArrayLike, name: str, ndim: int) -> NDArray[np.float64]:
@@ -274,13 +269,17 @@ def solve_lcp(
         lengths, an empty problem, wrong dimensions or dtype, an unknown method
         or option, a negative tolerance or a wrongly typed option.
     """
+    # Arrays already float64 with the right dimensions, and certify a bool, are
+    # recognised inline: a helper call costs about 0.1 µs against a solve of
+    # 10-20 µs (issue 2). The compiled module validates everything again.
     method = _check_method(method)
     opts = _options(method, pivoting, piv_tol, zero_tol, max_pivots, options)
-    M_ = _as_real_array(M, "M", 2)
-    q_ = _as_real_array(q, "q", 1)
-    if not isinstance(certify, (bool, np.bool_)):
+    M_ = M if type(M) is np.ndarray and M.dtype is _FLOAT64 and M.ndim == 2 else _as_real_array(M, "M", 2)
+    q_ = q if type(q) is np.ndarray and q.dtype is _FLOAT64 and q.ndim == 1 else _as_real_array(q, "q", 1)
+    if certify is not False and certify is not True and not isinstance(certify, np.bool_):
         raise ValueError(f"certify must be True or False, got {certify!r}")
-    res = _result_from_core(_core.solve_lcp(M_, q_, method, **opts))
+    res = _new_object(LcpResult)
+    _set_attribute(res, "__dict__", _core.solve_lcp(M_, q_, method, **opts))
     if certify and res.basis is not None:
         from .certification import Certificate
 

@@ -76,29 +76,29 @@ fn unknown_option(method: &str, name: &str, valid: &[&str]) -> PyErr {
 fn lemke_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<LemkeOptions> {
     let mut o = LemkeOptions::default();
     for (key, value) in options.into_iter().flat_map(|d| d.iter()) {
-        let name: String = key.extract()?;
+        let name: &str = key.extract()?;
         if value.is_none() && name != "max_pivots" {
             continue; // `None` means "the default".
         }
-        match name.as_str() {
+        match name {
             "pivoting" => {
-                let s: String = value
+                let s: &str = value
                     .extract()
                     .map_err(|_| value_error(format!("option pivoting must be a string, got {}", repr(&value))))?;
-                o.pivoting = match s.as_str() {
+                o.pivoting = match s {
                     "lexicographic" => Pivoting::Lexicographic,
                     "classic" => Pivoting::Classic,
                     _ => return Err(value_error(format!("unknown pivoting {s:?} (valid: {})", PIVOTINGS.join(", ")))),
                 };
             }
-            "piv_tol" => o.piv_tol = tolerance(&name, &value)?,
-            "zero_tol" => o.zero_tol = tolerance(&name, &value)?,
-            "accept_tol" => o.accept_tol = tolerance(&name, &value)?,
-            "max_pivots" => o.max_pivots = if value.is_none() { None } else { Some(count(&name, &value)?) },
-            "equilibrate" => o.equilibrate = boolean(&name, &value)?,
-            "fallback" => o.fallback = boolean(&name, &value)?,
-            "warm_start" => o.warm_start = boolean(&name, &value)?,
-            _ => return Err(unknown_option("lemke", &name, &LEMKE_OPTIONS)),
+            "piv_tol" => o.piv_tol = tolerance(name, &value)?,
+            "zero_tol" => o.zero_tol = tolerance(name, &value)?,
+            "accept_tol" => o.accept_tol = tolerance(name, &value)?,
+            "max_pivots" => o.max_pivots = if value.is_none() { None } else { Some(count(name, &value)?) },
+            "equilibrate" => o.equilibrate = boolean(name, &value)?,
+            "fallback" => o.fallback = boolean(name, &value)?,
+            "warm_start" => o.warm_start = boolean(name, &value)?,
+            _ => return Err(unknown_option("lemke", name, &LEMKE_OPTIONS)),
         }
     }
     Ok(o)
@@ -107,15 +107,15 @@ fn lemke_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<LemkeOptions> 
 fn pgs_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<PgsOptions> {
     let mut o = PgsOptions::default();
     for (key, value) in options.into_iter().flat_map(|d| d.iter()) {
-        let name: String = key.extract()?;
+        let name: &str = key.extract()?;
         if value.is_none() {
             continue;
         }
-        match name.as_str() {
-            "omega" => o.omega = open_interval(&name, &value, 0.0, 2.0)?,
-            "max_iterations" => o.max_iterations = count(&name, &value)?,
-            "tol" => o.tol = tolerance(&name, &value)?,
-            _ => return Err(unknown_option("pgs", &name, &PGS_OPTIONS)),
+        match name {
+            "omega" => o.omega = open_interval(name, &value, 0.0, 2.0)?,
+            "max_iterations" => o.max_iterations = count(name, &value)?,
+            "tol" => o.tol = tolerance(name, &value)?,
+            _ => return Err(unknown_option("pgs", name, &PGS_OPTIONS)),
         }
     }
     Ok(o)
@@ -124,24 +124,24 @@ fn pgs_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<PgsOptions> {
 fn newton_fb_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<NewtonFbOptions> {
     let mut o = NewtonFbOptions::default();
     for (key, value) in options.into_iter().flat_map(|d| d.iter()) {
-        let name: String = key.extract()?;
+        let name: &str = key.extract()?;
         if value.is_none() {
             continue;
         }
-        match name.as_str() {
-            "max_iterations" => o.max_iterations = count(&name, &value)?,
-            "tol" => o.tol = tolerance(&name, &value)?,
-            "armijo_sigma" => o.armijo_sigma = open_interval(&name, &value, 0.0, 0.5)?,
-            "backtrack" => o.backtrack = open_interval(&name, &value, 0.0, 1.0)?,
-            "max_backtracks" => o.max_backtracks = count(&name, &value)?,
+        match name {
+            "max_iterations" => o.max_iterations = count(name, &value)?,
+            "tol" => o.tol = tolerance(name, &value)?,
+            "armijo_sigma" => o.armijo_sigma = open_interval(name, &value, 0.0, 0.5)?,
+            "backtrack" => o.backtrack = open_interval(name, &value, 0.0, 1.0)?,
+            "max_backtracks" => o.max_backtracks = count(name, &value)?,
             "descent_rho" => {
-                let rho = tolerance(&name, &value)?;
+                let rho = tolerance(name, &value)?;
                 if rho == 0.0 {
                     return Err(value_error(format!("option descent_rho must be > 0, got {}", repr(&value))));
                 }
                 o.descent_rho = rho;
             }
-            _ => return Err(unknown_option("newton_fb", &name, &NEWTON_FB_OPTIONS)),
+            _ => return Err(unknown_option("newton_fb", name, &NEWTON_FB_OPTIONS)),
         }
     }
     Ok(o)
