@@ -19,6 +19,8 @@ PIVOTINGS: list[str]
 STATUSES: list[str]
 #: Option names accepted by each method.
 METHOD_OPTIONS: dict[str, list[str]]
+#: Lemke's default options by name (``LemkeOptions::default()``).
+LEMKE_DEFAULTS: dict[str, Any]
 
 class SolutionDict(TypedDict):
     """Keyed by the fields of ``lcpsim.LcpResult`` that a solve determines

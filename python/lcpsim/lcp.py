@@ -269,17 +269,29 @@ def solve_lcp(
         lengths, an empty problem, wrong dimensions or dtype, an unknown method
         or option, a negative tolerance or a wrongly typed option.
     """
-    # Arrays already float64 with the right dimensions, and certify a bool, are
-    # recognised inline: a helper call costs about 0.1 µs against a solve of
-    # 10-20 µs (issue 2). The compiled module validates everything again.
-    method = _check_method(method)
-    opts = _options(method, pivoting, piv_tol, zero_tol, max_pivots, options)
+    # The common case is recognised inline, as a helper call or an option
+    # passed costs about 0.1 µs against a solve of 10-20 µs (issue 2): Lemke
+    # with every option at its default (the very default objects, so no
+    # comparison can misbehave) is called with no options, the compiled
+    # defaults being the same (tested); arrays already float64 with the right
+    # dimensions go as they are. The compiled module validates everything again.
+    defaults = (
+        method is _DEFAULT_METHOD
+        and pivoting is _DEFAULT_PIVOTING
+        and piv_tol is _DEFAULT_PIV_TOL
+        and zero_tol is _DEFAULT_ZERO_TOL
+        and max_pivots is None
+        and not options
+    )
+    if not defaults:
+        method = _check_method(method)
+        opts = _options(method, pivoting, piv_tol, zero_tol, max_pivots, options)
     M_ = M if type(M) is np.ndarray and M.dtype is _FLOAT64 and M.ndim == 2 else _as_real_array(M, "M", 2)
     q_ = q if type(q) is np.ndarray and q.dtype is _FLOAT64 and q.ndim == 1 else _as_real_array(q, "q", 1)
     if certify is not False and certify is not True and not isinstance(certify, np.bool_):
         raise ValueError(f"certify must be True or False, got {certify!r}")
     res = _new_object(LcpResult)
-    _set_attribute(res, "__dict__", _core.solve_lcp(M_, q_, method, **opts))
+    _set_attribute(res, "__dict__", _core.solve_lcp(M_, q_) if defaults else _core.solve_lcp(M_, q_, method, **opts))
     if certify and res.basis is not None:
         from .certification import Certificate
 
@@ -288,9 +300,16 @@ def solve_lcp(
     if dump is not None and not res.ok:
         from .forensics import write_dump
 
+        opts = _options(method, pivoting, piv_tol, zero_tol, max_pivots, options)
         path = write_dump(dump, M_, q_, method, opts, res)
         res = replace(res, dump_path=str(path))
     return res
+
+
+# The objects Python passes for solve_lcp's keyword arguments the caller omits.
+_DEFAULT_METHOD, _DEFAULT_PIVOTING, _DEFAULT_PIV_TOL, _DEFAULT_ZERO_TOL = (
+    solve_lcp.__kwdefaults__[k] for k in ("method", "pivoting", "piv_tol", "zero_tol")
+)
 
 
 def solve_lcp_batch(

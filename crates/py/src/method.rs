@@ -157,6 +157,27 @@ pub fn method_from_py(method: &str, options: Option<&Bound<'_, PyDict>>) -> PyRe
     }
 }
 
+/// `LemkeOptions::default()` by option name, for `_core.LEMKE_DEFAULTS`: the
+/// wrapper passes no options when given none, so its keyword defaults must be
+/// these (a test compares them).
+pub fn lemke_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let o = LemkeOptions::default();
+    let d = PyDict::new(py);
+    let pivoting = match o.pivoting {
+        Pivoting::Lexicographic => "lexicographic",
+        Pivoting::Classic => "classic",
+    };
+    d.set_item("pivoting", pivoting)?;
+    d.set_item("piv_tol", o.piv_tol)?;
+    d.set_item("zero_tol", o.zero_tol)?;
+    d.set_item("max_pivots", o.max_pivots)?;
+    d.set_item("accept_tol", o.accept_tol)?;
+    d.set_item("equilibrate", o.equilibrate)?;
+    d.set_item("fallback", o.fallback)?;
+    d.set_item("warm_start", o.warm_start)?;
+    Ok(d)
+}
+
 /// The option names each method accepts, for `_core.METHOD_OPTIONS`.
 pub fn method_options() -> [(&'static str, &'static [&'static str]); 3] {
     [("lemke", &LEMKE_OPTIONS), ("pgs", &PGS_OPTIONS), ("newton_fb", &NEWTON_FB_OPTIONS)]
