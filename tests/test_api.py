@@ -4,6 +4,7 @@ ValueError naming the field and the value for every invalid input."""
 from __future__ import annotations
 
 import dataclasses
+import pickle
 import re
 
 import numpy as np
@@ -61,6 +62,24 @@ def test_result_fields_and_types(method):
     assert res.max_complementarity == pytest.approx(np.abs(res.z * res.w).max(), abs=1e-15)
     d = res.to_dict()
     assert set(d) >= {"status", "ok", "pivots", "residual", "z", "w"}
+
+
+@pytest.mark.parametrize("method", ["lemke", "pgs", "newton_fb"])
+def test_result_equals_one_built_by_its_constructor(method):
+    # solve_lcp builds its result without LcpResult.__init__ (issue 2); it must
+    # behave exactly like one that went through it.
+    res = solve_lcp(M2, Q2, method=method)
+    built = LcpResult(**{f.name: getattr(res, f.name) for f in dataclasses.fields(LcpResult)})
+    assert repr(res) == repr(built)
+    assert res.certified is None and res.certificate is None and res.dump_path is None
+    assert dataclasses.asdict(res).keys() == dataclasses.asdict(built).keys()
+    assert res.to_dict() == built.to_dict()
+    again = pickle.loads(pickle.dumps(res))
+    assert repr(again) == repr(res)
+    for mutate in (lambda: setattr(res, "ok", False), lambda: delattr(res, "z"),
+                   lambda: setattr(res, "extra", 1)):
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            mutate()
 
 
 def test_defaults_solve_small_spd():
@@ -199,6 +218,49 @@ def test_iteration_limit_is_reported_not_raised():
     assert res.pivots == 1
 
 
+def test_keyword_defaults_are_the_compiled_defaults():
+    # solve_lcp passes no options when given none (issue 2), so its defaults
+    # must be the compiled ones; solve_lcp_batch passes them all, but agrees.
+    from lcpsim import _core
+
+    for fn in (solve_lcp, solve_lcp_batch):
+        kw = fn.__kwdefaults__
+        assert kw["method"] == "lemke", fn
+        for name in ("pivoting", "piv_tol", "zero_tol", "max_pivots"):
+            assert kw[name] == _core.LEMKE_DEFAULTS[name], (fn, name)
+    assert _core.solve_lcp(M2, Q2)["method"] == "lemke"
+    assert set(_core.LEMKE_DEFAULTS) == set(_core.METHOD_OPTIONS["lemke"])
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_default_call_equals_explicit_options(seed):
+    # The inline default path and the general path (taken as soon as any
+    # option is given, even None = default) solve identically.
+    M, q, *_ = lcpsim._core.contact_lcp(4, 8, 1e-3, seed)
+    fast = solve_lcp(M, q)
+    general = solve_lcp(M, q, method="lemke", pivoting="lexicographic", piv_tol=1e-12, zero_tol=1e-6,
+                        accept_tol=None)
+    assert repr(fast) == repr(general)
+    np.testing.assert_array_equal(fast.z, general.z)
+    # ... including for non-float64, non-contiguous or list input.
+    for M_, q_ in ((np.asfortranarray(M), np.repeat(q, 2)[::2]), (M.astype(np.float32).astype(np.float64), q),
+                   (M.tolist(), q.tolist())):
+        assert repr(solve_lcp(M_, q_)) == repr(solve_lcp(np.array(M_, dtype=float), np.array(q_, dtype=float)))
+
+
+def test_bad_input_on_the_default_path_is_a_value_error():
+    for M, q, match in ((np.ones((2, 3)), Q2, "square"), (M2, np.ones(3), "q has length 3"),
+                        (np.array([[1.0, np.inf], [0.0, 1.0]]), Q2, r"M\[0, 1\] = inf"),
+                        (M2.astype(complex), Q2, "M must hold real numbers"), (np.ones(2), Q2, "M must be 2-D"),
+                        (M2, np.array([np.nan, 1.0]), r"q\[0\] = nan"), ("M", Q2, "M must")):
+        with pytest.raises(ValueError, match=match):
+            solve_lcp(M, q)
+    with pytest.raises(ValueError, match="certify must be True or False"):
+        solve_lcp(M2, Q2, certify=1)
+    with pytest.raises(ValueError, match="unknown method"):
+        solve_lcp(M2, Q2, method=np.array(["lemke"]))
+
+
 def test_private_core_validates_too():
     from lcpsim import _core
 
@@ -214,9 +276,14 @@ def test_private_core_validates_too():
         _core.solve_lcp(M2, Q2, "lemke", nope=1)
     with pytest.raises(ValueError, match="z has length 3"):
         _core.lcp_residual(M2, Q2, np.ones(3))
-    d = _core.solve_lcp(M2, Q2)
-    assert set(d) == {"z", "w", "status", "iterations", "natural", "min_z", "min_w", "max_complementarity",
-                      "basis", "method"}
+    # The dict becomes an LcpResult's __dict__: its keys are the result's fields
+    # but the three that only the Python layer sets (their defaults apply).
+    python_only = {"certified", "certificate", "dump_path"}
+    fields = {f.name for f in dataclasses.fields(LcpResult)}
+    for method in ("lemke", "pgs", "newton_fb"):
+        d = _core.solve_lcp(M2, Q2, method)
+        assert set(d) == fields - python_only, method
+        assert all(LcpResult.__dataclass_fields__[k].default is None for k in python_only)
 
 
 def test_lcp_result_dataclass_fields():

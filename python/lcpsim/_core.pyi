@@ -19,18 +19,24 @@ PIVOTINGS: list[str]
 STATUSES: list[str]
 #: Option names accepted by each method.
 METHOD_OPTIONS: dict[str, list[str]]
+#: Lemke's default options by name (``LemkeOptions::default()``).
+LEMKE_DEFAULTS: dict[str, Any]
 
 class SolutionDict(TypedDict):
+    """Keyed by the fields of ``lcpsim.LcpResult`` that a solve determines
+    (the wrapper makes it the result's ``__dict__``)."""
+
     z: NDArray[np.float64]
     w: NDArray[np.float64]
     status: str
-    iterations: int
-    natural: float
+    ok: bool
+    pivots: int
+    residual: float
     min_z: float
     min_w: float
     max_complementarity: float
-    basis: NDArray[np.bool_] | None
     method: str
+    basis: NDArray[np.bool_] | None
 
 class BatchDict(TypedDict):
     z: NDArray[np.float64]  # (b, n)

@@ -54,7 +54,7 @@ _LEMKE_DEFAULTS: dict[str, Any] = {
 _REAL_KINDS = frozenset("biuf")
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class LcpResult:
     """The outcome of one LCP solve.
 
@@ -161,6 +161,16 @@ class LcpBatchResult:
         return counts
 
 
+# solve_lcp builds its LcpResult from the compiled solver's dict, which holds
+# every field but certified, certificate and dump_path (their class defaults,
+# None, apply): the dict becomes the instance's __dict__, as pydantic's
+# model_construct does. LcpResult.__init__ would set the fields one
+# object.__setattr__ at a time, over a microsecond per solve (issue 2).
+_new_object = object.__new__
+_set_attribute = object.__setattr__
+_FLOAT64 = np.dtype(np.float64)
+
+
 def _as_real_array(x: ArrayLike, name: str, ndim: int) -> NDArray[np.float64]:
     """``x`` as a float64 array with ``ndim`` dimensions, or a ValueError naming ``name``."""
     if isinstance(x, np.ndarray) and x.dtype == np.float64 and x.ndim == ndim:
@@ -259,27 +269,29 @@ def solve_lcp(
         lengths, an empty problem, wrong dimensions or dtype, an unknown method
         or option, a negative tolerance or a wrongly typed option.
     """
-    method = _check_method(method)
-    opts = _options(method, pivoting, piv_tol, zero_tol, max_pivots, options)
-    M_ = _as_real_array(M, "M", 2)
-    q_ = _as_real_array(q, "q", 1)
-    if not isinstance(certify, (bool, np.bool_)):
-        raise ValueError(f"certify must be True or False, got {certify!r}")
-    d = _core.solve_lcp(M_, q_, method, **opts)
-    status = d["status"]
-    res = LcpResult(
-        z=d["z"],
-        w=d["w"],
-        status=status,
-        ok=status == "solved",
-        pivots=d["iterations"],
-        residual=d["natural"],
-        min_z=d["min_z"],
-        min_w=d["min_w"],
-        max_complementarity=d["max_complementarity"],
-        method=d["method"],
-        basis=d["basis"],
+    # The common case is recognised inline, as a helper call or an option
+    # passed costs about 0.1 µs against a solve of 10-20 µs (issue 2): Lemke
+    # with every option at its default (the very default objects, so no
+    # comparison can misbehave) is called with no options, the compiled
+    # defaults being the same (tested); arrays already float64 with the right
+    # dimensions go as they are. The compiled module validates everything again.
+    defaults = (
+        method is _DEFAULT_METHOD
+        and pivoting is _DEFAULT_PIVOTING
+        and piv_tol is _DEFAULT_PIV_TOL
+        and zero_tol is _DEFAULT_ZERO_TOL
+        and max_pivots is None
+        and not options
     )
+    if not defaults:
+        method = _check_method(method)
+        opts = _options(method, pivoting, piv_tol, zero_tol, max_pivots, options)
+    M_ = M if type(M) is np.ndarray and M.dtype is _FLOAT64 and M.ndim == 2 else _as_real_array(M, "M", 2)
+    q_ = q if type(q) is np.ndarray and q.dtype is _FLOAT64 and q.ndim == 1 else _as_real_array(q, "q", 1)
+    if certify is not False and certify is not True and not isinstance(certify, np.bool_):
+        raise ValueError(f"certify must be True or False, got {certify!r}")
+    res = _new_object(LcpResult)
+    _set_attribute(res, "__dict__", _core.solve_lcp(M_, q_) if defaults else _core.solve_lcp(M_, q_, method, **opts))
     if certify and res.basis is not None:
         from .certification import Certificate
 
@@ -288,9 +300,16 @@ def solve_lcp(
     if dump is not None and not res.ok:
         from .forensics import write_dump
 
+        opts = _options(method, pivoting, piv_tol, zero_tol, max_pivots, options)
         path = write_dump(dump, M_, q_, method, opts, res)
         res = replace(res, dump_path=str(path))
     return res
+
+
+# The objects Python passes for solve_lcp's keyword arguments the caller omits.
+_DEFAULT_METHOD, _DEFAULT_PIVOTING, _DEFAULT_PIV_TOL, _DEFAULT_ZERO_TOL = (
+    solve_lcp.__kwdefaults__[k] for k in ("method", "pivoting", "piv_tol", "zero_tol")
+)
 
 
 def solve_lcp_batch(

@@ -29,6 +29,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
         opts.set_item(name, list.to_vec())?;
     }
     m.add("METHOD_OPTIONS", opts)?;
+    m.add("LEMKE_DEFAULTS", method::lemke_defaults(py)?)?;
     m.add_function(wrap_pyfunction!(lcp::solve_lcp, m)?)?;
     m.add_function(wrap_pyfunction!(lcp::solve_lcp_batch, m)?)?;
     m.add_function(wrap_pyfunction!(lcp::lcp_residual, m)?)?;

@@ -76,29 +76,29 @@ fn unknown_option(method: &str, name: &str, valid: &[&str]) -> PyErr {
 fn lemke_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<LemkeOptions> {
     let mut o = LemkeOptions::default();
     for (key, value) in options.into_iter().flat_map(|d| d.iter()) {
-        let name: String = key.extract()?;
+        let name: &str = key.extract()?;
         if value.is_none() && name != "max_pivots" {
             continue; // `None` means "the default".
         }
-        match name.as_str() {
+        match name {
             "pivoting" => {
-                let s: String = value
+                let s: &str = value
                     .extract()
                     .map_err(|_| value_error(format!("option pivoting must be a string, got {}", repr(&value))))?;
-                o.pivoting = match s.as_str() {
+                o.pivoting = match s {
                     "lexicographic" => Pivoting::Lexicographic,
                     "classic" => Pivoting::Classic,
                     _ => return Err(value_error(format!("unknown pivoting {s:?} (valid: {})", PIVOTINGS.join(", ")))),
                 };
             }
-            "piv_tol" => o.piv_tol = tolerance(&name, &value)?,
-            "zero_tol" => o.zero_tol = tolerance(&name, &value)?,
-            "accept_tol" => o.accept_tol = tolerance(&name, &value)?,
-            "max_pivots" => o.max_pivots = if value.is_none() { None } else { Some(count(&name, &value)?) },
-            "equilibrate" => o.equilibrate = boolean(&name, &value)?,
-            "fallback" => o.fallback = boolean(&name, &value)?,
-            "warm_start" => o.warm_start = boolean(&name, &value)?,
-            _ => return Err(unknown_option("lemke", &name, &LEMKE_OPTIONS)),
+            "piv_tol" => o.piv_tol = tolerance(name, &value)?,
+            "zero_tol" => o.zero_tol = tolerance(name, &value)?,
+            "accept_tol" => o.accept_tol = tolerance(name, &value)?,
+            "max_pivots" => o.max_pivots = if value.is_none() { None } else { Some(count(name, &value)?) },
+            "equilibrate" => o.equilibrate = boolean(name, &value)?,
+            "fallback" => o.fallback = boolean(name, &value)?,
+            "warm_start" => o.warm_start = boolean(name, &value)?,
+            _ => return Err(unknown_option("lemke", name, &LEMKE_OPTIONS)),
         }
     }
     Ok(o)
@@ -107,15 +107,15 @@ fn lemke_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<LemkeOptions> 
 fn pgs_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<PgsOptions> {
     let mut o = PgsOptions::default();
     for (key, value) in options.into_iter().flat_map(|d| d.iter()) {
-        let name: String = key.extract()?;
+        let name: &str = key.extract()?;
         if value.is_none() {
             continue;
         }
-        match name.as_str() {
-            "omega" => o.omega = open_interval(&name, &value, 0.0, 2.0)?,
-            "max_iterations" => o.max_iterations = count(&name, &value)?,
-            "tol" => o.tol = tolerance(&name, &value)?,
-            _ => return Err(unknown_option("pgs", &name, &PGS_OPTIONS)),
+        match name {
+            "omega" => o.omega = open_interval(name, &value, 0.0, 2.0)?,
+            "max_iterations" => o.max_iterations = count(name, &value)?,
+            "tol" => o.tol = tolerance(name, &value)?,
+            _ => return Err(unknown_option("pgs", name, &PGS_OPTIONS)),
         }
     }
     Ok(o)
@@ -124,24 +124,24 @@ fn pgs_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<PgsOptions> {
 fn newton_fb_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<NewtonFbOptions> {
     let mut o = NewtonFbOptions::default();
     for (key, value) in options.into_iter().flat_map(|d| d.iter()) {
-        let name: String = key.extract()?;
+        let name: &str = key.extract()?;
         if value.is_none() {
             continue;
         }
-        match name.as_str() {
-            "max_iterations" => o.max_iterations = count(&name, &value)?,
-            "tol" => o.tol = tolerance(&name, &value)?,
-            "armijo_sigma" => o.armijo_sigma = open_interval(&name, &value, 0.0, 0.5)?,
-            "backtrack" => o.backtrack = open_interval(&name, &value, 0.0, 1.0)?,
-            "max_backtracks" => o.max_backtracks = count(&name, &value)?,
+        match name {
+            "max_iterations" => o.max_iterations = count(name, &value)?,
+            "tol" => o.tol = tolerance(name, &value)?,
+            "armijo_sigma" => o.armijo_sigma = open_interval(name, &value, 0.0, 0.5)?,
+            "backtrack" => o.backtrack = open_interval(name, &value, 0.0, 1.0)?,
+            "max_backtracks" => o.max_backtracks = count(name, &value)?,
             "descent_rho" => {
-                let rho = tolerance(&name, &value)?;
+                let rho = tolerance(name, &value)?;
                 if rho == 0.0 {
                     return Err(value_error(format!("option descent_rho must be > 0, got {}", repr(&value))));
                 }
                 o.descent_rho = rho;
             }
-            _ => return Err(unknown_option("newton_fb", &name, &NEWTON_FB_OPTIONS)),
+            _ => return Err(unknown_option("newton_fb", name, &NEWTON_FB_OPTIONS)),
         }
     }
     Ok(o)
@@ -155,6 +155,27 @@ pub fn method_from_py(method: &str, options: Option<&Bound<'_, PyDict>>) -> PyRe
         "newton_fb" => Ok(Method::NewtonFb(newton_fb_options(options)?)),
         _ => Err(value_error(format!("unknown method {method:?} (valid: {})", METHODS.join(", ")))),
     }
+}
+
+/// `LemkeOptions::default()` by option name, for `_core.LEMKE_DEFAULTS`: the
+/// wrapper passes no options when given none, so its keyword defaults must be
+/// these (a test compares them).
+pub fn lemke_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let o = LemkeOptions::default();
+    let d = PyDict::new(py);
+    let pivoting = match o.pivoting {
+        Pivoting::Lexicographic => "lexicographic",
+        Pivoting::Classic => "classic",
+    };
+    d.set_item("pivoting", pivoting)?;
+    d.set_item("piv_tol", o.piv_tol)?;
+    d.set_item("zero_tol", o.zero_tol)?;
+    d.set_item("max_pivots", o.max_pivots)?;
+    d.set_item("accept_tol", o.accept_tol)?;
+    d.set_item("equilibrate", o.equilibrate)?;
+    d.set_item("fallback", o.fallback)?;
+    d.set_item("warm_start", o.warm_start)?;
+    Ok(d)
 }
 
 /// The option names each method accepts, for `_core.METHOD_OPTIONS`.
