@@ -20,6 +20,7 @@
 pub mod certify;
 pub mod enumerate;
 pub mod generate;
+mod kernels;
 pub mod lemke;
 pub mod method;
 pub mod newton_fb;

@@ -5,6 +5,8 @@
 
 use std::fmt;
 
+use crate::kernels::all_finite;
+
 /// A dense linear complementarity problem `(M, q)`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Lcp {
@@ -58,11 +60,12 @@ impl Lcp {
             }
             return Err(LcpError::NotSquare { entries: m.len(), n });
         }
-        if let Some((index, &value)) = m.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(LcpError::NonFinite { field: "M", index, value });
-        }
-        if let Some((index, &value)) = q.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(LcpError::NonFinite { field: "q", index, value });
+        // A branch-free sweep first; the offending index is looked up only on failure.
+        for (field, a) in [("M", &m), ("q", &q)] {
+            if !all_finite(a) {
+                let (index, &value) = a.iter().enumerate().find(|(_, v)| !v.is_finite()).expect("a non-finite entry");
+                return Err(LcpError::NonFinite { field, index, value });
+            }
         }
         Ok(Lcp { n, m, q })
     }

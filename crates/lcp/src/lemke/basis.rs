@@ -152,7 +152,7 @@ impl<'a> Basis<'a> {
             s: Vec::with_capacity(n),
             gs: Vec::with_capacity(n * n.min(64)),
             // Grown row by row as `C` grows (`ensure_rows`).
-            cinv: Vec::new(),
+            cinv: Vec::with_capacity(n * n.min(64)),
             val_s: Vec::with_capacity(n),
             val_w: lcp.q().to_vec(),
             row_s: Vec::with_capacity(n),

@@ -12,7 +12,6 @@
 //! absolute tolerances and trusts its own values, as the seed note's did.
 
 mod basis;
-mod kernels;
 mod options;
 mod ratio;
 mod refine;
@@ -242,7 +241,7 @@ fn solve_attempt(
         |z_work: &[f64]| -> Vec<f64> { scaling.z_back(z_work).into_iter().map(|v| (v / qscale).max(0.0)).collect() };
     if r.status == Status::Solved {
         // Shed the round-off of the updates: refine with the kept C⁻¹ first.
-        r.basis.polish(2);
+        r.basis.polish(1);
     }
     let mut sol = Solution::from_z(lcp, unscale(&r.basis.z().0), r.status, r.pivots);
     // Accepted in the units given and in the equilibrated ones, where

@@ -10,7 +10,7 @@
 //! absolute tolerances, Harris slack, z0 if it blocks, else the first row.
 
 use super::basis::{Basis, Column, Leaving, Var};
-use super::kernels::{max_abs_finite, min_ratio};
+use crate::kernels::{max_abs_finite, min_ratio, ties};
 
 /// A ratio rule with its tolerances.
 #[derive(Clone, Copy, Debug)]
@@ -34,6 +34,7 @@ pub(crate) struct Scratch {
     cands: Vec<Cand>,
     tied: Vec<Cand>,
     lex: Vec<f64>,
+    hits: Vec<usize>,
 }
 
 /// The outcome of a ratio test.
@@ -119,19 +120,18 @@ fn lexicographic(
     }
     // Rows that reach zero within vtol at this step; z0 among them ends the run.
     sc.tied.clear();
-    let ties = |v: f64, x: f64| x > thresh && v.max(0.0) - theta * x <= vtol;
-    for (p, (&v, &xp)) in basis.val_s.iter().zip(&x.xs).enumerate() {
-        if ties(v, xp) {
-            if basis.s[p] == Var::Z0 {
-                return Some((Leaving::S(p), theta));
-            }
-            sc.tied.push(Cand { at: Leaving::S(p), value: v, x: xp, row: basis.row_s[p] });
+    sc.hits.clear();
+    ties(&basis.val_s, &x.xs, thresh, theta, vtol, &mut sc.hits);
+    for &p in &sc.hits {
+        if basis.s[p] == Var::Z0 {
+            return Some((Leaving::S(p), theta));
         }
+        sc.tied.push(Cand { at: Leaving::S(p), value: basis.val_s[p], x: x.xs[p], row: basis.row_s[p] });
     }
-    for (i, (&v, &xi)) in basis.val_w.iter().zip(&x.xw).enumerate() {
-        if ties(v, xi) {
-            sc.tied.push(Cand { at: Leaving::W(i), value: v, x: xi, row: basis.row_w[i] });
-        }
+    sc.hits.clear();
+    ties(&basis.val_w, &x.xw, thresh, theta, vtol, &mut sc.hits);
+    for &i in &sc.hits {
+        sc.tied.push(Cand { at: Leaving::W(i), value: basis.val_w[i], x: x.xw[i], row: basis.row_w[i] });
     }
     if sc.tied.len() > 1 {
         lex_break(basis, &mut sc.tied, &mut sc.lex, tie_tol);

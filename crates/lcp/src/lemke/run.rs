@@ -149,7 +149,8 @@ fn pivot_loop<'a>(
     let n = basis.val_w.len();
     let mut trace = if set.trace { vec![first] } else { Vec::new() };
     // Basis hash: XOR of the basic variables' keys; a repeat means cycling.
-    let mut seen: HashSet<u64, BuildHasherDefault<Identity>> = HashSet::default();
+    let mut seen: HashSet<u64, BuildHasherDefault<Identity>> =
+        HashSet::with_capacity_and_hasher(4 * n, Default::default());
     seen.insert(hash);
     let mut scratch = Scratch::default();
     let status = loop {

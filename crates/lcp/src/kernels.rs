@@ -1,4 +1,5 @@
-//! Branch-free sweeps over a column or the basic values, once per pivot.
+//! Branch-free sweeps: Lemke's per-pivot scans of a column and of the basic
+//! values, and the finiteness check of every input.
 //!
 //! Written over four independent lanes with `if`-selects instead of
 //! `f64::max` (whose NaN rule keeps LLVM from vectorizing) and without
@@ -44,6 +45,11 @@ pub(crate) fn max_abs_finite(a: &[f64], init: f64) -> (f64, bool) {
     (acc.iter().fold(init, |m, &x| pick_max(m, x)), nan.iter().sum::<f64>() == 0.0)
 }
 
+/// Whether every `a_i` is finite.
+pub(crate) fn all_finite(a: &[f64]) -> bool {
+    max_abs_finite(a, 0.0).1
+}
+
 /// `min(init, min { max(v_i, 0) / x_i : x_i > thresh })`: the ratio test's step.
 pub(crate) fn min_ratio(v: &[f64], x: &[f64], thresh: f64, init: f64) -> f64 {
     let n = v.len().min(x.len());
@@ -60,6 +66,28 @@ pub(crate) fn min_ratio(v: &[f64], x: &[f64], thresh: f64, init: f64) -> f64 {
         acc[0] = pick_min(acc[0], ratio(a, b));
     }
     acc.iter().fold(init, |m, &x| pick_min(m, x))
+}
+
+/// Appends to `out` every `i` (ascending) with `x_i > thresh` and
+/// `max(v_i, 0) − θ·x_i ≤ vtol`: the rows tied with the ratio test's step.
+/// Lanes are tested four at a time; only a chunk with a hit is looked into.
+pub(crate) fn ties(v: &[f64], x: &[f64], thresh: f64, theta: f64, vtol: f64, out: &mut Vec<usize>) {
+    let n = v.len().min(x.len());
+    let (v, x) = (&v[..n], &x[..n]);
+    let tied = |v: f64, x: f64| (x > thresh) & ((if v > 0.0 { v } else { 0.0 }) - theta * x <= vtol);
+    let (mut cv, mut cx) = (v.chunks_exact(LANES), x.chunks_exact(LANES));
+    for (c, (a, b)) in (&mut cv).zip(&mut cx).enumerate() {
+        let hit: [bool; LANES] = std::array::from_fn(|k| tied(a[k], b[k]));
+        if hit.iter().fold(false, |h, &k| h | k) {
+            out.extend((0..LANES).filter(|&k| hit[k]).map(|k| c * LANES + k));
+        }
+    }
+    let base = n - cv.remainder().len();
+    for (k, (&a, &b)) in cv.remainder().iter().zip(cx.remainder()).enumerate() {
+        if tied(a, b) {
+            out.push(base + k);
+        }
+    }
 }
 
 #[cfg(test)]
@@ -84,5 +112,19 @@ mod tests {
         assert_eq!(min_ratio(&v[3..], &x[3..], 1e-12, f64::INFINITY), 3.0);
         assert_eq!(min_ratio(&v[..2], &x[..2], 1.0, f64::INFINITY), 2.0);
         assert_eq!(min_ratio(&v[..2], &x[..2], 5.0, f64::INFINITY), f64::INFINITY);
+    }
+
+    #[test]
+    fn ties_lists_the_rows_reaching_zero_at_the_step() {
+        // Ratios 2, -, 0 (clamped), 3, 4, 2, 2.5 at θ = 2 with vtol 0.1.
+        let v = [4.0, 1.0, -3.0, 9.0, 2.0, 2.0, 2.5];
+        let x = [2.0, 0.0, 1.0, 3.0, 0.5, 1.0, 1.0];
+        let mut out = Vec::new();
+        ties(&v, &x, 1e-12, 2.0, 0.1, &mut out);
+        // Row 2 is far below zero at θ = 2 (−2 ≤ 0.1 counts: it reached zero first).
+        assert_eq!(out, vec![0, 2, 5]);
+        out.clear();
+        ties(&v, &x, 1e-12, 2.0, 0.6, &mut out);
+        assert_eq!(out, vec![0, 2, 5, 6]);
     }
 }
