@@ -239,12 +239,13 @@ fn solve_lexicographic(
     // (Not when the pivot budget ran out: that limit is the caller's to set.)
     if o.fallback && sol.status != Status::MaxPivots {
         // Last rung: Newton–Fischer–Burmeister polish from the closest answer.
-        // Its z is accepted only by the same residual check (it solves M, not
-        // a regularized M); its basis is the support of z.
-        let qmax = lcp.q_norm_inf();
-        let tol = o.accept_tol * (1.0 + qmax);
-        let polished = crate::newton_fb::solve_from(lcp, &sol.z, &NewtonFbOptions { tol, ..Default::default() });
-        if polished.residuals.natural <= tol && polished.residuals.natural < sol.residuals.natural {
+        // Its z is accepted only by the rungs' residual check, in the units
+        // given and in the first rung's working units (it solves M, not a
+        // regularized M); its basis is the support of z.
+        let frame = Frame::new(lcp, rungs[0].equilibrate, o.accept_tol);
+        let opts = NewtonFbOptions { tol: frame.tol, ..Default::default() };
+        let polished = crate::newton_fb::solve_from(lcp, &sol.z, &opts);
+        if frame.accept(&polished) && polished.residuals.natural < sol.residuals.natural {
             let basis = polished.z.iter().zip(&polished.w).map(|(z, w)| z > w).collect();
             sol = Solution { status: Status::Solved, iterations: pivots, basis: Some(basis), ..polished };
         }
