@@ -261,6 +261,7 @@ fn lemke_on_the_hard_corpus() {
     let count: usize = std::env::var("HARD_COUNT").ok().and_then(|v| v.parse().ok()).unwrap_or(2000);
     let cert_max_n: usize = std::env::var("CERT_MAX_N").ok().and_then(|v| v.parse().ok()).unwrap_or(40);
     let opts = LemkeOptions::default();
+    let mut total_failures = 0;
     for scale in [1.0, 1e-2, 1e-3, 1e-4, 1e-6, 1e-8] {
         let corpus = hard_corpus(2026, count, scale);
         let t = std::time::Instant::now();
@@ -280,6 +281,7 @@ fn lemke_on_the_hard_corpus() {
             let ok = sol.status == Status::Solved && sol.residuals.natural <= 1e-9 * (1.0 + qn);
             *by_status.entry(if ok { "solved" } else { sol.status.as_str() }).or_insert(0) += 1;
             if !ok {
+                total_failures += 1;
                 let kind = label.split('/').next().unwrap().to_string();
                 *fails.entry(kind).or_insert(0) += 1;
                 if first_fails.len() < 10 {
@@ -312,4 +314,7 @@ fn lemke_on_the_hard_corpus() {
             println!("    {f}");
         }
     }
+    // Issue 5's target on the default 2000 per scale. (Item 2505 of this seed,
+    // beyond the default count, still fails: see the closing note of session 2.)
+    assert_eq!(total_failures, 0, "robust Lemke failed on the hard corpus");
 }
