@@ -260,7 +260,7 @@ impl<'a> Basis<'a> {
         // contiguous axpys over the columns of M (rows of Mᵀ).
         out.xw.clear();
         match e {
-            Var::Z(j) => out.xw.extend(self.lcp.m().iter().skip(j).step_by(n).map(|v| -v)),
+            Var::Z(j) => out.xw.extend(self.lcp.m().chunks_exact(n).map(|row| -row[j])),
             Var::Z0 => out.xw.extend(self.d.iter().map(|v| -v)),
             Var::W(k) => {
                 out.xw.resize(n, 0.0);
@@ -301,7 +301,7 @@ impl<'a> Basis<'a> {
         }
         let slot = &mut self.gs[p * n..(p + 1) * n];
         match v {
-            Var::Z(j) => slot.iter_mut().zip(self.lcp.m().iter().skip(j).step_by(n)).for_each(|(g, m)| *g = *m),
+            Var::Z(j) => slot.iter_mut().zip(self.lcp.m().chunks_exact(n)).for_each(|(g, row)| *g = row[j]),
             _ => slot.copy_from_slice(self.d),
         }
     }
