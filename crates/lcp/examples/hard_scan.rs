@@ -2,7 +2,12 @@
 //! failure: `hard_scan [count] [scales,..] [families,..]` (corpus seed `CORPUS_SEED`, default
 //! 2026 as in the ignored corpus test; `ORDINARY=1` scans `contact_lcp` instead, nc ∈ {1, 2, 4, 8}).
 use lcp::generate::{hard_corpus_item, HardScene};
-use lcp::{lemke, LemkeOptions, Status};
+use lcp::{lemke, Lcp, LemkeOptions, Solution, Status};
+
+/// Issue 5's criterion: solved, natural residual ≤ 1e-9·(1 + ‖q‖∞).
+fn solved(p: &Lcp, sol: &Solution) -> bool {
+    sol.status == Status::Solved && sol.residuals.natural <= 1e-9 * (1.0 + p.q_norm_inf())
+}
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -22,7 +27,7 @@ fn main() {
                 for seed in 0..count as u64 {
                     let p = lcp::generate::contact_lcp(nc, 8, scale, seed);
                     let sol = lemke::solve(&p, &opts);
-                    if !(sol.status == Status::Solved && sol.residuals.natural <= 1e-9 * (1.0 + p.q_norm_inf())) {
+                    if !solved(&p, &sol) {
                         fails += 1;
                         println!("FAIL ordinary s={scale:e} nc={nc} seed={seed} {:?}", sol.status);
                     }
@@ -43,9 +48,7 @@ fn main() {
             tried += 1;
             let p = HardScene::random(kind, k, seed).lcp(scale);
             let sol = lemke::solve(&p, &opts);
-            let qn = p.q_norm_inf();
-            let ok = sol.status == Status::Solved && sol.residuals.natural <= 1e-9 * (1.0 + qn);
-            if !ok {
+            if !solved(&p, &sol) {
                 fails += 1;
                 println!(
                     "FAIL s={scale:e} i={i} {} k={k} seed={seed} n={} {:?} natural {:.2e} pivots {}",

@@ -1,19 +1,11 @@
 //! Lemke conformance: every `solved` answer is checked here by recomputing
 //! `w = M z + q`, never by the solver's word.
 
+mod common;
+
+use common::assert_solves;
 use lcp::{enumerate, generate, solve, Lcp, LemkeOptions, Method, Pivoting, Status};
 use proptest::prelude::*;
-
-/// Checks z ≥ 0, w = Mz + q ≥ 0, zᵀw = 0 to `tol` (relative to the data size).
-fn assert_solves(lcp: &Lcp, z: &[f64], tol: f64) {
-    let w = lcp.w_of(z);
-    let scale = 1.0 + lcp.q().iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    for i in 0..lcp.n() {
-        assert!(z[i] >= -tol * scale, "z[{i}] = {} < 0", z[i]);
-        assert!(w[i] >= -tol * scale, "w[{i}] = {} < 0", w[i]);
-        assert!(z[i].min(w[i]).abs() <= tol * scale, "complementarity at {i}: z = {}, w = {}", z[i], w[i]);
-    }
-}
 
 fn lex() -> LemkeOptions {
     LemkeOptions::default()

@@ -1,4 +1,26 @@
-//! Helpers shared by the generator tests.
+//! Helpers shared by the integration tests (each test crate uses some of them).
+#![allow(dead_code)]
+
+use lcp::Lcp;
+
+/// Checks z ≥ 0, w = Mz + q ≥ 0, zᵀw = 0 to `tol` (relative to the data
+/// size), with `w` recomputed here: a solved answer is judged by its
+/// residual, never by the solver's word.
+pub fn assert_solves(lcp: &Lcp, z: &[f64], tol: f64) {
+    assert_solves_case(lcp, z, tol, "");
+}
+
+/// [`assert_solves`], naming the case `what` in every failure message.
+pub fn assert_solves_case(lcp: &Lcp, z: &[f64], tol: f64, what: &str) {
+    assert_eq!(z.len(), lcp.n(), "{what}: z has the wrong length");
+    let w = lcp.w_of(z);
+    let scale = 1.0 + lcp.q().iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    for i in 0..lcp.n() {
+        assert!(z[i] >= -tol * scale, "{what}: z[{i}] = {} < 0", z[i]);
+        assert!(w[i] >= -tol * scale, "{what}: w[{i}] = {} < 0", w[i]);
+        assert!(z[i].min(w[i]).abs() <= tol * scale, "{what}: complementarity at {i}: z = {}, w = {}", z[i], w[i]);
+    }
+}
 
 /// Cholesky succeeds ⇔ symmetric positive definite.
 pub fn is_positive_definite(m: &[f64], n: usize) -> bool {
