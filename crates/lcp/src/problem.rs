@@ -5,7 +5,7 @@
 
 use std::fmt;
 
-use crate::kernels::all_finite;
+use crate::kernels::{all_finite, max_abs_finite};
 
 /// A dense linear complementarity problem `(M, q)`.
 #[derive(Clone, Debug, PartialEq)]
@@ -108,7 +108,7 @@ impl Lcp {
 
     /// `‖q‖∞`: the scale tolerances on `w` refer to.
     pub fn q_norm_inf(&self) -> f64 {
-        self.q.iter().fold(0.0f64, |a, v| a.max(v.abs()))
+        max_abs_finite(&self.q, 0.0).0
     }
 
     /// Entry `M[i, j]`.
