@@ -50,22 +50,25 @@ pub(crate) fn all_finite(a: &[f64]) -> bool {
     max_abs_finite(a, 0.0).1
 }
 
-/// `min(init, min { max(v_i, 0) / x_i : x_i > thresh })`: the ratio test's step.
-pub(crate) fn min_ratio(v: &[f64], x: &[f64], thresh: f64, init: f64) -> f64 {
+/// `min(init.0, min { max(v_i, 0) / x_i : x_i > thresh })`, the ratio test's
+/// step, and `max(init.1, max_i |v_i|)`, the scale of its ties, in one sweep.
+pub(crate) fn min_ratio(v: &[f64], x: &[f64], thresh: f64, init: (f64, f64)) -> (f64, f64) {
     let n = v.len().min(x.len());
     let (v, x) = (&v[..n], &x[..n]);
     let ratio = |v: f64, x: f64| if x > thresh { (if v > 0.0 { v } else { 0.0 }) / x } else { f64::INFINITY };
-    let mut acc = [init; LANES];
+    let (mut acc, mut big) = ([init.0; LANES], [init.1; LANES]);
     let (mut cv, mut cx) = (v.chunks_exact(LANES), x.chunks_exact(LANES));
     for (a, b) in (&mut cv).zip(&mut cx) {
         for k in 0..LANES {
             acc[k] = pick_min(acc[k], ratio(a[k], b[k]));
+            big[k] = pick_max(big[k], a[k].abs());
         }
     }
     for (&a, &b) in cv.remainder().iter().zip(cx.remainder()) {
         acc[0] = pick_min(acc[0], ratio(a, b));
+        big[0] = pick_max(big[0], a.abs());
     }
-    acc.iter().fold(init, |m, &x| pick_min(m, x))
+    (acc.iter().fold(init.0, |m, &x| pick_min(m, x)), big.iter().fold(init.1, |m, &x| pick_max(m, x)))
 }
 
 /// Appends to `out` every `i` (ascending) with `x_i > thresh` and
@@ -108,10 +111,12 @@ mod tests {
         let v = [4.0, 1.0, -3.0, 9.0, 2.0];
         let x = [2.0, 1e-20, 1.0, 3.0, 0.5];
         // Row 1 is below the threshold, row 2's value counts as 0.
-        assert_eq!(min_ratio(&v, &x, 1e-12, f64::INFINITY), 0.0);
-        assert_eq!(min_ratio(&v[3..], &x[3..], 1e-12, f64::INFINITY), 3.0);
-        assert_eq!(min_ratio(&v[..2], &x[..2], 1.0, f64::INFINITY), 2.0);
-        assert_eq!(min_ratio(&v[..2], &x[..2], 5.0, f64::INFINITY), f64::INFINITY);
+        let none = (f64::INFINITY, 0.0);
+        assert_eq!(min_ratio(&v, &x, 1e-12, none), (0.0, 9.0));
+        assert_eq!(min_ratio(&v[3..], &x[3..], 1e-12, none), (3.0, 9.0));
+        assert_eq!(min_ratio(&v[..2], &x[..2], 1.0, none), (2.0, 4.0));
+        assert_eq!(min_ratio(&v[..2], &x[..2], 5.0, (7.0, 5.0)), (7.0, 5.0));
+        assert_eq!(min_ratio(&v[2..3], &x[2..3], 1e-12, none), (0.0, 3.0));
     }
 
     #[test]

@@ -79,11 +79,7 @@ pub(crate) fn leaving(basis: &Basis, x: &Column, xmax: f64, rule: Rule, sc: &mut
             candidates(basis, x, &mut sc.cands);
             classic(basis, &sc.cands, piv_tol, zero_tol)?
         }
-        Rule::Lexicographic { piv_tol, tie_tol } => {
-            // The largest |value| over all basics (rows of R hold 0).
-            let vmax = max_abs_finite(&basis.val_w, max_abs_finite(&basis.val_s, f64::MIN_POSITIVE).0).0;
-            lexicographic(basis, x, sc, piv_tol * xmax, tie_tol * vmax, tie_tol)?
-        }
+        Rule::Lexicographic { piv_tol, tie_tol } => lexicographic(basis, x, sc, piv_tol * xmax, tie_tol)?,
     };
     Some(Choice { at, theta, xmax })
 }
@@ -103,21 +99,17 @@ fn classic(basis: &Basis, c: &[Cand], piv_tol: f64, zero_tol: f64) -> Option<(Le
     Some((best.at, best.value / best.x))
 }
 
-/// `thresh`: smallest pivot; `vtol`: how close to zero a value must come to tie.
-/// Two sweeps over the basics (z-type, then `w` by row; the rows of `R` have
-/// `x = 0` and never block): the smallest ratio, then the rows tied with it.
-fn lexicographic(
-    basis: &Basis,
-    x: &Column,
-    sc: &mut Scratch,
-    thresh: f64,
-    vtol: f64,
-    tie_tol: f64,
-) -> Option<(Leaving, f64)> {
-    let theta = min_ratio(&basis.val_w, &x.xw, thresh, min_ratio(&basis.val_s, &x.xs, thresh, f64::INFINITY));
+/// `thresh`: smallest pivot. Two sweeps over the basics (z-type, then `w` by
+/// row; the rows of `R` have `x = 0` and never block): the smallest ratio and
+/// the largest |value|, then the rows tied with it — those that come within
+/// `tie_tol` of that largest value of zero.
+fn lexicographic(basis: &Basis, x: &Column, sc: &mut Scratch, thresh: f64, tie_tol: f64) -> Option<(Leaving, f64)> {
+    let first = min_ratio(&basis.val_s, &x.xs, thresh, (f64::INFINITY, f64::MIN_POSITIVE));
+    let (theta, vmax) = min_ratio(&basis.val_w, &x.xw, thresh, first);
     if !theta.is_finite() {
         return None;
     }
+    let vtol = tie_tol * vmax;
     // Rows that reach zero within vtol at this step; z0 among them ends the run.
     sc.tied.clear();
     sc.hits.clear();
@@ -149,6 +141,12 @@ fn lex_break(basis: &Basis, rows: &mut Vec<Cand>, v: &mut Vec<f64>, tie_tol: f64
     for col in 0..n {
         if rows.len() == 1 {
             break;
+        }
+        if basis.w_basic(col) {
+            // Column `col` of B⁻¹ is the unit vector of basic w_col: every
+            // entry is 0 but w_col's 1/x > 0, which is not the minimum.
+            rows.retain(|k| k.at != Leaving::W(col));
+            continue;
         }
         v.clear();
         v.extend(rows.iter().map(|k| basis.binv_entry(k.at, col) / k.x));
