@@ -26,6 +26,7 @@ pub mod method;
 pub mod newton_fb;
 pub mod pgs;
 pub mod problem;
+mod recycle;
 pub mod scaling;
 pub mod solution;
 

@@ -15,6 +15,7 @@
 //!   on both sides (DESIGN §1): `fn`, `fd` unchanged, `λ_scaled = λ / s`.
 
 use crate::problem::{Lcp, LcpError};
+use crate::recycle;
 
 /// Row and column scale factors: the scaled problem is `D_r M D_c, D_r q` with
 /// `D_r = diag(row)`, `D_c = diag(col)`. All factors should be positive and finite.
@@ -52,18 +53,19 @@ impl Scaling {
         let n = lcp.n();
         // Exponents as i16 (entries span ±1075, factors ±MAX_EXPONENT): the
         // row and column maxima then vectorize on any x86-64 (`pmaxsw`).
-        let ex: Vec<i16> = lcp.m().iter().map(|&v| exponent(v)).collect();
-        let mut row_exp = vec![0i16; n];
-        let mut col_exp = vec![0i16; n];
-        let mut row_max = vec![ZERO_EXPONENT; n];
-        let mut col_max = vec![ZERO_EXPONENT; n];
+        let mut ex: Vec<i16> = recycle::take(n * n);
+        ex.extend(lcp.m().iter().map(|&v| exponent(v)));
+        let mut exps = recycle::filled(4 * n, 0i16);
+        let (row_exp, rest) = exps.split_at_mut(n);
+        let (col_exp, rest) = rest.split_at_mut(n);
+        let (row_max, col_max) = rest.split_at_mut(n);
         for _ in 0..iterations {
             // Largest exponent of every row and column of the current D_r M D_c.
             col_max.iter_mut().for_each(|v| *v = ZERO_EXPONENT);
             for i in 0..n {
                 let ri = row_exp[i];
                 let mut rmax = ZERO_EXPONENT;
-                for ((&e, &cj), cmax) in ex[i * n..(i + 1) * n].iter().zip(&col_exp).zip(col_max.iter_mut()) {
+                for ((&e, &cj), cmax) in ex[i * n..(i + 1) * n].iter().zip(col_exp.iter()).zip(col_max.iter_mut()) {
                     let v = e + cj;
                     rmax = rmax.max(v);
                     *cmax = (*cmax).max(v + ri);
@@ -71,7 +73,7 @@ impl Scaling {
                 row_max[i] = rmax + ri;
             }
             let mut changed = false;
-            for (e, &m) in row_exp.iter_mut().zip(&row_max).chain(col_exp.iter_mut().zip(&col_max)) {
+            for (e, &m) in row_exp.iter_mut().zip(row_max.iter()).chain(col_exp.iter_mut().zip(col_max.iter())) {
                 let step = inv_sqrt_step(m);
                 if step != 0 {
                     *e = (*e + step).clamp(-MAX_EXPONENT, MAX_EXPONENT);
@@ -82,8 +84,11 @@ impl Scaling {
                 break;
             }
         }
-        let pow = |e: i16| pow2(e as i32);
-        Scaling { row: row_exp.into_iter().map(pow).collect(), col: col_exp.into_iter().map(pow).collect() }
+        let pow = |e: &i16| pow2(*e as i32);
+        let scaling = Scaling { row: row_exp.iter().map(pow).collect(), col: col_exp.iter().map(pow).collect() };
+        recycle::give(ex);
+        recycle::give(exps);
+        scaling
     }
 
     /// The seed's friction-cone scaling for `nc` contacts with `k` directions
@@ -131,7 +136,7 @@ impl Scaling {
     /// shows up as non-finite entries, which solvers report as `Numerical`.
     pub(crate) fn apply_pow2(&self, lcp: &Lcp, qf: f64) -> Lcp {
         let n = lcp.n();
-        let mut m = Vec::with_capacity(n * n);
+        let mut m = recycle::take(n * n);
         for (row, &ri) in lcp.m().chunks_exact(n).zip(&self.row) {
             m.extend(row.iter().zip(&self.col).map(|(&mij, &cj)| ri * mij * cj));
         }

@@ -19,6 +19,7 @@
 //! O(n³) of refactoring (Drake's Moby) or the O(n²) of a full tableau.
 
 use crate::problem::Lcp;
+use crate::recycle;
 use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
 
@@ -99,6 +100,20 @@ pub(crate) struct Column {
     pub(crate) xw: Vec<f64>,
 }
 
+impl Column {
+    /// Room for a problem of size `n`.
+    pub(crate) fn new(n: usize) -> Column {
+        Column { xs: recycle::take(n), xw: recycle::filled(n, 0.0) }
+    }
+}
+
+impl Drop for Column {
+    fn drop(&mut self) {
+        recycle::give(std::mem::take(&mut self.xs));
+        recycle::give(std::mem::take(&mut self.xw));
+    }
+}
+
 /// Which basic variable leaves.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Leaving {
@@ -139,6 +154,17 @@ pub(crate) struct Basis<'a> {
     pub(crate) since_refactor: usize,
 }
 
+impl Drop for Basis<'_> {
+    fn drop(&mut self) {
+        for v in [&mut self.gs, &mut self.cinv, &mut self.val_s, &mut self.val_w, &mut self.tmp] {
+            recycle::give(std::mem::take(v));
+        }
+        for v in [&mut self.r, &mut self.row_s, &mut self.row_w] {
+            recycle::give(std::mem::take(v));
+        }
+    }
+}
+
 impl<'a> Basis<'a> {
     /// The all-slack basis `B = I`, values `w = q`.
     pub(crate) fn slack(lcp: &'a Lcp, d: &'a [f64]) -> Self {
@@ -147,17 +173,25 @@ impl<'a> Basis<'a> {
             lcp,
             d,
             n,
-            r: Vec::with_capacity(n),
+            r: recycle::take(n),
             r_pos: vec![None; n],
             s: Vec::with_capacity(n),
-            gs: Vec::with_capacity(n * n.min(64)),
+            gs: recycle::take(n * n.min(64)),
             // Grown row by row as `C` grows (`ensure_rows`).
-            cinv: Vec::with_capacity(n * n.min(64)),
-            val_s: Vec::with_capacity(n),
-            val_w: lcp.q().to_vec(),
-            row_s: Vec::with_capacity(n),
-            row_w: (0..n).collect(),
-            tmp: vec![0.0; n],
+            cinv: recycle::take(n * n.min(64)),
+            val_s: recycle::take(n),
+            val_w: {
+                let mut v = recycle::take(n);
+                v.extend_from_slice(lcp.q());
+                v
+            },
+            row_s: recycle::take(n),
+            row_w: {
+                let mut v = recycle::take(n);
+                v.extend(0..n);
+                v
+            },
+            tmp: recycle::filled(n, 0.0),
             since_refactor: 0,
         }
     }

@@ -361,6 +361,13 @@ impl Frame {
     }
 }
 
+impl Drop for Frame {
+    fn drop(&mut self) {
+        let work = std::mem::replace(&mut self.work, Lcp::from_parts_unchecked(Vec::new(), Vec::new()));
+        crate::recycle::give(work.into_parts().0);
+    }
+}
+
 /// Which `z_j` are basic.
 fn basic_mask(s: &[Var], n: usize) -> Vec<bool> {
     let mut mask = vec![false; n];

@@ -80,7 +80,7 @@ pub(crate) fn run<'a>(lcp: &'a Lcp, d: &'a [f64], set: &RunSettings) -> Run<'a> 
     if lcp.q().iter().all(|&v| v >= 0.0) {
         return Run { status: Status::Solved, pivots: 0, basis, trace: Vec::new() };
     }
-    let mut col = Column { xs: Vec::with_capacity(n), xw: vec![0.0; n] };
+    let mut col = Column::new(n);
     // z0 enters at the value that makes every w ≥ 0.
     let r = first_leaving(lcp.q(), d, set.rule);
     basis.column(Var::Z0, &mut col);
@@ -117,7 +117,7 @@ pub(crate) fn run_warm<'a>(lcp: &'a Lcp, d: &'a [f64], alpha: &[usize], set: &Ru
         return Some(Run { status: Status::Solved, pivots: 0, basis, trace: Vec::new() });
     }
     // z0 enters; every basic moves by +θ (x = −1), so the most negative leaves.
-    let mut col = Column { xs: Vec::with_capacity(n), xw: vec![0.0; n] };
+    let mut col = Column::new(n);
     basis.column(Var::Z0, &mut col);
     let x = match at {
         Leaving::S(p) => col.xs[p],
