@@ -45,6 +45,25 @@ pub(crate) fn max_abs_finite(a: &[f64], init: f64) -> (f64, bool) {
     (acc.iter().fold(init, |m, &x| pick_max(m, x)), nan.iter().sum::<f64>() == 0.0)
 }
 
+/// `Σ a_i b_i` over four lanes (summed as `(l0 + l1) + (l2 + l3)`, then the
+/// remainder): vectorizes, where a sequential sum cannot be reordered and
+/// waits on one add after another. Not bitwise the sequential sum, and no
+/// less accurate. For residuals, not for pivoting (whose decisions should not
+/// hinge on a summation order).
+pub(crate) fn dot4(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let mut acc = [0.0f64; LANES];
+    let (mut ca, mut cb) = (a.chunks_exact(LANES), b.chunks_exact(LANES));
+    for (x, y) in (&mut ca).zip(&mut cb) {
+        for k in 0..LANES {
+            acc[k] += x[k] * y[k];
+        }
+    }
+    let tail: f64 = ca.remainder().iter().zip(cb.remainder()).map(|(x, y)| x * y).sum();
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
+}
+
 /// Whether every `a_i` is finite.
 pub(crate) fn all_finite(a: &[f64]) -> bool {
     max_abs_finite(a, 0.0).1
@@ -104,6 +123,17 @@ mod tests {
         assert_eq!(max_abs_finite(&a[..3], 10.0), (10.0, true));
         assert!(!max_abs_finite(&[1.0, f64::NAN, 2.0, 3.0, 4.0], 0.0).1);
         assert!(!max_abs_finite(&[1.0, 2.0, 3.0, 4.0, f64::NEG_INFINITY], 0.0).1);
+    }
+
+    #[test]
+    fn dot4_sums_every_product() {
+        let a: Vec<f64> = (1..=11).map(f64::from).collect();
+        let b: Vec<f64> = (1..=11).map(|i| f64::from(i % 3) - 1.0).collect();
+        let exact: f64 = a.iter().zip(&b).map(|(x, y)| x * y).sum();
+        assert_eq!(dot4(&a, &b), exact);
+        assert_eq!(dot4(&a[..3], &b[..3]), a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
+        assert_eq!(dot4(&[], &[]), 0.0);
+        assert!(dot4(&[1.0, f64::NAN], &[1.0, 1.0]).is_nan());
     }
 
     #[test]

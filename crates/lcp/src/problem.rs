@@ -5,7 +5,7 @@
 
 use std::fmt;
 
-use crate::kernels::{all_finite, max_abs_finite};
+use crate::kernels::{all_finite, dot4, max_abs_finite};
 
 /// A dense linear complementarity problem `(M, q)`.
 #[derive(Clone, Debug, PartialEq)]
@@ -123,9 +123,9 @@ impl Lcp {
         &self.m[i * self.n..(i + 1) * self.n]
     }
 
-    /// `w = M z + q`.
+    /// `w = M z + q` (each row's products summed in four lanes).
     pub fn w_of(&self, z: &[f64]) -> Vec<f64> {
-        (0..self.n).map(|i| dot(self.row(i), z) + self.q[i]).collect()
+        (0..self.n).map(|i| dot4(self.row(i), z) + self.q[i]).collect()
     }
 
     /// Splits into `(M, q)` without copying.

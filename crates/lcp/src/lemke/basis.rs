@@ -552,34 +552,27 @@ impl<'a> Basis<'a> {
         true
     }
 
-    /// Polishes the values of a complementary basis (z0 nonbasic) by
-    /// iterative refinement with the kept `C⁻¹`: `z_S += C⁻¹ (M z + q)[R]`,
-    /// O(m²) a step. Returns `max |(M z + q)_R|` after the last step.
-    pub(crate) fn polish(&mut self, steps: usize) -> f64 {
+    /// Polishes the values of a complementary basis (z0 nonbasic) by one
+    /// step of iterative refinement with the kept `C⁻¹`:
+    /// `z_S += C⁻¹ (M z + q)[R]`, O(m²).
+    pub(crate) fn polish(&mut self) {
         let (n, m) = (self.n, self.m());
         let mut res = std::mem::take(&mut self.tmp);
-        let mut worst = 0.0;
-        for step in 0..=steps {
-            // res = (M z + q) on the rows of R, which must vanish.
-            worst = 0.0f64;
-            for (qi, &i) in self.r.iter().enumerate() {
-                let mut acc = self.lcp.q()[i];
-                for p in 0..m {
-                    acc += self.gs[p * n + i] * self.val_s[p];
-                }
-                res[qi] = acc;
-                worst = worst.max(acc.abs());
+        // res = (M z + q) on the rows of R, which must vanish.
+        for (qi, &i) in self.r.iter().enumerate() {
+            let mut acc = self.lcp.q()[i];
+            for p in 0..m {
+                acc += self.gs[p * n + i] * self.val_s[p];
             }
-            if step == steps || worst == 0.0 {
-                break;
-            }
+            res[qi] = acc;
+        }
+        if res[..m].iter().any(|v| v.abs() > 0.0) {
             for p in 0..m {
                 let row = &self.cinv[p * n..p * n + m];
                 self.val_s[p] += row.iter().zip(&res[..m]).map(|(c, r)| c * r).sum::<f64>();
             }
         }
         self.tmp = res;
-        worst
     }
 
     /// Current `z` (length n) from the basic values; `z0` is returned apart.

@@ -292,7 +292,7 @@ fn solve_attempt(
     let mask = basic_mask(&r.basis.s, n);
     if r.status == Status::Solved {
         // Shed the round-off of the updates: refine with the kept C⁻¹ first.
-        r.basis.polish(1);
+        r.basis.polish();
     }
     let mut sol = Solution::from_z(lcp, frame.unscale(&r.basis.z().0), r.status, r.pivots);
     if sol.status == Status::Solved && !frame.accept(&sol) {
