@@ -14,6 +14,8 @@
 //! - [`Scaling::cone`]: the seed's friction-cone scaling `D = diag(I, I, s·I)`
 //!   on both sides (DESIGN §1): `fn`, `fd` unchanged, `λ_scaled = λ / s`.
 
+mod sweep;
+
 use crate::problem::{Lcp, LcpError};
 use crate::recycle;
 
@@ -51,41 +53,30 @@ impl Scaling {
     /// (`row == col`). Stops early once a round changes nothing.
     pub fn ruiz(lcp: &Lcp, iterations: usize) -> Scaling {
         let n = lcp.n();
-        // Exponents as i16 (entries span ±1075, factors ±MAX_EXPONENT): the
-        // row and column maxima then vectorize on any x86-64 (`pmaxsw`).
-        let mut ex: Vec<i16> = recycle::take(n * n);
-        ex.extend(lcp.m().iter().map(|&v| exponent(v)));
-        let mut exps = recycle::filled(4 * n, 0i16);
+        // Exponents as i16 (entries span ±1075, factors ±MAX_EXPONENT), rows
+        // padded to whole registers (see `sweep`).
+        let stride = n.next_multiple_of(sweep::LANES);
+        let mut ex: Vec<i16> = recycle::filled(n * stride, ZERO_EXPONENT);
+        for (padded, row) in ex.chunks_exact_mut(stride).zip(lcp.m().chunks_exact(n)) {
+            for (e, &v) in padded.iter_mut().zip(row) {
+                *e = exponent(v);
+            }
+        }
+        // Factor exponents and the maxima of a round; the padding columns keep factor 2⁰.
+        let mut exps = recycle::filled(2 * n + 2 * stride, 0i16);
         let (row_exp, rest) = exps.split_at_mut(n);
-        let (col_exp, rest) = rest.split_at_mut(n);
-        let (row_max, col_max) = rest.split_at_mut(n);
+        let (row_max, rest) = rest.split_at_mut(n);
+        let (col_exp, col_max) = rest.split_at_mut(stride);
         for _ in 0..iterations {
             // Largest exponent of every row and column of the current D_r M D_c.
-            col_max.iter_mut().for_each(|v| *v = ZERO_EXPONENT);
-            for i in 0..n {
-                let ri = row_exp[i];
-                let mut rmax = ZERO_EXPONENT;
-                for ((&e, &cj), cmax) in ex[i * n..(i + 1) * n].iter().zip(col_exp.iter()).zip(col_max.iter_mut()) {
-                    let v = e + cj;
-                    rmax = rmax.max(v);
-                    *cmax = (*cmax).max(v + ri);
-                }
-                row_max[i] = rmax + ri;
-            }
-            let mut changed = false;
-            for (e, &m) in row_exp.iter_mut().zip(row_max.iter()).chain(col_exp.iter_mut().zip(col_max.iter())) {
-                let step = inv_sqrt_step(m);
-                if step != 0 {
-                    *e = (*e + step).clamp(-MAX_EXPONENT, MAX_EXPONENT);
-                    changed = true;
-                }
-            }
-            if !changed {
+            sweep::maxima(&ex, row_exp, col_exp, ZERO_EXPONENT, row_max, col_max);
+            let rows_moved = step_toward_one(row_exp, row_max);
+            if !(step_toward_one(&mut col_exp[..n], &col_max[..n]) | rows_moved) {
                 break;
             }
         }
         let pow = |e: &i16| pow2(*e as i32);
-        let scaling = Scaling { row: row_exp.iter().map(pow).collect(), col: col_exp.iter().map(pow).collect() };
+        let scaling = Scaling { row: row_exp.iter().map(pow).collect(), col: col_exp[..n].iter().map(pow).collect() };
         recycle::give(ex);
         recycle::give(exps);
         scaling
@@ -195,6 +186,19 @@ fn exponent(v: f64) -> i16 {
     } else {
         biased as i16 - 1023
     }
+}
+
+/// One Ruiz step of every factor exponent `e` from its row's (column's)
+/// largest exponent `m`, branch-free (which factors move is data-dependent);
+/// `true` if any moved.
+fn step_toward_one(e: &mut [i16], m: &[i16]) -> bool {
+    let mut moved = 0i16;
+    for (e, &m) in e.iter_mut().zip(m) {
+        let step = inv_sqrt_step(m);
+        *e = (*e + step).clamp(-MAX_EXPONENT, MAX_EXPONENT);
+        moved |= step;
+    }
+    moved != 0
 }
 
 /// For a largest entry in `[2^e, 2^(e+1))`, the exponent step nearest (in log

@@ -1,0 +1,166 @@
+//! One Ruiz round's row and column maxima over the binary exponents of `M`.
+//!
+//! The exponents are i16, rows padded to whole 256-bit registers
+//! ([`LANES`] entries) with an exponent that never wins a maximum. With
+//! AVX2 the round keeps the column maxima of up to four registers (n ≤ 64)
+//! in registers across all rows; without it, a plain loop the compiler
+//! vectorizes as it can. Both give the same integers (max is exact), which a
+//! test checks.
+
+/// i16 lanes in a 256-bit register; padded rows hold a multiple of them.
+pub(super) const LANES: usize = 16;
+
+/// For the `n × stride` exponent matrix `ex` (row-major, `n = row_exp.len()`):
+/// `row_max[i] = r_i + max_j (e_ij + c_j)` and
+/// `col_max[j] = max_i (e_ij + c_j + r_i)` for every padded column `j`, with
+/// `floor` as the maximum of nothing. The sums must fit in i16.
+pub(super) fn maxima(
+    ex: &[i16],
+    row_exp: &[i16],
+    col_exp: &[i16],
+    floor: i16,
+    row_max: &mut [i16],
+    col_max: &mut [i16],
+) {
+    let (n, stride) = (row_exp.len(), col_exp.len());
+    assert!(stride % LANES == 0 && ex.len() == n * stride && row_max.len() == n && col_max.len() == stride);
+    #[cfg(target_arch = "x86_64")]
+    if is_x86_feature_detected!("avx2") {
+        // SAFETY: AVX2 is present; the asserts above bound every access.
+        unsafe {
+            match stride / LANES {
+                1 => avx2::held::<1>(ex, row_exp, col_exp, floor, row_max, col_max),
+                2 => avx2::held::<2>(ex, row_exp, col_exp, floor, row_max, col_max),
+                3 => avx2::held::<3>(ex, row_exp, col_exp, floor, row_max, col_max),
+                4 => avx2::held::<4>(ex, row_exp, col_exp, floor, row_max, col_max),
+                _ => avx2::any(ex, row_exp, col_exp, floor, row_max, col_max),
+            }
+        }
+        return;
+    }
+    portable(ex, row_exp, col_exp, floor, row_max, col_max);
+}
+
+fn portable(ex: &[i16], row_exp: &[i16], col_exp: &[i16], floor: i16, row_max: &mut [i16], col_max: &mut [i16]) {
+    col_max.fill(floor);
+    for ((row, &ri), rmax_out) in ex.chunks_exact(col_exp.len()).zip(row_exp).zip(row_max.iter_mut()) {
+        let mut rmax = floor;
+        for ((&e, &cj), cmax) in row.iter().zip(col_exp).zip(col_max.iter_mut()) {
+            let v = e + cj;
+            rmax = rmax.max(v);
+            *cmax = (*cmax).max(v + ri);
+        }
+        *rmax_out = rmax + ri;
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+mod avx2 {
+    use super::LANES;
+    use std::arch::x86_64::*;
+
+    /// Largest of the 16 lanes.
+    #[target_feature(enable = "avx2")]
+    fn hmax(v: __m256i) -> i16 {
+        let mut m = _mm_max_epi16(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
+        m = _mm_max_epi16(m, _mm_shuffle_epi32(m, 0b01_00_11_10));
+        m = _mm_max_epi16(m, _mm_shuffle_epi32(m, 0b10_11_00_01));
+        m = _mm_max_epi16(m, _mm_srli_epi32(m, 16));
+        _mm_cvtsi128_si32(m) as i16
+    }
+
+    /// `B` registers per row: column exponents and maxima stay in registers.
+    ///
+    /// # Safety
+    /// AVX2 must be available and the slices sized as `maxima` asserts.
+    #[target_feature(enable = "avx2")]
+    pub(super) unsafe fn held<const B: usize>(
+        ex: &[i16],
+        row_exp: &[i16],
+        col_exp: &[i16],
+        floor: i16,
+        row_max: &mut [i16],
+        col_max: &mut [i16],
+    ) {
+        let lowest = _mm256_set1_epi16(floor);
+        let c: [__m256i; B] = std::array::from_fn(|b| _mm256_loadu_si256(col_exp.as_ptr().add(LANES * b).cast()));
+        let mut cmax = [lowest; B];
+        for ((row, &ri), rmax_out) in ex.chunks_exact(LANES * B).zip(row_exp).zip(row_max.iter_mut()) {
+            let r = _mm256_set1_epi16(ri);
+            let mut rmax = lowest;
+            for b in 0..B {
+                let v = _mm256_add_epi16(_mm256_loadu_si256(row.as_ptr().add(LANES * b).cast()), c[b]);
+                rmax = _mm256_max_epi16(rmax, v);
+                cmax[b] = _mm256_max_epi16(cmax[b], _mm256_add_epi16(v, r));
+            }
+            *rmax_out = hmax(rmax) + ri;
+        }
+        for (b, m) in cmax.iter().enumerate() {
+            _mm256_storeu_si256(col_max.as_mut_ptr().add(LANES * b).cast(), *m);
+        }
+    }
+
+    /// Any padded width: column maxima in memory.
+    ///
+    /// # Safety
+    /// As [`held`].
+    #[target_feature(enable = "avx2")]
+    pub(super) unsafe fn any(
+        ex: &[i16],
+        row_exp: &[i16],
+        col_exp: &[i16],
+        floor: i16,
+        row_max: &mut [i16],
+        col_max: &mut [i16],
+    ) {
+        let lowest = _mm256_set1_epi16(floor);
+        col_max.fill(floor);
+        for ((row, &ri), rmax_out) in ex.chunks_exact(col_exp.len()).zip(row_exp).zip(row_max.iter_mut()) {
+            let r = _mm256_set1_epi16(ri);
+            let mut rmax = lowest;
+            for ((e, c), m) in
+                row.chunks_exact(LANES).zip(col_exp.chunks_exact(LANES)).zip(col_max.chunks_exact_mut(LANES))
+            {
+                let v = _mm256_add_epi16(_mm256_loadu_si256(e.as_ptr().cast()), _mm256_loadu_si256(c.as_ptr().cast()));
+                rmax = _mm256_max_epi16(rmax, v);
+                let old = _mm256_loadu_si256(m.as_ptr().cast());
+                _mm256_storeu_si256(m.as_mut_ptr().cast(), _mm256_max_epi16(old, _mm256_add_epi16(v, r)));
+            }
+            *rmax_out = hmax(rmax) + ri;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every path against the plain loop, on widths 1–6 registers.
+    #[test]
+    fn every_path_gives_the_plain_maxima() {
+        let mut x = 12345u64;
+        let mut next = |span: u64| {
+            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((x >> 33) % span) as i16
+        };
+        for n in [1usize, 7, 16, 17, 40, 64, 65, 100] {
+            let stride = n.next_multiple_of(LANES);
+            let floor = -16_000;
+            let ex: Vec<i16> = (0..n * stride)
+                .map(|k| if k % stride >= n || next(7) == 0 { floor } else { next(2100) - 1075 })
+                .collect();
+            let row_exp: Vec<i16> = (0..n).map(|_| next(2001) - 1000).collect();
+            let col_exp: Vec<i16> = (0..stride).map(|j| if j < n { next(2001) - 1000 } else { 0 }).collect();
+            let (mut r1, mut c1) = (vec![0; n], vec![0; stride]);
+            let (mut r2, mut c2) = (vec![0; n], vec![0; stride]);
+            portable(&ex, &row_exp, &col_exp, floor, &mut r1, &mut c1);
+            maxima(&ex, &row_exp, &col_exp, floor, &mut r2, &mut c2);
+            assert_eq!((&r1, &c1), (&r2, &c2), "n = {n}");
+            // And against the definition.
+            for i in 0..n {
+                let want = (0..stride).map(|j| ex[i * stride + j] + col_exp[j]).max().unwrap() + row_exp[i];
+                assert_eq!(r1[i], want);
+            }
+        }
+    }
+}
