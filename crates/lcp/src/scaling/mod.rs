@@ -14,7 +14,9 @@
 //! - [`Scaling::cone`]: the seed's friction-cone scaling `D = diag(I, I, s·I)`
 //!   on both sides (DESIGN §1): `fn`, `fd` unchanged, `λ_scaled = λ / s`.
 
-mod sweep;
+mod exponents;
+
+use exponents::ZERO_EXPONENT;
 
 use crate::problem::{Lcp, LcpError};
 use crate::recycle;
@@ -54,13 +56,11 @@ impl Scaling {
     pub fn ruiz(lcp: &Lcp, iterations: usize) -> Scaling {
         let n = lcp.n();
         // Exponents as i16 (entries span ±1075, factors ±MAX_EXPONENT), rows
-        // padded to whole registers (see `sweep`).
-        let stride = n.next_multiple_of(sweep::LANES);
+        // padded to whole registers (see `exponents`).
+        let stride = n.next_multiple_of(exponents::LANES);
         let mut ex: Vec<i16> = recycle::filled(n * stride, ZERO_EXPONENT);
         for (padded, row) in ex.chunks_exact_mut(stride).zip(lcp.m().chunks_exact(n)) {
-            for (e, &v) in padded.iter_mut().zip(row) {
-                *e = exponent(v);
-            }
+            exponents::of_row(row, &mut padded[..n]);
         }
         // Factor exponents and the maxima of a round; the padding columns keep factor 2⁰.
         let mut exps = recycle::filled(2 * n + 2 * stride, 0i16);
@@ -69,7 +69,7 @@ impl Scaling {
         let (col_exp, col_max) = rest.split_at_mut(stride);
         for _ in 0..iterations {
             // Largest exponent of every row and column of the current D_r M D_c.
-            sweep::maxima(&ex, row_exp, col_exp, ZERO_EXPONENT, row_max, col_max);
+            exponents::maxima(&ex, row_exp, col_exp, ZERO_EXPONENT, row_max, col_max);
             let rows_moved = step_toward_one(row_exp, row_max);
             if !(step_toward_one(&mut col_exp[..n], &col_max[..n]) | rows_moved) {
                 break;
@@ -168,26 +168,6 @@ fn pow2(e: i32) -> f64 {
     f64::from_bits(((e + 1023) as u64) << 52)
 }
 
-/// Exponent standing for an exact zero: below any real one by more than
-/// `4·MAX_EXPONENT`, and far enough from `i16::MIN` that adding two scale
-/// exponents cannot overflow.
-const ZERO_EXPONENT: i16 = -16_000;
-
-/// `floor(log2 |v|)` from the bit pattern (subnormals count as −1023);
-/// `ZERO_EXPONENT` for zero and for non-finite values. Reads only the upper
-/// 32 bits, so that a slice of them converts in 32-bit SIMD lanes: a
-/// subnormal below 2⁻¹⁰⁴⁴ (upper mantissa bits all zero) counts as zero.
-#[inline]
-fn exponent(v: f64) -> i16 {
-    let hi = (v.to_bits() >> 32) as u32;
-    let biased = (hi >> 20) & 0x7ff;
-    if (hi & 0x7fff_ffff == 0) | (biased == 0x7ff) {
-        ZERO_EXPONENT
-    } else {
-        biased as i16 - 1023
-    }
-}
-
 /// One Ruiz step of every factor exponent `e` from its row's (column's)
 /// largest exponent `m`, branch-free (which factors move is data-dependent);
 /// `true` if any moved.
@@ -214,6 +194,7 @@ fn inv_sqrt_step(e: i16) -> i16 {
 
 #[cfg(test)]
 mod tests {
+    use super::exponents::exponent;
     use super::*;
 
     #[test]
