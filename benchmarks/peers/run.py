@@ -21,7 +21,10 @@ What is inside the timer: lcpsim's call takes numpy ``M, q`` and returns its
 result object (conversion included). For the peers the problem object is built
 outside the timer (``sn.LCP(M, q)``, ``SolverOptions``, output arrays; Drake's
 ``MathematicalProgram`` with its constraint) and only the solve call — plus
-Drake's ``GetSolution`` — is timed, which favours the peers.
+Drake's ``GetSolution`` — is timed, which favours the peers. Every solver is
+handed fresh copies of ``M`` and ``q`` made just before (so the input is in
+cache, as after a simulator's assembly, for lcpsim as much as for a peer whose
+problem object was just built).
 
 Timing modes, both from ``time.perf_counter`` around each call:
 
@@ -410,7 +413,10 @@ class Record:
 
 
 def timed_call(solver: Solver, p: Problem) -> tuple[float, tuple[bool, np.ndarray, str]]:
-    run, finish = solver.prepare(p.M, p.q)
+    # Every solver gets M and q freshly made (in cache, as a simulator that
+    # has just assembled them would pass them); a peer's problem object is
+    # built from them before the timer starts.
+    run, finish = solver.prepare(p.M.copy(), p.q.copy())
     t0 = time.perf_counter()
     raw = run()
     t = time.perf_counter() - t0
@@ -716,7 +722,9 @@ def write_report(results: dict[str, Any], solvers: list[Solver], sim_md: list[st
         "lcpsim's timed call takes numpy `M, q` and returns its result object. For the peers the problem object is "
         "built before the timer starts (Siconos `LCP`, `SolverOptions`, output arrays; Drake's "
         "`MathematicalProgram` with `AddLinearComplementarityConstraint`); only the solve call (and Drake's "
-        "`GetSolution`) is timed — this favours the peers.",
+        "`GetSolution`) is timed — this favours the peers. Each solver is handed fresh copies of `M` and `q` made "
+        "just before (in cache, as after a simulator's assembly — for lcpsim as for a peer whose problem object "
+        "was just built from them).",
         "",
         "- **interleaved** (headline): passes over a set; in each pass every problem is solved once by every "
         "solver in turn (rotating order), median per problem over passes. Each call finds the caches as other "
