@@ -665,19 +665,30 @@ def headline(results: dict[str, Any], solvers: list[Solver], tol: float) -> tupl
                                            "ratios_interleaved_peer_right": rr,
                                            "robust_failures": fails, "problems": total, "met": met == "yes"}
     # Pooled failure rates over every contact scale, sizes 20 and 40.
+    # Pooled failure rates over every contact scale, sizes 20 and 40, with each
+    # solver's time ratio to lcpsim robust (median over the scales, as above).
     pooled = ["", "Failures pooled over all contact-LCP scales (n = 20 and 40; failed = own word or physical "
-              f"residual > {tol:g}):", "", "| solver | failed | own word | said solved, wrong |", "|---|---|---|---|"]
+              f"residual > {tol:g}), and time ÷ lcpsim robust's (median over the scales; interleaved, back-to-back "
+              "in brackets):", "", "| solver | failed | own word | said solved, wrong | × robust, n = 20 | "
+              "× robust, n = 40 |", "|---|---|---|---|---|---|"]
     for s in solvers:
         f = o = w = t = 0
+        ratios: dict[str, tuple[list[float], list[float]]] = {"n = 20": ([], []), "n = 40": ([], [])}
         for key, st in sets.items():
             if not key.startswith("contact/"):
                 continue
-            for g in ("n = 20", "n = 40"):
+            for g, (ri, rb) in ratios.items():
                 if g in st["summary"]:
                     r = st["summary"][g]["solvers"][s.key]
                     f, o, w, t = f + r["failed"], o + r["own_word"], w + r["said_solved_wrong"], t + r["problems"]
+                    for out, k in ((ri, "ratio_interleaved"), (rb, "ratio_back_to_back")):
+                        if r[k] is not None:
+                            out.append(r[k])
+        cells = [f"{fmt_ratio(float(np.median(ri)) if ri else None)} "
+                 f"({fmt_ratio(float(np.median(rb)) if rb else None)})" for ri, rb in ratios.values()]
         if t:
-            pooled.append(f"| {s.name} | {fmt_count(f, t)} of {t} | {fmt_count(o, t)} | {fmt_count(w, t)} |")
+            pooled.append(f"| {s.name} | {fmt_count(f, t)} of {t} | {fmt_count(o, t)} | {fmt_count(w, t)} | "
+                          f"{cells[0]} | {cells[1]} |")
     return lines + pooled, data
 
 
