@@ -206,6 +206,38 @@ def test_step_record_of_a_resting_cube():
     assert w.last_record.step == 0 and w.steps == 1 and w.time == pytest.approx(H)
 
 
+def test_step_record_holds_exactly_its_fields_with_their_types():
+    """The compiled step's dict becomes the record's __dict__: it must hold
+    every dataclass field and nothing else, each of the declared type."""
+    import dataclasses
+
+    w, _ = resting_cube()
+    records = [w.step()]
+    free = World()
+    free.add_sphere(0.1, position=(0, 0, 10))
+    records.append(free.step())
+    names = [f.name for f in dataclasses.fields(StepRecord)]
+    scalars = {"step": int, "time": float, "dt": float, "contacts": int, "friction_dirs": int, "lcp_size": int,
+               "scale": float, "status": str, "pivots": int, "residual": float, "solver_residual": float,
+               "min_z": float, "min_w": float, "max_complementarity": float, "zeroed": bool}
+    dtypes = {"body_a": np.int64, "body_b": np.int64}
+    for r in records:
+        assert set(vars(r)) == set(names)
+        for name in names:
+            v = getattr(r, name)
+            if name in scalars:
+                assert type(v) is scalars[name], (name, type(v))
+            elif name == "basis":
+                assert v is None or (isinstance(v, np.ndarray) and v.dtype == np.bool_ and v.shape == (r.lcp_size,))
+            else:
+                assert isinstance(v, np.ndarray) and v.dtype == dtypes.get(name, np.float64), name
+                assert v.flags.c_contiguous and v.flags.owndata, name
+        assert repr(r).startswith(f"StepRecord(step={r.step}, ") and dataclasses.asdict(r).keys() == set(names)
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            r.step = 3  # type: ignore[misc]
+    assert records[0].status == "solved" and records[1].status == NO_CONTACT
+
+
 def test_free_fall_has_no_contact():
     w = World()
     ball = w.add_sphere(0.1, position=(0, 0, 10))

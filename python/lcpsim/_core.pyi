@@ -79,6 +79,7 @@ SCENES: dict[str, list[str]]
 MU_COMBINE: list[str]
 
 class StepDict(TypedDict):
+    # Exactly the fields of lcpsim.world.StepRecord (it becomes the record's __dict__).
     step: int
     time: float
     dt: float
@@ -86,8 +87,8 @@ class StepDict(TypedDict):
     friction_dirs: int
     lcp_size: int
     scale: float
-    status: str | None  # None without contacts
-    iterations: int
+    status: str  # "no_contact" without contacts
+    pivots: int
     residual: float  # physical units (unscaled LCP)
     min_z: float
     min_w: float

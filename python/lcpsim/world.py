@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
-from .lcp import METHODS, STATUSES
+from .lcp import METHODS, STATUSES, _new_object, _set_attribute
 
 if TYPE_CHECKING:
     from .corpus import CorpusWriter
@@ -198,38 +198,12 @@ class StepRecord:
 
     @classmethod
     def _from_core(cls, d: Mapping[str, Any]) -> "StepRecord":
-        return cls(
-            step=int(d["step"]),
-            time=float(d["time"]),
-            dt=float(d["dt"]),
-            contacts=int(d["contacts"]),
-            friction_dirs=int(d["friction_dirs"]),
-            lcp_size=int(d["lcp_size"]),
-            scale=float(d["scale"]),
-            status=d["status"] if d["status"] is not None else NO_CONTACT,
-            pivots=int(d["iterations"]),
-            residual=float(d["residual"]),
-            solver_residual=float(d["solver_residual"]),
-            min_z=float(d["min_z"]),
-            min_w=float(d["min_w"]),
-            max_complementarity=float(d["max_complementarity"]),
-            zeroed=bool(d["zeroed"]),
-            fn=d["fn"],
-            fd=d["fd"],
-            lam=d["lam"],
-            z=d["z"],
-            w=d["w"],
-            points=d["points"],
-            normals=d["normals"],
-            tangents=d["tangents"],
-            directions=d["directions"],
-            friction=d["friction"],
-            gaps=d["gaps"],
-            mu=d["mu"],
-            body_a=d["body_a"],
-            body_b=d["body_b"],
-            basis=d["basis"],
-        )
+        # The compiled step's dict holds exactly these fields, with their
+        # types (tested), so it becomes the record's __dict__: a dataclass
+        # __init__ of 30 frozen fields would cost more than the step itself.
+        rec = _new_object(cls)
+        _set_attribute(rec, "__dict__", d)
+        return rec
 
 
 @dataclass(frozen=True)

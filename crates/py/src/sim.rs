@@ -16,6 +16,7 @@ use crate::method::method_from_py;
 use capture::{status_code, CaptureBuffer};
 use convert::{cone_scale, cone_scale_to_py, mat3, mu_combine_name, opt_vec3, quat, real, sim_error, vec3};
 use numpy::{PyArray1, PyArrayMethods};
+use pyo3::intern;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sim::contact::FrictionBasis;
@@ -104,39 +105,64 @@ fn shaped<'py, const D: usize>(py: Python<'py>, v: Vec<f64>, shape: [usize; D]) 
     Ok(PyArray1::from_vec(py, v).reshape(shape.to_vec())?.into_any())
 }
 
-/// One step record as a dict (see `lcpsim.world.StepRecord`).
+/// A few numbers copied into a numpy-owned array of shape `shape`: for the
+/// small arrays of a step record this is one Python object, where `shaped`
+/// makes two (the array owning the `Vec`, then its reshaped view).
+fn copied<'py, T: numpy::Element + Copy>(py: Python<'py>, v: &[T], shape: &[usize]) -> Bound<'py, PyAny> {
+    // SAFETY: the array is new, C-contiguous and seen by nobody else until
+    // every element is written.
+    unsafe {
+        let a = numpy::PyArray::<T, numpy::IxDyn>::new(py, shape, false);
+        a.as_slice_mut().expect("a new array is contiguous").copy_from_slice(v);
+        a.into_any()
+    }
+}
+
+/// Status of a step without contacts (`lcpsim.world.NO_CONTACT`).
+const NO_CONTACT: &str = "no_contact";
+
+/// One step record as a dict whose keys are exactly the fields of
+/// `lcpsim.world.StepRecord`, which takes it as its `__dict__` (a step from
+/// Python costs microseconds, so the keys are interned and each array is one
+/// object).
 fn record_to_dict<'py>(py: Python<'py>, r: &StepRecord) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     let nc = r.nc();
     let k = r.friction_dirs;
-    d.set_item("step", r.step)?;
-    d.set_item("time", r.time)?;
-    d.set_item("dt", r.dt)?;
-    d.set_item("contacts", nc)?;
-    d.set_item("friction_dirs", k)?;
-    d.set_item("lcp_size", r.lcp_size)?;
-    d.set_item("scale", r.scale)?;
-    d.set_item("status", r.status.map(|s| s.as_str()))?;
-    d.set_item("iterations", r.iterations)?;
-    d.set_item("residual", r.residuals.natural)?;
-    d.set_item("min_z", r.residuals.min_z)?;
-    d.set_item("min_w", r.residuals.min_w)?;
-    d.set_item("max_complementarity", r.residuals.max_complementarity)?;
-    d.set_item("solver_residual", r.solver_residuals.natural)?;
-    d.set_item("zeroed", r.zeroed)?;
-    let has_z = r.z.len() == nc * (k + 2);
-    let z = if has_z { r.z.clone() } else { vec![0.0; nc * (k + 2)] };
-    d.set_item("fn", PyArray1::from_vec(py, z[..nc].to_vec()))?;
-    d.set_item("fd", shaped(py, z[nc..nc * (k + 1)].to_vec(), [nc, k])?)?;
-    d.set_item("lam", PyArray1::from_vec(py, z[nc * (k + 1)..].to_vec()))?;
-    d.set_item("z", PyArray1::from_vec(py, z))?;
-    d.set_item("w", PyArray1::from_vec(py, r.w.clone()))?;
+    d.set_item(intern!(py, "step"), r.step)?;
+    d.set_item(intern!(py, "time"), r.time)?;
+    d.set_item(intern!(py, "dt"), r.dt)?;
+    d.set_item(intern!(py, "contacts"), nc)?;
+    d.set_item(intern!(py, "friction_dirs"), k)?;
+    d.set_item(intern!(py, "lcp_size"), r.lcp_size)?;
+    d.set_item(intern!(py, "scale"), r.scale)?;
+    d.set_item(intern!(py, "status"), r.status.map_or(NO_CONTACT, |s| s.as_str()))?;
+    d.set_item(intern!(py, "pivots"), r.iterations)?;
+    d.set_item(intern!(py, "residual"), r.residuals.natural)?;
+    d.set_item(intern!(py, "min_z"), r.residuals.min_z)?;
+    d.set_item(intern!(py, "min_w"), r.residuals.min_w)?;
+    d.set_item(intern!(py, "max_complementarity"), r.residuals.max_complementarity)?;
+    d.set_item(intern!(py, "solver_residual"), r.solver_residuals.natural)?;
+    d.set_item(intern!(py, "zeroed"), r.zeroed)?;
+    let zeros;
+    let z: &[f64] = if r.z.len() == nc * (k + 2) {
+        &r.z
+    } else {
+        zeros = vec![0.0; nc * (k + 2)];
+        &zeros
+    };
+    d.set_item(intern!(py, "fn"), copied(py, &z[..nc], &[nc]))?;
+    d.set_item(intern!(py, "fd"), copied(py, &z[nc..nc * (k + 1)], &[nc, k]))?;
+    d.set_item(intern!(py, "lam"), copied(py, &z[nc * (k + 1)..], &[nc]))?;
+    d.set_item(intern!(py, "z"), copied(py, z, &[z.len()]))?;
+    d.set_item(intern!(py, "w"), copied(py, &r.w, &[r.w.len()]))?;
     let mut points = Vec::with_capacity(3 * nc);
     let mut normals = Vec::with_capacity(3 * nc);
     let mut tangents = Vec::with_capacity(3 * nc);
     let mut friction = Vec::with_capacity(3 * nc);
     let mut directions = Vec::with_capacity(3 * nc * k);
     let basis = FrictionBasis::new(k.max(2));
+    let has_z = r.z.len() == nc * (k + 2);
     for (i, c) in r.contacts.iter().enumerate() {
         points.extend_from_slice(&c.point.to_array());
         normals.extend_from_slice(&c.normal.to_array());
@@ -146,18 +172,20 @@ fn record_to_dict<'py>(py: Python<'py>, r: &StepRecord) -> PyResult<Bound<'py, P
             directions.extend_from_slice(&basis.direction(c.normal, c.tangent, j).to_array());
         }
     }
-    d.set_item("points", shaped(py, points, [nc, 3])?)?;
-    d.set_item("normals", shaped(py, normals, [nc, 3])?)?;
-    d.set_item("tangents", shaped(py, tangents, [nc, 3])?)?;
-    d.set_item("friction", shaped(py, friction, [nc, 3])?)?;
-    d.set_item("directions", shaped(py, directions, [nc, k, 3])?)?;
-    d.set_item("gaps", PyArray1::from_vec(py, r.contacts.iter().map(|c| c.gap).collect::<Vec<_>>()))?;
-    d.set_item("mu", PyArray1::from_vec(py, r.contacts.iter().map(|c| c.mu).collect::<Vec<_>>()))?;
-    d.set_item("body_a", PyArray1::from_vec(py, r.contacts.iter().map(|c| c.body_a as i64).collect::<Vec<_>>()))?;
-    d.set_item("body_b", PyArray1::from_vec(py, r.contacts.iter().map(|c| c.body_b as i64).collect::<Vec<_>>()))?;
+    d.set_item(intern!(py, "points"), copied(py, &points, &[nc, 3]))?;
+    d.set_item(intern!(py, "normals"), copied(py, &normals, &[nc, 3]))?;
+    d.set_item(intern!(py, "tangents"), copied(py, &tangents, &[nc, 3]))?;
+    d.set_item(intern!(py, "friction"), copied(py, &friction, &[nc, 3]))?;
+    d.set_item(intern!(py, "directions"), copied(py, &directions, &[nc, k, 3]))?;
+    let per_contact = |f: fn(&sim::Contact) -> f64| r.contacts.iter().map(f).collect::<Vec<_>>();
+    d.set_item(intern!(py, "gaps"), copied(py, &per_contact(|c| c.gap), &[nc]))?;
+    d.set_item(intern!(py, "mu"), copied(py, &per_contact(|c| c.mu), &[nc]))?;
+    let body = |f: fn(&sim::Contact) -> usize| r.contacts.iter().map(|c| f(c) as i64).collect::<Vec<_>>();
+    d.set_item(intern!(py, "body_a"), copied(py, &body(|c| c.body_a), &[nc]))?;
+    d.set_item(intern!(py, "body_b"), copied(py, &body(|c| c.body_b), &[nc]))?;
     match &r.basis {
-        Some(b) => d.set_item("basis", PyArray1::from_vec(py, b.clone()))?,
-        None => d.set_item("basis", py.None())?,
+        Some(b) => d.set_item(intern!(py, "basis"), copied(py, b, &[b.len()]))?,
+        None => d.set_item(intern!(py, "basis"), py.None())?,
     }
     Ok(d)
 }
