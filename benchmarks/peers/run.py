@@ -664,7 +664,6 @@ def headline(results: dict[str, Any], solvers: list[Solver], tol: float) -> tupl
             data[f"{prefix}{g}:{peer}"] = {"goal": goal, "ratios_interleaved": ri, "ratios_back_to_back": rb,
                                            "ratios_interleaved_peer_right": rr,
                                            "robust_failures": fails, "problems": total, "met": met == "yes"}
-    # Pooled failure rates over every contact scale, sizes 20 and 40.
     # Pooled failure rates over every contact scale, sizes 20 and 40, with each
     # solver's time ratio to lcpsim robust (median over the scales, as above).
     pooled = ["", "Failures pooled over all contact-LCP scales (n = 20 and 40; failed = own word or physical "
