@@ -144,8 +144,10 @@ fn record_to_dict<'py>(py: Python<'py>, r: &StepRecord) -> PyResult<Bound<'py, P
     d.set_item(intern!(py, "max_complementarity"), r.residuals.max_complementarity)?;
     d.set_item(intern!(py, "solver_residual"), r.solver_residuals.natural)?;
     d.set_item(intern!(py, "zeroed"), r.zeroed)?;
+    // The solver's z, or zeros where it was unusable (then also no friction).
+    let has_z = r.z.len() == nc * (k + 2);
     let zeros;
-    let z: &[f64] = if r.z.len() == nc * (k + 2) {
+    let z: &[f64] = if has_z {
         &r.z
     } else {
         zeros = vec![0.0; nc * (k + 2)];
@@ -162,7 +164,6 @@ fn record_to_dict<'py>(py: Python<'py>, r: &StepRecord) -> PyResult<Bound<'py, P
     let mut friction = Vec::with_capacity(3 * nc);
     let mut directions = Vec::with_capacity(3 * nc * k);
     let basis = FrictionBasis::new(k.max(2));
-    let has_z = r.z.len() == nc * (k + 2);
     for (i, c) in r.contacts.iter().enumerate() {
         points.extend_from_slice(&c.point.to_array());
         normals.extend_from_slice(&c.normal.to_array());
