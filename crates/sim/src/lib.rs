@@ -26,11 +26,14 @@
 //! basis, assembly, formulation parameters), [`pipeline`] (the step),
 //! [`scenes`] (the analytic test scenes of DESIGN §3).
 
+pub mod broad_phase;
 pub mod contact;
 pub mod dynamics;
 pub mod error;
 pub mod geometry;
+pub mod islands;
 pub mod math;
+pub mod parallel;
 pub mod params;
 pub mod pipeline;
 pub mod scenes;
@@ -41,7 +44,7 @@ pub use dynamics::{Body, BodyDesc, BodyId};
 pub use error::SimError;
 pub use geometry::{Contact, Downhill, Plane, Shape};
 pub use params::WorldParams;
-pub use pipeline::{CapturedLcp, LcpBuffer, LcpSink, OwnedLcp, StepRecord, Trajectory};
+pub use pipeline::{CapturedLcp, IslandRecord, LcpBuffer, LcpSink, OwnedLcp, StepRecord, Trajectory};
 pub use world::World;
 
 /// The LCP core this crate builds on (re-exported for `Method`, `Status`, …).

@@ -33,6 +33,11 @@ pub struct WorldParams {
     pub mu_override: Option<f64>,
     /// LCP solver and its options. Default `Method::default()` (robust Lemke).
     pub method: Method,
+    /// Threads for the contact islands' assembly and solves: 1 = this thread
+    /// only, 0 = one per core, t = up to t. Results do not depend on it (each
+    /// island is solved on its own, bit for bit the same on any thread); steps
+    /// with little work stay on this thread anyway. Default 1.
+    pub threads: usize,
 }
 
 impl Default for WorldParams {
@@ -49,6 +54,7 @@ impl Default for WorldParams {
             mu_combine: MuCombine::Min,
             mu_override: None,
             method: Method::default(),
+            threads: 1,
         }
     }
 }

@@ -365,11 +365,12 @@ pub fn box_pile() -> Result<Scene, SimError> {
     BoxPile::default().build(WorldParams::default())
 }
 
-/// SplitMix64: a tiny seeded generator, enough for scene jitter.
-struct SplitMix64(u64);
+/// SplitMix64: a tiny seeded generator, enough for scene jitter (and random test scenes).
+#[derive(Clone, Debug)]
+pub struct SplitMix64(pub u64);
 
 impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
+    pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -378,7 +379,22 @@ impl SplitMix64 {
     }
 
     /// Uniform in [0, 1).
-    fn next_f64(&mut self) -> f64 {
+    pub fn next_f64(&mut self) -> f64 {
         (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+impl SplitMix64 {
+    /// Uniform in [lo, hi).
+    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next_f64()
+    }
+
+    /// A uniformly random rotation (Shoemake's method).
+    pub fn rotation(&mut self) -> Quat {
+        let (u1, u2, u3) = (self.next_f64(), self.next_f64(), self.next_f64());
+        let (a, b) = ((1.0 - u1).sqrt(), u1.sqrt());
+        let tau = 2.0 * std::f64::consts::PI;
+        Quat::new(b * (tau * u3).cos(), a * (tau * u2).sin(), a * (tau * u2).cos(), b * (tau * u3).sin())
     }
 }

@@ -4,12 +4,16 @@
 //! `add_body` with a [`BodyDesc`]), apply forces, then `step()` or `run(n)`.
 //! The stages of a step live in `pipeline`.
 
+use crate::broad_phase::BroadPhase;
 use crate::contact::ContactLcp;
 use crate::dynamics::{AppliedForce, AppliedTorque, Body, BodyDesc, BodyId};
 use crate::error::{finite_vec, non_negative, SimError};
 use crate::geometry::{Contact, GeomContact, Plane, Shape};
+use crate::islands::Islands;
 use crate::math::{Mat3, Quat, Vec3};
 use crate::params::WorldParams;
+use crate::pipeline::island_lcp::IslandLcp;
+use crate::pipeline::warm::WarmStarts;
 use crate::pipeline::{LcpSink, StepRecord};
 
 /// A rigid-body world stepped with the Stewart–Trinkle contact LCP.
@@ -39,7 +43,8 @@ impl Clone for World {
             time: self.time,
             steps: self.steps,
             sink: None,
-            ws: Workspace::default(),
+            // The warm starts go along: the copy steps as the original would.
+            ws: Workspace { warm: self.ws.warm.clone(), ..Workspace::default() },
             record: self.record.clone(),
         }
     }
@@ -57,16 +62,23 @@ pub(crate) struct Workspace {
     pub torque: Vec<Vec3>,
     /// World-frame inverse inertia per body.
     pub inv_inertia: Vec<Mat3>,
+    /// Sweep and prune, and how far each body can move this step (m/s).
+    pub broad: BroadPhase,
+    pub reach: Vec<f64>,
     /// Narrow-phase output for one pair.
     pub geom: Vec<GeomContact>,
     /// Contacts of this step.
     pub contacts: Vec<Contact>,
-    pub lcp: ContactLcp,
+    /// Contact islands, and one LCP slot per island (slots are kept, never shrunk).
+    pub islands: Islands,
+    pub pool: Vec<IslandLcp>,
+    /// Bases of the previous step's islands.
+    pub warm: WarmStarts,
+    /// What `contact_lcp` shows without contacts.
+    pub no_lcp: ContactLcp,
     /// Velocity changes from the contact impulses.
     pub dv: Vec<Vec3>,
     pub dw: Vec<Vec3>,
-    /// Impulses actually applied (physical `z`, clamped at 0).
-    pub z_apply: Vec<f64>,
 }
 
 impl std::fmt::Debug for World {

@@ -13,6 +13,8 @@ pub struct CapturedLcp<'a> {
     /// Step index and time at its start (s).
     pub step: u64,
     pub time: f64,
+    /// Island of the step this LCP belongs to (0 for the first; see `StepRecord::islands`).
+    pub island: usize,
     /// Contacts and friction directions: `n = contacts·(friction_dirs + 2)`.
     pub contacts: usize,
     pub friction_dirs: usize,
@@ -41,6 +43,7 @@ impl CapturedLcp<'_> {
         OwnedLcp {
             step: self.step,
             time: self.time,
+            island: self.island,
             contacts: self.contacts,
             friction_dirs: self.friction_dirs,
             scale: self.scale,
@@ -60,6 +63,7 @@ impl CapturedLcp<'_> {
 pub struct OwnedLcp {
     pub step: u64,
     pub time: f64,
+    pub island: usize,
     pub contacts: usize,
     pub friction_dirs: usize,
     pub scale: f64,

@@ -1,5 +1,6 @@
-//! Stage `detect`: all-pairs broad phase with bounding spheres, then the
-//! narrow-phase file of the shape pair.
+//! Stage `detect`: the broad phase (`broad_phase`: sweep and prune on
+//! bounding spheres) gives the pairs, then the narrow-phase file of each
+//! pair's shapes gives its contacts.
 //!
 //! Each contact gets its bodies in the order of the pair function (A = the
 //! first shape of its name; for two shapes of one kind, the lower index), the
@@ -7,92 +8,98 @@
 //! a slope) when B is a plane, otherwise the world x axis projected into the
 //! tangent plane (y when the normal is close to x).
 
+use crate::broad_phase::{reach, PairMargin};
 use crate::geometry::{box_box, box_plane, fixed_tangent, sphere_box, sphere_plane, sphere_sphere, Contact, Shape};
 use crate::world::World;
 
 impl World {
-    /// Stage `detect`: fills the contact list for this step.
+    /// Stage `detect`: fills the contact list for this step (broad phase,
+    /// then the narrow phase of each pair, in pair order).
     pub fn detect(&mut self) {
         // Called on its own, before this step's `forces_stage`: run it first.
         if !self.free_velocities_ready() {
             self.ws.contacts.clear();
             return;
         }
-        let h = self.params.dt;
         let ws = &mut self.ws;
         ws.contacts.clear();
-        let nb = self.bodies.len();
-        for i in 0..nb {
-            for j in (i + 1)..nb {
-                let (bi, bj) = (&self.bodies[i], &self.bodies[j]);
-                if bi.is_static && bj.is_static {
-                    continue;
+        // How far each body can move within the step (for the velocity margins).
+        ws.reach.clear();
+        ws.reach.extend(self.bodies.iter().enumerate().map(|(k, b)| reach(b, ws.v_free[k], ws.w_free[k])));
+        let margin = PairMargin {
+            base: self.params.margin,
+            h: self.params.dt,
+            reach: self.params.velocity_margin.then_some(&ws.reach[..]),
+        };
+        ws.broad.find(&self.bodies, &margin);
+        for &(i, j) in ws.broad.pairs() {
+            let (bi, bj) = (&self.bodies[i], &self.bodies[j]);
+            let margin = margin.of(i, j);
+            // Narrow phase, with A/B in the order of the pair function.
+            ws.geom.clear();
+            let (a, b) = match (&bi.shape, &bj.shape) {
+                (Shape::Box(x), Shape::Plane(p)) => {
+                    box_plane(x, &bi.placement(), p, margin, &mut ws.geom);
+                    (i, j)
                 }
-                // How far the pair can close within the step (a conservative bound).
-                let mut margin = self.params.margin;
-                if self.params.velocity_margin {
-                    let reach = |k: usize| {
-                        let r = self.bodies[k].shape.bounding_radius();
-                        let w = ws.w_free[k].norm();
-                        ws.v_free[k].norm() + if w > 0.0 { w * r } else { 0.0 }
-                    };
-                    margin += h * (reach(i) + reach(j));
+                (Shape::Plane(p), Shape::Box(x)) => {
+                    box_plane(x, &bj.placement(), p, margin, &mut ws.geom);
+                    (j, i)
                 }
-                // Broad phase: bounding spheres (planes are unbounded).
-                let (ri, rj) = (bi.shape.bounding_radius(), bj.shape.bounding_radius());
-                if ri.is_finite() && rj.is_finite() && (bi.position - bj.position).norm() > ri + rj + margin {
-                    continue;
+                (Shape::Sphere { radius }, Shape::Plane(p)) => {
+                    sphere_plane(bi.position, *radius, p, margin, &mut ws.geom);
+                    (i, j)
                 }
-                // Narrow phase, with A/B in the order of the pair function.
-                ws.geom.clear();
-                let (a, b) = match (&bi.shape, &bj.shape) {
-                    (Shape::Box(x), Shape::Plane(p)) => {
-                        box_plane(x, &bi.placement(), p, margin, &mut ws.geom);
-                        (i, j)
-                    }
-                    (Shape::Plane(p), Shape::Box(x)) => {
-                        box_plane(x, &bj.placement(), p, margin, &mut ws.geom);
-                        (j, i)
-                    }
-                    (Shape::Sphere { radius }, Shape::Plane(p)) => {
-                        sphere_plane(bi.position, *radius, p, margin, &mut ws.geom);
-                        (i, j)
-                    }
-                    (Shape::Plane(p), Shape::Sphere { radius }) => {
-                        sphere_plane(bj.position, *radius, p, margin, &mut ws.geom);
-                        (j, i)
-                    }
-                    (Shape::Sphere { radius: ra }, Shape::Sphere { radius: rb }) => {
-                        sphere_sphere(bi.position, *ra, bj.position, *rb, margin, &mut ws.geom);
-                        (i, j)
-                    }
-                    (Shape::Sphere { radius }, Shape::Box(x)) => {
-                        sphere_box(bi.position, *radius, x, &bj.placement(), margin, &mut ws.geom);
-                        (i, j)
-                    }
-                    (Shape::Box(x), Shape::Sphere { radius }) => {
-                        sphere_box(bj.position, *radius, x, &bi.placement(), margin, &mut ws.geom);
-                        (j, i)
-                    }
-                    (Shape::Box(x), Shape::Box(y)) => {
-                        box_box(x, &bi.placement(), y, &bj.placement(), margin, &mut ws.geom);
-                        (i, j)
-                    }
-                    (Shape::Plane(_), Shape::Plane(_)) => continue,
-                };
-                if ws.geom.is_empty() {
-                    continue;
+                (Shape::Plane(p), Shape::Sphere { radius }) => {
+                    sphere_plane(bj.position, *radius, p, margin, &mut ws.geom);
+                    (j, i)
                 }
-                let mu = self.params.mu_override.unwrap_or_else(|| self.params.mu_combine.combine(self.bodies[a].mu, self.bodies[b].mu));
-                let plane_tangent = match &self.bodies[b].shape {
-                    Shape::Plane(p) => Some(p.friction_tangent()),
-                    _ => None,
-                };
-                for g in &ws.geom {
-                    let tangent = plane_tangent.unwrap_or_else(|| fixed_tangent(g.normal));
-                    ws.contacts.push(Contact { body_a: a, body_b: b, point: g.point, normal: g.normal, gap: g.gap, mu, tangent });
+                (Shape::Sphere { radius: ra }, Shape::Sphere { radius: rb }) => {
+                    sphere_sphere(bi.position, *ra, bj.position, *rb, margin, &mut ws.geom);
+                    (i, j)
                 }
+                (Shape::Sphere { radius }, Shape::Box(x)) => {
+                    sphere_box(bi.position, *radius, x, &bj.placement(), margin, &mut ws.geom);
+                    (i, j)
+                }
+                (Shape::Box(x), Shape::Sphere { radius }) => {
+                    sphere_box(bj.position, *radius, x, &bi.placement(), margin, &mut ws.geom);
+                    (j, i)
+                }
+                (Shape::Box(x), Shape::Box(y)) => {
+                    box_box(x, &bi.placement(), y, &bj.placement(), margin, &mut ws.geom);
+                    (i, j)
+                }
+                (Shape::Plane(_), Shape::Plane(_)) => continue,
+            };
+            if ws.geom.is_empty() {
+                continue;
+            }
+            let mu = self
+                .params
+                .mu_override
+                .unwrap_or_else(|| self.params.mu_combine.combine(self.bodies[a].mu, self.bodies[b].mu));
+            let plane_tangent = match &self.bodies[b].shape {
+                Shape::Plane(p) => Some(p.friction_tangent()),
+                _ => None,
+            };
+            for g in &ws.geom {
+                let tangent = plane_tangent.unwrap_or_else(|| fixed_tangent(g.normal));
+                ws.contacts.push(Contact {
+                    body_a: a,
+                    body_b: b,
+                    point: g.point,
+                    normal: g.normal,
+                    gap: g.gap,
+                    mu,
+                    tangent,
+                });
             }
         }
+    }
+
+    /// The pairs the last `detect` handed to the narrow phase, sorted by `(i, j)`.
+    pub fn broad_pairs(&self) -> &[(usize, usize)] {
+        self.ws.broad.pairs()
     }
 }

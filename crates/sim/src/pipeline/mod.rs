@@ -2,9 +2,10 @@
 //!
 //! ```text
 //! forces     v* = v + h M⁻¹ f_ext                      (gravity, applied forces, torques)
-//! detect     contacts with gap φ ≤ margin              (one narrow-phase file per shape pair)
-//! assemble   Stewart–Trinkle LCP (M, q), z = [fn; fd; λ]
-//! solve      any lcp::Method (or a caller's solver), map z back to physical units, record
+//! detect     contacts with gap φ ≤ margin              (sweep and prune, then one narrow-phase file per shape pair)
+//! islands    dynamic bodies linked by contacts          (union-find; static bodies link nothing)
+//! assemble   one Stewart–Trinkle LCP (M, q) per island, z = [fn; fd; λ]
+//! solve      each island with any lcp::Method (or a caller's solver), map z back, record
 //! integrate  v⁺ = v* + M⁻¹(J_nᵀ fn + J_dᵀ fd), then positions from v⁺
 //! ```
 //!
@@ -13,18 +14,21 @@
 
 mod capture;
 mod detect;
+pub(crate) mod island_lcp;
 mod record;
 mod solve;
 mod trajectory;
+pub(crate) mod warm;
 
 pub use capture::{CapturedLcp, LcpBuffer, LcpSink, OwnedLcp};
-pub use record::StepRecord;
+pub use record::{IslandRecord, StepRecord};
 pub use trajectory::Trajectory;
 
 use crate::contact::assembly::{AssemblyParams, BodyDynamics};
 use crate::dynamics::{free_velocity, integrate_positions};
 use crate::error::SimError;
 use crate::math::{Mat3, Vec3};
+use crate::parallel;
 use crate::world::World;
 use lcp::{Lcp, Solution};
 
@@ -47,9 +51,11 @@ impl World {
         self.forces_stage()?;
         // contacts with φ ≤ margin
         self.detect();
-        // the Stewart–Trinkle LCP of DESIGN §1
+        // bodies linked through contacts, one LCP each
+        self.islands();
+        // the Stewart–Trinkle LCP of DESIGN §1, per island
         self.assemble();
-        // solve, map to physical units, fill the step record, capture
+        // solve the islands, map to physical units, fill the step record, capture
         self.solve(solver)?;
         // contact impulses → v⁺, then positions
         self.integrate();
@@ -63,7 +69,11 @@ impl World {
     }
 
     /// Like [`World::run`], calling `observe(world, record)` after every step.
-    pub fn run_with(&mut self, steps: usize, mut observe: impl FnMut(&World, &StepRecord)) -> Result<Trajectory, SimError> {
+    pub fn run_with(
+        &mut self,
+        steps: usize,
+        mut observe: impl FnMut(&World, &StepRecord),
+    ) -> Result<Trajectory, SimError> {
         let mut traj = Trajectory::with_capacity(steps, self.bodies.len());
         for _ in 0..steps {
             self.step()?;
@@ -81,7 +91,8 @@ impl World {
         let ws = &mut self.ws;
         // gravity on every dynamic body
         ws.force.clear();
-        ws.force.extend(self.bodies.iter().map(|b| if b.is_static { Vec3::ZERO } else { self.params.gravity * b.mass }));
+        ws.force
+            .extend(self.bodies.iter().map(|b| if b.is_static { Vec3::ZERO } else { self.params.gravity * b.mass }));
         ws.torque.clear();
         ws.torque.resize(nb, Vec3::ZERO);
         // constant forces, with the torque of those applied off the centre of mass
@@ -122,10 +133,29 @@ impl World {
         self.ws.v_free.len() == self.bodies.len() || self.forces_stage().is_ok()
     }
 
-    /// Stage `assemble`: the contact LCP from this step's contacts and free velocities.
+    /// Stage `islands`: groups this step's contacts by island (see `islands`)
+    /// and hands each island its contacts.
+    pub fn islands(&mut self) {
+        let ws = &mut self.ws;
+        ws.islands.build(&ws.contacts, &self.bodies);
+        let count = ws.islands.len();
+        if ws.pool.len() < count {
+            ws.pool.resize_with(count, Default::default);
+        }
+        for (i, isl) in ws.pool[..count].iter_mut().enumerate() {
+            isl.contacts.clear();
+            isl.contacts.extend(ws.islands.contacts_of(i).iter().map(|&c| ws.contacts[c]));
+        }
+    }
+
+    /// Stage `assemble`: each island's LCP from its contacts and the free velocities.
     pub fn assemble(&mut self) {
         if !self.free_velocities_ready() {
             self.ws.contacts.clear();
+            self.ws.islands.invalidate();
+        }
+        if !self.ws.islands.is_ready() {
+            self.islands();
         }
         let p = AssemblyParams {
             h: self.params.dt,
@@ -134,6 +164,10 @@ impl World {
             stabilization: self.params.stabilization,
             restitution: self.params.restitution,
         };
+        let count = self.ws.islands.len();
+        let k2 = self.params.friction_dirs + 2;
+        let work = self.ws.pool[..count].iter().map(|isl| (isl.contacts.len() * k2).pow(2)).sum();
+        let threads = self.threads_for(count, work);
         let ws = &mut self.ws;
         let dynamics = BodyDynamics {
             bodies: &self.bodies,
@@ -141,7 +175,8 @@ impl World {
             v_free: &ws.v_free,
             w_free: &ws.w_free,
         };
-        ws.lcp.assemble(&ws.contacts, &dynamics, &p);
+        let mut states = vec![(); threads];
+        parallel::for_each(&mut ws.pool[..count], &mut states, |_, isl| isl.assemble(&dynamics, &p));
     }
 
     /// Stage `integrate`: `v⁺ = v* + M⁻¹ Jᵀ z` with the impulses chosen by
@@ -154,8 +189,10 @@ impl World {
         ws.dv.resize(nb, Vec3::ZERO);
         ws.dw.clear();
         ws.dw.resize(nb, Vec3::ZERO);
-        if !ws.contacts.is_empty() {
-            ws.lcp.apply_impulses(&ws.z_apply, &mut ws.dv, &mut ws.dw);
+        for isl in &ws.pool[..ws.islands.len()] {
+            if isl.z_apply.len() == isl.lcp.n() {
+                isl.lcp.apply_impulses(&isl.z_apply, &mut ws.dv, &mut ws.dw);
+            }
         }
         for (i, b) in self.bodies.iter_mut().enumerate() {
             if b.is_static {
@@ -174,9 +211,21 @@ impl World {
         &self.ws.contacts
     }
 
-    /// The LCP built by the last `assemble` stage (with its Jacobian rows).
+    /// The LCP of the first island built by the last `assemble` stage (with
+    /// its Jacobian rows): the whole step's LCP when the contacts form one
+    /// island; an empty one without contacts.
     pub fn contact_lcp(&self) -> &crate::contact::ContactLcp {
-        &self.ws.lcp
+        self.island_lcp(0).unwrap_or(&self.ws.no_lcp)
+    }
+
+    /// The LCP of island `i` built by the last `assemble` stage.
+    pub fn island_lcp(&self, i: usize) -> Option<&crate::contact::ContactLcp> {
+        (i < self.ws.islands.len()).then(|| &self.ws.pool[i].lcp)
+    }
+
+    /// The islands of the last `islands` stage.
+    pub fn contact_islands(&self) -> &crate::islands::Islands {
+        &self.ws.islands
     }
 
     /// Free velocities `(v*, ω*)` of the last `forces` stage.

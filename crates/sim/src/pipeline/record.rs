@@ -39,12 +39,53 @@ pub struct StepRecord {
     pub z: Vec<f64>,
     /// `w = M₁ z + q` of the unscaled LCP: normal velocities, tangential velocities + λ, cone slacks.
     pub w: Vec<f64>,
-    /// Lemke's final complementary basis (which `z_j` were basic), when the
-    /// solver reports one: a warm start for the next, similar LCP.
+    /// Lemke's final complementary basis (which `z_j` were basic, global
+    /// layout), when the solver reported one for every island.
     pub basis: Option<Vec<bool>>,
+    /// The contact islands, each solved as its own LCP, in the order of their
+    /// first contact (how `status`, `iterations` and the residuals summarise
+    /// them: `pipeline::solve`).
+    pub islands: Vec<IslandRecord>,
+    /// Dynamic bodies of every island, island after island (see [`IslandRecord::bodies`]).
+    pub island_bodies: Vec<usize>,
+    /// Contact indices of every island, island after island (see [`IslandRecord::contacts`]).
+    pub island_contacts: Vec<usize>,
+}
+
+/// One island of a step: which bodies and contacts, and how its LCP went.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IslandRecord {
+    /// Range of [`StepRecord::island_bodies`] holding its dynamic bodies (ascending).
+    pub bodies: std::ops::Range<usize>,
+    /// Range of [`StepRecord::island_contacts`] holding its contacts (indices into
+    /// `StepRecord::contacts`, ascending; they are its LCP's contacts in order).
+    pub contacts: std::ops::Range<usize>,
+    /// Its LCP's size, `contacts·(k + 2)`.
+    pub lcp_size: usize,
+    pub status: Status,
+    /// Pivots (Lemke) or iterations.
+    pub iterations: usize,
+    /// Natural residual of its physical `z` on its unscaled LCP.
+    pub residual: f64,
+    /// Natural residual as the solver reported it (scaled LCP).
+    pub solver_residual: f64,
+    /// No impulse applied (failed solve or unusable `z`).
+    pub zeroed: bool,
+    /// The solve started from the previous step's basis of the same island.
+    pub warm: bool,
 }
 
 impl StepRecord {
+    /// Dynamic bodies of island `i`.
+    pub fn island_bodies_of(&self, i: usize) -> &[usize] {
+        &self.island_bodies[self.islands[i].bodies.clone()]
+    }
+
+    /// Contacts (indices into `contacts`) of island `i`.
+    pub fn island_contacts_of(&self, i: usize) -> &[usize] {
+        &self.island_contacts[self.islands[i].contacts.clone()]
+    }
+
     /// Number of contacts.
     pub fn nc(&self) -> usize {
         self.contacts.len()

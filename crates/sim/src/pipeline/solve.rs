@@ -1,61 +1,122 @@
-//! Stage `solve`: hand the LCP to the solver, capture it, map the answer back
-//! to physical units and fill the step record. A failed solve never aborts
-//! the step: its status and answer are recorded, and no impulse is applied.
+//! Stage `solve`: every island's LCP goes to the solver (on several threads
+//! when it pays, `WorldParams::threads`), is captured, mapped back to
+//! physical units and written into the step record in the global contact
+//! order. A failed solve never aborts the step: the island's status and
+//! answer are recorded, it applies no impulse, and the other islands go on.
+//!
+//! The step's summary of its islands: `status` is `Solved` iff every island
+//! was solved, else the status of the first island (in island order) that
+//! was not; `iterations` is the total over the islands; `residuals` are those
+//! of the whole physical `z` (so the largest natural residual of any island);
+//! `solver_residuals` the worst of each measure over the islands; `zeroed` is
+//! set when any island applied no impulse; `basis` is the islands' bases in
+//! the global layout when every island reported one.
 
 use super::capture::CapturedLcp;
+use super::island_lcp::scatter;
+use super::record::IslandRecord;
 use crate::error::SimError;
+use crate::parallel;
 use crate::world::World;
-use lcp::{Lcp, Residuals, Solution};
+use lcp::{Lcp, Residuals, Solution, Status};
 
 impl World {
-    /// Stage `solve`. `solver = None` uses the world's `method`.
+    /// Stage `solve`. `solver = None` uses the world's `method` (warm-started
+    /// per island); a caller's solver gets every island's LCP in island order.
     pub fn solve(&mut self, solver: Option<&mut dyn FnMut(&Lcp) -> Solution>) -> Result<(), SimError> {
+        if !self.ws.islands.is_ready() {
+            self.islands();
+        }
+        self.record_header();
+        let count = self.ws.islands.len();
+        if count == 0 {
+            // Nothing to solve.
+            self.ws.warm.clear();
+            return Ok(());
+        }
+        // Each island starts from the previous step's basis of the same island, if any.
         let ws = &mut self.ws;
+        for i in 0..count {
+            let nc = ws.islands.contacts_of(i).len();
+            ws.pool[i].warm = ws.warm.take(ws.islands.bodies_of(i), nc);
+        }
+        let method = self.params.method.clone();
+        let name = match solver {
+            Some(f) => {
+                for isl in &mut ws.pool[..count] {
+                    isl.warm = None;
+                    isl.solve(&mut |lcp, _warm| f(lcp));
+                }
+                "custom"
+            }
+            None => {
+                let work = ws.pool[..count].iter().map(|isl| isl.lcp.n().pow(2)).sum();
+                let threads = self.threads_for(count, work);
+                let mut states = vec![(); threads];
+                parallel::for_each(&mut self.ws.pool[..count], &mut states, |_, isl| {
+                    isl.solve(&mut |lcp, warm| lcp::solve_warm(lcp, &method, warm))
+                });
+                method.name()
+            }
+        };
+        if let Some(e) = self.ws.pool[..count].iter_mut().find_map(|isl| isl.error.take()) {
+            return Err(SimError::Lcp(e));
+        }
+        self.capture(name);
+        self.record_islands();
+        let nb = self.bodies.len();
+        self.ws.warm.store(&self.ws.islands, &mut self.ws.pool[..count], nb);
+        Ok(())
+    }
+
+    /// Threads for `jobs` islands of total work `work` (Σ n²).
+    pub(crate) fn threads_for(&self, jobs: usize, work: usize) -> usize {
+        if parallel::worth_threads(jobs, work) {
+            parallel::resolve_threads(self.params.threads).min(jobs)
+        } else {
+            1
+        }
+    }
+
+    /// The record's header and contacts, and an empty answer.
+    fn record_header(&mut self) {
         let rec = &mut self.record;
-        let nc = ws.contacts.len();
-        let k = self.params.friction_dirs;
-        // The step's header, whatever happens next.
+        let nc = self.ws.contacts.len();
         rec.step = self.steps;
         rec.time = self.time;
         rec.dt = self.params.dt;
-        rec.friction_dirs = k;
+        rec.friction_dirs = self.params.friction_dirs;
         rec.scale = self.params.scale();
         rec.contacts.clear();
-        rec.contacts.extend_from_slice(&ws.contacts);
-        rec.lcp_size = ws.lcp.n();
+        rec.contacts.extend_from_slice(&self.ws.contacts);
+        rec.lcp_size = nc * (self.params.friction_dirs + 2);
         rec.zeroed = false;
-        if nc == 0 {
-            // Nothing to solve.
-            rec.status = None;
-            rec.iterations = 0;
-            rec.residuals = Residuals::default();
-            rec.solver_residuals = Residuals::default();
-            rec.z.clear();
-            rec.w.clear();
-            rec.basis = None;
-            ws.z_apply.clear();
-            return Ok(());
-        }
-        let n = ws.lcp.n();
-        // Lend the buffers to an Lcp, solve, and take them back.
-        let lcp = ws.lcp.take_lcp().map_err(SimError::Lcp)?;
-        let (sol, method) = match solver {
-            Some(f) => (f(&lcp), "custom"),
-            // Warm start from the previous step's basis when the LCP kept its size.
-            None => {
-                let warm = rec.basis.as_deref().filter(|b| b.len() == n);
-                (lcp::solve_warm(&lcp, &self.params.method, warm), self.params.method.name())
-            }
-        };
-        if let Some(sink) = self.sink.as_mut() {
+        rec.status = None;
+        rec.iterations = 0;
+        rec.residuals = Residuals::default();
+        rec.solver_residuals = Residuals::default();
+        rec.z.clear();
+        rec.w.clear();
+        rec.basis = None;
+        rec.islands.clear();
+        rec.island_bodies.clear();
+        rec.island_contacts.clear();
+    }
+
+    /// Hands every island's LCP, in island order, to the sink.
+    fn capture(&mut self, method: &'static str) {
+        let Some(sink) = self.sink.as_mut() else { return };
+        for (i, isl) in self.ws.pool[..self.ws.islands.len()].iter().enumerate() {
+            let Some(sol) = &isl.sol else { continue };
             sink.capture(&CapturedLcp {
                 step: self.steps,
                 time: self.time,
-                contacts: nc,
-                friction_dirs: k,
-                scale: rec.scale,
-                m: lcp.m(),
-                q: lcp.q(),
+                island: i,
+                contacts: isl.contacts.len(),
+                friction_dirs: self.params.friction_dirs,
+                scale: self.record.scale,
+                m: isl.lcp.m(),
+                q: isl.lcp.q(),
                 z: &sol.z,
                 w: &sol.w,
                 status: sol.status,
@@ -63,32 +124,63 @@ impl World {
                 method,
             });
         }
-        ws.lcp.restore(lcp);
-        rec.status = Some(sol.status);
-        rec.iterations = sol.iterations;
-        rec.solver_residuals = sol.residuals;
-        rec.basis = sol.basis;
-        // Physical z (λ = s·λ_scaled), or zeros if the solver's z is unusable.
-        if sol.z.len() == n && sol.z.iter().all(|v| v.is_finite()) {
-            ws.lcp.unscale_z(&sol.z, &mut rec.z);
-        } else {
-            rec.zeroed = true;
-            rec.z.clear();
-            rec.z.resize(n, 0.0);
+    }
+
+    /// The islands' answers into the record: per island, and scattered into
+    /// the global `z`, `w`, `basis` (summary rules in the module docs).
+    fn record_islands(&mut self) {
+        let (ws, rec) = (&self.ws, &mut self.record);
+        let (nc, k) = (ws.contacts.len(), self.params.friction_dirs);
+        let n = rec.lcp_size;
+        let solved = &ws.pool[..ws.islands.len()];
+        rec.z.resize(n, 0.0);
+        rec.w.resize(n, 0.0);
+        let mut basis = rec.basis.take().unwrap_or_default();
+        basis.clear();
+        basis.resize(n, false);
+        let mut has_basis = true;
+        let mut solver_res: Option<Residuals> = None;
+        rec.island_bodies.extend_from_slice(ws.islands.all_bodies());
+        rec.island_contacts.extend_from_slice(ws.islands.all_contacts());
+        for (i, isl) in solved.iter().enumerate() {
+            let sol = isl.sol.as_ref().expect("every island was solved (errors returned above)");
+            let ids = ws.islands.contacts_of(i);
+            scatter(ids, nc, k, &isl.z, &mut rec.z);
+            scatter(ids, nc, k, &isl.w, &mut rec.w);
+            match &sol.basis {
+                Some(b) if b.len() == isl.lcp.n() => scatter(ids, nc, k, b, &mut basis),
+                _ => has_basis = false,
+            }
+            if rec.status.is_none() || (rec.status == Some(Status::Solved) && sol.status != Status::Solved) {
+                rec.status = Some(sol.status);
+            }
+            rec.iterations += sol.iterations;
+            rec.zeroed |= isl.zeroed;
+            solver_res = Some(solver_res.map_or(sol.residuals, |r| worst(r, sol.residuals)));
+            rec.islands.push(IslandRecord {
+                bodies: ws.islands.body_range(i),
+                contacts: ws.islands.contact_range(i),
+                lcp_size: isl.lcp.n(),
+                status: sol.status,
+                iterations: sol.iterations,
+                residual: isl.residuals.natural,
+                solver_residual: sol.residuals.natural,
+                zeroed: isl.zeroed,
+                warm: isl.warmed,
+            });
         }
-        // Residuals on the unscaled LCP, in physical units.
-        ws.lcp.unscaled_w(&rec.z, &mut rec.w);
         rec.residuals = Residuals::of(&rec.z, &rec.w);
-        // Impulses to apply: never negative, and none at all from a failed
-        // solve (its last iterate can be anything; Moby's Lemke, the seed's,
-        // returns z = 0 on failure too). The record keeps the solver's answer.
-        ws.z_apply.clear();
-        if sol.status == lcp::Status::Solved {
-            ws.z_apply.extend(rec.z.iter().map(|v| v.max(0.0)));
-        } else {
-            rec.zeroed = true;
-            ws.z_apply.resize(n, 0.0);
-        }
-        Ok(())
+        rec.solver_residuals = solver_res.unwrap_or_default();
+        rec.basis = has_basis.then_some(basis);
+    }
+}
+
+/// The worse of two residual reports, measure by measure.
+fn worst(a: Residuals, b: Residuals) -> Residuals {
+    Residuals {
+        natural: a.natural.max(b.natural),
+        min_z: a.min_z.min(b.min_z),
+        min_w: a.min_w.min(b.min_w),
+        max_complementarity: a.max_complementarity.max(b.max_complementarity),
     }
 }

@@ -1,0 +1,62 @@
+//! Warm starts per island: the final basis of each island of the previous
+//! step, handed to this step's island with **the same dynamic bodies and the
+//! same number of contacts** (hence the same LCP size and layout). Any other
+//! island (new, split, merged, or with contacts gained or lost) starts cold.
+//! For a world whose contacts form one island this is the previous rule (the
+//! basis of the previous step's LCP when the size is unchanged).
+
+use super::island_lcp::IslandLcp;
+use crate::islands::Islands;
+
+const NONE: usize = usize::MAX;
+
+/// The previous step's islands and their bases.
+#[derive(Clone, Debug, Default)]
+pub struct WarmStarts {
+    /// Bodies of every island, island after island, and where each starts.
+    bodies: Vec<usize>,
+    start: Vec<usize>,
+    /// Contacts and final basis per island.
+    contacts: Vec<usize>,
+    basis: Vec<Option<Vec<bool>>>,
+    /// Island of each body (`NONE` if it was in none).
+    island_of_body: Vec<usize>,
+}
+
+impl WarmStarts {
+    /// The basis of the previous island with exactly these bodies and `nc` contacts (taken: used once).
+    pub fn take(&mut self, bodies: &[usize], nc: usize) -> Option<Vec<bool>> {
+        let p = *self.island_of_body.get(*bodies.first()?)?;
+        if p == NONE || self.contacts[p] != nc || self.bodies[self.start[p]..self.start[p + 1]] != *bodies {
+            return None;
+        }
+        self.basis[p].take()
+    }
+
+    /// Forgets every island (a step without contacts).
+    pub fn clear(&mut self) {
+        for &b in &self.bodies {
+            self.island_of_body[b] = NONE;
+        }
+        self.bodies.clear();
+        self.start.clear();
+        self.contacts.clear();
+        self.basis.clear();
+    }
+
+    /// Keeps this step's islands and moves their final bases out of `solved`.
+    pub fn store(&mut self, islands: &Islands, solved: &mut [IslandLcp], body_count: usize) {
+        self.clear();
+        self.island_of_body.resize(body_count, NONE);
+        self.start.push(0);
+        for (i, isl) in solved.iter_mut().enumerate().take(islands.len()) {
+            for &b in islands.bodies_of(i) {
+                self.island_of_body[b] = i;
+            }
+            self.bodies.extend_from_slice(islands.bodies_of(i));
+            self.start.push(self.bodies.len());
+            self.contacts.push(isl.contacts.len());
+            self.basis.push(isl.sol.as_mut().and_then(|s| s.basis.take()));
+        }
+    }
+}
