@@ -219,8 +219,9 @@ def test_step_record_holds_exactly_its_fields_with_their_types():
     names = [f.name for f in dataclasses.fields(StepRecord)]
     scalars = {"step": int, "time": float, "dt": float, "contacts": int, "friction_dirs": int, "lcp_size": int,
                "scale": float, "status": str, "pivots": int, "residual": float, "solver_residual": float,
-               "min_z": float, "min_w": float, "max_complementarity": float, "zeroed": bool}
-    dtypes = {"body_a": np.int64, "body_b": np.int64}
+               "min_z": float, "min_w": float, "max_complementarity": float, "zeroed": bool, "islands": int}
+    dtypes = {"body_a": np.int64, "body_b": np.int64, "island_of_contact": np.int64, "island_lcp_size": np.int64,
+              "island_pivots": np.int64}
     for r in records:
         assert set(vars(r)) == set(names)
         for name in names:
@@ -229,6 +230,11 @@ def test_step_record_holds_exactly_its_fields_with_their_types():
                 assert type(v) is scalars[name], (name, type(v))
             elif name == "basis":
                 assert v is None or (isinstance(v, np.ndarray) and v.dtype == np.bool_ and v.shape == (r.lcp_size,))
+            elif name == "island_status":
+                assert type(v) is tuple and len(v) == r.islands and all(type(x) is str for x in v)
+            elif name == "island_bodies":
+                assert type(v) is tuple and len(v) == r.islands
+                assert all(isinstance(b, np.ndarray) and b.dtype == np.int64 for b in v)
             else:
                 assert isinstance(v, np.ndarray) and v.dtype == dtypes.get(name, np.float64), name
                 assert v.flags.c_contiguous and v.flags.owndata, name

@@ -110,6 +110,13 @@ class StepDict(TypedDict):
     body_a: NDArray[np.int64]
     body_b: NDArray[np.int64]
     basis: NDArray[np.bool_] | None
+    islands: int  # contact islands, one LCP each
+    island_of_contact: NDArray[np.int64]  # (nc,)
+    island_bodies: tuple[NDArray[np.int64], ...]  # dynamic bodies per island
+    island_lcp_size: NDArray[np.int64]  # (islands,)
+    island_pivots: NDArray[np.int64]
+    island_residual: NDArray[np.float64]  # physical units
+    island_status: tuple[str, ...]
 
 class RunDict(TypedDict):
     time: NDArray[np.float64]  # (T,)
@@ -126,6 +133,8 @@ class RunDict(TypedDict):
     normal_impulse: NDArray[np.float64]
     friction_impulse: NDArray[np.float64]  # (T, 3)
     max_lambda: NDArray[np.float64]
+    islands: NDArray[np.int64]  # contact islands per step
+    max_island_size: NDArray[np.int64]  # largest island LCP per step
 
 class CaptureDict(TypedDict):
     M: NDArray[np.float64]  # row-major M of every LCP, concatenated
@@ -134,6 +143,7 @@ class CaptureDict(TypedDict):
     w: NDArray[np.float64]
     n: NDArray[np.int64]
     step: NDArray[np.int64]
+    island: NDArray[np.int64]  # island of the step the LCP belongs to
     time: NDArray[np.float64]
     contacts: NDArray[np.int64]
     friction_dirs: NDArray[np.int64]
@@ -168,6 +178,7 @@ class World:
         restitution_threshold: float | None = None,
         mu_combine: str = "min",
         mu_override: float | None = None,
+        threads: int | None = None,
         **options: Any,
     ) -> None: ...
     @property

@@ -138,6 +138,17 @@ class StepRecord:
     ``directions`` (nc, k, 3) the friction directions ``d_j``, ``friction``
     (nc, 3) the friction impulse vector ``Σ_j fd_j d_j`` on body A, ``gaps``,
     ``mu``, ``body_a``/``body_b`` (the normal points from B to A).
+
+    Contact islands: the dynamic bodies linked through contacts (a static
+    body links nothing) form ``islands`` islands, each solved as its own LCP;
+    the per-contact arrays above stay in the step's contact order.
+    ``island_of_contact`` (nc,) gives each contact's island, ``island_bodies``
+    each island's dynamic bodies, ``island_lcp_size``, ``island_pivots``,
+    ``island_residual`` (physical units) and ``island_status`` one entry per
+    island. The step's ``status`` is ``"solved"`` iff every island was solved,
+    else the status of the first island that was not (an unsolved island
+    applies no impulse, the others do); ``pivots`` is the total over the
+    islands and ``residual`` the largest.
     """
 
     step: int
@@ -169,6 +180,13 @@ class StepRecord:
     mu: NDArray[np.float64]
     body_a: NDArray[np.int64]
     body_b: NDArray[np.int64]
+    islands: int
+    island_of_contact: NDArray[np.int64]
+    island_bodies: tuple[NDArray[np.int64], ...]
+    island_lcp_size: NDArray[np.int64]
+    island_pivots: NDArray[np.int64]
+    island_residual: NDArray[np.float64]
+    island_status: tuple[str, ...]
     basis: NDArray[np.bool_] | None = None
 
     @property
@@ -245,8 +263,9 @@ class Trajectory:
     LCP), ``pivots``, ``residual`` (physical units), ``solver_residual``,
     ``lcp_size``, ``contacts``, ``normal_impulse`` (Σ fn, N·s),
     ``friction_impulse`` (T, 3) (Σ over contacts of the friction impulse on
-    body A), ``max_lambda`` (largest physical λ, m/s). ``initial_*`` hold the
-    state before the first step.
+    body A), ``max_lambda`` (largest physical λ, m/s), ``islands`` (contact
+    islands, i.e. LCPs solved) and ``max_island_size`` (largest island LCP).
+    ``initial_*`` hold the state before the first step.
     """
 
     dt: float
@@ -263,6 +282,8 @@ class Trajectory:
     normal_impulse: NDArray[np.float64]
     friction_impulse: NDArray[np.float64]
     max_lambda: NDArray[np.float64]
+    islands: NDArray[np.int64]
+    max_island_size: NDArray[np.int64]
     initial_positions: NDArray[np.float64]
     initial_orientations: NDArray[np.float64]
     initial_velocities: NDArray[np.float64]
@@ -347,6 +368,8 @@ class Trajectory:
             normal_impulse=cat("normal_impulse"),
             friction_impulse=cat("friction_impulse"),
             max_lambda=cat("max_lambda"),
+            islands=cat("islands"),
+            max_island_size=cat("max_island_size"),
             initial_positions=initial["position"],
             initial_orientations=initial["orientation"],
             initial_velocities=np.concatenate([initial["velocity"], initial["angular_velocity"]], axis=1),
@@ -423,6 +446,9 @@ class World:
         How two bodies' μ combine: one of :data:`MU_COMBINE` (default "min").
     mu_override:
         If set, every contact uses this μ.
+    threads:
+        Threads for the contact islands' LCPs: 1 (default) this thread only,
+        0 one per core. Results are bit for bit the same for any value.
     """
 
     def __init__(
@@ -440,6 +466,7 @@ class World:
         restitution_threshold: float = 1e-2,
         mu_combine: str = "min",
         mu_override: float | None = None,
+        threads: int = 1,
         **solver_options: Any,
     ) -> None:
         if not isinstance(method, str) or method not in METHODS:
@@ -472,6 +499,7 @@ class World:
             restitution_threshold=restitution_threshold,
             mu_combine=mu_combine,
             mu_override=mu_override,
+            threads=threads,
             **solver_options,
         )
         self._method = method

@@ -188,76 +188,57 @@ fn record_to_dict<'py>(py: Python<'py>, r: &StepRecord) -> PyResult<Bound<'py, P
         Some(b) => d.set_item(intern!(py, "basis"), copied(py, b, &[b.len()]))?,
         None => d.set_item(intern!(py, "basis"), py.None())?,
     }
+    islands_to_dict(py, r, &d)?;
     Ok(d)
 }
 
-/// Per-step extras gathered while running (beyond `sim::Trajectory`).
-#[derive(Default)]
-struct Extras {
-    normal_impulse: Vec<f64>,
-    friction_impulse: Vec<f64>,
-    max_lambda: Vec<f64>,
-    solver_residual: Vec<f64>,
-    status: Vec<i8>,
-    /// Friction directions' cosines and sines, built once per run.
-    basis: Option<FrictionBasis>,
-}
-
-impl Extras {
-    fn with_capacity(steps: usize) -> Self {
-        Extras {
-            normal_impulse: Vec::with_capacity(steps),
-            friction_impulse: Vec::with_capacity(3 * steps),
-            max_lambda: Vec::with_capacity(steps),
-            solver_residual: Vec::with_capacity(steps),
-            status: Vec::with_capacity(steps),
-            basis: None,
+/// The step's contact islands into the record's dict (`StepRecord.islands` … in Python).
+fn islands_to_dict(py: Python<'_>, r: &StepRecord, d: &Bound<'_, PyDict>) -> PyResult<()> {
+    let count = r.islands.len();
+    let mut of_contact = vec![0i64; r.nc()];
+    for (i, isl) in r.islands.iter().enumerate() {
+        for &c in &r.island_contacts[isl.contacts.clone()] {
+            of_contact[c] = i as i64;
         }
     }
-
-    fn push(&mut self, r: &StepRecord) {
-        let (nc, k) = (r.nc(), r.friction_dirs);
-        let (mut fnsum, mut fric, mut lam) = (0.0, Vec3::ZERO, 0.0);
-        if nc > 0 && r.z.len() == nc * (k + 2) {
-            if !matches!(&self.basis, Some(b) if b.k() == k) {
-                self.basis = Some(FrictionBasis::new(k));
-            }
-            let basis = self.basis.as_ref().expect("set above");
-            fnsum = r.total_normal_impulse();
-            for (i, c) in r.contacts.iter().enumerate() {
-                for (j, &f) in r.friction_of(i).iter().enumerate() {
-                    if f != 0.0 {
-                        fric += basis.direction(c.normal, c.tangent, j) * f;
-                    }
-                }
-            }
-            lam = r.lambdas().iter().copied().fold(0.0, f64::max);
-        }
-        self.normal_impulse.push(fnsum);
-        self.friction_impulse.extend_from_slice(&fric.to_array());
-        self.max_lambda.push(lam);
-        self.solver_residual.push(r.solver_residuals.natural);
-        self.status.push(r.status.map_or(-1, status_code));
-    }
+    let each = |f: fn(&sim::IslandRecord) -> i64| r.islands.iter().map(f).collect::<Vec<_>>();
+    let bodies = (0..count).map(|i| {
+        let b: Vec<i64> = r.island_bodies_of(i).iter().map(|&b| b as i64).collect();
+        copied(py, &b, &[b.len()])
+    });
+    d.set_item(intern!(py, "islands"), count)?;
+    d.set_item(intern!(py, "island_of_contact"), copied(py, &of_contact, &[r.nc()]))?;
+    d.set_item(intern!(py, "island_bodies"), pyo3::types::PyTuple::new(py, bodies)?)?;
+    d.set_item(intern!(py, "island_lcp_size"), copied(py, &each(|i| i.lcp_size as i64), &[count]))?;
+    d.set_item(intern!(py, "island_pivots"), copied(py, &each(|i| i.iterations as i64), &[count]))?;
+    let res: Vec<f64> = r.islands.iter().map(|i| i.residual).collect();
+    d.set_item(intern!(py, "island_residual"), copied(py, &res, &[count]))?;
+    let status = r.islands.iter().map(|i| i.status.as_str());
+    d.set_item(intern!(py, "island_status"), pyo3::types::PyTuple::new(py, status)?)?;
+    Ok(())
 }
 
-fn trajectory_to_dict<'py>(py: Python<'py>, t: Trajectory, x: Extras) -> PyResult<Bound<'py, PyDict>> {
+fn trajectory_to_dict(py: Python<'_>, t: Trajectory) -> PyResult<Bound<'_, PyDict>> {
     let (n, b) = (t.len(), t.bodies);
+    let ints = |v: &[usize]| PyArray1::from_vec(py, v.iter().map(|&c| c as i64).collect::<Vec<_>>());
+    let status: Vec<i8> = t.status.iter().map(|s| s.map_or(-1, status_code)).collect();
     let d = PyDict::new(py);
+    d.set_item("contacts", ints(&t.contacts))?;
+    d.set_item("lcp_size", ints(&t.lcp_size))?;
+    d.set_item("iterations", ints(&t.iterations))?;
+    d.set_item("islands", ints(&t.islands))?;
+    d.set_item("max_island_size", ints(&t.max_island_size))?;
+    d.set_item("status", PyArray1::from_vec(py, status))?;
     d.set_item("time", PyArray1::from_vec(py, t.time))?;
     d.set_item("position", shaped(py, t.position, [n, b, 3])?)?;
     d.set_item("orientation", shaped(py, t.orientation, [n, b, 4])?)?;
     d.set_item("velocity", shaped(py, t.velocity, [n, b, 3])?)?;
     d.set_item("angular_velocity", shaped(py, t.angular_velocity, [n, b, 3])?)?;
-    d.set_item("contacts", PyArray1::from_vec(py, t.contacts.iter().map(|&c| c as i64).collect::<Vec<_>>()))?;
-    d.set_item("lcp_size", PyArray1::from_vec(py, t.lcp_size.iter().map(|&c| c as i64).collect::<Vec<_>>()))?;
-    d.set_item("status", PyArray1::from_vec(py, x.status))?;
-    d.set_item("iterations", PyArray1::from_vec(py, t.iterations.iter().map(|&c| c as i64).collect::<Vec<_>>()))?;
     d.set_item("residual", PyArray1::from_vec(py, t.residual))?;
-    d.set_item("solver_residual", PyArray1::from_vec(py, x.solver_residual))?;
-    d.set_item("normal_impulse", PyArray1::from_vec(py, x.normal_impulse))?;
-    d.set_item("friction_impulse", shaped(py, x.friction_impulse, [n, 3])?)?;
-    d.set_item("max_lambda", PyArray1::from_vec(py, x.max_lambda))?;
+    d.set_item("solver_residual", PyArray1::from_vec(py, t.solver_residual))?;
+    d.set_item("normal_impulse", PyArray1::from_vec(py, t.normal_impulse))?;
+    d.set_item("friction_impulse", shaped(py, t.friction_impulse, [n, 3])?)?;
+    d.set_item("max_lambda", PyArray1::from_vec(py, t.max_lambda))?;
     Ok(d)
 }
 
@@ -268,7 +249,7 @@ impl World {
         dt = None, gravity = None, friction_dirs = None, cone_scale = None, method = "lemke",
         margin = None, velocity_margin = true, erp = None, slop = None, speculative = true,
         restitution = None, restitution_threshold = None, mu_combine = "min", mu_override = None,
-        **options
+        threads = None, **options
     ))]
     #[allow(clippy::too_many_arguments)]
     fn new(
@@ -286,6 +267,7 @@ impl World {
         restitution_threshold: Option<&Bound<'_, PyAny>>,
         mu_combine: &str,
         mu_override: Option<&Bound<'_, PyAny>>,
+        threads: Option<&Bound<'_, PyAny>>,
         options: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<World> {
         let d = WorldParams::default();
@@ -313,6 +295,7 @@ impl World {
             mu_combine: convert::mu_combine(mu_combine)?,
             mu_override: mu_override.filter(|m| !m.is_none()).map(|m| real(m, "mu_override")).transpose()?,
             method: method_from_py(method, options)?,
+            threads: threads.filter(|v| !v.is_none()).map_or(Ok(d.threads), |v| convert::count(v, "threads"))?,
         };
         guarded(|| sim::World::new(params)).map(World::wrap)
     }
@@ -335,6 +318,7 @@ impl World {
         d.set_item("restitution_threshold", p.restitution.threshold)?;
         d.set_item("mu_combine", mu_combine_name(p.mu_combine))?;
         d.set_item("mu_override", p.mu_override)?;
+        d.set_item("threads", p.threads)?;
         d.set_item("method", p.method.name())?;
         d.set_item("method_config", format!("{:?}", p.method))?;
         Ok(d)
@@ -634,29 +618,13 @@ impl World {
         let capture = self.capture.clone();
         let limit = max_capture_bytes.filter(|_| self.capturing);
         let w = self.inner();
-        let out = py.detach(|| {
-            catch_unwind(AssertUnwindSafe(|| {
-                let mut traj = Trajectory::with_capacity(steps, w.body_count());
-                let mut extras = Extras::with_capacity(steps);
-                for _ in 0..steps {
-                    if let Err(e) = w.step() {
-                        return (traj, extras, Some(e));
-                    }
-                    traj.push(w);
-                    extras.push(w.last_record());
-                    if let (Some(lim), Some(c)) = (limit, capture.as_ref()) {
-                        if c.lock().bytes() >= lim {
-                            break;
-                        }
-                    }
-                }
-                (traj, extras, None)
-            }))
-        });
+        // Stop early once the capture holds `limit` bytes, so the caller can drain it.
+        let full = move |_: &sim::World| matches!((limit, capture.as_ref()), (Some(lim), Some(c)) if c.lock().bytes() >= lim);
+        let out = py.detach(|| catch_unwind(AssertUnwindSafe(|| w.run_until(steps, full))));
         match out {
             Err(payload) => Err(panic_error(payload)),
-            Ok((_, _, Some(e))) => Err(value_error(format!("step {}: {e}", self.shared().steps()))),
-            Ok((traj, extras, None)) => trajectory_to_dict(py, traj, extras),
+            Ok(Err(e)) => Err(value_error(format!("step {}: {e}", self.shared().steps()))),
+            Ok(Ok(traj)) => trajectory_to_dict(py, traj),
         }
     }
 

@@ -365,6 +365,106 @@ pub fn box_pile() -> Result<Scene, SimError> {
     BoxPile::default().build(WorldParams::default())
 }
 
+/// `n` cubes dropped into one connected heap: a stepped pyramid whose layer
+/// `L` holds `(g − L)²` cubes above the gaps of the layer below (each resting
+/// on four corners, so the whole heap is one contact island), filled bottom
+/// up with the smallest `g` that holds `n`. Every cube is turned and shifted
+/// by seeded random amounts and starts a little above where it will land;
+/// optionally four static boxes wall the heap in.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CubeHeap {
+    /// Number of cubes (≥ 1).
+    pub n: usize,
+    /// Seed of the turns and shifts. Default 0.
+    pub seed: u64,
+    /// Four static boxes around the base, `0.1·size` clear of it. Default false.
+    pub walls: bool,
+    /// Edge length (m). Default 1.
+    pub size: f64,
+    /// Mass of each cube (kg). Default 1.
+    pub mass: f64,
+    /// Friction coefficient (cubes, ground, walls). Default 0.5.
+    pub mu: f64,
+    /// Distance between neighbouring centres of a layer, in `size` (≥ 1 + 4·jitter). Default 1.05.
+    pub spacing: f64,
+    /// Largest random turn about each axis (rad) and shift (in `size`), in [0, 0.05]. Default 0.02.
+    pub jitter: f64,
+}
+
+impl CubeHeap {
+    pub fn new(n: usize, seed: u64) -> Self {
+        CubeHeap { n, seed, walls: false, size: 1.0, mass: 1.0, mu: 0.5, spacing: 1.05, jitter: 0.02 }
+    }
+
+    /// Base width `g` of the pyramid: the smallest with `Σ_{L<g} (g − L)² ≥ n`.
+    pub fn base(&self) -> usize {
+        (1..).find(|&g: &usize| g * (g + 1) * (2 * g + 1) / 6 >= self.n).expect("n is finite")
+    }
+
+    pub fn build(&self, params: WorldParams) -> Result<Scene, SimError> {
+        if self.n == 0 {
+            return Err(SimError::NotPositive { field: "n", value: 0.0 });
+        }
+        positive("size", self.size)?;
+        crate::error::in_range("jitter", self.jitter, 0.0, 0.05, "[0, 0.05]")?;
+        if !(self.spacing >= 1.0 + 4.0 * self.jitter) {
+            return Err(SimError::OutOfRange { field: "spacing", value: self.spacing, range: "[1 + 4·jitter, ∞)" });
+        }
+        let mut world = World::new(params)?;
+        let ground = world.add_ground(self.mu)?;
+        let (g, s, h) = (self.base(), self.size, 0.5 * self.size);
+        let step = self.spacing * s;
+        // Each layer starts this far above its resting place (more than a turned cube sinks).
+        let drop = 2.0 * self.jitter * s + 0.01 * s;
+        let mut rng = SplitMix64(self.seed);
+        let mut bodies = Vec::with_capacity(self.n);
+        'layers: for layer in 0..g {
+            let m = g - layer;
+            // Centred: layer L's cubes sit above the gaps of layer L − 1.
+            let o = -0.5 * (m - 1) as f64 * step;
+            for iy in 0..m {
+                for ix in 0..m {
+                    if bodies.len() == self.n {
+                        break 'layers;
+                    }
+                    let mut turn = || self.jitter * (2.0 * rng.next_f64() - 1.0);
+                    let (ax, ay, az, dx, dy) = (turn(), turn(), turn(), turn() * s, turn() * s);
+                    let q = Quat::from_axis_angle(Vec3::Z, az)
+                        * Quat::from_axis_angle(Vec3::Y, ay)
+                        * Quat::from_axis_angle(Vec3::X, ax);
+                    let p = Vec3::new(
+                        o + ix as f64 * step + dx,
+                        o + iy as f64 * step + dy,
+                        h + layer as f64 * (s + drop) + drop,
+                    );
+                    let desc = BodyDesc::cuboid(Vec3::splat(h)).mass(self.mass).mu(self.mu).position(p).orientation(q);
+                    bodies.push(world.add_body(desc)?);
+                }
+            }
+        }
+        if self.walls {
+            // Inner faces 0.1·size clear of the base's outer faces; as tall as the heap.
+            let inner = 0.5 * (g - 1) as f64 * step + h + 0.1 * s;
+            let (t, tall) = (0.5 * s, 0.5 * g as f64 * (s + drop));
+            let long = inner + 2.0 * t;
+            for (c, he) in [
+                (Vec3::new(inner + t, 0.0, tall), Vec3::new(t, long, tall)),
+                (Vec3::new(-inner - t, 0.0, tall), Vec3::new(t, long, tall)),
+                (Vec3::new(0.0, inner + t, tall), Vec3::new(inner, t, tall)),
+                (Vec3::new(0.0, -inner - t, tall), Vec3::new(inner, t, tall)),
+            ] {
+                world.add_body(BodyDesc::cuboid(he).mu(self.mu).position(c).fixed(true))?;
+            }
+        }
+        Ok(Scene { world, body: *bodies.last().expect("n ≥ 1"), ground, bodies })
+    }
+}
+
+/// [`CubeHeap`] of `n` unit cubes with its defaults.
+pub fn cube_heap(n: usize, seed: u64, walls: bool) -> Result<Scene, SimError> {
+    CubeHeap { walls, ..CubeHeap::new(n, seed) }.build(WorldParams::default())
+}
+
 /// SplitMix64: a tiny seeded generator, enough for scene jitter (and random test scenes).
 #[derive(Clone, Debug)]
 pub struct SplitMix64(pub u64);

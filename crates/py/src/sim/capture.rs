@@ -19,6 +19,8 @@ pub struct Captured {
     pub w: Vec<f64>,
     pub n: Vec<i64>,
     pub step: Vec<i64>,
+    /// Island of the step (0, 1, …) each LCP belongs to.
+    pub island: Vec<i64>,
     pub time: Vec<f64>,
     pub contacts: Vec<i64>,
     pub friction_dirs: Vec<i64>,
@@ -32,7 +34,7 @@ pub struct Captured {
 impl Captured {
     /// Memory held (bytes), to decide when to drain.
     pub fn bytes(&self) -> usize {
-        8 * (self.m.len() + self.q.len() + self.z.len() + self.w.len()) + 65 * self.n.len()
+        8 * (self.m.len() + self.q.len() + self.z.len() + self.w.len()) + 73 * self.n.len()
     }
 
     pub fn len(&self) -> usize {
@@ -64,6 +66,7 @@ impl CaptureBuffer {
         d.set_item("w", PyArray1::from_vec(py, c.w))?;
         d.set_item("n", PyArray1::from_vec(py, c.n))?;
         d.set_item("step", PyArray1::from_vec(py, c.step))?;
+        d.set_item("island", PyArray1::from_vec(py, c.island))?;
         d.set_item("time", PyArray1::from_vec(py, c.time))?;
         d.set_item("contacts", PyArray1::from_vec(py, c.contacts))?;
         d.set_item("friction_dirs", PyArray1::from_vec(py, c.friction_dirs))?;
@@ -91,6 +94,7 @@ impl LcpSink for CaptureBuffer {
         }
         c.n.push(l.n() as i64);
         c.step.push(l.step as i64);
+        c.island.push(l.island as i64);
         c.time.push(l.time);
         c.contacts.push(l.contacts as i64);
         c.friction_dirs.push(l.friction_dirs as i64);

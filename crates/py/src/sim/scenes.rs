@@ -7,11 +7,11 @@ use super::World;
 use crate::errors::value_error;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use sim::scenes::{BallDrop, BallOnIncline, BoxPile, BoxStack, CubeDrop, CubeOnSlope, PushedCube, Scene};
+use sim::scenes::{BallDrop, BallOnIncline, BoxPile, BoxStack, CubeDrop, CubeHeap, CubeOnSlope, PushedCube, Scene};
 use sim::WorldParams;
 
 /// Scene names and their parameters (in the order of the Rust structs).
-pub const SCENES: [(&str, &[&str]); 7] = [
+pub const SCENES: [(&str, &[&str]); 8] = [
     ("cube_on_slope", &["angle_deg", "mu", "size", "mass", "downhill", "speed", "tangent_angle"]),
     ("pushed_cube", &["force", "mu", "size", "mass", "height"]),
     ("cube_drop", &["height", "size", "mass", "mu", "restitution"]),
@@ -19,6 +19,7 @@ pub const SCENES: [(&str, &[&str]); 7] = [
     ("box_stack", &["n", "size", "mass", "mu"]),
     ("ball_on_incline", &["angle_deg", "mu", "radius", "mass", "downhill"]),
     ("box_pile", &["nx", "ny", "nz", "size", "mass", "mu", "spacing", "yaw", "seed"]),
+    ("cube_heap", &["n", "seed", "walls", "size", "mass", "mu", "spacing", "jitter"]),
 ];
 
 /// Reads the scene parameters out of `params`, rejecting unknown names.
@@ -54,6 +55,14 @@ impl<'py> Params<'_, 'py> {
 
     fn count(&self, name: &str, default: usize) -> PyResult<usize> {
         self.get(name)?.map_or(Ok(default), |v| count(&v, name))
+    }
+
+    fn flag(&self, name: &str, default: bool) -> PyResult<bool> {
+        match self.get(name)? {
+            None => Ok(default),
+            Some(v) if v.is_instance_of::<pyo3::types::PyBool>() => v.extract(),
+            Some(v) => Err(value_error(format!("{name} must be True or False, got {}", repr(&v)))),
+        }
     }
 
     fn downhill(&self, default: sim::Downhill) -> PyResult<sim::Downhill> {
@@ -163,6 +172,19 @@ pub fn build(name: &str, dict: Option<&Bound<'_, PyDict>>, wp: WorldParams) -> P
                 spacing: p.real("spacing", d.spacing)?,
                 yaw: p.real("yaw", d.yaw)?,
                 seed: p.count("seed", d.seed as usize)? as u64,
+            }
+            .build(wp)
+        }
+        "cube_heap" => {
+            let d = CubeHeap::new(p.count("n", 50)?, p.count("seed", 0)? as u64);
+            CubeHeap {
+                walls: p.flag("walls", d.walls)?,
+                size: p.real("size", d.size)?,
+                mass: p.real("mass", d.mass)?,
+                mu: p.real("mu", d.mu)?,
+                spacing: p.real("spacing", d.spacing)?,
+                jitter: p.real("jitter", d.jitter)?,
+                ..d
             }
             .build(wp)
         }

@@ -63,9 +63,9 @@ impl World {
     }
 
     /// Runs `steps` steps and returns the trajectory (state after each step
-    /// plus per-step LCP statistics).
+    /// plus per-step contact physics and LCP statistics).
     pub fn run(&mut self, steps: usize) -> Result<Trajectory, SimError> {
-        self.run_with(steps, |_, _| {})
+        self.run_until(steps, |_| false)
     }
 
     /// Like [`World::run`], calling `observe(world, record)` after every step.
@@ -74,11 +74,22 @@ impl World {
         steps: usize,
         mut observe: impl FnMut(&World, &StepRecord),
     ) -> Result<Trajectory, SimError> {
+        self.run_until(steps, |w| {
+            observe(w, &w.record);
+            false
+        })
+    }
+
+    /// Like [`World::run`], but stops early, after a step, once `stop(world)`
+    /// says so (e.g. when an LCP sink holds enough to be drained).
+    pub fn run_until(&mut self, steps: usize, mut stop: impl FnMut(&World) -> bool) -> Result<Trajectory, SimError> {
         let mut traj = Trajectory::with_capacity(steps, self.bodies.len());
         for _ in 0..steps {
             self.step()?;
             traj.push(self);
-            observe(self, &self.record);
+            if stop(self) {
+                break;
+            }
         }
         Ok(traj)
     }

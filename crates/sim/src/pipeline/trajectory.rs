@@ -1,6 +1,9 @@
 //! `Trajectory`: the state after every step of a run, in flat arrays ready
-//! for numpy (`(steps, bodies, 3)` and `(steps, bodies, 4)`, row-major).
+//! for numpy (`(steps, bodies, 3)` and `(steps, bodies, 4)`, row-major), and
+//! each step's contact physics and LCP outcome.
 
+use super::record::StepRecord;
+use crate::contact::FrictionBasis;
 use crate::math::{Quat, Vec3};
 use crate::world::World;
 use lcp::Status;
@@ -30,6 +33,21 @@ pub struct Trajectory {
     pub iterations: Vec<usize>,
     /// Natural residual `‖min(z, w)‖∞` in physical units per step.
     pub residual: Vec<f64>,
+    /// Natural residual as the solver reported it (scaled LCP; worst island) per step.
+    pub solver_residual: Vec<f64>,
+    /// `Σ fn` per step (N·s); 0 when the solver's `z` was unusable.
+    pub normal_impulse: Vec<f64>,
+    /// `Σ_contacts Σ_j fd_j d_j` per step, the friction impulse on the A
+    /// bodies (world frame, N·s), `(steps, 3)`.
+    pub friction_impulse: Vec<f64>,
+    /// Largest physical `λ` per step (m/s; 0 without contacts).
+    pub max_lambda: Vec<f64>,
+    /// Contact islands (LCPs solved) per step.
+    pub islands: Vec<usize>,
+    /// Largest island LCP per step (0 without contacts).
+    pub max_island_size: Vec<usize>,
+    /// The friction directions' cosines and sines, built once per run.
+    basis: Option<FrictionBasis>,
 }
 
 impl Trajectory {
@@ -46,6 +64,13 @@ impl Trajectory {
             status: Vec::with_capacity(steps),
             iterations: Vec::with_capacity(steps),
             residual: Vec::with_capacity(steps),
+            solver_residual: Vec::with_capacity(steps),
+            normal_impulse: Vec::with_capacity(steps),
+            friction_impulse: Vec::with_capacity(3 * steps),
+            max_lambda: Vec::with_capacity(steps),
+            islands: Vec::with_capacity(steps),
+            max_island_size: Vec::with_capacity(steps),
+            basis: None,
         }
     }
 
@@ -64,6 +89,34 @@ impl Trajectory {
         self.status.push(r.status);
         self.iterations.push(r.iterations);
         self.residual.push(r.residuals.natural);
+        self.solver_residual.push(r.solver_residuals.natural);
+        self.islands.push(r.islands.len());
+        self.max_island_size.push(r.islands.iter().map(|i| i.lcp_size).max().unwrap_or(0));
+        self.push_impulses(r);
+    }
+
+    /// Σ fn, the friction impulse vector and the largest λ of a step.
+    fn push_impulses(&mut self, r: &StepRecord) {
+        let (nc, k) = (r.nc(), r.friction_dirs);
+        let (mut fnsum, mut fric, mut lam) = (0.0, Vec3::ZERO, 0.0);
+        if nc > 0 && r.z.len() == nc * (k + 2) {
+            if !matches!(&self.basis, Some(b) if b.k() == k) {
+                self.basis = Some(FrictionBasis::new(k));
+            }
+            let basis = self.basis.as_ref().expect("set above");
+            fnsum = r.total_normal_impulse();
+            for (i, c) in r.contacts.iter().enumerate() {
+                for (j, &f) in r.friction_of(i).iter().enumerate() {
+                    if f != 0.0 {
+                        fric += basis.direction(c.normal, c.tangent, j) * f;
+                    }
+                }
+            }
+            lam = r.lambdas().iter().copied().fold(0.0, f64::max);
+        }
+        self.normal_impulse.push(fnsum);
+        self.friction_impulse.extend_from_slice(&fric.to_array());
+        self.max_lambda.push(lam);
     }
 
     /// Steps recorded.
