@@ -82,11 +82,35 @@ pub fn brute_force_pairs(bodies: &[Body], margin: &PairMargin<'_>, out: &mut Vec
     }
 }
 
+/// A bounded body's box: `[lo, hi]` along the sweep axis, and a cube of half
+/// width `ext` about its centre (read in sequence by the sweep: no lookup
+/// into the bodies before the boxes overlap).
+#[derive(Clone, Copy, Debug)]
+struct Span {
+    lo: f64,
+    hi: f64,
+    centre: [f64; 3],
+    ext: f64,
+    body: usize,
+    is_static: bool,
+}
+
+impl Span {
+    /// Whether the boxes overlap on every axis.
+    #[inline]
+    fn overlaps(&self, o: &Span) -> bool {
+        let e = self.ext + o.ext;
+        let (c, d) = (&self.centre, &o.centre);
+        // Non-short-circuit `&`: one hard-to-predict branch instead of three.
+        ((c[0] - d[0]).abs() <= e) & ((c[1] - d[1]).abs() <= e) & ((c[2] - d[2]).abs() <= e)
+    }
+}
+
 /// Sweep and prune with reusable buffers (allocation-free once warm).
 #[derive(Clone, Debug, Default)]
 pub struct BroadPhase {
-    /// `(lo, hi, body)` of every bounded body along the sweep axis.
-    spans: Vec<(f64, f64, usize)>,
+    /// Every bounded body's box, sorted along the sweep axis.
+    spans: Vec<Span>,
     /// Bodies with an unbounded shape.
     unbounded: Vec<usize>,
     pairs: Vec<(usize, usize)>,
@@ -114,26 +138,30 @@ impl BroadPhase {
                 self.unbounded.push(k);
                 continue;
             }
-            let x = b.position.to_array()[axis];
+            let centre = b.position.to_array();
+            // Round-off slack: the exact test decides, the boxes must only not miss.
             let ext = r + margin.half(k);
-            // Round-off slack: the exact test decides, the intervals must only not miss.
-            let ext = ext + 1e-9 * (ext + x.abs());
-            self.spans.push((x - ext, x + ext, k));
+            let ext = ext + 1e-9 * (ext + centre[0].abs() + centre[1].abs() + centre[2].abs());
+            let (lo, hi) = (centre[axis] - ext, centre[axis] + ext);
+            self.spans.push(Span { lo, hi, centre, ext, body: k, is_static: b.is_static });
         }
-        self.spans.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.2.cmp(&b.2)));
-        for (a, &(_, hi, i)) in self.spans.iter().enumerate() {
-            for &(lo, _, j) in &self.spans[a + 1..] {
-                if lo > hi {
+        self.spans.sort_unstable_by(|a, b| a.lo.total_cmp(&b.lo).then(a.body.cmp(&b.body)));
+        for (a, sa) in self.spans.iter().enumerate() {
+            for sb in &self.spans[a + 1..] {
+                if sb.lo > sa.hi {
                     break;
                 }
-                let (bi, bj) = (&bodies[i], &bodies[j]);
-                if !(bi.is_static && bj.is_static) && near(bi, bj, margin.of(i, j)) {
-                    self.pairs.push((i.min(j), i.max(j)));
+                if !sa.overlaps(sb) || sa.is_static && sb.is_static {
+                    continue;
+                }
+                let (i, j) = (sa.body.min(sb.body), sa.body.max(sb.body));
+                if near(&bodies[i], &bodies[j], margin.of(i, j)) {
+                    self.pairs.push((i, j));
                 }
             }
         }
         for (u, &i) in self.unbounded.iter().enumerate() {
-            let with_bounded = self.spans.iter().map(|s| s.2);
+            let with_bounded = self.spans.iter().map(|s| s.body);
             let with_unbounded = self.unbounded[u + 1..].iter().copied();
             for j in with_bounded.chain(with_unbounded) {
                 if !(bodies[i].is_static && bodies[j].is_static) {

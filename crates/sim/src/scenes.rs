@@ -385,7 +385,7 @@ pub struct CubeHeap {
     pub mass: f64,
     /// Friction coefficient (cubes, ground, walls). Default 0.5.
     pub mu: f64,
-    /// Distance between neighbouring centres of a layer, in `size` (≥ 1 + 4·jitter). Default 1.05.
+    /// Distance between neighbouring centres of a layer, in `size` (≥ 1 + 4·jitter). Default 1.1.
     pub spacing: f64,
     /// Largest random turn about each axis (rad) and shift (in `size`), in [0, 0.05]. Default 0.02.
     pub jitter: f64,
@@ -393,7 +393,7 @@ pub struct CubeHeap {
 
 impl CubeHeap {
     pub fn new(n: usize, seed: u64) -> Self {
-        CubeHeap { n, seed, walls: false, size: 1.0, mass: 1.0, mu: 0.5, spacing: 1.05, jitter: 0.02 }
+        CubeHeap { n, seed, walls: false, size: 1.0, mass: 1.0, mu: 0.5, spacing: 1.1, jitter: 0.02 }
     }
 
     /// Base width `g` of the pyramid: the smallest with `Σ_{L<g} (g − L)² ≥ n`.

@@ -1,5 +1,5 @@
 //! DESIGN §3: in a stack of n boxes the force at interface j is (n − j)·m·g
-//! (within 1e-3 relative) and nothing drifts; the 3×3×3 pile runs without a
+//! (within 1e-6 relative, issue 13; DESIGN asks 1e-3) and nothing drifts; the 3×3×3 pile runs without a
 //! single LCP failure.
 
 mod common;
@@ -19,7 +19,7 @@ fn check_stack(n: usize, steps: usize) {
             let below = if j == 0 { s.ground.0 } else { s.bodies[j - 1].0 };
             let f = interface_fn(&r, below, s.bodies[j].0);
             let expect = (n - j) as f64 * G * h;
-            assert!(rel(f, expect) < 1e-3, "n {n}, step {}: interface {j} carries {f:e}, expected {expect:e}", r.step);
+            assert!(rel(f, expect) < 1e-6, "n {n}, step {}: interface {j} carries {f:e}, expected {expect:e}", r.step);
         }
     }
     for (&b, (p0, q0)) in s.bodies.iter().zip(&start) {
