@@ -18,7 +18,7 @@ G = 9.81
 JSON_KEYS = {
     "scene", "params", "world", "steps", "time", "body", "bodies", "final_position", "final_orientation",
     "final_velocity", "displacement", "distance", "tilt_deg", "max_tilt_deg", "direction", "slide",
-    "expected_slide", "lcp", "wall_time", "steps_per_second", "capture", "captured",
+    "expected_slide", "lcp", "islands", "wall_time", "steps_per_second", "capture", "captured",
 }
 LCP_KEYS = {"steps", "count", "failures", "by_status", "max_residual", "pivots_median", "pivots_max",
             "max_lcp_size", "max_contacts"}
@@ -117,3 +117,13 @@ def test_subprocess_help_lists_scenes_and_params():
         assert word in p.stdout, word
     p = subprocess.run([sys.executable, "-m", "lcpsim", "--help"], capture_output=True, text=True, timeout=120)
     assert "simulate" in p.stdout
+
+
+def test_cube_heap_from_the_command_line(capsys):
+    """Issue 13: `lcpsim simulate cube_heap --n N --seed S [--walls]`."""
+    rc, d = simulate_json(capsys, "cube_heap", "--n", "5", "--seed", "3", "--walls", "--steps", "150")
+    assert rc == 0 and d["bodies"] == 5
+    assert {k: d["params"][k] for k in ("n", "seed", "walls")} == {"n": 5, "seed": 3, "walls": True}
+    # Five cubes (four over one) fall together: one island once they have landed.
+    assert d["islands"]["max"] >= 1 and d["islands"]["max_lcp_size"] > 0
+    assert d["world"]["threads"] == 1

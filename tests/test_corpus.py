@@ -92,7 +92,7 @@ def test_metadata(slope_corpus):
         assert c.metadata["scene"] == "cube_on_slope"
         assert c.metadata["scene_params"]["angle_deg"] == 45.2
         assert c.metadata["params"]["cone_scale"] == "dt" and c.metadata["method"] == "lemke"
-        assert c.lcpsim_version == lcpsim.__version__ and c.format_version == 1 and c.created
+        assert c.lcpsim_version == lcpsim.__version__ and c.format_version == 2 and c.created
         assert len(c.runs) == 1 and c.runs[0]["scene"] == "cube_on_slope" and (c.run == 0).all()
     with h5py.File(path, "r") as f:
         assert f.attrs["format"] == "lcpsim-corpus"
@@ -281,3 +281,30 @@ def test_captured_scaled_lcp_is_d_m_d_of_the_unscaled_one():
     z1, zs = caps[1.0]["z"], caps[1e-3]["z"]
     np.testing.assert_allclose(zs[:36], z1[:36], rtol=1e-9, atol=1e-15)
     np.testing.assert_allclose(zs[36:] * 1e-3, z1[36:], rtol=1e-9)
+
+
+def test_one_lcp_per_island_with_its_island(tmp_path):
+    """Issue 13: separate towers are separate islands, each captured as its own LCP."""
+    path = tmp_path / "pile.h5"
+    s = scenes.box_pile(2, 1, 2)
+    traj = s.world.run(5, capture=path)
+    with open_corpus(path) as c:
+        assert len(c) == 10 and (traj.islands == 2).all()
+        assert c.island.tolist() == [0, 1] * 5 and c.step.tolist() == [0, 0, 1, 1, 2, 2, 3, 3, 4, 4]
+        assert (c.n == 80).all() and [r.island for r in c] == [0, 1] * 5
+        # The islands' LCPs add up to the step's.
+        assert (c.n.reshape(5, 2).sum(axis=1) == traj.lcp_size).all()
+
+
+def test_version_1_files_still_read(slope_corpus, tmp_path):
+    """A version-1 corpus (no /index/island) reads, every LCP in island 0."""
+    path, _, ref = slope_corpus
+    old = tmp_path / "v1.h5"
+    old.write_bytes(path.read_bytes())
+    with h5py.File(old, "r+") as f:
+        del f["index/island"]
+        f.attrs["format_version"] = 1
+    with open_corpus(old) as c:
+        assert c.format_version == 1 and len(c) == 300
+        assert (c.island == 0).all() and c[7].island == 0
+        assert np.array_equal(c[7].q, ref["q"][7 * 40 : 8 * 40])

@@ -31,6 +31,7 @@ __all__ = ["simulate_summary"]
 # Scene parameters as options: the union over all scenes; type from the default.
 _INT_PARAMS = {"n", "nx", "ny", "nz", "seed"}
 _STR_PARAMS = {"downhill"}
+_BOOL_PARAMS = {"walls"}
 
 
 def _all_scene_params() -> dict[str, set[str]]:
@@ -78,6 +79,12 @@ def _configure(p: argparse.ArgumentParser) -> None:
     )
     g = p.add_argument_group("scene parameters (each scene takes its own; defaults are the scene's)")
     for name, users in sorted(_all_scene_params().items()):
+        if name in _BOOL_PARAMS:
+            g.add_argument(
+                "--" + name.replace("_", "-"), dest=f"scene_{name}", action="store_const", const=True, default=None,
+                help=f"({', '.join(sorted(users))})",
+            )
+            continue
         kind: Any = int if name in _INT_PARAMS else str if name in _STR_PARAMS else float
         g.add_argument(
             "--" + name.replace("_", "-"), dest=f"scene_{name}", type=kind, default=None,
@@ -167,6 +174,10 @@ def simulate_summary(scene: Scene, traj: Trajectory, wall: float) -> dict[str, A
         "slide": slide,
         "expected_slide": expected,
         "lcp": stats.to_dict(),
+        "islands": {
+            "max": int(traj.islands.max(initial=0)),
+            "max_lcp_size": int(traj.max_island_size.max(initial=0)),
+        },
         "wall_time": wall,
         "steps_per_second": len(traj) / wall if wall > 0 else None,
     }
@@ -202,6 +213,7 @@ def _text(s: dict[str, Any]) -> str:
         f"residual:      max {lcp['max_residual']:.3e} (physical units, ‖min(z, w)‖∞)",
         f"pivots:        median {lcp['pivots_median']:g}, max {lcp['pivots_max']}",
         f"LCP size:      max {lcp['max_lcp_size']} ({lcp['max_contacts']} contacts)",
+        f"islands:       max {s['islands']['max']} per step, largest island LCP {s['islands']['max_lcp_size']}",
     ]
     sps = s["steps_per_second"]
     lines.append(f"wall time:     {s['wall_time']:.3f} s" + (f" ({sps:,.0f} steps/s)" if sps else ""))

@@ -48,8 +48,8 @@ __all__ = [
 
 #: Value of the root attribute ``format``.
 FORMAT = "lcpsim-corpus"
-#: Value of the root attribute ``format_version``.
-FORMAT_VERSION = 1
+#: Value of the root attribute ``format_version`` (2: ``/index/island``; version 1 files read with island 0).
+FORMAT_VERSION = 2
 #: Solver names, indexed by ``/index/method``.
 METHOD_NAMES: tuple[str, ...] = (*_core.METHODS, "custom")
 
@@ -59,6 +59,7 @@ _INDEX: dict[str, tuple[str, int]] = {
     "m_offset": ("i8", 4096),
     "v_offset": ("i8", 4096),
     "step": ("i8", 4096),
+    "island": ("i4", 4096),
     "time": ("f8", 4096),
     "contacts": ("i4", 4096),
     "friction_dirs": ("i4", 4096),
@@ -69,6 +70,8 @@ _INDEX: dict[str, tuple[str, int]] = {
     "run": ("i4", 4096),
     "n": ("i4", 4096),
 }
+# Index datasets a version-1 file lacks, and the value its records take.
+_ADDED_IN_V2 = {"island": 0}
 _DATA = {"M": 1 << 16, "q": 1 << 12, "z": 1 << 12, "w": 1 << 12}
 
 
@@ -182,7 +185,7 @@ class CorpusWriter:
     def append(self, captured: Mapping[str, Any]) -> int:
         """Appends a batch of LCPs in the compiled module's capture layout:
         flat ``M``, ``q``, ``z``, ``w`` (problems concatenated) and per-problem
-        ``n``, ``step``, ``time``, ``contacts``, ``friction_dirs``, ``scale``,
+        ``n``, ``step``, ``island``, ``time``, ``contacts``, ``friction_dirs``, ``scale``,
         ``status`` (index into :data:`lcpsim.STATUSES`), ``iterations``,
         ``method`` (names). Returns the number appended."""
         self._check_open()
@@ -218,6 +221,7 @@ class CorpusWriter:
             "m_offset": m_off,
             "v_offset": v_off,
             "step": np.asarray(captured.get("step", np.full(b, -1)), dtype=np.int64),
+            "island": np.asarray(captured.get("island", np.zeros(b)), dtype=np.int32),
             "time": np.asarray(captured.get("time", np.full(b, np.nan)), dtype=np.float64),
             "contacts": np.asarray(captured.get("contacts", np.zeros(b)), dtype=np.int32),
             "friction_dirs": np.asarray(captured.get("friction_dirs", np.zeros(b)), dtype=np.int32),
@@ -245,6 +249,7 @@ class CorpusWriter:
         status: str = "solved",
         scale: float = 1.0,
         step: int = -1,
+        island: int = 0,
         time: float = float("nan"),
         contacts: int = 0,
         friction_dirs: int = 0,
@@ -271,6 +276,7 @@ class CorpusWriter:
                 "w": w_,
                 "n": [n],
                 "step": [step],
+                "island": [island],
                 "time": [time],
                 "contacts": [contacts],
                 "friction_dirs": [friction_dirs],
@@ -321,6 +327,8 @@ class CorpusRecord:
     pivots: int
     method: str
     run: int
+    #: Island of its step (0 for the first; always 0 in version-1 files).
+    island: int = 0
 
     @property
     def n(self) -> int:
@@ -360,7 +368,7 @@ class Corpus:
 
     ``len(c)`` LCPs; ``c[i]`` is a :class:`CorpusRecord`; iterating reads the
     data in blocks (bounded memory). The per-LCP index is loaded at once as
-    arrays: ``c.n``, ``c.step``, ``c.time``, ``c.contacts``, ``c.scale``,
+    arrays: ``c.n``, ``c.step``, ``c.island``, ``c.time``, ``c.contacts``, ``c.scale``,
     ``c.status`` (strings), ``c.pivots``, ``c.method`` (strings), ``c.run``.
     ``c.metadata`` is the file's metadata, ``c.runs`` each run's.
     """
@@ -383,12 +391,15 @@ class Corpus:
             self.metadata: dict[str, Any] = json.loads(f.attrs.get("metadata", "{}"))
             self.status_names: list[str] = json.loads(f.attrs["status_names"])
             self.method_names: list[str] = json.loads(f.attrs["method_names"])
-            idx = {k: f["index"][k][()] for k in _INDEX}
+            stored = f["index"]
+            idx = {k: stored[k][()] for k in _INDEX if k not in _ADDED_IN_V2 or k in stored}
             data_len = {k: f["data"][k].shape[0] for k in _DATA}
             # Complete records only: as many as every index dataset holds and
             # whose data lies within the data written.
             count = min(v.shape[0] for v in idx.values())
             idx = {k: v[:count] for k, v in idx.items()}
+            for k, value in _ADDED_IN_V2.items():
+                idx.setdefault(k, np.full(count, value, dtype=_INDEX[k][0]))
             n = idx["n"].astype(np.int64)
             m_end = idx["m_offset"] + n * n
             v_end = idx["v_offset"] + n
@@ -424,6 +435,11 @@ class Corpus:
     @property
     def step(self) -> NDArray[np.int64]:
         return np.asarray(self._idx["step"], dtype=np.int64)
+
+    @property
+    def island(self) -> NDArray[np.int64]:
+        """Island of its step per LCP (0 in version-1 files)."""
+        return np.asarray(self._idx["island"], dtype=np.int64)
 
     @property
     def time(self) -> NDArray[np.float64]:
@@ -492,6 +508,7 @@ class Corpus:
             pivots=int(ix["pivots"][i]),
             method=self.method_names[me] if 0 <= me < len(self.method_names) else "unknown",
             run=int(ix["run"][i]),
+            island=int(ix["island"][i]),
         )
 
     def __getitem__(self, index: int) -> CorpusRecord:

@@ -39,6 +39,7 @@ __all__ = [
     "box_stack",
     "ball_on_incline",
     "box_pile",
+    "cube_heap",
 ]
 
 G = 9.81
@@ -278,6 +279,30 @@ def box_pile(
     )
 
 
+def cube_heap(
+    n: int = 50,
+    seed: int = 0,
+    walls: bool = False,
+    *,
+    size: float = 1.0,
+    mass: float = 1.0,
+    mu: float = 0.5,
+    spacing: float = 1.1,
+    jitter: float = 0.02,
+    **world: Any,
+) -> Scene:
+    """``n`` cubes dropped into one connected heap: a stepped pyramid whose
+    layer L holds (g − L)² cubes above the gaps of the layer below (``spacing``
+    × size between neighbours), each turned (rad) and shifted (× size) by
+    seeded random amounts up to ``jitter`` and starting a little above its
+    resting place; ``walls`` adds four static boxes around the base."""
+    return _build(
+        "cube_heap",
+        dict(n=n, seed=seed, walls=walls, size=size, mass=mass, mu=mu, spacing=spacing, jitter=jitter),
+        world,
+    )
+
+
 #: Every scene by name.
 SCENES: dict[str, Callable[..., Scene]] = {
     "cube_on_slope": cube_on_slope,
@@ -288,6 +313,7 @@ SCENES: dict[str, Callable[..., Scene]] = {
     "box_stack": box_stack,
     "ball_on_incline": ball_on_incline,
     "box_pile": box_pile,
+    "cube_heap": cube_heap,
 }
 
 

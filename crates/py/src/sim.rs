@@ -655,7 +655,7 @@ impl World {
     }
 
     /// Takes the captured LCPs: a dict with flat `M`, `q`, `z`, `w` (problems
-    /// concatenated) and per-problem `n`, `step`, `time`, `contacts`,
+    /// concatenated) and per-problem `n`, `step`, `island`, `time`, `contacts`,
     /// `friction_dirs`, `scale`, `status` (index into STATUSES),
     /// `iterations`, `method`.
     fn drain_capture<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
