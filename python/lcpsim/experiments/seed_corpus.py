@@ -327,7 +327,7 @@ def generate(
     is kept (``cache``), so experiments run one after another share it."""
     import json
 
-    from ..io.capture import CorpusWriter, open_corpus
+    from ..io.capture import CaptureWriter, open_capture
 
     cfg = merge_config("seed corpus", DEFAULTS, config)
     key = json.dumps(cfg, sort_keys=True)
@@ -343,11 +343,11 @@ def generate(
     parts: dict[int, dict[str, list[Any]]] = {}
     try:
         meta = {"corpus": "seed", "config": cfg, "simulations": [s.to_dict() for s in sims]}
-        with CorpusWriter(file, metadata=meta) as writer:
+        with CaptureWriter(file, metadata=meta) as writer:
             for spec in sims:
                 world, _ = build_world(spec, dt=float(cfg["dt"]), friction_dirs=int(cfg["friction_dirs"]))
                 world.run(spec.steps, capture=writer)
-        with open_corpus(file) as c:
+        with open_capture(file) as c:
             runs = c.run
             for rec in c:
                 p = parts.setdefault(rec.n, {k: [] for k in ("M", "q", "z", "index", "sim", "step", "nc", "k")})
