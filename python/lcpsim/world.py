@@ -700,7 +700,7 @@ class World:
         """Runs ``steps`` steps (the loop in Rust, GIL released) and returns the :class:`Trajectory`.
 
         ``capture``: a path or a :class:`lcpsim.io.capture.CaptureWriter`; every
-        LCP solved is streamed to it (HDF5, see ``docs/corpus.md``), drained
+        LCP solved is streamed to it (HDF5, see ``docs/capture.md``), drained
         from Rust every ``chunk_steps`` steps or ``chunk_bytes`` of captured
         data and flushed, so memory stays bounded and an interrupted run
         leaves a readable file. A path is created (overwritten) with this

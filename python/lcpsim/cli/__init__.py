@@ -10,4 +10,13 @@ from __future__ import annotations
 from .command import EXIT_NOT_SOLVED, EXIT_OK, EXIT_USAGE, CliError, Command, register_command
 from .main import build_parser, main
 
-__all__ = ["main", "register_command", "Command", "CliError", "build_parser", "EXIT_OK", "EXIT_NOT_SOLVED", "EXIT_USAGE"]
+__all__ = [
+    "main",
+    "register_command",
+    "Command",
+    "CliError",
+    "build_parser",
+    "EXIT_OK",
+    "EXIT_NOT_SOLVED",
+    "EXIT_USAGE",
+]

@@ -16,7 +16,16 @@ from . import simulate  # noqa: F401
 from . import experiments  # noqa: F401
 from .command import EXIT_NOT_SOLVED, EXIT_OK, EXIT_USAGE, CliError, Command, commands, register_command
 
-__all__ = ["main", "build_parser", "register_command", "Command", "CliError", "EXIT_OK", "EXIT_NOT_SOLVED", "EXIT_USAGE"]
+__all__ = [
+    "main",
+    "build_parser",
+    "register_command",
+    "Command",
+    "CliError",
+    "EXIT_OK",
+    "EXIT_NOT_SOLVED",
+    "EXIT_USAGE",
+]
 
 
 # ---------------------------------------------------------------- main

@@ -55,7 +55,7 @@ def _configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--piv-tol", type=float, default=None, help="Lemke: smallest pivot")
     p.add_argument("--zero-tol", type=float, default=None, help="Lemke: the user zero")
     p.add_argument("--max-pivots", type=int, default=None, help="Lemke: pivot limit")
-    p.add_argument("--capture", metavar="FILE", default=None, help="stream every LCP solved to this HDF5 corpus")
+    p.add_argument("--capture", metavar="FILE", default=None, help="stream every LCP solved to this HDF5 capture")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.add_argument(
         "--set", action="append", default=[], metavar="NAME=VALUE",

@@ -22,10 +22,10 @@ __all__: list[str] = []
 def _configure_solve(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "file",
-        help="LCP file: .npz with arrays M, q, HDF5 (.h5) with datasets /M, /q, an LCP corpus (with --index), "
+        help="LCP file: .npz with arrays M, q, HDF5 (.h5) with datasets /M, /q, a capture (with --index), "
         "or a failure dump (solve_lcp(..., dump=DIR)): replayed with its method and options unless overridden",
     )
-    p.add_argument("--index", type=int, default=None, metavar="K", help="problem K of an LCP corpus (lcpsim simulate --capture)")
+    p.add_argument("--index", type=int, default=None, metavar="K", help="problem K of a capture (lcpsim simulate --capture)")
     # Defaults are None here so that a dump's options apply unless given on the command line.
     p.add_argument("--method", choices=METHODS, default=None, help="solver (default: lemke)")
     p.add_argument(

@@ -1,4 +1,5 @@
-"""Shared pieces of the experiments: scales, configs, the result envelope.
+"""Shared pieces of the experiments: configs, the result envelope (the scale
+parsers are :mod:`lcpsim.scale`'s, re-exported).
 
 Every experiment is a plain function ``run(config) -> dict`` of a JSON-ready
 config (a mapping; missing keys take the experiment's defaults, unknown keys

@@ -26,15 +26,7 @@ from . import slope
 from ._common import envelope, merge_config
 from .presets import parse_solver
 from .document import Doc
-from .experiment import (
-    Experiment,
-    ReportContext,
-    ReportPart,
-    add_common_arguments,
-    add_simulation_arguments,
-    base_config,
-    header,
-)
+from .experiment import Experiment, ReportContext, add_common_arguments, add_simulation_arguments, base_config, header
 from .figure import OUTCOME_COLORS, pyplot, save, solver_label
 
 __all__ = ["DEFAULTS", "run", "HELD"]
@@ -129,7 +121,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
 # ---------------------------------------------------------------- command line, figures, report
 
 
-def _arguments(p: argparse.ArgumentParser) -> None:
+def cli_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--angle-deg", "--angle", dest="angle_deg", type=float, default=45.0001, help="slope angle (default: 45.0001)")
     p.add_argument("--mu", type=float, default=1.0, help="friction coefficient (default: 1)")
     p.add_argument("--lo", type=float, default=1e-8, help="smallest scale searched (default: 1e-8)")
@@ -139,7 +131,7 @@ def _arguments(p: argparse.ArgumentParser) -> None:
     add_common_arguments(p)
 
 
-def _config(args: argparse.Namespace) -> dict[str, Any]:
+def cli_config(args: argparse.Namespace) -> dict[str, Any]:
     return {
         **base_config(args), "angle_deg": args.angle_deg, "mu": args.mu, "lo": args.lo, "hi": args.hi,
         "tol_decades": args.tol_decades, "seconds": args.seconds, "dt": args.dt, "friction_dirs": args.friction_dirs,
@@ -204,7 +196,7 @@ def critical_text(r: dict[str, Any]) -> str:
         r["note"], "—")
 
 
-def _report_run(ctx: ReportContext) -> dict[str, Any]:
+def report_run(ctx: ReportContext) -> dict[str, Any]:
     def runs() -> list[dict[str, Any]]:
         return [
             run({"seed": ctx.seed, "solver": solver, "angle_deg": angle, "seconds": ctx.seconds})
@@ -215,11 +207,11 @@ def _report_run(ctx: ReportContext) -> dict[str, Any]:
     return {"critical_scale": ctx.step("critical scales", runs)}
 
 
-def _report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
+def report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
     return {"critical_scale": plot_critical_scale(res["critical_scale"], ctx.path("critical_scale.png"))}
 
 
-def _report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
+def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
     d.h(2, "Critical scale")
     d.p(
         "`lcpsim critical-scale --angle-deg A --mu 1 --solver seed`: one slope test per decade from s = 1 down to "
@@ -234,14 +226,9 @@ def _report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: Repo
     d.img(ctx.rel(figs["critical_scale"]), "critical scale")
 
 
-EXPERIMENT = Experiment(
-    name="critical-scale",
-    help="the cone scale below which the slope cube is held instead of sliding",
-    defaults=DEFAULTS,
-    run=run,
-    arguments=_arguments,
-    config=_config,
-    summary=summary,
+EXPERIMENT = Experiment.of_module(
+    __name__,
+    "critical-scale",
+    "the cone scale below which the slope cube is held instead of sliding",
     plot=plot_critical_scale,
-    report=ReportPart(_report_run, _report_figures, _report_section),
 )

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 import time
 from dataclasses import dataclass, field
 from typing import IO, Any, Callable, Mapping, Sequence
@@ -107,6 +108,20 @@ class Experiment:
     summary: Callable[[Result, argparse.Namespace | None], str]
     plot: Callable[[Sequence[Mapping[str, Any]], str | os.PathLike[str]], str]
     report: ReportPart | None = None
+
+    @classmethod
+    def of_module(
+        cls, module: str, name: str, help: str,
+        plot: Callable[[Sequence[Mapping[str, Any]], str | os.PathLike[str]], str],
+    ) -> "Experiment":
+        """The experiment an experiment module defines by these names: ``DEFAULTS``,
+        ``run``, ``cli_arguments``, ``cli_config``, ``summary`` and, for the report,
+        ``report_run``, ``report_figures``, ``report_section``."""
+        m = sys.modules[module]
+        return cls(
+            name=name, help=help, defaults=m.DEFAULTS, run=m.run, arguments=m.cli_arguments, config=m.cli_config,
+            summary=m.summary, plot=plot, report=ReportPart(m.report_run, m.report_figures, m.report_section),
+        )
 
 
 def scale_pair_runs(ctx: ReportContext, title: str, run: Callable[[Mapping[str, Any]], Result]) -> list[Result]:

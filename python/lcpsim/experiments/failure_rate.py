@@ -58,14 +58,7 @@ from .seed_corpus import DEFAULTS as CORPUS_DEFAULTS
 from .seed_corpus import build_world, generate, scaled, simulations, solve_scaled
 from .document import Doc, pct
 from .experiment import (
-    Experiment,
-    ReportContext,
-    ReportPart,
-    add_common_arguments,
-    add_corpus_arguments,
-    base_config,
-    corpus_config,
-    header,
+    Experiment, ReportContext, add_common_arguments, add_corpus_arguments, base_config, corpus_config, header,
 )
 from .figure import pyplot, save, solver_label
 
@@ -453,7 +446,7 @@ class _Acc:
 # ---------------------------------------------------------------- command line, figures, report
 
 
-def _arguments(p: argparse.ArgumentParser) -> None:
+def cli_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scales", default="none,1e-3,1e-4,1e-6", help="comma-separated scales (default: none,1e-3,1e-4,1e-6)")
     p.add_argument("--tol", type=float, default=1e-6, help="physical-unit residual tolerance (default: 1e-6)")
     p.add_argument("--rel-tol", type=float, default=1e-9,
@@ -475,7 +468,7 @@ def _arguments(p: argparse.ArgumentParser) -> None:
     add_corpus_arguments(p)
 
 
-def _config(args: argparse.Namespace) -> dict[str, Any]:
+def cli_config(args: argparse.Namespace) -> dict[str, Any]:
     cfg = {**base_config(args), **corpus_config(args), "scales": parse_scales(args.scales), "tol": args.tol, "mode": args.mode}
     cfg["scales"] = ["none" if s is None else s for s in cfg["scales"]]
     cfg["rel_tol"] = args.rel_tol
@@ -600,7 +593,7 @@ def row_at(result: Mapping[str, Any], scale: str) -> dict[str, Any] | None:
     return None
 
 
-def _report_run(ctx: ReportContext) -> dict[str, Any]:
+def report_run(ctx: ReportContext) -> dict[str, Any]:
     fr: dict[str, dict[str, Any]] = {}
     for name in ("seed", "robust"):
         cfg = {**ctx.base, "solver": name, "scales": REPORT_SCALES}
@@ -624,7 +617,7 @@ def _report_run(ctx: ReportContext) -> dict[str, Any]:
     }
 
 
-def _report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
+def report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
     fr = res["failure_rate"]
     return {
         "failure_rate": plot_failure_rate([fr["seed"], fr["robust"]], ctx.path("failure_rate.png")),
@@ -632,7 +625,7 @@ def _report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
     }
 
 
-def _report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
+def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
     fr = res["failure_rate"]
     d.h(2, "Failure rate per scale")
     d.p(
@@ -698,14 +691,9 @@ def _comparison_section(d: Doc, cmp: dict[str, Any]) -> None:
              "accepted wrong", "certified exact", "η ≤ 1e-14", "η or residual"], trows)
 
 
-EXPERIMENT = Experiment(
-    name="failure-rate",
-    help="failure rate of solvers over the seed and hard corpora per friction-cone scale",
-    defaults=DEFAULTS,
-    run=run,
-    arguments=_arguments,
-    config=_config,
-    summary=summary,
+EXPERIMENT = Experiment.of_module(
+    __name__,
+    "failure-rate",
+    "failure rate of solvers over the seed and hard corpora per friction-cone scale",
     plot=plot_failure_rate,
-    report=ReportPart(_report_run, _report_figures, _report_section),
 )

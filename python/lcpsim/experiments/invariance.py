@@ -41,16 +41,8 @@ from .seed_corpus import DEFAULTS as CORPUS_DEFAULTS
 from .seed_corpus import generate, solve_scaled
 from .document import Doc
 from .experiment import (
-    Experiment,
-    ReportContext,
-    ReportPart,
-    add_common_arguments,
-    add_corpus_arguments,
-    base_config,
-    corpus_config,
-    header,
-    scale_argument,
-    scale_pair_runs,
+    Experiment, ReportContext, add_common_arguments, add_corpus_arguments, base_config, corpus_config, header,
+    scale_argument, scale_pair_runs,
 )
 from .figure import pyplot, save, solver_label
 
@@ -208,14 +200,14 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
 # ---------------------------------------------------------------- command line, figures, report
 
 
-def _arguments(p: argparse.ArgumentParser) -> None:
+def cli_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scale", type=scale_argument, default=1e-3, metavar="dt|S", help="cone scale compared with unscaled (default: 1e-3)")
     p.add_argument("--digits", type=int, default=None, metavar="N", help="print example vectors with N significant digits (as the seed: 20)")
     add_common_arguments(p)
     add_corpus_arguments(p)
 
 
-def _config(args: argparse.Namespace) -> dict[str, Any]:
+def cli_config(args: argparse.Namespace) -> dict[str, Any]:
     if args.digits is not None and not 1 <= args.digits <= 40:
         raise ValueError(f"--digits must be in 1…40, got {args.digits}")
     return {**base_config(args), **corpus_config(args), "scale": args.scale}
@@ -269,15 +261,15 @@ def plot_invariance(results: Sequence[Mapping[str, Any]], path: str | os.PathLik
     return save(fig, path)
 
 
-def _report_run(ctx: ReportContext) -> dict[str, Any]:
+def report_run(ctx: ReportContext) -> dict[str, Any]:
     return {"invariance": scale_pair_runs(ctx, "invariance", run)}
 
 
-def _report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
+def report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
     return {"invariance": plot_invariance(res["invariance"], ctx.path("invariance.png"))}
 
 
-def _report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
+def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
     d.h(2, "Scaling invariance")
     d.p(
         "`lcpsim invariance --scale S --solver P [--digits 20]`: every corpus LCP solved unscaled and scaled; "
@@ -304,14 +296,9 @@ def _report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: Repo
         d.pre("\n".join(lines).strip())
 
 
-EXPERIMENT = Experiment(
-    name="invariance",
-    help="fn, fd unchanged and λ·s by cone scaling, over the seed corpus",
-    defaults=DEFAULTS,
-    run=run,
-    arguments=_arguments,
-    config=_config,
-    summary=summary,
+EXPERIMENT = Experiment.of_module(
+    __name__,
+    "invariance",
+    "fn, fd unchanged and λ·s by cone scaling, over the seed corpus",
     plot=plot_invariance,
-    report=ReportPart(_report_run, _report_figures, _report_section),
 )

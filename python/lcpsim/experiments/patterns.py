@@ -43,16 +43,8 @@ from .seed_corpus import DEFAULTS as CORPUS_DEFAULTS
 from .seed_corpus import Group, ScaledSolve, generate, solve_scaled
 from .document import Doc
 from .experiment import (
-    Experiment,
-    ReportContext,
-    ReportPart,
-    add_common_arguments,
-    add_corpus_arguments,
-    base_config,
-    corpus_config,
-    header,
-    scale_argument,
-    scale_pair_runs,
+    Experiment, ReportContext, add_common_arguments, add_corpus_arguments, base_config, corpus_config, header,
+    scale_argument, scale_pair_runs,
 )
 from .figure import pyplot, save, solver_label
 
@@ -185,14 +177,14 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
 # ---------------------------------------------------------------- command line, figures, report
 
 
-def _arguments(p: argparse.ArgumentParser) -> None:
+def cli_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scale", type=scale_argument, default=1e-3, metavar="dt|S", help="cone scale (default: 1e-3)")
     p.add_argument("--zero-rel", type=float, default=1e-9, help="relative zero for the signs (default: 1e-9)")
     add_common_arguments(p)
     add_corpus_arguments(p)
 
 
-def _config(args: argparse.Namespace) -> dict[str, Any]:
+def cli_config(args: argparse.Namespace) -> dict[str, Any]:
     return {**base_config(args), **corpus_config(args), "scale": args.scale, "zero_rel": args.zero_rel}
 
 
@@ -253,11 +245,11 @@ def plot_patterns(result: Mapping[str, Any], path: str | os.PathLike[str]) -> st
     return save(fig, path)
 
 
-def _report_run(ctx: ReportContext) -> dict[str, Any]:
+def report_run(ctx: ReportContext) -> dict[str, Any]:
     return {"patterns": scale_pair_runs(ctx, "patterns", run)}
 
 
-def _report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
+def report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
     figs = {}
     for r in res["patterns"]:
         tag = f"{r['solver']['name']}_{r['scale']}".replace(".", "_").replace("-", "m")
@@ -265,7 +257,7 @@ def _report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
     return figs
 
 
-def _report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
+def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
     d.h(2, "Contact patterns")
     d.p(
         "`lcpsim patterns --scale S --solver P`: sign of (fn, Σfd, λ) per contact, unscaled and scaled; "
@@ -286,14 +278,9 @@ def _report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: Repo
             d.img(ctx.rel(figs[k]), k)
 
 
-EXPERIMENT = Experiment(
-    name="patterns",
-    help="sign patterns (fn, Σfd, λ) per contact, unscaled × scaled",
-    defaults=DEFAULTS,
-    run=run,
-    arguments=_arguments,
-    config=_config,
-    summary=summary,
+EXPERIMENT = Experiment.of_module(
+    __name__,
+    "patterns",
+    "sign patterns (fn, Σfd, λ) per contact, unscaled × scaled",
     plot=lambda results, path: plot_patterns(results[0], path),
-    report=ReportPart(_report_run, _report_figures, _report_section),
 )

@@ -32,14 +32,7 @@ from .presets import parse_solver
 from .slope import classify
 from .document import Doc
 from .experiment import (
-    Experiment,
-    ReportContext,
-    ReportPart,
-    add_common_arguments,
-    add_simulation_arguments,
-    base_config,
-    header,
-    scale_argument,
+    Experiment, ReportContext, add_common_arguments, add_simulation_arguments, base_config, header, scale_argument,
 )
 from .figure import pyplot, save, solver_label
 
@@ -139,7 +132,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
 # ---------------------------------------------------------------- command line, figures, report
 
 
-def _arguments(p: argparse.ArgumentParser) -> None:
+def cli_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--force", type=float, default=9.79, help="horizontal push at the centre of mass, N (default: 9.79)")
     p.add_argument("--mu", type=float, default=1.0, help="friction coefficient (default: 1)")
     p.add_argument("--scale", type=scale_argument, default="none", metavar="none|dt|S", help="cone scale (default: none)")
@@ -147,7 +140,7 @@ def _arguments(p: argparse.ArgumentParser) -> None:
     add_common_arguments(p)
 
 
-def _config(args: argparse.Namespace) -> dict[str, Any]:
+def cli_config(args: argparse.Namespace) -> dict[str, Any]:
     return {
         **base_config(args), "force": args.force, "mu": args.mu, "scale": args.scale, "seconds": args.seconds,
         "dt": args.dt, "friction_dirs": args.friction_dirs, "trace": bool(args.plot),
@@ -232,7 +225,7 @@ def find(results: Sequence[Mapping[str, Any]], solver: str, scale: str, force: f
                 if r["solver"]["name"] == solver and r["scale"] == scale and r["config"]["force"] == force)
 
 
-def _report_run(ctx: ReportContext) -> dict[str, Any]:
+def report_run(ctx: ReportContext) -> dict[str, Any]:
     def runs() -> list[dict[str, Any]]:
         return [
             run({"seed": ctx.seed, "solver": solver, "scale": sc, "force": F, "seconds": ctx.seconds,
@@ -245,7 +238,7 @@ def _report_run(ctx: ReportContext) -> dict[str, Any]:
     return {"push": ctx.step("pushed cube", runs)}
 
 
-def _report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
+def report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
     pushes = res["push"]
     return {
         "push_sweep": plot_push_sweep(pushes, ctx.path("push_sweep.png")),
@@ -254,7 +247,7 @@ def _report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
     }
 
 
-def _report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
+def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
     d.h(2, "Pushed cube")
     d.p(
         "`lcpsim push --force F --mu 1 --solver P`: a 1 kg cube, μ = 1, pushed at its centre of mass; it must "
@@ -275,14 +268,9 @@ def _report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: Repo
     d.img(ctx.rel(figs["push_trace"]), "push traces")
 
 
-EXPERIMENT = Experiment(
-    name="push",
-    help="the seed's pushed cube (9.79 N, μ = 1)",
-    defaults=DEFAULTS,
-    run=run,
-    arguments=_arguments,
-    config=_config,
-    summary=summary,
+EXPERIMENT = Experiment.of_module(
+    __name__,
+    "push",
+    "the seed's pushed cube (9.79 N, μ = 1)",
     plot=plot_push,
-    report=ReportPart(_report_run, _report_figures, _report_section),
 )

@@ -42,14 +42,7 @@ from ._common import G, body_energy, downsample, envelope, merge_config, parse_s
 from .presets import parse_solver
 from .document import Doc
 from .experiment import (
-    Experiment,
-    ReportContext,
-    ReportPart,
-    add_common_arguments,
-    add_simulation_arguments,
-    base_config,
-    header,
-    scale_argument,
+    Experiment, ReportContext, add_common_arguments, add_simulation_arguments, base_config, header, scale_argument,
 )
 from .figure import pyplot, save, solver_label
 
@@ -175,7 +168,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
 # ---------------------------------------------------------------- command line, figures, report
 
 
-def _arguments(p: argparse.ArgumentParser) -> None:
+def cli_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--angle-deg", "--angle", dest="angle_deg", type=float, default=45.0001, help="slope angle (default: 45.0001)")
     p.add_argument("--mu", type=float, default=1.0, help="friction coefficient (default: 1)")
     p.add_argument("--scale", type=scale_argument, default="none", metavar="none|dt|S", help="cone scale (default: none)")
@@ -183,7 +176,7 @@ def _arguments(p: argparse.ArgumentParser) -> None:
     add_common_arguments(p)
 
 
-def _config(args: argparse.Namespace) -> dict[str, Any]:
+def cli_config(args: argparse.Namespace) -> dict[str, Any]:
     return {
         **base_config(args), "angle_deg": args.angle_deg, "mu": args.mu, "scale": args.scale,
         "seconds": args.seconds, "dt": args.dt, "friction_dirs": args.friction_dirs, "trace": bool(args.plot),
@@ -249,7 +242,7 @@ REPORT_SCALES = ["none", 1e-3, 1e-6]
 REPORT_ANGLES = (45.0001, 45.2)
 
 
-def _report_run(ctx: ReportContext) -> dict[str, Any]:
+def report_run(ctx: ReportContext) -> dict[str, Any]:
     def runs() -> list[dict[str, Any]]:
         return [
             run({"seed": ctx.seed, "solver": solver, "angle_deg": angle, "scale": sc, "seconds": ctx.seconds,
@@ -262,7 +255,7 @@ def _report_run(ctx: ReportContext) -> dict[str, Any]:
     return {"slope": ctx.step("slope tests", runs)}
 
 
-def _report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
+def report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
     figs = {}
     for angle in REPORT_ANGLES:
         tag = str(angle).replace(".", "_")
@@ -272,7 +265,7 @@ def _report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
     return figs
 
 
-def _report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
+def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
     d.h(2, "Slope test")
     d.p(
         "`lcpsim slope --angle-deg A --mu 1 --scale S --solver P --seconds T`. A μ = 1 cube on a slope just "
@@ -294,14 +287,9 @@ def _report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: Repo
     d.img(ctx.rel(figs["slope_45_2"]), "slope test at 45.2°")
 
 
-EXPERIMENT = Experiment(
-    name="slope",
-    help="the seed's slope test: does a μ = 1 cube slide, rest or tip?",
-    defaults=DEFAULTS,
-    run=run,
-    arguments=_arguments,
-    config=_config,
-    summary=summary,
+EXPERIMENT = Experiment.of_module(
+    __name__,
+    "slope",
+    "the seed's slope test: does a μ = 1 cube slide, rest or tip?",
     plot=plot_slope,
-    report=ReportPart(_report_run, _report_figures, _report_section),
 )
