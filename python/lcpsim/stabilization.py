@@ -1,4 +1,4 @@
-"""Penetration stabilization of the contact LCP's ``b0`` (DESIGN §1): the
+"""Penetration stabilization of the contact LCP's ``b0`` (the normal rows' constant): the
 :class:`Stabilization` a :class:`lcpsim.World` takes, and the forms it may be
 given in."""
 
@@ -12,7 +12,7 @@ __all__ = ["Stabilization", "as_stabilization"]
 
 @dataclass(frozen=True)
 class Stabilization:
-    """Penetration stabilization of ``b0`` (DESIGN §1).
+    """Penetration stabilization of ``b0``.
 
     A contact with gap φ > 0 inside the margin adds ``φ/h`` when ``speculative``
     (it may close within the step, not overshoot); a penetrating one adds

@@ -53,7 +53,7 @@ class ReportContext:
 
     @property
     def seconds(self) -> float:
-        """Simulated time of the slope and push runs: 2 s as in DESIGN §2 (0.097 m at
+        """Simulated time of the slope and push runs: 2 s (0.097 m of slide at
         45.2°) — a cube held by the looser cone needs that long to tip."""
         return 0.5 if self.quick else 2.0
 
