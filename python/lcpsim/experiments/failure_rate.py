@@ -55,7 +55,7 @@ from ..certification import ETA_CERTIFIED, Certificate, certify_batch
 from ._common import envelope, merge_config, parse_scale, parse_scales, scale_label, scale_value
 from .presets import Solver, parse_solver
 from .seed_corpus import DEFAULTS as CORPUS_DEFAULTS
-from .seed_corpus import build_world, generate, scaled, simulations, solve_scaled
+from .seed_corpus import build_world, experiment_corpus, generate, scaled, simulations, solve_scaled
 from .document import Doc, pct
 from .experiment import (
     Experiment, ReportContext, add_common_arguments, add_corpus_arguments, base_config, corpus_config, header,
@@ -94,15 +94,6 @@ CERT_RESIDUAL_TOL = 1e-14
 
 #: The seed note's rates (fraction of LCPs) by scale.
 SEED_VALUES: dict[str, float] = {"0.001": 97 / 2499, "0.0001": 0.0208, "1e-06": 0.0}
-
-
-def _corpus_config(cfg: Mapping[str, Any]) -> dict[str, Any]:
-    c = {**dict(cfg.get("corpus") or {})}
-    c.setdefault("seed", cfg["seed"])
-    unknown = set(c) - set(CORPUS_DEFAULTS)
-    if unknown:
-        raise ValueError(f"corpus: unknown key(s) {sorted(unknown)} (valid: {', '.join(sorted(CORPUS_DEFAULTS))})")
-    return c
 
 
 def _list(x: Any, what: str) -> list[Any]:
@@ -165,7 +156,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     cert_names = _certify_names(cfg, solvers)
     cert_max_n = int(cfg["certify_max_n"])
     threads = int(cfg["threads"])
-    ccfg = _corpus_config(cfg)
+    ccfg = experiment_corpus(cfg)
     hcfg = _hard_config(cfg) if "hard" in corpora else None
     dt = float(ccfg.get("dt", CORPUS_DEFAULTS["dt"]))
     comparison: list[dict[str, Any]] = []

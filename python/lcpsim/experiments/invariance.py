@@ -34,11 +34,8 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from ._common import envelope, merge_config, parse_scale, scale_label, scale_value
-from .failure_rate import _corpus_config
-from .presets import parse_solver
-from .seed_corpus import DEFAULTS as CORPUS_DEFAULTS
-from .seed_corpus import generate, solve_scaled
+from ._common import envelope, merge_config, scale_label
+from .seed_corpus import scaled_case, solve_scaled
 from .document import Doc
 from .experiment import (
     Experiment, ReportContext, add_common_arguments, add_corpus_arguments, base_config, corpus_config, header,
@@ -90,12 +87,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """Runs the comparison; returns ``{"lcps", "max_abs_dfn", "max_abs_dfd", "max_rel_lambda_err", …}``."""
     t0 = time.perf_counter()
     cfg = merge_config("invariance", DEFAULTS, config)
-    solver = parse_solver(cfg["solver"])
-    ccfg = _corpus_config(cfg)
-    dt = float(ccfg.get("dt", CORPUS_DEFAULTS["dt"]))
-    scale = parse_scale(cfg["scale"])
-    s = scale_value(scale, dt)
-    corpus = generate(ccfg).subsample(cfg["max_lcps"], int(cfg["seed"]))
+    solver, scale, s, corpus = scaled_case(cfg)
     valid_tol = float(cfg["valid_tol"])
     threads = int(cfg["threads"])
     keys = ("ef", "ed", "rf", "rd", "rl")

@@ -36,11 +36,8 @@ from typing import Any, Mapping
 import numpy as np
 from numpy.typing import NDArray
 
-from ._common import envelope, merge_config, parse_scale, scale_label, scale_value
-from .failure_rate import _corpus_config
-from .presets import parse_solver
-from .seed_corpus import DEFAULTS as CORPUS_DEFAULTS
-from .seed_corpus import Group, ScaledSolve, generate, solve_scaled
+from ._common import envelope, merge_config, scale_label
+from .seed_corpus import Group, ScaledSolve, scaled_case, solve_scaled
 from .document import Doc
 from .experiment import (
     Experiment, ReportContext, add_common_arguments, add_corpus_arguments, base_config, corpus_config, header,
@@ -101,13 +98,8 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """Runs the census; returns ``{"counts_unscaled", "counts_scaled", "cross", "impossible", "impossible_lcps", …}``."""
     t0 = time.perf_counter()
     cfg = merge_config("patterns", DEFAULTS, config)
-    solver = parse_solver(cfg["solver"])
-    ccfg = _corpus_config(cfg)
-    dt = float(ccfg.get("dt", CORPUS_DEFAULTS["dt"]))
-    scale = parse_scale(cfg["scale"])
-    s = scale_value(scale, dt)
+    solver, scale, s, corpus = scaled_case(cfg)
     zero_rel = float(cfg["zero_rel"])
-    corpus = generate(ccfg).subsample(cfg["max_lcps"], int(cfg["seed"]))
     cross = np.zeros((8, 8), dtype=np.int64)
     counts = {"unscaled": np.zeros(8, dtype=np.int64), "scaled": np.zeros(8, dtype=np.int64)}
     imp = {"unscaled": 0, "scaled": 0, "unscaled_failed": 0, "scaled_failed": 0}

@@ -29,7 +29,7 @@ import numpy as np
 from ..scenes import pushed_cube
 from ._common import G, downsample, envelope, merge_config, parse_scale, scale_label, scale_value
 from .presets import parse_solver
-from .slope import classify
+from .slope import CUBE_DEFAULTS, classify
 from .document import Doc
 from .experiment import (
     Experiment, ReportContext, add_common_arguments, add_simulation_arguments, base_config, header, scale_argument,
@@ -38,19 +38,7 @@ from .figure import pyplot, save, solver_label
 
 __all__ = ["DEFAULTS", "run", "SEED_VALUES"]
 
-DEFAULTS: dict[str, Any] = {
-    "seed": 0,
-    "force": 9.79,
-    "mu": 1.0,
-    "scale": "none",
-    "solver": "robust",
-    "seconds": 1.0,
-    "dt": 1e-3,
-    "friction_dirs": 8,
-    "size": 1.0,
-    "mass": 1.0,
-    "trace": False,
-}
+DEFAULTS: dict[str, Any] = {"seed": 0, "force": 9.79, **CUBE_DEFAULTS}
 
 #: The seed note's pushed cube (9.79 N): λ and the four normal impulses (N·s).
 SEED_VALUES: dict[str, Any] = {
@@ -260,7 +248,7 @@ def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: Repor
     d.table(["solver", "s", "F (N)", "outcome", "exact", "friction (N)", "λ max", "moved (m)", "LCP failures"], prows)
     rp = find(res["push"], "robust", "none", 9.79)
     d.p(
-        f"Normal impulses at 9.79 N (robust, unscaled), by position along the push: "
+        "Normal impulses at 9.79 N (robust, unscaled), by position along the push: "
         + ", ".join(f"{x:.6g} N·s at {o:+.2f} m" for x, o in zip(rp["normal_impulses"], rp["contact_offsets_m"]))
         + " — the load sits on the leading edge, as the seed's 0, 1e-5, 0.004895, 0.004905 show."
     )

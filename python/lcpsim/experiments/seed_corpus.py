@@ -49,7 +49,8 @@ from numpy.typing import NDArray
 
 from ..world import World
 from ._common import merge_config
-from .presets import PRESETS, Solver
+from ..scale import parse_cone_scale, scale_value
+from .presets import PRESETS, Solver, parse_solver
 
 __all__ = [
     "DEFAULTS",
@@ -62,6 +63,8 @@ __all__ = [
     "generate",
     "scaled",
     "solve_scaled",
+    "experiment_corpus",
+    "scaled_case",
 ]
 
 #: Corpus config defaults.
@@ -429,3 +432,25 @@ def solve_scaled(group: Group, solver: Solver, s: float, threads: int = 1) -> Sc
         solver_residual=np.asarray(res.residual),
         basis=None if res.basis is None else np.asarray(res.basis),
     )
+
+
+def experiment_corpus(cfg: Mapping[str, Any]) -> dict[str, Any]:
+    """The seed-corpus config of an experiment's config: its ``corpus`` mapping,
+    seeded with the experiment's ``seed``; an unknown key is a ValueError."""
+    c = {**dict(cfg.get("corpus") or {})}
+    c.setdefault("seed", cfg["seed"])
+    unknown = set(c) - set(DEFAULTS)
+    if unknown:
+        raise ValueError(f"corpus: unknown key(s) {sorted(unknown)} (valid: {', '.join(sorted(DEFAULTS))})")
+    return c
+
+
+def scaled_case(cfg: Mapping[str, Any]) -> tuple[Solver, float | str | None, float, SeedCorpus]:
+    """What an experiment comparing the seed corpus unscaled with ``cfg["scale"]``
+    starts from: the solver, the parsed scale, its value s and the corpus
+    (``max_lcps`` of it, a subset seeded with ``seed``)."""
+    solver = parse_solver(cfg["solver"])
+    ccfg = experiment_corpus(cfg)
+    scale = parse_cone_scale(cfg["scale"])
+    s = scale_value(scale, float(ccfg.get("dt", DEFAULTS["dt"])))
+    return solver, scale, s, generate(ccfg).subsample(cfg["max_lcps"], int(cfg["seed"]))

@@ -51,9 +51,8 @@ __all__ = ["DEFAULTS", "run", "classify", "expected_slide", "TIP_DEG"]
 #: Rotation (degrees) beyond which a cube counts as tipped.
 TIP_DEG = 5.0
 
-DEFAULTS: dict[str, Any] = {
-    "seed": 0,
-    "angle_deg": 45.0001,
+#: Config of a single cube simulated on its own (slope and push tests).
+CUBE_DEFAULTS: dict[str, Any] = {
     "mu": 1.0,
     "scale": "none",
     "solver": "robust",
@@ -64,6 +63,8 @@ DEFAULTS: dict[str, Any] = {
     "mass": 1.0,
     "trace": False,
 }
+
+DEFAULTS: dict[str, Any] = {"seed": 0, "angle_deg": 45.0001, **CUBE_DEFAULTS}
 
 
 def expected_slide(angle_deg: float, mu: float, seconds: float, g: float = G) -> float:
