@@ -312,7 +312,7 @@ def solve_lcp(
 
 # The objects Python passes for solve_lcp's keyword arguments the caller omits.
 _DEFAULT_METHOD, _DEFAULT_PIVOTING, _DEFAULT_PIV_TOL, _DEFAULT_ZERO_TOL = (
-    solve_lcp.__kwdefaults__[k] for k in ("method", "pivoting", "piv_tol", "zero_tol")
+    (solve_lcp.__kwdefaults__ or {})[k] for k in ("method", "pivoting", "piv_tol", "zero_tol")
 )
 
 

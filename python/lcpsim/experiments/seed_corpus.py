@@ -325,7 +325,7 @@ def generate(
     config: Mapping[str, Any] | None = None, *, path: str | os.PathLike[str] | None = None, cache: bool = True
 ) -> SeedCorpus:
     """Runs the corpus's simulations and returns their LCPs. ``path``: also
-    keep the HDF5 corpus file there (``docs/corpus.md`` format), else a
+    keep the HDF5 capture there (``docs/capture.md`` format), else a
     temporary file is used and removed. The last corpus made in this process
     is kept (``cache``), so experiments run one after another share it."""
     import json
