@@ -120,16 +120,9 @@ class StepRecord:
     (nc, 3) the friction impulse vector ``Σ_j fd_j d_j`` on body A, ``gaps``,
     ``mu``, ``body_a``/``body_b`` (the normal points from B to A).
 
-    Contact islands: the dynamic bodies linked through contacts (a static
-    body links nothing) form ``islands`` islands, each solved as its own LCP;
-    the per-contact arrays above stay in the step's contact order.
-    ``island_of_contact`` (nc,) gives each contact's island, ``island_bodies``
-    each island's dynamic bodies, ``island_lcp_size``, ``island_pivots``,
-    ``island_residual`` (physical units) and ``island_status`` one entry per
-    island. The step's ``status`` is ``"solved"`` iff every island was solved,
-    else the status of the first island that was not (an unsolved island
-    applies no impulse, the others do); ``pivots`` is the total over the
-    islands and ``residual`` the largest.
+    ``islands``: contact islands, one LCP each (static bodies link none): ``island_of_contact`` (nc,);
+    per island ``island_bodies``, ``island_lcp_size``/``pivots``/``residual``/``status``. ``status`` is
+    "solved" iff every island was, else the first unsolved one's; ``pivots`` total, ``residual`` max.
     """
 
     step: int
@@ -252,9 +245,8 @@ class Trajectory:
     LCP), ``pivots``, ``residual`` (physical units), ``solver_residual``,
     ``lcp_size``, ``contacts``, ``normal_impulse`` (Σ fn, N·s),
     ``friction_impulse`` (T, 3) (Σ over contacts of the friction impulse on
-    body A), ``max_lambda`` (largest physical λ, m/s), ``islands`` (contact
-    islands, i.e. LCPs solved) and ``max_island_size`` (largest island LCP).
-    ``initial_*`` hold the state before the first step.
+    body A), ``max_lambda`` (largest physical λ, m/s), ``islands`` and ``max_island_size``
+    (contact islands and largest island LCP). ``initial_*`` hold the state before the first step.
     """
 
     dt: float
@@ -400,8 +392,7 @@ class World:
     mu_override:
         If set, every contact uses this μ.
     threads:
-        Threads for the contact islands' LCPs: 1 (default) this thread only,
-        0 one per core. Results are bit for bit the same for any value.
+        Threads for the islands' LCPs (0: one per core); results do not depend on it.
     """
 
     def __init__(
