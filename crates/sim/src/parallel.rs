@@ -17,9 +17,11 @@ pub fn resolve_threads(threads: usize) -> usize {
 }
 
 /// Whether jobs of this total work (Σ n² over the islands' LCP sizes) are
-/// worth starting threads for: about a dense n = 250 problem's worth.
+/// worth starting threads for: about a dense n = 500 problem's worth (nine
+/// 3-cube towers, Σ n² = 130k, ran at 600 steps/s on one thread and 410 on
+/// two: starting threads twice a step cost more than it saved).
 pub fn worth_threads(jobs: usize, work: usize) -> bool {
-    jobs >= 2 && work >= 60_000
+    jobs >= 2 && work >= 250_000
 }
 
 /// Runs `f(state, item)` for every item, on up to `states.len()` threads, each

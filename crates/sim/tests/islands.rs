@@ -57,14 +57,16 @@ fn two_separate_stacks_step_exactly_as_two_worlds() {
 
 #[test]
 fn thread_count_changes_no_bit() {
-    let pile = BoxPile { nx: 3, ny: 3, nz: 3, yaw: 0.3, seed: 5, ..Default::default() };
+    // 25 towers of ≥ 12 contacts: Σ n² ≥ 25·120² = 360k, enough work for threads to start.
+    let pile = BoxPile { nx: 5, ny: 5, nz: 3, yaw: 0.3, seed: 5, ..Default::default() };
     let run = |threads: usize| {
         let mut s = pile.build(WorldParams { threads, ..Default::default() }).unwrap();
-        let traj = s.world.run(60).unwrap();
+        let traj = s.world.run(30).unwrap();
         (traj, s.world.last_record().clone())
     };
     let (t1, r1) = run(1);
-    assert!(t1.islands.iter().all(|&i| i == 9), "nine towers, nine islands: {:?}", &t1.islands[..5]);
+    assert!(t1.islands.iter().all(|&i| i == 25), "25 towers, 25 islands: {:?}", &t1.islands[..5]);
+    assert!(t1.lcp_size.iter().all(|&n| n >= 25 * 120));
     for threads in [2, 3, 0] {
         let (t, r) = run(threads);
         assert_eq!(t, t1, "threads {threads}");
