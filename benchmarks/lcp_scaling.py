@@ -5,8 +5,8 @@ The LCPs are captured from lcpsim itself: a settled heap of unit cubes (the
 final state of a heap run of ``benchmarks/peers/many_bodies.py``, by default
 MuJoCo's heap of 1,000 cubes in 4 walls; ``--block`` or no such file: a
 connected block of cubes, lcpsim's ``box_pile`` with towers side by side) is
-cut into sub-heaps — the k lowest cubes, which rest on one another as they did
-in the heap — put at rest into an lcpsim World, and stepped once with
+cut into sub-heaps — the k cubes nearest the centre of the floor, which rest
+on one another as they did in the heap — put at rest into an lcpsim World, and stepped once with
 ``World.run(1, capture=PATH)``; ``lcpsim.open_corpus(PATH)`` gives the step's
 LCP (the capturing step uses PGS with one iteration so that it costs little;
 the LCP is assembled before any solver sees it). Then ``solve_lcp(M, q)``
@@ -27,6 +27,7 @@ process's peak RSS; and the exponent p of time ∝ n^p (log-log least squares).
 from __future__ import annotations
 
 import argparse
+import gc
 import gzip
 import json
 import math
@@ -84,7 +85,9 @@ def block_heap(cubes: int) -> tuple[dict[str, Any], str]:
 
 
 def sub_heap(desc: dict[str, Any], k: int) -> Any:
-    """An lcpsim World at rest with the static boxes and the k lowest cubes of ``desc``."""
+    """An lcpsim World at rest with the static boxes and the k cubes of ``desc`` nearest
+    the point (0, 0, 0) at the centre of the floor: a chunk of the heap that
+    rests as it did (what holds a cube up is lower, so nearer) and hangs together."""
     import lcpsim
 
     w = lcpsim.World(dt=desc["dt"], method="pgs", max_iterations=1)
@@ -93,7 +96,7 @@ def sub_heap(desc: dict[str, Any], k: int) -> Any:
     for b in desc["boxes"]:
         if b["static"]:
             w.add_box(half_extents=b["half"], position=b["pos"], orientation=b["quat"], mu=desc["mu"], static=True)
-    for b in sorted(dyn, key=lambda b: b["pos"][2])[:k]:
+    for b in sorted(dyn, key=lambda b: float(np.linalg.norm(b["pos"])))[:k]:
         w.add_box(half_extents=b["half"], mass=b["mass"], position=b["pos"], orientation=b["quat"], mu=desc["mu"])
     return w
 
@@ -106,16 +109,18 @@ def one_size(desc_path: str, k: int, reps: int, max_solve_s: float) -> dict[str,
 
     with open(desc_path) as f:
         desc = json.load(f)
-    w = sub_heap(desc, k)
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "heap.h5")
         t0 = time.perf_counter()
+        w = sub_heap(desc, k)
         w.run(1, capture=path)
         capture_s = time.perf_counter() - t0
+        del w  # the world's own copy of M, before the corpus's is read
+        gc.collect()
         out: dict[str, Any] = {"cubes": k, "capture_s": capture_s, "lcps": []}
         with lcpsim.open_corpus(path) as corpus:
             for rec in corpus:
-                M, q = np.array(rec.M), np.array(rec.q)
+                M, q = np.asarray(rec.M), np.asarray(rec.q)
                 times, r = [], None
                 for _ in range(reps):
                     t0 = time.perf_counter()
@@ -212,7 +217,7 @@ def render(res: dict[str, Any]) -> list[str]:
     lines = [
         "### Contact LCPs of heaps: solve time against n",
         "",
-        f"LCPs captured from sub-heaps (the k lowest cubes) of {res['source']}, one step each; `solve_lcp` "
+        f"LCPs captured from sub-heaps (the k cubes nearest the centre of the floor) of {res['source']}, one step each; `solve_lcp` "
         "(Lemke, defaults) timed on each (median of up to 3 calls). Command: "
         "`benchmarks/peers/.venv/bin/python benchmarks/lcp_scaling.py`.",
         "",

@@ -130,6 +130,7 @@ def summarize(desc: dict[str, Any], run: dict[str, Any], steps: int) -> dict[str
     done = reps[0]["steps"] if reps else (progress[-1]["steps"] if progress else 0)
     secs = reps[0]["seconds"] if reps else (progress[-1]["seconds"] if progress else 0.0)
     out["steps"] = done
+    out["progress"] = [[e["steps"], e["seconds"]] for e in progress]
     out["rates"] = [r["steps"] / r["seconds"] for r in reps if r["seconds"] > 0]
     if not out["rates"] and secs > 0:
         out["rates"] = [done / secs]
@@ -182,15 +183,10 @@ def versions() -> dict[str, str]:
 
 
 def machine() -> str:
-    cpu = "?"
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return f"{cpu}, {os.cpu_count()} cores, {platform.system()} {platform.release()}"
+    from run import machine as peers_machine
+
+    m = peers_machine()
+    return f"{m['cpu']}, {m['cores']} cores, {m['memory']}, {m['os']}"
 
 
 def run_all(scene_keys: list[str], engines: list[str], budget: float, grace: float, mem_cap_gb: float,
@@ -264,6 +260,7 @@ def main() -> int:
     ap.add_argument("--mem-cap-gb", type=float, default=4.0, help="address-space cap of each worker")
     ap.add_argument("--out", default=str(HERE / "many_bodies.json.gz"))
     ap.add_argument("--render", action="store_true", help="don't run: render the saved --out file")
+    ap.add_argument("--merge", action="store_true", help="replace only the scenes run in the saved --out file")
     ap.add_argument("--write-results", action="store_true",
                     help=f"replace the section of {RESULTS_MD.relative_to(ROOT)} from '{many_bodies_report.MARKER}' on")
     args = ap.parse_args()
@@ -272,6 +269,13 @@ def main() -> int:
             res = json.load(f)
     else:
         res = run_all(args.scenes.split(","), args.engines.split(","), args.budget, args.grace, args.mem_cap_gb)
+        if args.merge and os.path.exists(args.out):
+            with gzip.open(args.out, "rt") as f:
+                old = json.load(f)
+            old["scenes"].update(res["scenes"])
+            old["reruns"] = old.get("reruns", []) + [{k: res[k] for k in res if k != "scenes"}
+                                                      | {"scenes": list(res["scenes"])}]
+            res = old
         with open(args.out, "wb") as raw, gzip.GzipFile(fileobj=raw, mode="wb", mtime=0) as gz:
             gz.write(json.dumps(res).encode())
     lines = section(res)

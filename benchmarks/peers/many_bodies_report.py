@@ -6,6 +6,8 @@ import math
 import re
 from typing import Any
 
+import numpy as np
+
 TITLES = {
     "lcpsim": "lcpsim (`World.run`)",
     "mujoco": "MuJoCo (`mj_step`, nstep)",
@@ -58,6 +60,17 @@ def lcp_cell(s: dict[str, Any]) -> str:
     return f"{st['lcps']} / {st['failures']} / {st['max_lcp_size']}"
 
 
+def same_steps_ratio(s: dict[str, Any], mj: dict[str, Any]) -> float | None:
+    """MuJoCo's time for the first steps a run did, over that run's: a heap's first
+    steps (in free fall) are cheaper than its last, so a run cut short is compared
+    on the same steps too."""
+    done, prog, mprog = s.get("steps", 0), s.get("progress") or [], mj.get("progress") or []
+    if not done or not prog or not mprog or mprog[-1][0] < done or s is mj:
+        return None
+    t_mj = float(np.interp(done, [0] + [p[0] for p in mprog], [0.0] + [p[1] for p in mprog]))
+    return t_mj / prog[-1][1] if prog[-1][1] > 0 else None
+
+
 def render(res: dict[str, Any]) -> list[str]:
     cfg = res["config"]
     v = res["versions"]
@@ -85,13 +98,18 @@ def render(res: dict[str, Any]) -> list[str]:
         mj = e["engines"].get("mujoco", {}).get("steps_per_second")
         first = True
         for eng, s in e["engines"].items():
-            scene = f"{e['title']} ({e['bodies']} bodies, {e['seconds']:g} s = {e['steps']} steps)" if first else ""
+            walls = f" + {e['static_boxes']} static boxes" if e.get("static_boxes") else ""
+            scene = (f"{e['title']} ({e['bodies']} bodies{walls}, {e['seconds']:g} s = {e['steps']} steps)"
+                     if first else "")
             first = False
             if s["outcome"] == "not_run":
                 lines.append(f"| {scene} | {TITLES.get(eng, eng)} | not run: {s['error']} | | | | | | | |")
                 continue
             sps = s.get("steps_per_second")
             ratio = f"{sps / mj:.3g}×" if sps and mj else "—"
+            same = same_steps_ratio(s, e["engines"].get("mujoco", {}))
+            if s["outcome"] != "ok" and same:
+                ratio += f" ({same:.3g}× over the same first {s['steps']} steps)"
             contacts = s.get("stats", {}).get("max_contacts")
             if contacts is None or eng != "lcpsim":
                 sampled = s.get("contacts_sampled") or []

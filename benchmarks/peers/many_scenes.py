@@ -102,6 +102,8 @@ def heap_world(n: int, seed: int = 1) -> tuple[Any, str]:
         return build_heap(n, seed), "built here (lcpsim.scenes.cube_heap takes no cube count)"
     if "seed" in params:
         kwargs["seed"] = seed
+    if "walls" in params:
+        kwargs["walls"] = True
     return make(**kwargs).world, "lcpsim.scenes.cube_heap"
 
 
@@ -143,8 +145,8 @@ SCENES: list[SceneSpec] = [
     SceneSpec("stack10", "10-box stack", _stack(10), 2.0, 3),
     SceneSpec("towers3", "3×3×3 towers (9 stacks of 3)", _towers(3, 3), 2.0, 3),
     SceneSpec("towers10", "10×10×10 towers (100 stacks of 10)", _towers(10, 10), 1.0, 1),
-    SceneSpec("heap200", "heap of 200 cubes in 4 walls", _heap(200), 2.0, 3),
-    SceneSpec("heap1000", "heap of 1,000 cubes in 4 walls", _heap(1000), 1.5, 1),
+    SceneSpec("heap200", "heap of 200 cubes", _heap(200), 2.0, 3),
+    SceneSpec("heap1000", "heap of 1,000 cubes", _heap(1000), 1.5, 1),
 ]
 SCENE_BY_KEY = {s.key: s for s in SCENES}
 
