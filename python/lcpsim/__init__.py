@@ -17,6 +17,7 @@ Public API (the compiled module ``lcpsim._core`` is private)::
 from __future__ import annotations
 
 from ._core import __version__
+from . import _deprecated
 from .lcp import (
     METHODS,
     PIVOTINGS,
@@ -32,7 +33,7 @@ from .certification import Certificate, certify
 from .world import NO_CONTACT, BodyState, LcpStats, Stabilization, StepRecord, Trajectory, World
 from . import scenes
 from .scenes import Scene
-from .corpus import Corpus, CorpusRecord, CorpusWriter, open_corpus
+from .io.capture import Corpus, CorpusRecord, CorpusWriter, open_corpus
 
 __all__ = [
     "__version__",
@@ -61,3 +62,6 @@ __all__ = [
     "CorpusWriter",
     "open_corpus",
 ]
+
+_deprecated.install()
+__getattr__ = _deprecated.deprecated_names(__name__, {})

@@ -298,7 +298,7 @@ def solve_lcp(
         cert = Certificate._from_core(_core.certify_lcp(M_, q_, np.ascontiguousarray(res.basis, dtype=bool), res.z))
         res = replace(res, certified=cert.certified, certificate=cert)
     if dump is not None and not res.ok:
-        from .forensics import write_dump
+        from .io.forensics import write_dump
 
         opts = _options(method, pivoting, piv_tol, zero_tol, max_pivots, options)
         path = write_dump(dump, M_, q_, method, opts, res)

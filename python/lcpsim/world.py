@@ -35,7 +35,7 @@ from . import _core
 from .lcp import METHODS, STATUSES, _new_object, _set_attribute
 
 if TYPE_CHECKING:
-    from .corpus import CorpusWriter
+    from .io.capture import CorpusWriter
 
 __all__ = [
     "World",
@@ -775,7 +775,7 @@ class World:
                 if done >= steps:
                     break
             return Trajectory._from_parts(self.dt, parts, initial)
-        from .corpus import CorpusWriter
+        from .io.capture import CorpusWriter
 
         own = not isinstance(capture, CorpusWriter)
         writer = capture if isinstance(capture, CorpusWriter) else CorpusWriter(capture, metadata=self.config())

@@ -327,7 +327,7 @@ def generate(
     is kept (``cache``), so experiments run one after another share it."""
     import json
 
-    from ..corpus import CorpusWriter, open_corpus
+    from ..io.capture import CorpusWriter, open_corpus
 
     cfg = merge_config("seed corpus", DEFAULTS, config)
     key = json.dumps(cfg, sort_keys=True)

@@ -161,7 +161,7 @@ def load_lcp(
         raise LcpFileError(f"{path}: is a directory, not an LCP file")
     fmt = file_format(p)
     if fmt == "hdf5":
-        from . import corpus
+        from . import capture as corpus
 
         if corpus.is_corpus(p):
             try:
@@ -193,7 +193,7 @@ def save_lcp(
     ``attrs`` (str, int or float values, e.g. config, seed) are stored as HDF5
     attributes or as 0-d arrays ``attr_<name>`` in an ``.npz``; the lcpsim
     version is always recorded."""
-    from . import __version__
+    from .. import __version__
 
     p = Path(path)
     suffix = p.suffix.lower()

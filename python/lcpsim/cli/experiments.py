@@ -24,7 +24,7 @@ import json
 import sys
 from typing import Any, Callable
 
-from .cli import EXIT_OK, CliError, Command, register_command
+from .main import EXIT_OK, CliError, Command, register_command
 
 __all__: list[str] = []
 
@@ -59,17 +59,17 @@ def _corpus_cfg(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def _base(args: argparse.Namespace) -> dict[str, Any]:
-    from .experiments.presets import parse_solver
+    from ..experiments.presets import parse_solver
 
     parse_solver(args.solver)  # validate early: a bad name is a one-line error
     return {"solver": args.solver, "seed": args.seed}
 
 
 def _emit(args: argparse.Namespace, result: dict[str, Any], text: Callable[[dict[str, Any]], str]) -> int:
-    from .experiments._common import jsonable
+    from ..experiments._common import jsonable
 
     if getattr(args, "plot", None):
-        from .experiments.plotting import plot_result
+        from ..experiments.plotting import plot_result
 
         plot_result(result, args.plot)
     data = jsonable(result)
@@ -175,14 +175,14 @@ def _text_failure_rate_any(r: dict[str, Any]) -> str:
 
 
 def _run_failure_rate(args: argparse.Namespace) -> int:
-    from .experiments import failure_rate
-    from .experiments._common import parse_scales
+    from ..experiments import failure_rate
+    from ..experiments._common import parse_scales
 
     cfg = {**_base(args), **_corpus_cfg(args), "scales": parse_scales(args.scales), "tol": args.tol, "mode": args.mode}
     cfg["scales"] = ["none" if s is None else s for s in cfg["scales"]]
     cfg["rel_tol"] = args.rel_tol
     if args.solvers:
-        from .experiments.presets import parse_solver
+        from ..experiments.presets import parse_solver
 
         names = [t.strip() for t in args.solvers.split(",") if t.strip()]
         for n in names:
@@ -201,7 +201,7 @@ def _run_failure_rate(args: argparse.Namespace) -> int:
 
 
 def _scale_arg(text: str) -> Any:
-    from .experiments._common import parse_scale
+    from ..experiments._common import parse_scale
 
     try:
         s = parse_scale(text)
@@ -241,7 +241,7 @@ def _text_slope(r: dict[str, Any]) -> str:
 
 
 def _run_slope(args: argparse.Namespace) -> int:
-    from .experiments import slope
+    from ..experiments import slope
 
     cfg = {
         **_base(args), "angle_deg": args.angle_deg, "mu": args.mu, "scale": args.scale,
@@ -287,7 +287,7 @@ def _text_critical(r: dict[str, Any]) -> str:
 
 
 def _run_critical(args: argparse.Namespace) -> int:
-    from .experiments import critical_scale
+    from ..experiments import critical_scale
 
     cfg = {
         **_base(args), "angle_deg": args.angle_deg, "mu": args.mu, "lo": args.lo, "hi": args.hi,
@@ -330,7 +330,7 @@ def _text_invariance(r: dict[str, Any], digits: int | None = None) -> str:
 
 
 def _run_invariance(args: argparse.Namespace) -> int:
-    from .experiments import invariance
+    from ..experiments import invariance
 
     if args.digits is not None and not 1 <= args.digits <= 40:
         raise CliError(f"--digits must be in 1…40, got {args.digits}")
@@ -374,7 +374,7 @@ def _text_patterns(r: dict[str, Any]) -> str:
 
 
 def _run_patterns(args: argparse.Namespace) -> int:
-    from .experiments import patterns
+    from ..experiments import patterns
 
     cfg = {**_base(args), **_corpus_cfg(args), "scale": args.scale, "zero_rel": args.zero_rel}
     return _emit(args, patterns.run(cfg), _text_patterns)
@@ -408,7 +408,7 @@ def _text_push(r: dict[str, Any]) -> str:
 
 
 def _run_push(args: argparse.Namespace) -> int:
-    from .experiments import push
+    from ..experiments import push
 
     cfg = {
         **_base(args), "force": args.force, "mu": args.mu, "scale": args.scale, "seconds": args.seconds,
@@ -428,7 +428,7 @@ def _cfg_report(p: argparse.ArgumentParser) -> None:
 
 
 def _run_report(args: argparse.Namespace) -> int:
-    from .experiments.report import make_report
+    from ..experiments.report import make_report
 
     summary = make_report(args.out, seed=args.seed, quick=args.quick, log=sys.stderr)
     if args.json:
@@ -453,7 +453,7 @@ def _cfg_sweep(p: argparse.ArgumentParser) -> None:
 
 
 def _run_sweep(args: argparse.Namespace) -> int:
-    from .experiments import sweep
+    from ..experiments import sweep
 
     cfg = sweep.load_config(args.config)
     out = sweep.run_sweep(

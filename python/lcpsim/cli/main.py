@@ -16,8 +16,8 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from . import __version__
-from .lcp import METHODS, PIVOTINGS, LcpResult, solve_lcp
+from .. import __version__
+from ..lcp import METHODS, PIVOTINGS, LcpResult, solve_lcp
 
 __all__ = ["main", "register_command", "Command", "CliError"]
 
@@ -113,7 +113,7 @@ def _solve_options(args: argparse.Namespace, lemke: bool) -> dict[str, Any]:
 
 
 def _run_replay(args: argparse.Namespace) -> int:
-    from .forensics import load_dump, replay
+    from ..io.forensics import load_dump, replay
 
     if getattr(args, "index", None) is not None:
         raise CliError(f"{args.file}: a failure dump holds one LCP; --index does not apply")
@@ -152,7 +152,7 @@ def _run_replay(args: argparse.Namespace) -> int:
 
 
 def _run_solve(args: argparse.Namespace) -> int:
-    from .io import is_dump, load_lcp
+    from ..io.lcp_file import is_dump, load_lcp
 
     if is_dump(args.file):
         return _run_replay(args)
@@ -187,7 +187,7 @@ def _configure_demo(p: argparse.ArgumentParser) -> None:
 
 
 def _run_demo(args: argparse.Namespace) -> int:
-    from .examples import cube_on_slope_lcp
+    from ..examples import cube_on_slope_lcp
 
     if args.k < 3:
         raise CliError(f"--k must be at least 3, got {args.k}")
@@ -238,8 +238,8 @@ register_command(
 
 # ---------------------------------------------------------------- simulate
 
-from . import cli_simulate as _cli_simulate  # noqa: E402  (registers `simulate`)
-from . import cli_experiments as _cli_experiments  # noqa: E402  (registers the experiments, report, sweep)
+from . import simulate as _cli_simulate  # noqa: E402  (registers `simulate`)
+from . import experiments as _cli_experiments  # noqa: E402  (registers the experiments, report, sweep)
 
 _ = _cli_simulate, _cli_experiments
 

@@ -21,10 +21,10 @@ from typing import Any
 
 import numpy as np
 
-from .cli import EXIT_NOT_SOLVED, EXIT_OK, CliError, Command, register_command
-from .lcp import METHODS, PIVOTINGS
-from .scenes import SCENES, Scene, scene_parameters
-from .world import Trajectory
+from .main import EXIT_NOT_SOLVED, EXIT_OK, CliError, Command, register_command
+from ..lcp import METHODS, PIVOTINGS
+from ..scenes import SCENES, Scene, scene_parameters
+from ..world import Trajectory
 
 __all__ = ["simulate_summary"]
 
@@ -211,7 +211,7 @@ def _text(s: dict[str, Any]) -> str:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from .scenes import make_scene
+    from ..scenes import make_scene
 
     if args.steps < 0:
         raise CliError(f"--steps must be >= 0, got {args.steps}")
@@ -230,7 +230,7 @@ def _run(args: argparse.Namespace) -> int:
     summary = simulate_summary(scene, traj, wall)
     summary["capture"] = args.capture
     if args.capture:
-        from .corpus import open_corpus
+        from ..io.capture import open_corpus
 
         with open_corpus(args.capture) as c:
             summary["captured"] = len(c)

@@ -32,7 +32,7 @@ from typing import Any, Iterator, Mapping
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import _core
+from .. import _core
 
 __all__ = [
     "FORMAT",
@@ -121,7 +121,7 @@ class CorpusWriter:
         *,
         compression: str | None = None,
     ) -> None:
-        from . import __version__
+        from .. import __version__
 
         h5py = _h5py()
         self.path = Path(path)
