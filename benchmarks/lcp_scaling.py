@@ -7,7 +7,8 @@ MuJoCo's heap of 1,000 cubes in 4 walls; ``--block`` or no such file: a
 connected block of cubes, lcpsim's ``box_pile`` with towers side by side) is
 cut into sub-heaps — the k cubes nearest the centre of the floor, which rest
 on one another as they did in the heap — put at rest into an lcpsim World, and stepped once with
-``World.run(1, capture=PATH)``; ``lcpsim.open_corpus(PATH)`` gives the step's
+``World.run(1, capture=PATH)``; ``lcpsim.open_capture(PATH)`` (formerly
+``open_corpus``) gives the step's
 LCP (the capturing step uses PGS with one iteration so that it costs little;
 the LCP is assembled before any solver sees it). Then ``solve_lcp(M, q)``
 (Lemke, defaults) is timed on it. Whatever form of LCP lcpsim captures and
@@ -118,9 +119,11 @@ def one_size(desc_path: str, k: int, reps: int, max_solve_s: float) -> dict[str,
         del w  # the world's own copy of M, before the corpus's is read
         gc.collect()
         out: dict[str, Any] = {"cubes": k, "capture_s": capture_s, "lcps": []}
-        with lcpsim.open_corpus(path) as corpus:
+        # open_capture is open_corpus's newer name (the old one stays, deprecated).
+        open_capture = getattr(lcpsim, "open_capture", None) or lcpsim.open_corpus
+        with open_capture(path) as corpus:
             for rec in corpus:
-                M, q = np.asarray(rec.M), np.asarray(rec.q)
+                M, q = rec.M, rec.q  # as captured (dense today), handed to solve_lcp unchanged
                 times, r = [], None
                 for _ in range(reps):
                     t0 = time.perf_counter()
@@ -129,9 +132,11 @@ def one_size(desc_path: str, k: int, reps: int, max_solve_s: float) -> dict[str,
                     if sum(times) > max_solve_s / 3:
                         break
                 assert r is not None
-                out["lcps"].append({"n": int(M.shape[0]), "contacts": int(rec.contacts), "seconds": float(np.median(times)), "repeats": len(times),
-                                    "pivots": int(r.pivots), "status": r.status, "m_bytes": int(M.nbytes)})
+                out["lcps"].append({"n": int(np.shape(q)[0]), "contacts": int(rec.contacts),
+                                    "seconds": float(np.median(times)), "repeats": len(times),
+                                    "pivots": int(r.pivots), "status": r.status, "m_bytes": stored_bytes(M)})
     out["n"] = sum(lp["n"] for lp in out["lcps"])
+    out["n_max"] = max((lp["n"] for lp in out["lcps"]), default=0)
     out["seconds"] = sum(lp["seconds"] for lp in out["lcps"])
     out["pivots"] = sum(lp["pivots"] for lp in out["lcps"])
     out["m_bytes"] = sum(lp["m_bytes"] for lp in out["lcps"])
@@ -139,7 +144,20 @@ def one_size(desc_path: str, k: int, reps: int, max_solve_s: float) -> dict[str,
     return out
 
 
+def stored_bytes(M: Any) -> int:
+    """Bytes of M as captured: a dense array's, or a sparse matrix's arrays'."""
+    if hasattr(M, "nbytes"):
+        return int(M.nbytes)
+    return int(sum(getattr(M, a).nbytes for a in ("data", "indices", "indptr") if hasattr(M, a)))
+
+
 # --------------------------------------------------------------------------- driver
+
+
+def lcp_points(rows: list[dict[str, Any]]) -> list[tuple[int, float]]:
+    """(n, seconds) of every LCP solved with n ≥ 100: the points of the fit (each island's
+    LCP on its own once lcpsim splits a step's contacts into islands)."""
+    return [(lp["n"], lp["seconds"]) for r in rows if "error" not in r for lp in r["lcps"] if lp["n"] >= 100]
 
 
 def fit_exponent(points: list[tuple[int, float]]) -> float | None:
@@ -192,12 +210,12 @@ def run_all(desc: dict[str, Any], source: str, max_solve_s: float, mem_cap_gb: f
                     stop = (f"stopped before {k} cubes: n ≈ {n_next:,.0f} predicted, needing about {copies:.1f} × "
                             f"n² · 8 B = {need / 2**30:.1f} GiB > the {mem_cap_gb:g} GiB cap")
                     break
-                p = fit_exponent([(r["n"], r["seconds"]) for r in done if r["n"] >= 100])
+                p = fit_exponent(lcp_points(done))
                 last = done[-1]
-                t_next = last["seconds"] * (n_next / last["n"]) ** (p if p else 3.0)
+                t_next = last["seconds"] * (n_next / last["n"]) ** (p if p else 3.0)  # as if one LCP
                 if t_next > max_solve_s:
                     stop = (f"stopped before {k} cubes: n ≈ {n_next:,.0f}, one solve predicted to take "
-                            f"{t_next:,.0f} s > {max_solve_s:g} s (time ∝ n^{p if p else 3.0:.2f})")
+                            f"{t_next:.3g} s > {max_solve_s:g} s (time ∝ n^{p if p else 3.0:.2f})")
                     break
             row = run_child(path, k, reps, max_solve_s, cap, timeout=3 * max_solve_s + 120)
             rows.append(row)
@@ -208,8 +226,7 @@ def run_all(desc: dict[str, Any], source: str, max_solve_s: float, mem_cap_gb: f
             print(f"  {k} cubes: {len(row['lcps'])} LCP(s), n = {row['n']}, {row['seconds']:.4g} s, "
                   f"{row['pivots']} pivots, {row['statuses']}, peak RSS ≤ {row['peak_rss_mb_upto']:.0f} MB",
                   flush=True)
-    good = [(r["n"], r["seconds"]) for r in rows if "error" not in r and r["n"] >= 100]
-    return {"source": source, "rows": rows, "stop": stop, "exponent": fit_exponent(good),
+    return {"source": source, "rows": rows, "stop": stop, "exponent": fit_exponent(lcp_points(rows)),
             "max_solve_s": max_solve_s, "mem_cap_gb": mem_cap_gb}
 
 
@@ -221,7 +238,8 @@ def render(res: dict[str, Any]) -> list[str]:
         "(Lemke, defaults) timed on each (median of up to 3 calls). Command: "
         "`benchmarks/peers/.venv/bin/python benchmarks/lcp_scaling.py`.",
         "",
-        "| cubes | LCPs | n | contacts | time per solve (s) | pivots | status | dense M (MB) | peak RSS (MB) |",
+        "| cubes | LCPs | n (largest, if several) | contacts | time to solve them (s) | pivots | status | M as captured (MB) "
+        "| peak RSS (MB) |",
         "|---|---|---|---|---|---|---|---|---|",
     ]
     for r in res["rows"]:
@@ -229,12 +247,21 @@ def render(res: dict[str, Any]) -> list[str]:
             lines.append(f"| {r['cubes']} | **{r['error']}** | | | | | | | |")
             continue
         contacts = sum(lp["contacts"] or 0 for lp in r["lcps"])
-        lines.append(f"| {r['cubes']} | {len(r['lcps'])} | {r['n']:,} | {contacts:,} | {r['seconds']:.4g} | "
+        n = f"{r['n']:,}" if len(r["lcps"]) == 1 else f"{r['n']:,} ({r.get('n_max', 0):,})"
+        lines.append(f"| {r['cubes']} | {len(r['lcps'])} | {n} | {contacts:,} | {r['seconds']:.4g} | "
                      f"{r['pivots']:,} | {', '.join(r['statuses'])} | {r['m_bytes'] / 1e6:,.1f} | "
                      f"{r['peak_rss_mb_upto']:,.0f} |")
     p = res["exponent"]
-    lines += ["", f"Fitted exponent (time ∝ n^p, n ≥ 100): p = {p:.2f}." if p else "Too few sizes for a fit.",
-              f"Where it stops: {res['stop']}.", ""]
+    lines += ["", f"Fitted exponent (time ∝ n^p over every LCP with n ≥ 100): p = {p:.2f}." if p
+              else "Too few sizes for a fit.",
+              f"Where it stops: {res['stop']}."]
+    good = [r for r in res["rows"] if "error" not in r and r["n"] > 0]
+    if p and good:
+        last = good[-1]
+        t40k = last["seconds"] * (40_000 / last["n"]) ** p
+        lines.append(f"Extrapolated from the largest size along that power law, one dense solve at n = 40,000 "
+                     f"(the 10×10×10 towers) would take about {t40k / 3600:,.0f} h and M alone 12.8 GB.")
+    lines.append("")
     return lines
 
 

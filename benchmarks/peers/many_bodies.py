@@ -162,6 +162,16 @@ def summarize(desc: dict[str, Any], run: dict[str, Any], steps: int) -> dict[str
     return out
 
 
+def locked_version(crate: str) -> str:
+    """The version of ``crate`` in benchmarks/rapier_bench/Cargo.lock."""
+    lock = ROOT / "benchmarks" / "rapier_bench" / "Cargo.lock"
+    blocks = lock.read_text().split("[[package]]") if lock.exists() else []
+    for b in blocks:
+        if f'name = "{crate}"' in b:
+            return b.split('version = "', 1)[1].split('"', 1)[0]
+    return "?"
+
+
 def versions() -> dict[str, str]:
     from importlib.metadata import PackageNotFoundError, version
 
@@ -178,7 +188,8 @@ def versions() -> dict[str, str]:
         v["lcpsim_file"] = __import__("lcpsim").__file__
     except ImportError:
         pass
-    v["rapier3d-f64"] = "0.36 (benchmarks/rapier_bench/Cargo.lock)"
+    v["rapier3d-f64"] = locked_version("rapier3d-f64")
+    v["parry3d-f64"] = locked_version("parry3d-f64")
     return v
 
 

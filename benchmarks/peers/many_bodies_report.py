@@ -79,7 +79,7 @@ def render(res: dict[str, Any]) -> list[str]:
         "",
         f"Machine: {res['machine']}. Versions: lcpsim {v.get('lcpsim')} "
         f"({v.get('lcpsim_revision', 'revision unknown')}), MuJoCo {v.get('mujoco')}, PyBullet {v.get('pybullet')}, "
-        f"{v.get('rapier3d-f64')}, Python {v.get('python')}, numpy {v.get('numpy')}.",
+        f"rapier3d-f64 {v.get('rapier3d-f64')}, Python {v.get('python')}, numpy {v.get('numpy')}.",
         "",
         f"1 kg unit cubes, μ = {cfg['mu']} for every pair, g = {cfg['g']}, dt = {cfg['dt']:g} s, on a ground plane; "
         "every engine starts from the state exported from the lcpsim world. Each engine × scene runs in its own "
@@ -148,7 +148,10 @@ def render_broadphase(bp: dict[str, Any]) -> list[str]:
         f"steps of {bp['dt']:.4g} s), parry3d-f64 {bp['parry3d_f64']}; every method finds the same pairs "
         "(checked every step, and against brute force up to 3,000 boxes). Median milliseconds per update "
         f"(new bounds in, every overlapping pair out) over {bp['sizes'][0]['steps']} steps. Command: "
-        "`benchmarks/rapier_bench/target/release/rapier-bench broadphase`.",
+        "`benchmarks/rapier_bench/target/release/rapier-bench broadphase --json > benchmarks/broadphase.json` "
+        "(without `--json`: this table). The plain sweep along x tests every pair overlapping in x, about "
+        "n²·(2 × mean width / side) of them, so it falls behind the tree as boxes fill a cube (sweeping the axis of widest spread "
+        "helps only where the boxes spread unevenly).",
         "",
         "| boxes | pairs per step | " + " | ".join(f"{names[m]} (ms)" for m in methods) + " |",
         "|---|---|" + "---|" * len(methods),

@@ -6,7 +6,7 @@
 //!   on stdout: `progress`, `sample` (poses and contact count), `rep` (one
 //!   repetition's steps and stepping seconds) — the protocol of many_bodies.py's
 //!   Python workers.
-//! - `rapier-bench broadphase [--sizes 1000,3000,10000] [--steps S] [--json]`
+//! - `rapier-bench broadphase [--sizes 1000,2000,5000,10000] [--steps 20] [--json]`
 //!   compares parry's BVH with a plain sweep-and-prune (module [`sap`]) on the
 //!   same moving random boxes and prints a table (or JSON).
 
@@ -40,17 +40,17 @@ fn run(args: &[String]) -> Result<(), String> {
             scene::run_file(file, &opts)
         }
         Some("broadphase") => {
-            let sizes: String = flag(args, "--sizes", "1000,3000,10000".to_string())?;
+            let sizes: String = flag(args, "--sizes", "1000,2000,5000,10000".to_string())?;
             let sizes = sizes
                 .split(',')
                 .map(|s| s.trim().parse::<usize>().map_err(|_| format!("bad size {s:?}")))
                 .collect::<Result<Vec<_>, _>>()?;
-            let steps = flag(args, "--steps", 10)?;
+            let steps = flag(args, "--steps", 20)?;
             let json = args.iter().any(|a| a == "--json");
             broadphase::run(&sizes, steps, json)
         }
         _ => Err("usage: rapier-bench scene FILE [--steps N --budget S --sample-every K --reps R] | \
-                  broadphase [--sizes 1000,3000,10000 --steps 10 --json]"
+                  broadphase [--sizes 1000,2000,5000,10000 --steps 20 --json]"
             .into()),
     }
 }
