@@ -15,6 +15,11 @@ the LCP is assembled before any solver sees it). Then ``solve_lcp(M, q)``
 solves (dense today; per island or sparse later), this script only calls
 ``solve_lcp`` on what was captured, summed over the step's LCPs.
 
+With contact islands (one LCP per island), lcpsim sees a MuJoCo-settled heap
+(slightly interpenetrating in places, apart in others) as many islands; the
+fit then runs over every island's LCP, and ``--block`` gives one connected
+LCP per size.
+
 Each size runs in its own process under an address-space cap; sizes grow
 geometrically and stop when the next one is predicted (n from the contacts per
 cube so far, time from the fitted power law) to exceed the memory cap (the

@@ -16,8 +16,9 @@ TITLES = {
 }
 
 NOTES = [
-    "**lcpsim**: hard contact, one Stewart–Trinkle LCP per step over every contact (8 friction directions, so "
-    "n = 10 per contact point) solved by Lemke; the stepping loop in Rust (`World.run`). A steps/s of a run that "
+    "**lcpsim**: hard contact, a Stewart–Trinkle LCP per step over the contacts (per contact island where "
+    "lcpsim splits them; 8 friction directions, so n = 10 per contact point) solved by Lemke; LCPs counts the "
+    "steps with contacts; the stepping loop in Rust (`World.run`). A steps/s of a run that "
     "timed out is over the steps it did.",
     "**MuJoCo**: soft contacts (defaults: pyramidal cone, Newton solver, `solref` 0.02 s), so boxes rest a little "
     "inside each other and stacks sink; `mj_step(m, d, nstep)` from Python.",
@@ -57,6 +58,9 @@ def lcp_cell(s: dict[str, Any]) -> str:
     st = s.get("stats") or {}
     if "lcps" not in st:
         return ""
+    if "max_island_lcp" in st:  # one LCP per contact island
+        return (f"{st['lcps']} / {st['failures']} / {st['max_island_lcp']} (up to {st['max_islands']} islands, "
+                f"all contacts n = {st['max_lcp_size']})")
     return f"{st['lcps']} / {st['failures']} / {st['max_lcp_size']}"
 
 

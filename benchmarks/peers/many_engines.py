@@ -70,6 +70,9 @@ class LcpsimEngine:
         s["max_pivots"] = max(s["max_pivots"], int(traj.pivots.max(initial=0)))
         for st in traj.status[has]:
             s["statuses"][str(st)] = s["statuses"].get(str(st), 0) + 1
+        if hasattr(traj, "max_island_size"):  # lcpsim with contact islands: one LCP per island
+            s["max_islands"] = max(s.get("max_islands", 0), int(traj.islands.max(initial=0)))
+            s["max_island_lcp"] = max(s.get("max_island_lcp", 0), int(traj.max_island_size.max(initial=0)))
         self.last_contacts = int(traj.contacts[-1]) if len(traj) else 0
 
     def poses(self) -> tuple[np.ndarray, np.ndarray]:
