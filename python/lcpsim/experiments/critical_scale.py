@@ -16,13 +16,18 @@ was.
 
 from __future__ import annotations
 
+import argparse
 import math
+import os
 import time
-from typing import Any, Mapping
+from typing import Any, Mapping, Sequence
 
 from . import slope
 from ._common import envelope, merge_config
 from .presets import parse_solver
+from .document import Doc
+from .experiment import Experiment, ReportContext, add_common_arguments, add_simulation_arguments, base_config, header
+from .figure import OUTCOME_COLORS, pyplot, save, solver_label
 
 __all__ = ["DEFAULTS", "run", "HELD"]
 
@@ -111,3 +116,119 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     )
     out["wall_time_s"] = time.perf_counter() - t0
     return out
+
+
+# ---------------------------------------------------------------- command line, figures, report
+
+
+def cli_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--angle-deg", "--angle", dest="angle_deg", type=float, default=45.0001, help="slope angle (default: 45.0001)")
+    p.add_argument("--mu", type=float, default=1.0, help="friction coefficient (default: 1)")
+    p.add_argument("--lo", type=float, default=1e-8, help="smallest scale searched (default: 1e-8)")
+    p.add_argument("--hi", type=float, default=1.0, help="largest scale searched (default: 1, unscaled)")
+    p.add_argument("--tol-decades", type=float, default=0.05, help="bracket width in decades (default: 0.05)")
+    add_simulation_arguments(p)
+    add_common_arguments(p)
+
+
+def cli_config(args: argparse.Namespace) -> dict[str, Any]:
+    return {
+        **base_config(args), "angle_deg": args.angle_deg, "mu": args.mu, "lo": args.lo, "hi": args.hi,
+        "tol_decades": args.tol_decades, "seconds": args.seconds, "dt": args.dt, "friction_dirs": args.friction_dirs,
+    }
+
+
+def summary(r: dict[str, Any], args: argparse.Namespace | None = None) -> str:
+    """The text ``lcpsim critical-scale`` prints."""
+    c = r["config"]
+    crit = r["critical_scale"]
+    if crit is None:
+        res = {"held_at_hi": f"held already at s = {c['hi']:g}", "slides_everywhere": f"slides at every s down to {c['lo']:g}"}.get(
+            r["note"], "none")
+    else:
+        res = f"{crit:.4g}  (bracket {r['bracket'][0]:.4g} … {r['bracket'][1]:.4g})"
+    lines = [
+        header(r),
+        f"slope {c['angle_deg']}°, μ = {c['mu']}, T = {c['seconds']:g} s; analytic slide {r['expected_slide_m']:.4e} m",
+        f"critical scale: {res}   (seed note: 4e-3 at 45.0001°)",
+        f"outcomes monotone in s: {r['monotone']}",
+        "",
+        f"{'s':>11} {'outcome':>8} {'slide (m)':>12} {'rot (°)':>9} {'fails':>6}  stage",
+    ]
+    for o in r["outcomes"]:
+        lines.append(
+            f"{o['scale']:>11.4g} {o['outcome']:>8} {o['slide_distance_m']:>12.4e} {o['tilt_deg']:>9.3g} {o['lcp_failures']:>6}  {o['stage']}"
+        )
+    return "\n".join(lines)
+
+
+def plot_critical_scale(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str]) -> str:
+    """Outcome of every slope run against the scale, one row per search; the
+    critical scale as a vertical line, the seed's 4e-3 dotted."""
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(8, 1.2 + 0.9 * len(results)))
+    for i, r in enumerate(results):
+        for o in r["outcomes"]:
+            mk = "o" if o.get("stage") == "grid" else "|"
+            ax.plot([o["scale"]], [i], mk, color=OUTCOME_COLORS.get(o["outcome"], "k"), ms=9)
+        c = r.get("critical_scale")
+        if c:
+            ax.plot([c, c], [i - 0.35, i + 0.35], "k-", lw=2)
+            ax.annotate(f"{c:.3g}", (c, i + 0.38), ha="center", fontsize=8)
+    ax.axvline(4e-3, color="grey", ls=":", label="seed note: 4e-3")
+    for name, col in OUTCOME_COLORS.items():
+        ax.plot([], [], "o", color=col, label=name)
+    ax.set_xscale("log")
+    ax.set_yticks(range(len(results)), [f"{r['config']['angle_deg']}°, {solver_label(r)}" for r in results])
+    ax.set_ylim(-0.7, len(results) - 0.2)
+    ax.set_xlabel("friction-cone scale s (1 = unscaled)")
+    ax.set_title("Critical scale: below it the cube is held (rest/tip) instead of sliding")
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.0, 0.5))
+    ax.grid(axis="x", alpha=0.3)
+    return save(fig, path)
+
+
+def critical_text(r: dict[str, Any]) -> str:
+    """The critical scale of a result in a report cell."""
+    if r["critical_scale"] is not None:
+        return f"{r['critical_scale']:.3g}" + ("" if r["monotone"] else " (outcomes not monotone in s)")
+    return {"held_at_hi": "held already unscaled", "slides_everywhere": "none: slides at every s ≥ 1e-8"}.get(
+        r["note"], "—")
+
+
+def report_run(ctx: ReportContext) -> dict[str, Any]:
+    def runs() -> list[dict[str, Any]]:
+        return [
+            run({"seed": ctx.seed, "solver": solver, "angle_deg": angle, "seconds": ctx.seconds})
+            for solver in ("seed", "robust")
+            for angle in (45.0001, 45.2)
+        ]
+
+    return {"critical_scale": ctx.step("critical scales", runs)}
+
+
+def report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
+    return {"critical_scale": plot_critical_scale(res["critical_scale"], ctx.path("critical_scale.png"))}
+
+
+def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
+    d.h(2, "Critical scale")
+    d.p(
+        "`lcpsim critical-scale --angle-deg A --mu 1 --solver seed`: one slope test per decade from s = 1 down to "
+        "1e-8, then bisection in log s between the largest held scale and the slide above it."
+    )
+    crows = []
+    for r in res["critical_scale"]:
+        crows.append([r["solver"]["name"], f"{r['config']['angle_deg']:g}", critical_text(r),
+                      "—" if r["bracket"] is None else f"[{r['bracket'][0]:.3g}, {r['bracket'][1]:.3g}]",
+                      ", ".join(f"{o['scale']:.2g}:{o['outcome']}" for o in r["outcomes"] if o["stage"] == "grid")])
+    d.table(["solver", "angle (°)", "critical scale", "bracket", "grid outcomes (s:outcome)"], crows)
+    d.img(ctx.rel(figs["critical_scale"]), "critical scale")
+
+
+EXPERIMENT = Experiment.of_module(
+    __name__,
+    "critical-scale",
+    "the cone scale below which the slope cube is held instead of sliding",
+    plot=plot_critical_scale,
+)

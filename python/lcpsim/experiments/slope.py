@@ -29,24 +29,30 @@ first failure), the direct trace of the seed's tolerance artifact.
 
 from __future__ import annotations
 
+import argparse
 import math
+import os
 import time
-from typing import Any, Mapping
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 
 from ..scenes import cube_on_slope
 from ._common import G, body_energy, downsample, envelope, merge_config, parse_scale, scale_label, scale_value
 from .presets import parse_solver
+from .document import Doc
+from .experiment import (
+    Experiment, ReportContext, add_common_arguments, add_simulation_arguments, base_config, header, scale_argument,
+)
+from .figure import pyplot, save, solver_label
 
 __all__ = ["DEFAULTS", "run", "classify", "expected_slide", "TIP_DEG"]
 
 #: Rotation (degrees) beyond which a cube counts as tipped.
 TIP_DEG = 5.0
 
-DEFAULTS: dict[str, Any] = {
-    "seed": 0,
-    "angle_deg": 45.0001,
+#: Config of a single cube simulated on its own (slope and push tests).
+CUBE_DEFAULTS: dict[str, Any] = {
     "mu": 1.0,
     "scale": "none",
     "solver": "robust",
@@ -57,6 +63,8 @@ DEFAULTS: dict[str, Any] = {
     "mass": 1.0,
     "trace": False,
 }
+
+DEFAULTS: dict[str, Any] = {"seed": 0, "angle_deg": 45.0001, **CUBE_DEFAULTS}
 
 
 def expected_slide(angle_deg: float, mu: float, seconds: float, g: float = G) -> float:
@@ -134,7 +142,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
             "final_tilt_deg": float(tilt[-1]),
             "lcps": int(has.sum()),
             "lcp_failures": int(failed.size),
-            "lcp_statuses": {str(s): int(c) for s, c in zip(statuses, counts)},
+            "by_status": {str(s): int(c) for s, c in zip(statuses, counts)},
             "first_failure_s": float(traj.time[failed[0]]) if failed.size else None,
             "slide_at_first_failure_m": float(along[failed[0]]) if failed.size else None,
             "tilt_at_first_failure_deg": float(tilt[failed[0]]) if failed.size else None,
@@ -156,3 +164,133 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
         }
     result["wall_time_s"] = time.perf_counter() - t0
     return result
+
+
+# ---------------------------------------------------------------- command line, figures, report
+
+
+def cli_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--angle-deg", "--angle", dest="angle_deg", type=float, default=45.0001, help="slope angle (default: 45.0001)")
+    p.add_argument("--mu", type=float, default=1.0, help="friction coefficient (default: 1)")
+    p.add_argument("--scale", type=scale_argument, default="none", metavar="none|dt|S", help="cone scale (default: none)")
+    add_simulation_arguments(p)
+    add_common_arguments(p)
+
+
+def cli_config(args: argparse.Namespace) -> dict[str, Any]:
+    return {
+        **base_config(args), "angle_deg": args.angle_deg, "mu": args.mu, "scale": args.scale,
+        "seconds": args.seconds, "dt": args.dt, "friction_dirs": args.friction_dirs, "trace": bool(args.plot),
+    }
+
+
+def summary(r: dict[str, Any], args: argparse.Namespace | None = None) -> str:
+    """The text ``lcpsim slope`` prints."""
+    c = r["config"]
+    lines = [
+        header(r),
+        f"cube 1 m, {c['mass']} kg on {c['angle_deg']}°, μ = {c['mu']}, s = {r['scale']}, h = {c['dt']:g} s, T = {r['seconds']:g} s",
+        f"outcome:   {r['outcome']}",
+        f"slide:     {r['slide_distance_m']:.6e} m  (analytic slide: {r['expected_slide_m']:.6e} m)",
+        f"rotation:  {r['tilt_deg']:.4g}° max, {r['final_tilt_deg']:.4g}° at the end",
+        f"LCPs:      {r['lcps']}, failures {r['lcp_failures']}"
+        + (f" (first at t = {r['first_failure_s']:.3f} s)" if r["first_failure_s"] is not None else ""),
+        f"cone:      friction beyond μN in {r['cone_excess_steps']} solved steps (max {r['cone_excess_max_Ns']:.3e} N·s)",
+        f"energy:    largest gain {r['energy_gain_J']:.3e} J",
+    ]
+    return "\n".join(lines)
+
+
+def plot_slope(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str]) -> str:
+    """Down-slope distance (symlog) and tilt against time for slope runs with a trace."""
+    plt = pyplot()
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4.2))
+    plotted_expected: set[tuple[float, float]] = set()
+    for i, r in enumerate(results):
+        tr = r.get("trace")
+        if not tr:
+            continue
+        cfg = r["config"]
+        lab = f"{solver_label(r)}, s = {r['scale']}, {cfg['angle_deg']}° → {r['outcome']}"
+        ax1.plot(tr["time"], tr["slide_m"], color=f"C{i % 10}", label=lab)
+        key = (float(cfg["angle_deg"]), float(cfg["mu"]))
+        if key not in plotted_expected:
+            plotted_expected.add(key)
+            ax1.plot(tr["time"], tr["expected_m"], "k--", lw=1, label=f"analytic slide, {key[0]}°")
+        ax2.plot(tr["time"], np.maximum(tr["tilt_deg"], 1e-6), color=f"C{i % 10}", ls="-" if i % 2 else "--", label=lab)
+    from matplotlib.ticker import SymmetricalLogLocator
+
+    ax1.set_yscale("symlog", linthresh=1e-6)
+    ax1.set_ylim(-10.0, 10.0)
+    ax1.yaxis.set_major_locator(SymmetricalLogLocator(base=100, linthresh=1e-6))
+    ax1.set_xlabel("time (s)")
+    ax1.set_ylabel("down-slope displacement (m, clipped at ±10)")
+    ax1.set_title("Slope test: displacement")
+    ax1.grid(alpha=0.3)
+    ax1.legend(fontsize=7)
+    ax2.set_yscale("log")
+    ax2.set_ylim(5e-7, 400)
+    ax2.axhline(5.0, color="k", lw=0.8, ls=":", label="tip threshold 5°")
+    ax2.set_xlabel("time (s)")
+    ax2.set_ylabel("rotation (deg, floor 1e-6)")
+    ax2.set_title("Slope test: rotation")
+    ax2.grid(alpha=0.3)
+    return save(fig, path)
+
+
+#: The report's slope runs: both presets at 45.0001° and 45.2°, at these scales.
+REPORT_SCALES = ["none", 1e-3, 1e-6]
+REPORT_ANGLES = (45.0001, 45.2)
+
+
+def report_run(ctx: ReportContext) -> dict[str, Any]:
+    def runs() -> list[dict[str, Any]]:
+        return [
+            run({"seed": ctx.seed, "solver": solver, "angle_deg": angle, "scale": sc, "seconds": ctx.seconds,
+                 "trace": True})
+            for solver in ("seed", "robust")
+            for angle in REPORT_ANGLES
+            for sc in REPORT_SCALES
+        ]
+
+    return {"slope": ctx.step("slope tests", runs)}
+
+
+def report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
+    figs = {}
+    for angle in REPORT_ANGLES:
+        tag = str(angle).replace(".", "_")
+        figs[f"slope_{tag}"] = plot_slope(
+            [r for r in res["slope"] if r["config"]["angle_deg"] == angle], ctx.path(f"slope_{tag}.png")
+        )
+    return figs
+
+
+def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
+    d.h(2, "Slope test")
+    d.p(
+        "`lcpsim slope --angle-deg A --mu 1 --scale S --solver P --seconds T`. A μ = 1 cube on a slope just "
+        "steeper than 45° must slide with ½·g·(sin θ − μ cos θ)·T² and not tip. Outcome: tip if rotated > 5°, "
+        "else slide if it moved ≥ half the analytic distance, else rest. `cone excess` counts solved steps whose "
+        "friction exceeds μ·Σfn (impossible for an exact solution): the seed's artifact at work."
+    )
+    srows = []
+    for r in res["slope"]:
+        srows.append([
+            r["solver"]["name"], f"{r['config']['angle_deg']:g}", r["scale"], r["outcome"], r["slide_distance_m"],
+            r["expected_slide_m"], r["tilt_deg"], r["lcp_failures"],
+            "—" if r["first_failure_s"] is None else f"{r['first_failure_s']:.3f}",
+            r["cone_excess_steps"], r["energy_gain_J"],
+        ])
+    d.table(["solver", "angle (°)", "s", "outcome", "slide (m)", "analytic (m)", "max rotation (°)", "LCP failures",
+             "first failure (s)", "cone-excess steps", "energy gain (J)"], srows)
+    d.img(ctx.rel(figs["slope_45_0001"]), "slope test at 45.0001°")
+    d.img(ctx.rel(figs["slope_45_2"]), "slope test at 45.2°")
+
+
+EXPERIMENT = Experiment.of_module(
+    __name__,
+    "slope",
+    "the seed's slope test: does a μ = 1 cube slide, rest or tip?",
+    plot=plot_slope,
+)

@@ -11,6 +11,12 @@
 
 from __future__ import annotations
 
+from .capture import Capture, CaptureRecord, CaptureWriter, load_captured_lcp, open_capture
+from .forensics import load_dump, replay, write_dump
 from .lcp_file import LcpFileError, file_format, is_dump, load_lcp, save_lcp
 
-__all__ = ["LcpFileError", "load_lcp", "save_lcp", "file_format", "is_dump"]
+__all__ = [
+    "LcpFileError", "load_lcp", "save_lcp", "file_format", "is_dump",
+    "Capture", "CaptureRecord", "CaptureWriter", "open_capture", "load_captured_lcp",
+    "load_dump", "replay", "write_dump",
+]
