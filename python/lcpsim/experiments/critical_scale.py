@@ -179,10 +179,10 @@ def plot_critical_scale(results: Sequence[Mapping[str, Any]], path: str | os.Pat
         if c:
             ax.plot([c, c], [i - 0.35, i + 0.35], "k-", lw=2)
             ax.annotate(f"{c:.3g}", (c, i + 0.38), ha="center", fontsize=8)
-        if r.get("bracket"):  # the bracket's ends, labelled with their outcomes
-            for b, o in zip(r["bracket"], r["bracket_outcomes"]):
-                ax.annotate(o, (b, i - 0.42), ha="center", va="top", fontsize=6,
-                            color=OUTCOME_COLORS.get(o, "k"))
+        if r.get("bracket"):  # the outcomes at the bracket's ends
+            lo_o, hi_o = r["bracket_outcomes"]
+            ax.annotate(f"{lo_o} | {hi_o}", (math.sqrt(r["bracket"][0] * r["bracket"][1]), i - 0.4), ha="center",
+                        va="top", fontsize=7)
     ax.axvline(4e-3, color="grey", ls=":", label="seed note: 4e-3")
     for name, col in OUTCOME_COLORS.items():
         ax.plot([], [], "o", color=col, label=name)

@@ -256,7 +256,7 @@ def plot_slope(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str
         if key not in plotted_expected:
             plotted_expected.add(key)
             ax1.plot(tr["time"], tr["expected_m"], "k--", lw=1, label=f"analytic slide, {key[0]}°")
-        ax2.plot(tr["time"], np.maximum(tr["tilt_deg"], 1e-12), color=f"C{i % 10}", ls="-" if i % 2 else "--", label=lab)
+        ax2.plot(tr["time"], np.maximum(tr["tilt_deg"], 1e-14), color=f"C{i % 10}", ls="-" if i % 2 else "--", label=lab)
     from matplotlib.ticker import SymmetricalLogLocator
 
     ax1.set_yscale("symlog", linthresh=1e-6)
@@ -268,9 +268,10 @@ def plot_slope(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str
     ax1.grid(alpha=0.3)
     ax1.legend(fontsize=7)
     ax2.set_yscale("log")
-    ax2.set_ylim(1e-12, 400)
+    ax2.set_ylim(1e-14, 400)
+    ax2.axhline(math.degrees(OnsetOptions.tilt_tol_rad), color="k", lw=0.8, ls=":", label="round-off limit of tilt")
     ax2.set_xlabel("time (s)")
-    ax2.set_ylabel("rotation (deg, floor 1e-12)")
+    ax2.set_ylabel("rotation (deg, floor 1e-14)")
     ax2.set_title("Slope test: rotation (dotted: onset of tipping)")
     ax2.grid(alpha=0.3)
     return save(fig, path)
