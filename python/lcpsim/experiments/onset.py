@@ -119,16 +119,14 @@ class _Probe:
     def __init__(self, world: Any, body: int, downhill: NDArray[np.float64], normal: NDArray[np.float64]) -> None:
         self.world, self.body, self.d = world, body, downhill
         self.axis = np.cross(normal, downhill)  # ω along n × d tips the top downhill
-        st = world._core.state()
-        self.x0 = np.array(st["position"][body], dtype=float)
-        self.q0 = np.array(st["orientation"][body], dtype=float)
+        b0 = world.body(body)
+        self.x0, self.q0 = np.array(b0.position, dtype=float), np.array(b0.orientation, dtype=float)
         self.rows: list[tuple[float, ...]] = []
 
     def step(self) -> None:
         rec = self.world.step()
-        st = self.world._core.state()
-        pos = st["position"][self.body]
-        om = np.asarray(st["angular_velocity"][self.body], dtype=float)
+        b = self.world.body(self.body)
+        pos, om = b.position, np.asarray(b.velocity[3:], dtype=float)
         mine = (rec.body_a == self.body) | (rec.body_b == self.body)
         fn = rec.fn[mine]
         uphill = (rec.points[mine] - pos) @ self.d <= 0.0
@@ -136,7 +134,7 @@ class _Probe:
         self.rows.append((
             rec.time + rec.dt,
             float((pos - self.x0) @ self.d),
-            float(precise_tilt(st["orientation"][self.body], self.q0)),
+            float(precise_tilt(b.orientation, self.q0)),
             om_tip,
             float(np.linalg.norm(om - om_tip * self.axis)),
             float(fn[~uphill].sum()),
