@@ -54,7 +54,8 @@ class ReportContext:
     @property
     def seconds(self) -> float:
         """Simulated time of the slope and push runs: 2 s (0.097 m of slide at
-        45.2°) — a cube held by the looser cone needs that long to tip."""
+        45.2°), long enough for the figures to show a held cube tipping (the
+        slope outcome itself is decided at onset, whatever the time)."""
         return 0.5 if self.quick else 2.0
 
     @property
