@@ -118,8 +118,7 @@ impl Islands {
         self.island_of_root.resize(nb, NONE);
         self.contact_island.clear();
         let mut count = 0;
-        for k in 0..contacts.len() {
-            let c = &contacts[k];
+        for c in contacts {
             let body = if bodies[c.body_a].is_static { c.body_b } else { c.body_a };
             let root = self.find(body);
             if self.island_of_root[root] == NONE {
@@ -131,8 +130,8 @@ impl Islands {
         // Contacts and bodies per island: stable counting sorts.
         counting_sort(&self.contact_island, count, &mut self.contact_start, &mut self.contacts);
         self.body_key.clear();
-        for b in 0..nb {
-            let island = if bodies[b].is_static {
+        for (b, body) in bodies.iter().enumerate() {
+            let island = if body.is_static {
                 NONE
             } else {
                 {

@@ -2,9 +2,11 @@
 //!
 //! A [`World`] holds bodies (boxes, spheres, static planes), constant
 //! external forces and [`WorldParams`]. Each step runs named stages
-//! (`pipeline`): external forces → `detect` → `assemble` → `solve` (any
-//! `lcp::Method`) → `integrate`, and leaves a [`StepRecord`] with the
-//! contacts, the LCP's size and status, residuals in physical units and
+//! (`pipeline`): external forces → `detect` ([`broad_phase`], then the
+//! narrow phase) → `islands` ([`islands`]) → `assemble` → `solve` (any
+//! `lcp::Method`, one LCP per contact island, on `WorldParams::threads`
+//! threads) → `integrate`, and leaves a [`StepRecord`] with the contacts,
+//! the islands, the LCP's size and status, residuals in physical units and
 //! the impulses `fn`, `fd`, `λ` per contact. Every solved LCP can be
 //! streamed to an [`LcpSink`].
 //!

@@ -407,7 +407,8 @@ impl CubeHeap {
         }
         positive("size", self.size)?;
         crate::error::in_range("jitter", self.jitter, 0.0, 0.05, "[0, 0.05]")?;
-        if !(self.spacing >= 1.0 + 4.0 * self.jitter) {
+        // Also rejects a NaN spacing.
+        if self.spacing.is_nan() || self.spacing < 1.0 + 4.0 * self.jitter {
             return Err(SimError::OutOfRange { field: "spacing", value: self.spacing, range: "[1 + 4·jitter, ∞)" });
         }
         let mut world = World::new(params)?;
