@@ -17,10 +17,24 @@ fn run(name: &str, build: impl Fn(WorldParams) -> Scene, steps: usize, threads: 
     let (mut failures, mut pivots, mut max_pivots, mut islands, mut max_n, mut pen) = (0, 0, 0, 0, 0, 0.0f64);
     let t0 = Instant::now();
     for _ in 0..steps {
+        let ts = Instant::now();
         let r = s.world.step().unwrap();
+        if ts.elapsed().as_secs_f64() > 1.0 {
+            let n = r.islands.iter().map(|i| i.lcp_size).max().unwrap_or(0);
+            eprintln!(
+                "  slow step {}: {:.1} s, {} islands, largest LCP {n}, {} pivots",
+                r.step,
+                ts.elapsed().as_secs_f64(),
+                r.islands.len(),
+                r.iterations
+            );
+        }
         for i in r.islands.iter().filter(|i| i.status != lcp::Status::Solved) {
             failures += 1;
-            eprintln!("  step {}: island of LCP size {} ended {:?} after {} pivots", r.step, i.lcp_size, i.status, i.iterations);
+            eprintln!(
+                "  step {}: island of LCP size {} ended {:?} after {} pivots",
+                r.step, i.lcp_size, i.status, i.iterations
+            );
         }
         pivots += r.iterations;
         max_pivots = max_pivots.max(r.iterations);
