@@ -16,7 +16,7 @@ Public API (the compiled module ``lcpsim._core`` is private)::
 
 from __future__ import annotations
 
-from ._core import __version__
+from ._core import ContactLayout, __version__
 from .lcp import (
     METHODS,
     PIVOTINGS,
@@ -36,6 +36,7 @@ from .corpus import Corpus, CorpusRecord, CorpusWriter, open_corpus
 
 __all__ = [
     "__version__",
+    "ContactLayout",
     "solve_lcp",
     "solve_lcp_batch",
     "lcp_residual",

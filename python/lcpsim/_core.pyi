@@ -4,7 +4,7 @@ Use the public wrappers in :mod:`lcpsim` instead; these functions return plain
 dicts and are documented here for the wrappers' sake.
 """
 
-from typing import Any, TypedDict
+from typing import Any, TypedDict, final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -239,6 +239,56 @@ class World:
 
 def build_scene(name: str, params: dict[str, Any] | None, template: World) -> tuple[World, dict[str, Any]]:
     """Scene `name` built with the template's parameters; ids in the dict: body, ground, bodies."""
+
+# Where fn, fd, λ live in a contact LCP's z (crates/py/src/contact.rs → lcp::contact).
+
+@final
+class ContactLayout:
+    """z = [fn (nc); fd (nc·k); λ (nc)], n = nc·(k + 2). Array arguments may have
+    leading batch dimensions: z (..., n), M (..., n, n), q (..., n)."""
+
+    #: Sign patterns (fn, Σfd, λ) in the seed's table order; `patterns` codes index it.
+    PATTERNS: list[str]
+    def __new__(cls, nc: int, k: int) -> ContactLayout: ...
+    @property
+    def nc(self) -> int: ...
+    @property
+    def k(self) -> int: ...
+    @property
+    def n(self) -> int:
+        """nc·(k + 2)."""
+    @property
+    def impulses(self) -> int:
+        """nc·(k + 1): the [fn; fd] part."""
+    @property
+    def fn(self) -> slice: ...
+    @property
+    def fd(self) -> slice:
+        """Contact-major: z[fd].reshape(nc, k)."""
+    @property
+    def lam(self) -> slice: ...
+    @property
+    def force(self) -> slice:
+        """The [fn; fd] part (rows and columns of A = J M_b⁻¹ Jᵀ)."""
+    def fd_of(self, c: int) -> slice: ...
+    def fd_index(self, c: int, j: int) -> int: ...
+    def lambda_index(self, c: int) -> int: ...
+    def cone_diagonal(self, s: float) -> NDArray[np.float64]:
+        """Diagonal of D = diag(I, I, s·I)."""
+    def scale_lcp(
+        self, m: ArrayLike, q: ArrayLike, s: float
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(D M D, D q) of the unscaled problem."""
+    def unscale_z(self, z: ArrayLike, s: float) -> NDArray[np.float64]:
+        """Physical z of the scaled problem's answer: λ = s·λ_scaled."""
+    def zero_levels(
+        self, m: ArrayLike, q: ArrayLike, z: ArrayLike, rel: float
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(impulse, velocity) thresholds: rel·max(‖[fn; fd]‖∞, ‖q‖∞/max|A|), rel·‖q‖∞."""
+    def patterns(
+        self, z: ArrayLike, impulse_zero: ArrayLike | float | None = None, velocity_zero: ArrayLike | float | None = None
+    ) -> NDArray[np.int8]:
+        """Pattern codes 4·[fn > zero] + 2·[Σfd > zero] + [λ > zero], shape (..., nc)."""
 
 # Seeded test-LCP generators (crates/py/src/generate.rs → lcp::generate).
 # Contact generators return (M, q, label, nc, k); the others (M, q, label).

@@ -14,54 +14,17 @@
 
 use std::f64::consts::PI;
 use std::fmt;
-use std::ops::Range;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use crate::contact::ContactLayout;
 use crate::problem::{Lcp, LcpError};
 
 /// Time step of [`contact_lcp`] (s).
 pub const CONTACT_H: f64 = 0.01;
 /// Gravity (m/s²), DESIGN §8.
 pub const GRAVITY: [f64; 3] = [0.0, 0.0, -9.81];
-
-/// Where the unknowns of a contact LCP live: `z = [fn (nc); fd (nc·k); λ (nc)]`,
-/// `fd` contact-major (`fd[c·k + j]` is direction `j` at contact `c`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ContactLayout {
-    /// Number of contacts.
-    pub nc: usize,
-    /// Friction directions per contact.
-    pub k: usize,
-}
-
-impl ContactLayout {
-    /// LCP size `nc·(k + 2)` (10·nc for k = 8).
-    pub fn n(&self) -> usize {
-        self.nc * (self.k + 2)
-    }
-    /// Indices of `fn`.
-    pub fn fn_range(&self) -> Range<usize> {
-        0..self.nc
-    }
-    /// Indices of `fd`.
-    pub fn fd_range(&self) -> Range<usize> {
-        self.nc..self.nc + self.nc * self.k
-    }
-    /// Indices of `λ`.
-    pub fn lambda_range(&self) -> Range<usize> {
-        self.nc + self.nc * self.k..self.n()
-    }
-    /// Index of `fd` for direction `j` at contact `c`.
-    pub fn fd_index(&self, c: usize, j: usize) -> usize {
-        self.nc + c * self.k + j
-    }
-    /// Index of `λ` of contact `c`.
-    pub fn lambda_index(&self, c: usize) -> usize {
-        self.nc + self.nc * self.k + c
-    }
-}
 
 /// Inverse body mass matrix (`ndof × ndof`) as given to [`contact_lcp_from_parts`].
 #[derive(Clone, Copy, Debug, PartialEq)]

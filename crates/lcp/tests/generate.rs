@@ -5,9 +5,10 @@
 mod common;
 use common::is_positive_definite;
 
+use lcp::contact::ContactLayout;
 use lcp::generate::{
     contact_lcp, contact_lcp_from_parts, infeasible_lcp, murty, murty_unit, p_matrix_lcp, spd_lcp, BoxOnPlane,
-    ContactLayout, ContactParts, MassInverse, PartsError, BOX_MINV_DIAG, CONTACT_H, GRAVITY,
+    ContactParts, MassInverse, PartsError, BOX_MINV_DIAG, CONTACT_H, GRAVITY,
 };
 use lcp::{lemke, Lcp, LemkeOptions, Pivoting, Status};
 use proptest::prelude::*;

@@ -9,8 +9,9 @@ use common::is_positive_definite;
 use std::collections::BTreeMap;
 
 use lcp::certify::certify_against;
+use lcp::contact::ContactLayout;
 use lcp::generate::{
-    hard_contact_lcp, hard_contact_lcp_k, hard_corpus, hard_corpus_item, ContactLayout, HardKind, HardScene,
+    hard_contact_lcp, hard_contact_lcp_k, hard_corpus, hard_corpus_item, HardKind, HardScene,
     HARD_MAX_CONTACTS, TWIN_OFFSET,
 };
 use lcp::{lemke, LemkeOptions, Scaling, Status};

@@ -3,9 +3,10 @@
 //! Glue only — conversion, validation messages, GIL release — mirroring the
 //! core crates one module each: `problem` (numpy → `Lcp`), `method` (name +
 //! options → `Method`), `solution` (`Solution` → dict), `lcp` (the solver
-//! functions), `errors`. `sim` (the simulator: `World`, scenes, LCP capture).
+//! functions), `contact` (`ContactLayout`), `errors`. `sim` (the simulator: `World`, scenes, LCP capture).
 
 mod certify;
+mod contact;
 mod errors;
 mod generate;
 mod lcp;
@@ -43,6 +44,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     }
     m.add("SCENES", scenes)?;
     m.add("MU_COMBINE", sim::MU_COMBINE.to_vec())?;
+    // Where fn, fd, λ live in a contact LCP's z.
+    m.add_class::<contact::PyContactLayout>()?;
     // Seeded test-LCP generators.
     m.add_function(wrap_pyfunction!(generate::contact_lcp, m)?)?;
     m.add_function(wrap_pyfunction!(generate::spd_lcp, m)?)?;

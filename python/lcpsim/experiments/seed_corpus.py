@@ -47,6 +47,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from .._core import ContactLayout
 from ..world import World
 from ._common import merge_config
 from .presets import PRESETS, Solver
@@ -269,9 +270,9 @@ class Group:
 
     def mu(self) -> NDArray[np.float64]:
         """(b, nc) each contact's μ, read off the cone rows (``M[λ_i, fn_i] = μ_i`` unscaled)."""
-        nc, m = self.contacts, self.contacts * (self.friction_dirs + 1)
-        i = np.arange(nc)
-        return np.asarray(self.M[:, m + i, i])
+        lay = ContactLayout(self.contacts, self.friction_dirs)
+        i = np.arange(lay.nc)
+        return np.asarray(self.M[:, lay.impulses + i, i])
 
 
 @dataclass
@@ -387,10 +388,9 @@ def generate(
 
 def scaled(M: NDArray[np.float64], q: NDArray[np.float64], nc: int, k: int, s: float) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """``(D M D, D q, d)`` with ``D = diag(I, I, s·I)`` (λ rows and columns scaled by s)."""
-    n = q.shape[-1]
-    d = np.ones(n)
-    d[nc * (k + 1) :] = s
-    return M * d[..., :, None] * d[..., None, :], q * d, d
+    lay = ContactLayout(nc, k)
+    Ms, qs = lay.scale_lcp(M, q, s)
+    return Ms, qs, lay.cone_diagonal(s)
 
 
 @dataclass
