@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import lcpsim
-from lcpsim import ContactLayout
+from lcpsim import ContactLayout, _core
 from lcpsim.generate import contact_lcp
 
 
@@ -114,3 +114,12 @@ def test_step_record_patterns_use_the_layout_rule() -> None:
     assert np.array_equal(pats, np.stack([r.fn > 1e-12, r.fd.sum(axis=1) > 1e-12, r.lam > 1e-12], axis=1))
     assert pats[:, 2].all()  # sliding
 
+
+def test_quaternion_helpers_are_rotations() -> None:
+    q = np.asarray(_core.quat_from_axis_angle((0.0, 0.0, 2.0), np.pi / 2))
+    R = _core.quat_to_matrix(q)
+    assert np.allclose(R @ [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], atol=1e-15)
+    assert np.allclose(np.asarray(_core.quat_from_matrix(R)), q, atol=1e-15)
+    p = np.asarray(_core.quat_from_axis_angle((1.0, 0.0, 0.0), 0.3))
+    pq = np.asarray(_core.quat_mul(p, q))
+    assert np.allclose(_core.quat_to_matrix(pq), _core.quat_to_matrix(p) @ R, atol=1e-15)

@@ -240,6 +240,20 @@ class World:
 def build_scene(name: str, params: dict[str, Any] | None, template: World) -> tuple[World, dict[str, Any]]:
     """Scene `name` built with the template's parameters; ids in the dict: body, ground, bodies."""
 
+# Rotations of sim::math (crates/py/src/math.rs); quaternions [w, x, y, z].
+
+def quat_from_axis_angle(axis: ArrayLike, angle: float) -> list[float]:
+    """Rotation by `angle` (rad) about `axis`."""
+
+def quat_mul(p: ArrayLike, q: ArrayLike) -> list[float]:
+    """Hamilton product p ⊗ q."""
+
+def quat_to_matrix(q: ArrayLike) -> NDArray[np.float64]:
+    """Rotation matrix (3, 3) of a unit quaternion."""
+
+def quat_from_matrix(r: ArrayLike) -> list[float]:
+    """Unit quaternion of a rotation matrix."""
+
 # Where fn, fd, λ live in a contact LCP's z (crates/py/src/contact.rs → lcp::contact).
 
 @final

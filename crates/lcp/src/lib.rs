@@ -16,7 +16,8 @@
 //! - [`contact`]: the layout of a contact LCP's `z = [fn; fd; λ]`, its cone scaling and sign patterns.
 //! - [`certify`]: exact (rational) check that a complementary basis solves the LCP of the floats given.
 //! - [`enumerate`]: brute-force enumeration of complementary bases (small n; tests).
-//! - [`generate`]: seeded generators of test LCPs (contact-structured, P-matrix, SPD, Murty).
+//! - [`generate`]: seeded generators of test LCPs (P-matrix, SPD, Murty, infeasible); contact
+//!   LCPs are generated from bodies by `sim::generate`.
 
 pub mod certify;
 pub mod contact;

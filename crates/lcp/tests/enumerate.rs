@@ -3,7 +3,8 @@
 
 use lcp::enumerate::{all_solutions, is_solution, MAX_N};
 use lcp::contact::ContactLayout;
-use lcp::generate::{contact_lcp, infeasible_examples, murty, murty_unit, p_matrix_lcp, spd_lcp};
+use sim::generate::contact_lcp;
+use lcp::generate::{infeasible_examples, murty, murty_unit, p_matrix_lcp, spd_lcp};
 use lcp::Lcp;
 use proptest::prelude::*;
 

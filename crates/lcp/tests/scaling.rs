@@ -4,7 +4,8 @@
 
 use lcp::enumerate::{all_solutions, is_solution};
 use lcp::contact::ContactLayout;
-use lcp::generate::{contact_lcp, p_matrix_lcp, spd_lcp};
+use lcp::generate::{p_matrix_lcp, spd_lcp};
+use sim::generate::contact_lcp;
 use lcp::{newton_fb, Lcp, NewtonFbOptions, Scaling};
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
