@@ -11,15 +11,15 @@ from lcpsim import generate
 
 
 def blocks(p: generate.GeneratedLcp) -> tuple[slice, slice, slice]:
-    assert p.nc is not None and p.k is not None
-    nc, k = p.nc, p.k
-    return slice(0, nc), slice(nc, nc + nc * k), slice(nc + nc * k, nc * (k + 2))
+    lay = p.layout
+    assert lay is not None and lay.n == p.n
+    return lay.fn, lay.fd, lay.lam
 
 
 @pytest.mark.parametrize("nc,k", [(1, 8), (2, 8), (4, 8), (3, 4), (5, 16)])
 def test_contact_shapes_and_label(nc: int, k: int) -> None:
     p = generate.contact_lcp(nc, k, 1.0, seed=3)
-    n = nc * (k + 2)
+    n = lcpsim.ContactLayout(nc, k).n
     assert p.M.shape == (n, n) and p.q.shape == (n,)
     assert p.M.dtype == np.float64 and p.q.dtype == np.float64
     assert (p.nc, p.k, p.scale, p.n) == (nc, k, 1.0, n)
@@ -53,7 +53,8 @@ def test_contact_structure_design_1(scale: float) -> None:
     f, d, lam = blocks(p)
     nc, k = 4, 8
     M, q = p.M, p.q
-    A = M[: nc * (k + 1), : nc * (k + 1)]
+    force = lcpsim.ContactLayout(nc, k).force
+    A = M[force, force]
     assert np.array_equal(A, A.T)
     assert np.linalg.eigvalsh(A).min() > -1e-12 * np.abs(A).max()
     assert np.all(M[f, lam] == 0) and np.all(M[lam, lam] == 0)
@@ -67,8 +68,9 @@ def test_contact_structure_design_1(scale: float) -> None:
     # fn, fd rows do not depend on the scale: (M, q) = (D M₁ D, D q₁).
     p1 = p.at_scale(1.0)
     D = p.cone_diagonal()
-    assert np.array_equal(D, np.r_[np.ones(nc * (k + 1)), np.full(nc, scale)])
-    assert np.array_equal(p.M[: nc * (k + 1), : nc * (k + 1)], p1.M[: nc * (k + 1), : nc * (k + 1)])
+    assert np.array_equal(D[f], np.ones(nc)) and np.array_equal(D[d], np.ones(nc * k))
+    assert np.array_equal(D[lam], np.full(nc, scale))
+    assert np.array_equal(p.M[force, force], p1.M[force, force])
     assert np.allclose(p.M, D[:, None] * p1.M * D[None, :], rtol=1e-15, atol=0)
     assert np.array_equal(p.q, p1.q)
 
@@ -108,7 +110,8 @@ def test_hard_contact_kinds() -> None:
         assert p.n == p.nc * 6 and 1 <= p.nc <= 16
         f, d, lam = blocks(p)
         assert np.all(p.q[lam] == 0) and np.all(p.M[lam, lam] == 0)
-        A = p.M[: p.nc * 5, : p.nc * 5]
+        force = p.layout.force
+        A = p.M[force, force]
         assert np.array_equal(A, A.T)
 
 

@@ -208,6 +208,8 @@ def seed_corpus_sets(scales: list[float], per_size: int, seed: int) -> tuple[lis
     ``friction_dirs`` is used; the LCPs are scaled here by ``D = diag(I, I, s·I)``.
     """
     try:
+        from lcpsim import ContactLayout
+
         sc = importlib.import_module("lcpsim.experiments.seed_corpus")
         corpus = sc.generate()
     except Exception as e:  # not there yet, or broken: say so in the report
@@ -221,12 +223,11 @@ def seed_corpus_sets(scales: list[float], per_size: int, seed: int) -> tuple[lis
     for s in scales:
         probs = []
         for g, idx in picked:
-            nc, k = int(g.contacts), int(g.friction_dirs)
-            d = np.ones(g.q.shape[1])
-            d[nc * (k + 1) :] = s
+            lay = ContactLayout(int(g.contacts), int(g.friction_dirs))
+            d = lay.cone_diagonal(s)
             for i in idx:
                 M1, q1 = np.ascontiguousarray(g.M[i]), np.ascontiguousarray(g.q[i])
-                M, q = (M1, q1) if s == 1.0 else (M1 * d[:, None] * d[None, :], q1 * d)
+                M, q = (M1, q1) if s == 1.0 else lay.scale_lcp(M1, q1, s)
                 probs.append(
                     Problem(M, q, f"seed/{int(g.index[i])}", f"n = {g.n}", d if s != 1.0 else None, M1, q1)
                 )

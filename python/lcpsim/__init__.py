@@ -22,7 +22,7 @@ working with a DeprecationWarning (:mod:`lcpsim._deprecated`).
 
 from __future__ import annotations
 
-from ._core import __version__
+from ._core import ContactLayout, __version__
 from . import _deprecated
 from .lcp import (
     METHODS,
@@ -43,6 +43,7 @@ from .io.capture import Capture, CaptureRecord, CaptureWriter, open_capture
 
 __all__ = [
     "__version__",
+    "ContactLayout",
     "solve_lcp",
     "solve_lcp_batch",
     "lcp_residual",

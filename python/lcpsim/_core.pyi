@@ -14,7 +14,8 @@ __all__ = [
     "__version__", "METHODS", "PIVOTINGS", "STATUSES", "METHOD_OPTIONS", "LEMKE_DEFAULTS", "solve_lcp",
     "solve_lcp_batch", "lcp_residual", "lcp_residuals", "World", "build_scene", "SCENES", "MU_COMBINE",
     "contact_lcp", "spd_lcp", "p_matrix_lcp", "hard_contact_lcp", "hard_corpus", "HARD_KINDS", "certify_lcp",
-    "certify_lcp_batch", "solve_lcp_traced",
+    "certify_lcp_batch", "solve_lcp_traced", "ContactLayout", "quat_from_axis_angle", "quat_mul", "quat_to_matrix",
+    "quat_from_matrix",
 ]
 
 __version__: str
@@ -259,6 +260,70 @@ class World:
 
 def build_scene(name: str, params: dict[str, Any] | None, template: World) -> tuple[World, dict[str, Any]]:
     """Scene `name` built with the template's parameters; ids in the dict: body, ground, bodies."""
+
+# Rotations of sim::math (crates/py/src/math.rs); quaternions [w, x, y, z].
+
+def quat_from_axis_angle(axis: ArrayLike, angle: float) -> list[float]:
+    """Rotation by `angle` (rad) about `axis`."""
+
+def quat_mul(p: ArrayLike, q: ArrayLike) -> list[float]:
+    """Hamilton product p ⊗ q."""
+
+def quat_to_matrix(q: ArrayLike) -> NDArray[np.float64]:
+    """Rotation matrix (3, 3) of a unit quaternion."""
+
+def quat_from_matrix(r: ArrayLike) -> list[float]:
+    """Unit quaternion of a rotation matrix."""
+
+# Where fn, fd, λ live in a contact LCP's z (crates/py/src/contact.rs → lcp::contact).
+
+@final
+class ContactLayout:
+    """z = [fn (nc); fd (nc·k); λ (nc)], n = nc·(k + 2). Array arguments may have
+    leading batch dimensions: z (..., n), M (..., n, n), q (..., n)."""
+
+    #: Sign patterns (fn, Σfd, λ) in the seed's table order; `patterns` codes index it.
+    PATTERNS: list[str]
+    def __new__(cls, nc: int, k: int) -> ContactLayout: ...
+    @property
+    def nc(self) -> int: ...
+    @property
+    def k(self) -> int: ...
+    @property
+    def n(self) -> int:
+        """nc·(k + 2)."""
+    @property
+    def impulses(self) -> int:
+        """nc·(k + 1): the [fn; fd] part."""
+    @property
+    def fn(self) -> slice: ...
+    @property
+    def fd(self) -> slice:
+        """Contact-major: z[fd].reshape(nc, k)."""
+    @property
+    def lam(self) -> slice: ...
+    @property
+    def force(self) -> slice:
+        """The [fn; fd] part (rows and columns of A = J M_b⁻¹ Jᵀ)."""
+    def fd_of(self, c: int) -> slice: ...
+    def fd_index(self, c: int, j: int) -> int: ...
+    def lambda_index(self, c: int) -> int: ...
+    def cone_diagonal(self, s: float) -> NDArray[np.float64]:
+        """Diagonal of D = diag(I, I, s·I)."""
+    def scale_lcp(
+        self, m: ArrayLike, q: ArrayLike, s: float
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(D M D, D q) of the unscaled problem."""
+    def unscale_z(self, z: ArrayLike, s: float) -> NDArray[np.float64]:
+        """Physical z of the scaled problem's answer: λ = s·λ_scaled."""
+    def zero_levels(
+        self, m: ArrayLike, q: ArrayLike, z: ArrayLike, rel: float
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(impulse, velocity) thresholds: rel·max(‖[fn; fd]‖∞, ‖q‖∞/max|A|), rel·‖q‖∞."""
+    def patterns(
+        self, z: ArrayLike, impulse_zero: ArrayLike | float | None = None, velocity_zero: ArrayLike | float | None = None
+    ) -> NDArray[np.int8]:
+        """Pattern codes 4·[fn > zero] + 2·[Σfd > zero] + [λ > zero], shape (..., nc)."""
 
 # Seeded test-LCP generators (crates/py/src/generate.rs → lcp::generate).
 # Contact generators return (M, q, label, nc, k); the others (M, q, label).

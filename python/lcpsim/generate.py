@@ -70,12 +70,15 @@ class GeneratedLcp:
         """Whether the problem has the contact structure ``z = [fn; fd; λ]``."""
         return self.nc is not None and self.k is not None
 
+    @property
+    def layout(self) -> _core.ContactLayout | None:
+        """Where fn, fd, λ live in ``z`` (None if not a contact LCP)."""
+        return None if self.nc is None or self.k is None else _core.ContactLayout(self.nc, self.k)
+
     def cone_diagonal(self) -> NDArray[np.float64]:
         """``D = diag(I, I, s·I)`` of the friction-cone scaling (all ones if not a contact LCP)."""
-        d = np.ones(self.n)
-        if self.nc is not None and self.k is not None:
-            d[self.nc * (self.k + 1) :] = self.scale
-        return d
+        lay = self.layout
+        return np.ones(self.n) if lay is None else lay.cone_diagonal(self.scale)
 
     def to_physical(self, z: ArrayLike) -> NDArray[np.float64]:
         """``z_phys = D z``: impulses of the unscaled problem (λ multiplied by ``s``)."""

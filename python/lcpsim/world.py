@@ -181,8 +181,12 @@ class StepRecord:
         return np.asarray((self.normals * self.fn[:, None]).sum(axis=0) + self.friction.sum(axis=0))
 
     def patterns(self, zero: float = 1e-12) -> NDArray[np.bool_]:
-        """The seed's pattern per contact (nc, 3): whether fn, Σfd, λ exceed ``zero``."""
-        return np.stack([self.fn > zero, self.fd.sum(axis=1) > zero, self.lam > zero], axis=1)
+        """The seed's pattern per contact (nc, 3): whether fn, Σfd, λ exceed ``zero``
+        (:meth:`lcpsim.ContactLayout.patterns` with one absolute threshold)."""
+        if self.contacts == 0:
+            return np.zeros((0, 3), dtype=bool)
+        codes = _core.ContactLayout(self.contacts, self.friction_dirs).patterns(self.z, zero)
+        return np.asarray((codes[:, None] & np.array([4, 2, 1])) != 0)
 
     def between(self, a: int, b: int) -> NDArray[np.bool_]:
         """Mask of the contacts between bodies ``a`` and ``b`` (either order)."""

@@ -1,5 +1,5 @@
 //! Criterion bench: median time per solve for contact-structured LCPs
-//! (DESIGN §1, sizes 20 and 40) and random SPD LCPs (40, 200, 1000).
+//! (DESIGN §1, sizes 20 and 40, from `sim::generate`) and random SPD LCPs (40, 200, 1000).
 //! Run with `cargo bench -p lcpsim-lcp --bench lemke`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
@@ -10,7 +10,7 @@ fn contact(c: &mut Criterion) {
     let mut g = c.benchmark_group("contact");
     for (nc, scale) in [(2usize, 1.0), (4, 1.0), (4, 1e-3), (4, 1e-6)] {
         // A fixed set of 64 problems, cycled, so one lucky case cannot dominate.
-        let set: Vec<_> = (0..64).map(|seed| generate::contact_lcp(nc, 8, scale, seed)).collect();
+        let set: Vec<_> = (0..64).map(|seed| sim::generate::contact_lcp(nc, 8, scale, seed)).collect();
         for (name, o) in [("robust", LemkeOptions::default()), ("classic", LemkeOptions::classic())] {
             let id = BenchmarkId::new(name, format!("n{}_s{scale:e}", 10 * nc));
             let mut i = 0;

@@ -1,7 +1,7 @@
 //! Scans the hard corpus (issue 5) with the default Lemke and prints every
 //! failure: `hard_scan [count] [scales,..] [families,..]` (corpus seed `CORPUS_SEED`, default
 //! 2026 as in the ignored corpus test; `ORDINARY=1` scans `contact_lcp` instead, nc ∈ {1, 2, 4, 8}).
-use lcp::generate::{hard_corpus_item, HardScene};
+use sim::generate::{hard_corpus_item, HardScene};
 use lcp::{lemke, Lcp, LemkeOptions, Solution, Status};
 
 /// Issue 5's criterion: solved, natural residual ≤ 1e-9·(1 + ‖q‖∞).
@@ -25,7 +25,7 @@ fn main() {
             let mut fails = 0;
             for nc in [1, 2, 4, 8] {
                 for seed in 0..count as u64 {
-                    let p = lcp::generate::contact_lcp(nc, 8, scale, seed);
+                    let p = sim::generate::contact_lcp(nc, 8, scale, seed);
                     let sol = lemke::solve(&p, &opts);
                     if !solved(&p, &sol) {
                         fails += 1;

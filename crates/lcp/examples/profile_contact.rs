@@ -1,12 +1,12 @@
 //! Solves the same 64 contact LCPs (n = 40) many times: a target for
 //! `valgrind --tool=callgrind` when tuning Lemke. Arguments: repetitions
 //! (default 20) and friction-cone scale (default 1).
-use lcp::{generate, lemke, LemkeOptions};
+use lcp::{lemke, LemkeOptions};
 
 fn main() {
     let reps: usize = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(20);
     let scale: f64 = std::env::args().nth(2).and_then(|s| s.parse().ok()).unwrap_or(1.0);
-    let set: Vec<_> = (0..64).map(|seed| generate::contact_lcp(4, 8, scale, seed)).collect();
+    let set: Vec<_> = (0..64).map(|seed| sim::generate::contact_lcp(4, 8, scale, seed)).collect();
     let mut pivots = 0;
     for _ in 0..reps {
         for lcp in &set {

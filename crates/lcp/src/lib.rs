@@ -13,11 +13,14 @@
 //! - [`pgs`]: projected Gauss–Seidel with relaxation.
 //! - [`newton_fb`]: damped semismooth Newton on the Fischer–Burmeister function.
 //! - [`scaling`]: diagonal scaling `D_r M D_c, D_r q` and the map back.
+//! - [`contact`]: the layout of a contact LCP's `z = [fn; fd; λ]`, its cone scaling and sign patterns.
 //! - [`certify`]: exact (rational) check that a complementary basis solves the LCP of the floats given.
 //! - [`enumerate`]: brute-force enumeration of complementary bases (small n; tests).
-//! - [`generate`]: seeded generators of test LCPs (contact-structured, P-matrix, SPD, Murty).
+//! - [`generate`]: seeded generators of test LCPs (P-matrix, SPD, Murty, infeasible); contact
+//!   LCPs are generated from bodies by `sim::generate`.
 
 pub mod certify;
+pub mod contact;
 pub mod enumerate;
 pub mod generate;
 mod kernels;
@@ -30,6 +33,7 @@ mod recycle;
 pub mod scaling;
 pub mod solution;
 
+pub use contact::ContactLayout;
 pub use lemke::{LemkeOptions, Pivoting};
 pub use method::{solve, solve_warm, Method};
 pub use newton_fb::NewtonFbOptions;

@@ -5,7 +5,8 @@
 use std::time::Instant;
 
 use lcp::certify::{certify, certify_against, certify_z, CertStatus, Certificate, ViolationKind};
-use lcp::generate::{contact_lcp, p_matrix_lcp, spd_lcp};
+use lcp::generate::{p_matrix_lcp, spd_lcp};
+use sim::generate::contact_lcp;
 use lcp::{lemke, Lcp, LemkeOptions};
 
 fn lcp(m: &[f64], q: &[f64]) -> Lcp {

@@ -2,7 +2,9 @@
 //! form, P-matrix uniqueness, infeasibility with Farkas certificates.
 
 use lcp::enumerate::{all_solutions, is_solution, MAX_N};
-use lcp::generate::{contact_lcp, infeasible_examples, murty, murty_unit, p_matrix_lcp, spd_lcp, ContactLayout};
+use lcp::contact::ContactLayout;
+use sim::generate::contact_lcp;
+use lcp::generate::{infeasible_examples, murty, murty_unit, p_matrix_lcp, spd_lcp};
 use lcp::Lcp;
 use proptest::prelude::*;
 

@@ -6,7 +6,7 @@
 mod common;
 
 use common::assert_solves_case;
-use lcp::generate::{HardKind, HardScene};
+use sim::generate::{HardKind, HardScene};
 use lcp::{lemke, LemkeOptions, Status};
 
 /// `(family, k, seed, scales)` as `hard_scan` / the ignored corpus test print them.

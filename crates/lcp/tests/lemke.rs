@@ -98,7 +98,7 @@ fn contact_lcps_at_every_scale() {
     for seed in 0..200u64 {
         for nc in [1usize, 2, 4] {
             for scale in [1.0, 1e-2, 1e-3, 1e-4, 1e-6, 1e-8] {
-                let lcp = generate::contact_lcp(nc, 8, scale, seed);
+                let lcp = sim::generate::contact_lcp(nc, 8, scale, seed);
                 let s = lemke(&lcp);
                 assert_eq!(s.status, Status::Solved, "seed {seed} nc {nc} scale {scale}: {:?}", s.residuals);
                 assert_solves(&lcp, &s.z, 1e-9);
@@ -193,7 +193,7 @@ fn warm_start_saves_pivots_and_never_hurts() {
     let (mut cold, mut warm) = (0usize, 0usize);
     for seed in 0..300u64 {
         let nc = [1usize, 2, 4][seed as usize % 3];
-        let lcp = generate::contact_lcp(nc, 8, 1e-3, seed);
+        let lcp = sim::generate::contact_lcp(nc, 8, 1e-3, seed);
         let first = lemke(&lcp);
         assert_eq!(first.status, Status::Solved);
         let basis = first.basis.clone().unwrap();
@@ -226,7 +226,7 @@ fn warm_start_saves_pivots_and_never_hurts() {
 #[test]
 fn pivot_trace_matches_the_pivot_count() {
     for seed in 0..50u64 {
-        let lcp = generate::contact_lcp(4, 8, 1e-3, seed);
+        let lcp = sim::generate::contact_lcp(4, 8, 1e-3, seed);
         let n = lcp.n();
         for o in [lex(), LemkeOptions::classic()] {
             let (s, trace) = lcp::lemke::solve_traced(&lcp, &o, None);

@@ -2,7 +2,8 @@
 //! n ≤ 8), on degenerate and hopeless problems, and their never-NaN contract.
 
 use lcp::enumerate::{all_solutions, is_solution};
-use lcp::generate::{contact_lcp, infeasible_examples, murty, murty_unit, p_matrix_lcp, spd_lcp};
+use sim::generate::contact_lcp;
+use lcp::generate::{infeasible_examples, murty, murty_unit, p_matrix_lcp, spd_lcp};
 use lcp::{newton_fb, pgs, Lcp, NewtonFbOptions, PgsOptions, Solution, Status};
 use proptest::prelude::*;
 

@@ -3,7 +3,9 @@
 //! positive diagonal scaling maps the solution set onto itself.
 
 use lcp::enumerate::{all_solutions, is_solution};
-use lcp::generate::{contact_lcp, p_matrix_lcp, spd_lcp, ContactLayout};
+use lcp::contact::ContactLayout;
+use lcp::generate::{p_matrix_lcp, spd_lcp};
+use sim::generate::contact_lcp;
 use lcp::{newton_fb, Lcp, NewtonFbOptions, Scaling};
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};

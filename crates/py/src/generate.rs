@@ -1,4 +1,5 @@
-//! Bindings of `lcp::generate`: the seeded test-LCP generators, each returning
+//! Bindings of the seeded test-LCP generators — `lcp::generate` (matrices) and
+//! `sim::generate` (contact scenes) — each returning
 //! `(M, q, label)` with `M` an `(n, n)` and `q` an `(n,)` float64 array, and
 //! the label a string that names the generator and its arguments. The
 //! contact generators also return `(nc, k)` so that Python can undo the
@@ -6,7 +7,8 @@
 //! on are rejected here with a `ValueError`.
 
 use crate::errors::value_error;
-use lcp::generate::{self, HardKind};
+use lcp::generate;
+use sim::generate::{self as scenes, HardKind};
 use lcp::Lcp;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
@@ -53,14 +55,14 @@ fn hard_kind(name: &str) -> PyResult<HardKind> {
         .ok_or_else(|| value_error(format!("unknown hard-contact kind {name:?}; expected one of {:?}", hard_kinds())))
 }
 
-/// The contact LCP of one unit cube on a random slope (`generate::contact_lcp`).
+/// The contact LCP of one unit cube on a random slope (`sim::generate::contact_lcp`).
 #[pyfunction]
 #[pyo3(signature = (nc, k = 8, scale = 1.0, seed = 0))]
 pub fn contact_lcp(py: Python<'_>, nc: usize, k: usize, scale: f64, seed: u64) -> PyResult<ContactTuple<'_>> {
     check_positive(nc, "nc")?;
     check_positive(k, "k")?;
     check_scale(scale)?;
-    let lcp = generate::contact_lcp(nc, k, scale, seed);
+    let lcp = scenes::contact_lcp(nc, k, scale, seed);
     let (m, q) = to_numpy(py, lcp)?;
     Ok((m, q, format!("contact/nc{nc}/k{k}/seed{seed}"), nc, k))
 }
@@ -85,7 +87,7 @@ pub fn p_matrix_lcp(py: Python<'_>, n: usize, seed: u64) -> PyResult<PlainTuple<
     Ok((m, q, format!("p_matrix/n{n}/seed{seed}")))
 }
 
-/// A hard contact LCP of family `kind` (`generate::hard_contact_lcp_k`); the
+/// A hard contact LCP of family `kind` (`sim::generate::hard_contact_lcp_k`); the
 /// label is the scene's own (`kind/kK/ncN/seedS`).
 #[pyfunction]
 #[pyo3(signature = (kind, scale = 1.0, seed = 0, k = 8))]
@@ -99,23 +101,23 @@ pub fn hard_contact_lcp<'py>(
     let kind = hard_kind(kind)?;
     check_positive(k, "k")?;
     check_scale(scale)?;
-    let scene = generate::HardScene::random(kind, k, seed);
+    let scene = scenes::HardScene::random(kind, k, seed);
     let (label, nc) = (scene.label(seed), scene.nc);
     let (m, q) = to_numpy(py, scene.lcp(scale))?;
     Ok((m, q, label, nc, k))
 }
 
-/// `count` hard contact LCPs (`generate::hard_corpus`), each `(M, q, label, nc, k)`.
+/// `count` hard contact LCPs (`sim::generate::hard_corpus`), each `(M, q, label, nc, k)`.
 #[pyfunction]
 #[pyo3(signature = (seed, count, scale = 1.0))]
 pub fn hard_corpus(py: Python<'_>, seed: u64, count: usize, scale: f64) -> PyResult<Vec<ContactTuple<'_>>> {
     check_scale(scale)?;
-    let items = py.detach(|| generate::hard_corpus(seed, count, scale));
+    let items = py.detach(|| scenes::hard_corpus(seed, count, scale));
     items
         .into_iter()
         .enumerate()
         .map(|(i, (label, lcp))| {
-            let (_, k, _) = generate::hard_corpus_item(seed, i);
+            let (_, k, _) = scenes::hard_corpus_item(seed, i);
             let nc = lcp.n() / (k + 2);
             let (m, q) = to_numpy(py, lcp)?;
             Ok((m, q, label, nc, k))

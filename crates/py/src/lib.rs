@@ -3,12 +3,14 @@
 //! Glue only — conversion, validation messages, GIL release — mirroring the
 //! core crates one module each: `problem` (numpy → `Lcp`), `method` (name +
 //! options → `Method`), `solution` (`Solution` → dict), `lcp` (the solver
-//! functions), `errors`. `sim` (the simulator: `World`, scenes, LCP capture).
+//! functions), `contact` (`ContactLayout`), `math` (quaternions), `errors`. `sim` (the simulator: `World`, scenes, LCP capture).
 
 mod certify;
+mod contact;
 mod errors;
 mod generate;
 mod lcp;
+mod math;
 mod method;
 mod problem;
 mod sim;
@@ -43,6 +45,13 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     }
     m.add("SCENES", scenes)?;
     m.add("MU_COMBINE", sim::MU_COMBINE.to_vec())?;
+    // Rotations (sim::math) for placing bodies from Python.
+    m.add_function(wrap_pyfunction!(math::quat_from_axis_angle, m)?)?;
+    m.add_function(wrap_pyfunction!(math::quat_mul, m)?)?;
+    m.add_function(wrap_pyfunction!(math::quat_to_matrix, m)?)?;
+    m.add_function(wrap_pyfunction!(math::quat_from_matrix, m)?)?;
+    // Where fn, fd, λ live in a contact LCP's z.
+    m.add_class::<contact::PyContactLayout>()?;
     // Seeded test-LCP generators.
     m.add_function(wrap_pyfunction!(generate::contact_lcp, m)?)?;
     m.add_function(wrap_pyfunction!(generate::spd_lcp, m)?)?;

@@ -145,17 +145,18 @@ fn record_to_dict<'py>(py: Python<'py>, r: &StepRecord) -> PyResult<Bound<'py, P
     d.set_item(intern!(py, "solver_residual"), r.solver_residuals.natural)?;
     d.set_item(intern!(py, "zeroed"), r.zeroed)?;
     // The solver's z, or zeros where it was unusable (then also no friction).
-    let has_z = r.z.len() == nc * (k + 2);
+    let lay = r.layout();
+    let has_z = r.z.len() == lay.n();
     let zeros;
     let z: &[f64] = if has_z {
         &r.z
     } else {
-        zeros = vec![0.0; nc * (k + 2)];
+        zeros = vec![0.0; lay.n()];
         &zeros
     };
-    d.set_item(intern!(py, "fn"), copied(py, &z[..nc], &[nc]))?;
-    d.set_item(intern!(py, "fd"), copied(py, &z[nc..nc * (k + 1)], &[nc, k]))?;
-    d.set_item(intern!(py, "lam"), copied(py, &z[nc * (k + 1)..], &[nc]))?;
+    d.set_item(intern!(py, "fn"), copied(py, &z[lay.fn_range()], &[nc]))?;
+    d.set_item(intern!(py, "fd"), copied(py, &z[lay.fd_range()], &[nc, k]))?;
+    d.set_item(intern!(py, "lam"), copied(py, &z[lay.lambda_range()], &[nc]))?;
     d.set_item(intern!(py, "z"), copied(py, z, &[z.len()]))?;
     d.set_item(intern!(py, "w"), copied(py, &r.w, &[r.w.len()]))?;
     let mut points = Vec::with_capacity(3 * nc);

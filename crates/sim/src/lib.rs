@@ -26,12 +26,14 @@
 //! Modules: [`math`] (Vec3/Quat/Mat3), [`dynamics`] (bodies, integration),
 //! [`geometry`] (shapes, one file per shape pair), [`contact`] (friction
 //! basis, assembly, formulation parameters), [`pipeline`] (the step),
-//! [`scenes`] (the analytic test scenes of DESIGN §3).
+//! [`scenes`] (the analytic test scenes of DESIGN §3), [`generate`] (seeded
+//! contact scenes and their LCPs for tests and benchmarks).
 
 pub mod broad_phase;
 pub mod contact;
 pub mod dynamics;
 pub mod error;
+pub mod generate;
 pub mod geometry;
 pub mod islands;
 pub mod math;

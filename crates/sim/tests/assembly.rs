@@ -59,15 +59,15 @@ fn layout_is_fn_fd_lambda_with_size_k_plus_2_per_contact() {
         let nc = 4;
         assert_eq!(lcp.n(), nc * (k + 2));
         let c = s.world.contact_lcp();
-        assert_eq!(c.fd_index(1, 0), nc + k);
-        assert_eq!(c.lambda_index(0), nc * (k + 1));
+        assert_eq!(c.layout().fd_index(1, 0), nc + k);
+        assert_eq!(c.layout().lambda_index(0), nc * (k + 1));
         // Cone rows: [μ, −1…−1, 0] pattern; friction rows: +1 in their λ column.
         for i in 0..nc {
-            let l = c.lambda_index(i);
+            let l = c.layout().lambda_index(i);
             assert_eq!(lcp.at(l, i), 0.5);
             for j in 0..k {
-                assert_eq!(lcp.at(l, c.fd_index(i, j)), -1.0);
-                assert_eq!(lcp.at(c.fd_index(i, j), l), 1.0);
+                assert_eq!(lcp.at(l, c.layout().fd_index(i, j)), -1.0);
+                assert_eq!(lcp.at(c.layout().fd_index(i, j), l), 1.0);
             }
             assert_eq!(lcp.q()[l], 0.0);
         }

@@ -157,8 +157,8 @@ def _configure_demo(p: argparse.ArgumentParser) -> None:
 def _run_demo(args: argparse.Namespace) -> int:
     from ..examples import cube_on_slope_lcp
 
-    if args.k < 3:
-        raise CliError(f"--k must be at least 3, got {args.k}")
+    if args.k < 4 or args.k % 2:
+        raise CliError(f"--k must be even and at least 4, got {args.k}")
     scenes = [
         ("resting, flat", cube_on_slope_lcp(0.0, 0.5, k=args.k)),
         ("20° slope, mu 0.5", cube_on_slope_lcp(20.0, 0.5, k=args.k)),

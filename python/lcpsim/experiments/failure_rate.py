@@ -226,8 +226,8 @@ def _seed_rows(
                     r = solve_scaled(g, solver, s, threads=threads)
                     acc.add(r.status, r.residual, r.pivots, tol, size=g.n, rel_bound=rel_tol * (1.0 + qnorm[id(g)]))
                     if acc.certify and g.n <= cert_max_n:
-                        Ms, qs, _ = scaled(g.M, g.q, g.contacts, g.friction_dirs, s)
-                        acc.add_cert(Ms, qs, r.basis, r.z / _dvec(g.n, g.contacts, g.friction_dirs, s), threads)
+                        Ms, qs, d = scaled(g.M, g.q, g.contacts, g.friction_dirs, s)
+                        acc.add_cert(Ms, qs, r.basis, r.z / d, threads)
                 out[solver.name].append({"scale": scale_label(scale), "s": s, **acc.row()})
     else:
         sims = simulations(ccfg)
@@ -245,12 +245,6 @@ def _seed_rows(
                     acc.add(tuple(traj.status[has]), traj.residual[has], traj.pivots[has], tol, size=traj.lcp_size[has])
                 out[solver.name].append({"scale": scale_label(scale), "s": s, **acc.row()})
     return out, summary
-
-
-def _dvec(n: int, nc: int, k: int, s: float) -> np.ndarray:
-    d = np.ones(n)
-    d[nc * (k + 1) :] = s
-    return d
 
 
 def _hard_rows(

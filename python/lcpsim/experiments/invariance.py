@@ -34,6 +34,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
+from .._core import ContactLayout
 from ._common import envelope, merge_config, scale_label
 from .seed_corpus import scaled_case, solve_scaled
 from .document import Doc
@@ -98,8 +99,8 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     examples: list[dict[str, Any]] = []
     per_lcp_rel: list[np.ndarray] = []
     for g in corpus.groups:
-        nc, k = g.contacts, g.friction_dirs
-        m = nc * (k + 1)
+        lay = ContactLayout(g.contacts, g.friction_dirs)
+        force, fd, lam = lay.force, lay.fd, lay.lam
         r0 = solve_scaled(g, solver, 1.0, threads)
         r1 = solve_scaled(g, solver, s, threads)
         counts["lcps"] += len(g)
@@ -108,13 +109,13 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
         counts["compared"] += int(both.sum())
         z0, z1 = r0.z, r1.z  # both in physical units
         qn = np.abs(g.q).max(axis=1)
-        an = np.abs(g.M[:, :m, :m]).max(axis=(1, 2))
-        fscale = np.maximum(np.abs(z0[:, :m]).max(axis=1), qn / np.where(an > 0, an, 1.0))
+        an = np.abs(g.M[:, force, force]).max(axis=(1, 2))
+        fscale = np.maximum(np.abs(z0[:, force]).max(axis=1), qn / np.where(an > 0, an, 1.0))
         fscale = np.where(fscale > 0, fscale, 1.0)
-        lscale = np.maximum(np.abs(z0[:, m:]).max(axis=1), qn)
+        lscale = np.maximum(np.abs(z0[:, lam]).max(axis=1), qn)
         lscale = np.where(lscale > 0, lscale, 1.0)
         d = np.abs(z1 - z0)
-        ef, ed, el = d[:, :nc].max(axis=1), d[:, nc:m].max(axis=1), d[:, m:].max(axis=1)
+        ef, ed, el = d[:, lay.fn].max(axis=1), d[:, fd].max(axis=1), d[:, lam].max(axis=1)
         vals = {"ef": ef, "ed": ed, "rf": ef / fscale, "rd": ed / fscale, "rl": el / lscale}
         if r0.basis is not None and r1.basis is not None:
             sb = both & (r0.basis == r1.basis).all(axis=1)
@@ -147,7 +148,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
             )
         if cfg["examples"] and g.n in (20, 40):
             # The first LCP of this size with friction, as the seed showed (sizes 20 and 40).
-            cand = np.nonzero(sb & (np.abs(z0[:, nc:m]).max(axis=1) > 0))[0]
+            cand = np.nonzero(sb & (np.abs(z0[:, fd]).max(axis=1) > 0))[0]
             if cand.size:
                 e = int(cand[0])
                 examples.append(
@@ -156,9 +157,9 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
                         "simulation": corpus.sims[int(g.sim[e])].name,
                         "step": int(g.step[e]),
                         "n": g.n,
-                        "contacts": nc,
+                        "contacts": lay.nc,
                         "before": z0[e].tolist(),
-                        "after": (z1[e] / np.where(np.arange(g.n) >= m, s, 1.0)).tolist(),
+                        "after": (z1[e] / lay.cone_diagonal(s)).tolist(),
                         "after_mapped": z1[e].tolist(),
                     }
                 )

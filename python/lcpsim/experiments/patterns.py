@@ -16,10 +16,12 @@ The seed's table (DESIGN §2), ``+`` meaning positive, ``0`` zero:
 
 Every seed-corpus LCP is solved unscaled and at scale s with the chosen
 solver; each answer is mapped back to physical units (λ = s·λ_scaled) and
-each contact's pattern counted. A value counts as positive when it exceeds
+each contact's pattern counted by :class:`lcpsim.ContactLayout`'s one zero
+rule: a value counts as positive when it is strictly greater than
 ``zero_rel`` times its LCP's scale — for fn and Σfd the largest impulse of
 the LCP or, when larger, its impulse scale ‖q‖∞/max|A| (N·s); for λ ‖q‖∞
-(m/s) — so that round-off around an exact zero is zero.
+(m/s) — so that round-off around an exact zero is zero
+(``ContactLayout.zero_levels``, ``ContactLayout.patterns``).
 The result has the counts for both solves, the unscaled × scaled cross table
 (rows unscaled, columns scaled; pattern order as above) and every LCP where
 an impossible pattern occurred (``impossible_lcps``, at most ``max_listed``;
@@ -36,6 +38,7 @@ from typing import Any, Mapping
 import numpy as np
 from numpy.typing import NDArray
 
+from .._core import ContactLayout
 from ._common import envelope, merge_config, scale_label
 from .seed_corpus import Group, ScaledSolve, scaled_case, solve_scaled
 from .document import Doc
@@ -48,7 +51,7 @@ from .figure import pyplot, save, solver_label
 __all__ = ["DEFAULTS", "PATTERNS", "IMPOSSIBLE", "run", "contact_patterns"]
 
 #: The 8 patterns (fn, Σfd, λ) in table order, as strings.
-PATTERNS: tuple[str, ...] = ("000", "00+", "0+0", "0++", "+00", "+0+", "++0", "+++")
+PATTERNS: tuple[str, ...] = tuple(ContactLayout.PATTERNS)
 #: The impossible ones (with μ > 0).
 IMPOSSIBLE: tuple[str, ...] = ("0+0", "0++", "+0+")
 MEANING: dict[str, str] = {
@@ -76,21 +79,9 @@ DEFAULTS: dict[str, Any] = {
 
 def contact_patterns(g: Group, r: ScaledSolve, zero_rel: float) -> NDArray[np.int64]:
     """(b, nc) pattern codes 0…7 (index into :data:`PATTERNS`) of physical answers ``r``."""
-    nc, k = g.contacts, g.friction_dirs
-    m = nc * (k + 1)
-    z = r.z
-    fn = z[:, :nc]
-    fd = z[:, nc:m].reshape(len(g), nc, k).sum(axis=2)
-    lam = z[:, m:]
-    qn = np.abs(g.q).max(axis=1)
-    an = np.abs(g.M[:, :m, :m]).max(axis=(1, 2))
-    fscale = np.maximum(np.abs(z[:, :m]).max(axis=1), qn / np.where(an > 0, an, 1.0))
-    fscale = np.maximum(fscale, 1e-300)[:, None]
-    lscale = np.maximum(qn, 1e-300)[:, None]
-    pn = fn > zero_rel * fscale
-    pd = fd > zero_rel * fscale
-    pl = lam > zero_rel * lscale
-    codes: NDArray[np.int64] = (pn.astype(np.int64) << 2) | (pd.astype(np.int64) << 1) | pl.astype(np.int64)
+    lay = ContactLayout(g.contacts, g.friction_dirs)
+    impulse_zero, velocity_zero = lay.zero_levels(g.M, g.q, r.z, zero_rel)
+    codes: NDArray[np.int64] = lay.patterns(r.z, impulse_zero, velocity_zero).astype(np.int64)
     return codes
 
 
@@ -125,8 +116,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
             for j in np.nonzero(rows)[0]:
                 if len(listed) >= int(cfg["max_listed"]):
                     break
-                nc, k = g.contacts, g.friction_dirs
-                m = nc * (k + 1)
+                lay = ContactLayout(g.contacts, g.friction_dirs)
                 listed.append(
                     {
                         "lcp": int(g.index[j]),
@@ -137,9 +127,9 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
                         "n": g.n,
                         "contacts": [int(c) for c in np.nonzero(bad[j])[0]],
                         "patterns": [PATTERNS[int(c)] for c in p[j][bad[j]]],
-                        "fn": r.z[j, :nc][bad[j]].tolist(),
-                        "sum_fd": r.z[j, nc:m].reshape(nc, k).sum(axis=1)[bad[j]].tolist(),
-                        "lambda": r.z[j, m:][bad[j]].tolist(),
+                        "fn": r.z[j, lay.fn][bad[j]].tolist(),
+                        "sum_fd": r.z[j, lay.fd].reshape(lay.nc, lay.k).sum(axis=1)[bad[j]].tolist(),
+                        "lambda": r.z[j, lay.lam][bad[j]].tolist(),
                         "residual": float(r.residual[j]),
                     }
                 )

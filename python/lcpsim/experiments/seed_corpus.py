@@ -42,11 +42,12 @@ import math
 import os
 import tempfile
 from dataclasses import dataclass, field
-from typing import Any, Mapping, Sequence
+from typing import Any, Mapping
 
 import numpy as np
 from numpy.typing import NDArray
 
+from .._core import ContactLayout, quat_from_axis_angle, quat_from_matrix, quat_mul, quat_to_matrix
 from ..world import World
 from ._common import merge_config
 from ..scale import parse_cone_scale, scale_value
@@ -105,45 +106,16 @@ class SimSpec:
         }
 
 
-def _quat_axis_angle(axis: Sequence[float], angle: float) -> NDArray[np.float64]:
-    a = np.asarray(axis, dtype=float)
-    a = a / np.linalg.norm(a)
-    return np.concatenate([[math.cos(angle / 2)], math.sin(angle / 2) * a])
-
-
-def _quat_mul(p: NDArray[np.float64], q: NDArray[np.float64]) -> NDArray[np.float64]:
-    w1, x1, y1, z1 = p
-    w2, x2, y2, z2 = q
-    return np.array(
-        [
-            w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
-            w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
-            w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
-        ]
-    )
-
-
-def _rotation(q: NDArray[np.float64]) -> NDArray[np.float64]:
-    w, x, y, z = q / np.linalg.norm(q)
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    )
-
-
 def simulations(config: Mapping[str, Any] | None = None) -> list[SimSpec]:
     """The corpus's simulations for a config (see the module docs)."""
     cfg = merge_config("seed corpus", DEFAULTS, config)
     steps = int(cfg["steps"])
     rng = np.random.default_rng(int(cfg["seed"]))
     generic = rng.normal(size=4)
+    edge = quat_from_axis_angle((1.0, 0.0, 0.0), math.radians(25))
     sims = [
         SimSpec("flat_drop", 0.0, 0.5, 0.05, velocity=(0.3, 0.0, 0.0), steps=steps),
-        SimSpec("edge_drop", 0.0, 0.6, 0.10, tuple(_quat_axis_angle((1, 0, 0), math.radians(25))), steps=steps),
+        SimSpec("edge_drop", 0.0, 0.6, 0.10, (edge[0], edge[1], edge[2], edge[3]), steps=steps),
         SimSpec("vertex_drop", 0.0, 0.6, 0.10, tuple(generic / np.linalg.norm(generic)), steps=steps),
         SimSpec("slide_to_rest", 0.0, 0.3, 0.0, velocity=(1.5, 0.0, 0.0), steps=steps),
         SimSpec("push_static", 0.0, 1.0, 0.0, force=9.79, steps=steps),
@@ -201,10 +173,10 @@ def build_world(
     side = np.cross(n, down)
     frame = np.stack([down, side, n], axis=1)  # plane frame → world
     # Orientation: plane frame rotation composed with the spec's.
-    q_plane = _matrix_quat(frame)
-    q = _quat_mul(q_plane, np.asarray(spec.orientation, dtype=float))
+    q_plane = quat_from_matrix(frame)
+    q = np.asarray(quat_mul(q_plane, tuple(spec.orientation)))
     q /= np.linalg.norm(q)
-    R = _rotation(q)
+    R = quat_to_matrix(q / np.linalg.norm(q))
     a = 0.5
     corners = np.array([[sx, sy, sz] for sx in (-a, a) for sy in (-a, a) for sz in (-a, a)]) @ R.T
     lowest = float((corners @ n).min())
@@ -222,26 +194,6 @@ def build_world(
     if spec.force:
         w.apply_force(cube, (spec.force, 0.0, 0.0))
     return w, cube
-
-
-def _matrix_quat(R: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Unit quaternion (w, x, y, z) of a rotation matrix."""
-    t = np.trace(R)
-    if t > 0:
-        s = math.sqrt(t + 1.0) * 2
-        q = [0.25 * s, (R[2, 1] - R[1, 2]) / s, (R[0, 2] - R[2, 0]) / s, (R[1, 0] - R[0, 1]) / s]
-    elif R[0, 0] > R[1, 1] and R[0, 0] > R[2, 2]:
-        s = math.sqrt(1.0 + R[0, 0] - R[1, 1] - R[2, 2]) * 2
-        q = [(R[2, 1] - R[1, 2]) / s, 0.25 * s, (R[0, 1] + R[1, 0]) / s, (R[0, 2] + R[2, 0]) / s]
-    elif R[1, 1] > R[2, 2]:
-        s = math.sqrt(1.0 + R[1, 1] - R[0, 0] - R[2, 2]) * 2
-        q = [(R[0, 2] - R[2, 0]) / s, (R[0, 1] + R[1, 0]) / s, 0.25 * s, (R[1, 2] + R[2, 1]) / s]
-    else:
-        s = math.sqrt(1.0 + R[2, 2] - R[0, 0] - R[1, 1]) * 2
-        q = [(R[1, 0] - R[0, 1]) / s, (R[0, 2] + R[2, 0]) / s, (R[1, 2] + R[2, 1]) / s, 0.25 * s]
-    out = np.asarray(q, dtype=float)
-    unit: NDArray[np.float64] = out / np.linalg.norm(out)
-    return unit
 
 
 @dataclass
@@ -272,9 +224,9 @@ class Group:
 
     def mu(self) -> NDArray[np.float64]:
         """(b, nc) each contact's μ, read off the cone rows (``M[λ_i, fn_i] = μ_i`` unscaled)."""
-        nc, m = self.contacts, self.contacts * (self.friction_dirs + 1)
-        i = np.arange(nc)
-        return np.asarray(self.M[:, m + i, i])
+        lay = ContactLayout(self.contacts, self.friction_dirs)
+        i = np.arange(lay.nc)
+        return np.asarray(self.M[:, lay.impulses + i, i])
 
 
 @dataclass
@@ -390,10 +342,9 @@ def generate(
 
 def scaled(M: NDArray[np.float64], q: NDArray[np.float64], nc: int, k: int, s: float) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """``(D M D, D q, d)`` with ``D = diag(I, I, s·I)`` (λ rows and columns scaled by s)."""
-    n = q.shape[-1]
-    d = np.ones(n)
-    d[nc * (k + 1) :] = s
-    return M * d[..., :, None] * d[..., None, :], q * d, d
+    lay = ContactLayout(nc, k)
+    Ms, qs = lay.scale_lcp(M, q, s)
+    return Ms, qs, lay.cone_diagonal(s)
 
 
 @dataclass

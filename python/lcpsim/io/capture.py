@@ -342,29 +342,27 @@ class CaptureRecord:
     def ok(self) -> bool:
         return self.status == "solved"
 
-    def _lambda_rows(self) -> slice | None:
+    def layout(self) -> _core.ContactLayout | None:
+        """Where fn, fd, λ live in ``z``; None when the LCP is not a contact LCP of this size."""
         nc, k = self.contacts, self.friction_dirs
-        if nc > 0 and k > 0 and nc * (k + 2) == self.n:
-            return slice(nc * (k + 1), self.n)
+        if nc > 0 and k > 0:
+            lay = _core.ContactLayout(nc, k)
+            if lay.n == self.n:
+                return lay
         return None
 
     def unscaled(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The unscaled LCP ``(D⁻¹ M D⁻¹, D⁻¹ q)`` with ``D = diag(I, I, s·I)`` (s = ``scale``);
         ``(M, q)`` itself when s = 1 or the layout is not the contact LCP's."""
-        lam = self._lambda_rows()
-        if lam is None or self.scale == 1.0:
+        lay = self.layout()
+        if lay is None or self.scale == 1.0:
             return self.M, self.q
-        d = np.ones(self.n)
-        d[lam] = 1.0 / self.scale
-        return self.M * d[:, None] * d[None, :], self.q * d
+        return lay.scale_lcp(self.M, self.q, 1.0 / self.scale)
 
     def physical_z(self) -> NDArray[np.float64]:
         """``z`` with λ mapped back to physical units (``λ = s·λ_scaled``)."""
-        lam = self._lambda_rows()
-        z = self.z.copy()
-        if lam is not None:
-            z[lam] *= self.scale
-        return z
+        lay = self.layout()
+        return self.z.copy() if lay is None else lay.unscale_z(self.z, self.scale)
 
 
 class Capture:

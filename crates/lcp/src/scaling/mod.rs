@@ -87,9 +87,7 @@ impl Scaling {
     /// on both sides. Applied to the unscaled contact LCP it yields the blocks
     /// `s·E`, `s·μ`, `−s·Eᵀ` of DESIGN §1.
     pub fn cone(nc: usize, k: usize, s: f64) -> Scaling {
-        let mut d = vec![1.0; nc + nc * k];
-        d.resize(nc + nc * k + nc, s);
-        Scaling { row: d.clone(), col: d }
+        crate::contact::ContactLayout::new(nc, k).cone_scaling(s)
     }
 
     /// `(D_r M D_c, D_r q)`, or an error when the sizes do not match `lcp` or

@@ -37,3 +37,28 @@ pub fn is_positive_definite(m: &[f64], n: usize) -> bool {
     }
     true
 }
+
+/// Determinant by Gaussian elimination with partial pivoting.
+pub fn det(mut a: Vec<f64>, n: usize) -> f64 {
+    let mut d = 1.0;
+    for c in 0..n {
+        let p = (c..n).max_by(|&x, &y| a[x * n + c].abs().total_cmp(&a[y * n + c].abs())).unwrap();
+        if a[p * n + c] == 0.0 {
+            return 0.0;
+        }
+        if p != c {
+            for j in 0..n {
+                a.swap(p * n + j, c * n + j);
+            }
+            d = -d;
+        }
+        d *= a[c * n + c];
+        for r in c + 1..n {
+            let f = a[r * n + c] / a[c * n + c];
+            for j in c..n {
+                a[r * n + j] -= f * a[c * n + j];
+            }
+        }
+    }
+    d
+}

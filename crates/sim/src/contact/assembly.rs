@@ -8,8 +8,8 @@
 //!     | sμ  −sEᵀ  0  |       | 0  |      b1 = J_d v*
 //! ```
 //!
-//! `E = blockdiag(1_k)`, `μ = diag(μ_i)`. `fd` is contact-major: `fd[i·k + j]`
-//! is contact `i`'s impulse along `d_j`.
+//! `E = blockdiag(1_k)`, `μ = diag(μ_i)`. Where each unknown lives is
+//! [`ContactLayout`]'s (`fd` contact-major).
 //!
 //! The Jacobian is kept as rows per contact and side, each tagged with its
 //! body, and `A` is accumulated body by body over the pairs of contacts that
@@ -30,7 +30,7 @@ use super::params::{Restitution, Stabilization};
 use crate::dynamics::Body;
 use crate::geometry::Contact;
 use crate::math::{Mat3, Vec3};
-use lcp::{Lcp, LcpError};
+use lcp::{ContactLayout, Lcp, LcpError};
 
 /// One Jacobian row for one body: `[linear (3); angular (3)]`.
 pub type Row6 = [f64; 6];
@@ -74,8 +74,7 @@ pub struct ContactRows {
 /// The assembled contact LCP with reusable buffers (allocation-free once warm).
 #[derive(Clone, Debug, Default)]
 pub struct ContactLcp {
-    nc: usize,
-    k: usize,
+    layout: ContactLayout,
     s: f64,
     basis: Option<FrictionBasis>,
     /// `(cos, sin)` of `2πj/k`.
@@ -125,17 +124,21 @@ impl ContactLcp {
         Self::default()
     }
 
+    /// Where `fn`, `fd`, `λ` of each contact live in `z`.
+    pub fn layout(&self) -> ContactLayout {
+        self.layout
+    }
     /// Number of contacts.
     pub fn nc(&self) -> usize {
-        self.nc
+        self.layout.nc
     }
     /// Friction directions per contact.
     pub fn k(&self) -> usize {
-        self.k
+        self.layout.k
     }
     /// LCP size `nc·(k + 2)`.
     pub fn n(&self) -> usize {
-        self.nc * (self.k + 2)
+        self.layout.n()
     }
     /// Friction-cone scale `s` used in `M`.
     pub fn scale(&self) -> f64 {
@@ -152,22 +155,6 @@ impl ContactLcp {
     pub fn mu(&self) -> &[f64] {
         &self.mu
     }
-    /// Index of contact `i`'s normal impulse in `z`.
-    #[inline]
-    pub fn fn_index(&self, i: usize) -> usize {
-        i
-    }
-    /// Index of contact `i`'s friction impulse along `d_j` in `z`.
-    #[inline]
-    pub fn fd_index(&self, i: usize, j: usize) -> usize {
-        self.nc + i * self.k + j
-    }
-    /// Index of contact `i`'s `λ` in `z`.
-    #[inline]
-    pub fn lambda_index(&self, i: usize) -> usize {
-        self.nc * (1 + self.k) + i
-    }
-
     /// Jacobian rows (`n`, `t1`, `t2`) of contact `i`.
     pub fn rows(&self, i: usize) -> ContactRows {
         ContactRows { body: [self.side_body[2 * i], self.side_body[2 * i + 1]], rows: [self.jac[2 * i], self.jac[2 * i + 1]] }
@@ -184,15 +171,15 @@ impl ContactLcp {
     pub fn assemble(&mut self, contacts: &[Contact], dynamics: &BodyDynamics<'_>, p: &AssemblyParams) {
         let nc = contacts.len();
         let k = p.k;
-        self.nc = nc;
-        self.k = k;
+        let lay = ContactLayout::new(nc, k);
+        self.layout = lay;
         self.s = p.s;
         if self.basis.as_ref().map(|b| b.k()) != Some(k) {
             let basis = FrictionBasis::new(k);
             self.trig = (0..k).map(|j| basis.cos_sin(j)).collect();
             self.basis = Some(basis);
         }
-        let n = nc * (k + 2);
+        let n = lay.n();
 
         // Rows of n, t1, t2 and their M⁻¹Jᵀ per contact and side.
         self.jac.clear();
@@ -263,9 +250,8 @@ impl ContactLcp {
         // Friction-cone coupling: sE in the friction rows, sμ and −sEᵀ in the cone rows.
         let s = p.s;
         for c in 0..nc {
-            let l = self.lambda_index(c);
-            for j in 0..k {
-                let f = self.fd_index(c, j);
+            let l = lay.lambda_index(c);
+            for f in lay.fd_of(c) {
                 self.m[f * n + l] = s;
                 self.m[l * n + f] = -s;
             }
@@ -289,9 +275,7 @@ impl ContactLcp {
                 let body = &dynamics.bodies[b];
                 vn_pre += dot6(&rows[0], &row(body.velocity(), body.angular_velocity()));
             }
-            for j in 0..k {
-                let (cj, sj) = self.trig[j];
-                let f = self.fd_index(c, j);
+            for (f, &(cj, sj)) in lay.fd_of(c).zip(&self.trig) {
                 self.q[f] = cj * jv[1] + sj * jv[2];
             }
             let mut bias = p.stabilization.bias(ct.gap, p.h);
@@ -309,8 +293,8 @@ impl ContactLcp {
     /// For `c1 == c2` only entries on and above the diagonal are computed and
     /// mirrored, so the diagonal blocks are exactly symmetric.
     fn add_block(&mut self, c1: usize, c2: usize, g: &[[f64; 3]; 3]) {
-        let (nc, k) = (self.nc, self.k);
-        let n = nc * (k + 2);
+        let lay = self.layout;
+        let n = lay.n();
         let diag = c1 == c2;
         // col[j'] = G·[0; c_j'; s_j'] : the block's column of direction j' in the n, t1, t2 rows.
         for (jp, col) in self.col.iter_mut().enumerate() {
@@ -327,12 +311,12 @@ impl ContactLcp {
         // normal–normal
         put(c1, c2, g[0][0]);
         // normal–friction: row n of c1 against d_j' of c2
-        let fd2 = nc + c2 * k;
+        let fd2 = lay.fd_index(c2, 0);
         for (jp, col) in self.col.iter().enumerate() {
             put(c1, fd2 + jp, col[0]);
         }
-        let fd1 = nc + c1 * k;
-        for j in 0..k {
+        let fd1 = lay.fd_index(c1, 0);
+        for j in 0..lay.k {
             let (c, s) = self.trig[j];
             // friction–normal (mirrored already on the diagonal)
             if !diag {
@@ -371,18 +355,15 @@ impl ContactLcp {
     pub fn unscale_z(&self, z_scaled: &[f64], z: &mut Vec<f64>) {
         z.clear();
         z.extend_from_slice(z_scaled);
-        let l0 = self.lambda_index(0);
-        for v in &mut z[l0..] {
-            *v *= self.s;
-        }
+        self.layout.unscale_z(z, self.s);
     }
 
     /// `w = M₁ z + q` of the *unscaled* LCP (`s = 1`) for a physical `z`:
     /// normal velocities, tangential velocities + λ, and the cone slack
     /// `μ fn − Σ_j fd_j`. Requires `(M, q)` to be present (not lent out).
     pub fn unscaled_w(&self, z: &[f64], w: &mut Vec<f64>) {
-        let (nc, k, n) = (self.nc, self.k, self.n());
-        let na = nc * (1 + k);
+        let lay = self.layout;
+        let (n, na) = (lay.n(), lay.impulses());
         w.clear();
         w.resize(n, 0.0);
         // The A block does not depend on s.
@@ -390,26 +371,24 @@ impl ContactLcp {
             let mrow = &self.m[i * n..i * n + na];
             *wi = lcp::problem::dot(mrow, &z[..na]) + self.q[i];
         }
-        for c in 0..nc {
-            let lambda = z[self.lambda_index(c)];
+        for c in 0..lay.nc {
+            let lambda = z[lay.lambda_index(c)];
             let mut sum_fd = 0.0;
-            for j in 0..k {
-                w[self.fd_index(c, j)] += lambda;
-                sum_fd += z[self.fd_index(c, j)];
+            for f in lay.fd_of(c) {
+                w[f] += lambda;
+                sum_fd += z[f];
             }
-            w[self.lambda_index(c)] = self.mu[c] * z[c] - sum_fd;
+            w[lay.lambda_index(c)] = self.mu[c] * z[c] - sum_fd;
         }
     }
 
     /// Adds `M_b⁻¹ Jᵀ z` (the velocity change of the impulses `fn`, `fd` in
     /// the physical `z`) to the per-body `dv`, `dw`.
     pub fn apply_impulses(&self, z: &[f64], dv: &mut [Vec3], dw: &mut [Vec3]) {
-        for c in 0..self.nc {
+        for c in 0..self.layout.nc {
             // Impulse in the (n, t1, t2) frame: Σ_j fd_j d_j = t1 Σ c_j fd_j + t2 Σ s_j fd_j.
             let mut imp = [z[c], 0.0, 0.0];
-            for j in 0..self.k {
-                let f = z[self.fd_index(c, j)];
-                let (cj, sj) = self.trig[j];
+            for (&f, &(cj, sj)) in z[self.layout.fd_of(c)].iter().zip(&self.trig) {
                 imp[1] += cj * f;
                 imp[2] += sj * f;
             }

@@ -111,6 +111,29 @@ impl Quat {
         ])
     }
 
+    /// The unit quaternion of a rotation matrix (Shepperd's method: the
+    /// largest of `w`, `x`, `y`, `z` is taken from the diagonal, the others
+    /// from sums and differences of the off-diagonal entries), with `w ≥ 0`
+    /// when the trace is positive. Inverse of [`Quat::to_mat3`] up to sign.
+    pub fn from_mat3(r: &Mat3) -> Quat {
+        let m = &r.m;
+        let t = m[0][0] + m[1][1] + m[2][2];
+        let q = if t > 0.0 {
+            let s = (t + 1.0).sqrt() * 2.0;
+            Quat::new(0.25 * s, (m[2][1] - m[1][2]) / s, (m[0][2] - m[2][0]) / s, (m[1][0] - m[0][1]) / s)
+        } else if m[0][0] > m[1][1] && m[0][0] > m[2][2] {
+            let s = (1.0 + m[0][0] - m[1][1] - m[2][2]).sqrt() * 2.0;
+            Quat::new((m[2][1] - m[1][2]) / s, 0.25 * s, (m[0][1] + m[1][0]) / s, (m[0][2] + m[2][0]) / s)
+        } else if m[1][1] > m[2][2] {
+            let s = (1.0 + m[1][1] - m[0][0] - m[2][2]).sqrt() * 2.0;
+            Quat::new((m[0][2] - m[2][0]) / s, (m[0][1] + m[1][0]) / s, 0.25 * s, (m[1][2] + m[2][1]) / s)
+        } else {
+            let s = (1.0 + m[2][2] - m[0][0] - m[1][1]).sqrt() * 2.0;
+            Quat::new((m[1][0] - m[0][1]) / s, (m[0][2] + m[2][0]) / s, (m[1][2] + m[2][1]) / s, 0.25 * s)
+        };
+        q.try_normalize().unwrap_or(Quat::IDENTITY)
+    }
+
     /// Rotation angle in [0, π] of the relative rotation between `self` and `other`.
     pub fn angle_to(self, other: Quat) -> f64 {
         let d = (self.conjugate() * other).w.abs().min(1.0);
@@ -163,6 +186,20 @@ mod tests {
         assert!(close(a.rotate(v), a.to_mat3() * v));
         assert!(close((a * b).rotate(v), a.rotate(b.rotate(v))));
         assert!(close(a.inverse_rotate(a.rotate(v)), v));
+    }
+
+    #[test]
+    fn from_mat3_inverts_to_mat3() {
+        for (axis, angle) in [(Vec3::X, 0.3), (Vec3::new(1.0, 2.0, 3.0), 2.9), (Vec3::Y, -3.0), (Vec3::Z, 3.1), (Vec3::X, 3.14)] {
+            let q = Quat::from_axis_angle(axis, angle);
+            let back = Quat::from_mat3(&q.to_mat3());
+            // q and −q are the same rotation.
+            let sign = if back.w * q.w + back.x * q.x + back.y * q.y + back.z * q.z < 0.0 { -1.0 } else { 1.0 };
+            for (a, b) in back.to_array().iter().zip(q.to_array()) {
+                assert!((sign * a - b).abs() < 1e-14, "{axis:?} {angle}: {back:?} vs {q:?}");
+            }
+        }
+        assert_eq!(Quat::from_mat3(&Mat3::IDENTITY), Quat::IDENTITY);
     }
 
     #[test]

@@ -5,6 +5,7 @@
 use crate::contact::assembly::{AssemblyParams, BodyDynamics};
 use crate::contact::ContactLcp;
 use crate::geometry::Contact;
+use lcp::contact::ContactLayout;
 use lcp::{Lcp, LcpError, Residuals, Solution, Status};
 
 /// A solver for one LCP, started from a basis when one is given.
@@ -88,10 +89,10 @@ impl IslandLcp {
 /// into the step's layout (`nc` contacts), contact `c` of the island being
 /// the step's contact `ids[c]`.
 pub fn scatter<T: Copy>(ids: &[usize], nc: usize, k: usize, src: &[T], dst: &mut [T]) {
-    let m = ids.len();
+    let (island, step) = (ContactLayout::new(ids.len(), k), ContactLayout::new(nc, k));
     for (c, &g) in ids.iter().enumerate() {
-        dst[g] = src[c];
-        dst[nc + g * k..nc + (g + 1) * k].copy_from_slice(&src[m + c * k..m + (c + 1) * k]);
-        dst[nc * (1 + k) + g] = src[m * (1 + k) + c];
+        dst[step.fn_index(g)] = src[island.fn_index(c)];
+        dst[step.fd_of(g)].copy_from_slice(&src[island.fd_of(c)]);
+        dst[step.lambda_index(g)] = src[island.lambda_index(c)];
     }
 }

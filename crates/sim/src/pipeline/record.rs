@@ -4,7 +4,8 @@
 use crate::contact::FrictionBasis;
 use crate::geometry::Contact;
 use crate::math::Vec3;
-use lcp::{Residuals, Status};
+use lcp::contact::ZeroLevels;
+use lcp::{ContactLayout, Residuals, Status};
 
 /// The record of one step. Its buffers are reused from step to step; clone
 /// it to keep it.
@@ -91,6 +92,11 @@ impl StepRecord {
         self.contacts.len()
     }
 
+    /// Where `fn`, `fd`, `λ` of each contact live in `z`.
+    pub fn layout(&self) -> ContactLayout {
+        ContactLayout::new(self.nc(), self.friction_dirs)
+    }
+
     /// `true` when there was no LCP or it was solved.
     pub fn ok(&self) -> bool {
         matches!(self.status, None | Some(Status::Solved))
@@ -103,20 +109,17 @@ impl StepRecord {
 
     /// Friction impulses `fd` (N·s), contact-major: `[i·k + j]` is contact `i` along `d_j`.
     pub fn friction_impulses(&self) -> &[f64] {
-        let nc = self.nc();
-        &self.z[nc..nc * (1 + self.friction_dirs)]
+        &self.z[self.layout().fd_range()]
     }
 
     /// Friction impulses of contact `i` (length `k`).
     pub fn friction_of(&self, i: usize) -> &[f64] {
-        let (nc, k) = (self.nc(), self.friction_dirs);
-        &self.z[nc + i * k..nc + (i + 1) * k]
+        &self.z[self.layout().fd_of(i)]
     }
 
     /// `λ` per contact in physical units (≈ sliding speed, m/s).
     pub fn lambdas(&self) -> &[f64] {
-        let nc = self.nc();
-        &self.z[nc * (1 + self.friction_dirs)..]
+        &self.z[self.layout().lambda_range()]
     }
 
     /// Sum of the normal impulses (N·s).
@@ -142,9 +145,10 @@ impl StepRecord {
             .fold(Vec3::ZERO, |a, b| a + b)
     }
 
-    /// The seed's contact pattern of contact `i`: whether `fn`, `Σ fd`, `λ` exceed `zero`.
+    /// The seed's contact pattern of contact `i`: whether `fn`, `Σ fd`, `λ`
+    /// exceed `zero` (`ContactLayout::pattern` with one absolute threshold).
     pub fn pattern(&self, i: usize, zero: f64) -> [bool; 3] {
-        let fd: f64 = self.friction_of(i).iter().sum();
-        [self.z[i] > zero, fd > zero, self.lambdas()[i] > zero]
+        let p = self.layout().pattern(&self.z, i, ZeroLevels::absolute(zero));
+        [p.normal, p.friction, p.sliding]
     }
 }

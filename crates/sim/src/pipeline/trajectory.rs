@@ -99,7 +99,7 @@ impl Trajectory {
     fn push_impulses(&mut self, r: &StepRecord) {
         let (nc, k) = (r.nc(), r.friction_dirs);
         let (mut fnsum, mut fric, mut lam) = (0.0, Vec3::ZERO, 0.0);
-        if nc > 0 && r.z.len() == nc * (k + 2) {
+        if nc > 0 && r.z.len() == r.layout().n() {
             if !matches!(&self.basis, Some(b) if b.k() == k) {
                 self.basis = Some(FrictionBasis::new(k));
             }

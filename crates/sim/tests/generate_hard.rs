@@ -3,14 +3,16 @@
 //! ratios, ill-conditioned inertia, μ = 0), determinism per seed; and, run by
 //! hand, how the default Lemke fares on them at every scale.
 
-mod common;
-use common::is_positive_definite;
+#[path = "../../lcp/tests/common/mod.rs"]
+mod lcp_common;
+use lcp_common::is_positive_definite;
 
 use std::collections::BTreeMap;
 
 use lcp::certify::certify_against;
-use lcp::generate::{
-    hard_contact_lcp, hard_contact_lcp_k, hard_corpus, hard_corpus_item, ContactLayout, HardKind, HardScene,
+use lcp::contact::ContactLayout;
+use sim::generate::{
+    hard_contact_lcp, hard_contact_lcp_k, hard_corpus, hard_corpus_item, HardKind, HardScene,
     HARD_MAX_CONTACTS, TWIN_OFFSET,
 };
 use lcp::{lemke, LemkeOptions, Scaling, Status};
@@ -23,33 +25,50 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
+/// What the checks read of a scene: its dense `J_n`, `J_d` (from the
+/// assembly's rows), `M_b⁻¹`, `v*`, stabilization term and μ.
+struct Parts {
+    jn: Vec<f64>,
+    jd: Vec<f64>,
+    minv: Vec<f64>,
+    vstar: Vec<f64>,
+    b0_extra: Vec<f64>,
+    mu: Vec<f64>,
+}
+
+fn parts(s: &HardScene) -> Parts {
+    let (jn, jd) = s.scene.jacobians(s.k);
+    Parts { jn, jd, minv: s.scene.minv(), vstar: s.scene.vstar(), b0_extra: s.scene.b0_extra(), mu: s.mu() }
+}
+
 /// Row `r` of `J = [J_n; J_d]`.
-fn jrow(s: &HardScene, r: usize) -> &[f64] {
+fn jrow<'a>(s: &HardScene, p: &'a Parts, r: usize) -> &'a [f64] {
     if r < s.nc {
-        row(&s.jn, r, s.ndof)
+        row(&p.jn, r, s.ndof)
     } else {
-        row(&s.jd, r - s.nc, s.ndof)
+        row(&p.jd, r - s.nc, s.ndof)
     }
 }
 
 /// Checks the DESIGN §1 structure of the scene's LCP at scale `sc`.
 fn check_structure(s: &HardScene, sc: f64, what: &str) {
     let lcp = s.lcp(sc);
+    let p = parts(s);
     let lay = ContactLayout { nc: s.nc, k: s.k };
     let n = lay.n();
     assert_eq!(lcp.n(), n, "{what}");
     assert_eq!(n, s.nc * (s.k + 2), "{what}");
     assert!(s.nc >= 1 && s.nc <= HARD_MAX_CONTACTS, "{what}: nc = {}", s.nc);
     assert_eq!(s.ndof % 6, 0);
-    assert!(s.mu.iter().all(|&m| (0.0..=2.0).contains(&m)), "{what}: {:?}", s.mu);
+    assert!(p.mu.iter().all(|&m| (0.0..=2.0).contains(&m)), "{what}: {:?}", p.mu);
     // q: J v* (+ b0_extra) on fn and fd, exactly 0 on λ.
     for l in lay.lambda_range() {
         assert_eq!(lcp.q()[l], 0.0, "{what}: q[{l}]");
     }
     let nj = s.nc * (s.k + 1);
     for r in 0..nj {
-        let extra = if r < s.nc { s.b0_extra[r] } else { 0.0 };
-        let want = dot(jrow(s, r), &s.vstar) + extra;
+        let extra = if r < s.nc { p.b0_extra[r] } else { 0.0 };
+        let want = dot(jrow(s, &p, r), &p.vstar) + extra;
         assert!((lcp.q()[r] - want).abs() <= 1e-12 * (1.0 + want.abs()), "{what}: q[{r}]");
     }
     // Cone blocks: exactly s·μ, s·E, −s·Eᵀ and 0 elsewhere in λ rows/columns.
@@ -57,7 +76,7 @@ fn check_structure(s: &HardScene, sc: f64, what: &str) {
         let l = lay.lambda_index(c);
         for j in 0..n {
             let want = if j == c {
-                sc * s.mu[c]
+                sc * p.mu[c]
             } else if lay.fd_range().contains(&j) && (j - s.nc) / s.k == c {
                 -sc
             } else {
@@ -82,15 +101,15 @@ fn check_structure(s: &HardScene, sc: f64, what: &str) {
     }
     // Round-off bound of the product: a few ulps of |J_r| |M_b⁻¹| |J_c| (cancellation in ill-conditioned M_b).
     let abs = |v: &[f64]| v.iter().map(|x| x.abs()).collect::<Vec<f64>>();
-    let minv_abs = abs(&s.minv);
+    let minv_abs = abs(&p.minv);
     let minv_j: Vec<Vec<f64>> =
-        (0..nj).map(|r| (0..s.ndof).map(|i| dot(row(&s.minv, i, s.ndof), jrow(s, r))).collect()).collect();
+        (0..nj).map(|r| (0..s.ndof).map(|i| dot(row(&p.minv, i, s.ndof), jrow(s, &p, r))).collect()).collect();
     let minv_j_abs: Vec<Vec<f64>> =
-        (0..nj).map(|r| (0..s.ndof).map(|i| dot(row(&minv_abs, i, s.ndof), &abs(jrow(s, r)))).collect()).collect();
+        (0..nj).map(|r| (0..s.ndof).map(|i| dot(row(&minv_abs, i, s.ndof), &abs(jrow(s, &p, r)))).collect()).collect();
     for r in 0..nj {
         for c in 0..nj {
-            let want = dot(jrow(s, r), &minv_j[c]);
-            let bound = 1e-14 * s.ndof as f64 * dot(&abs(jrow(s, r)), &minv_j_abs[c]);
+            let want = dot(jrow(s, &p, r), &minv_j[c]);
+            let bound = 1e-14 * s.ndof as f64 * dot(&abs(jrow(s, &p, r)), &minv_j_abs[c]);
             assert!((a[r * nj + c] - want).abs() <= bound, "{what}: A[{r}, {c}] = {} vs {want}", a[r * nj + c]);
         }
     }
@@ -142,12 +161,14 @@ fn families_are_as_promised() {
     for seed in 0..60 {
         for kind in HardKind::ALL {
             let s = HardScene::random(kind, 8, seed);
-            zero_mu += s.mu.iter().filter(|&&m| m == 0.0).count();
+            let p = parts(&s);
+            let normals = s.normals();
+            zero_mu += p.mu.iter().filter(|&&m| m == 0.0).count();
             *nc_seen.entry(kind.as_str()).or_insert(0) = s.nc.max(*nc_seen.get(kind.as_str()).unwrap_or(&0));
-            for n in &s.normals {
-                assert!((dot(n, n) - 1.0).abs() < 1e-15);
+            for n in &normals {
+                assert!((n.dot(*n) - 1.0).abs() < 1e-15);
             }
-            let jn = |c: usize| row(&s.jn, c, s.ndof);
+            let jn = |c: usize| row(&p.jn, c, s.ndof);
             match kind {
                 HardKind::ManyContacts => assert!((5..=16).contains(&s.nc) && s.ndof == 6),
                 HardKind::Duplicate => {
@@ -167,11 +188,8 @@ fn families_are_as_promised() {
                     assert_eq!(s.nc % 2, 0);
                     let half = s.nc / 2;
                     for c in 0..half {
-                        let (a, b) = (s.normals[c], s.normals[c + half]);
-                        let sin = {
-                            let x = [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
-                            dot(&x, &x).sqrt()
-                        };
+                        let (a, b) = (normals[c], normals[c + half]);
+                        let sin = a.cross(b).norm();
                         assert!((sin - TWIN_OFFSET).abs() < 1e-9 * TWIN_OFFSET + 1e-15, "tilt {sin:e}");
                         assert_ne!(jn(c), jn(c + half));
                     }
@@ -189,7 +207,7 @@ fn families_are_as_promised() {
                     // The first four contacts couple both bodies; ground contacts only the lower one.
                     assert!(jn(0)[..6].iter().any(|&v| v != 0.0) && jn(0)[6..].iter().any(|&v| v != 0.0));
                     assert!(jn(4)[6..].iter().all(|&v| v == 0.0));
-                    let m = [s.minv[0], s.minv[6 * 12 + 6]];
+                    let m = [p.minv[0], p.minv[6 * 12 + 6]];
                     max_ratio = max_ratio.max(m[0] / m[1]).max(m[1] / m[0]);
                     if kind == HardKind::Mixed {
                         assert!(s.nc <= 16);
@@ -201,14 +219,14 @@ fn families_are_as_promised() {
                     assert!(s.mass_cond >= 1e2 * 0.999 && s.mass_cond <= 1e8 * 1.001, "{}", s.mass_cond);
                     max_cond = max_cond.max(s.mass_cond);
                     // Dense rotational block (the rod lies at a random yaw).
-                    assert!(s.minv[3 * 6 + 4] != 0.0);
+                    assert!(p.minv[3 * 6 + 4] != 0.0);
                 }
             }
             // M_b⁻¹ symmetric positive definite.
-            assert!(is_positive_definite(&s.minv, s.ndof));
+            assert!(is_positive_definite(&p.minv, s.ndof));
             for i in 0..s.ndof {
                 for j in 0..s.ndof {
-                    assert_eq!(s.minv[i * s.ndof + j], s.minv[j * s.ndof + i]);
+                    assert_eq!(p.minv[i * s.ndof + j], p.minv[j * s.ndof + i]);
                 }
             }
         }
@@ -254,7 +272,7 @@ fn deterministic_per_seed() {
 
 /// The default Lemke on the hard corpus at the issue's scales, by family and
 /// status, with exact certification of its bases up to n = 40. Information for
-/// issue 5, not a gate: `cargo test --release -p lcpsim-lcp --test generate_hard -- --ignored --nocapture`.
+/// issue 5, not a gate: `cargo test --release -p lcpsim-sim --test generate_hard -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn lemke_on_the_hard_corpus() {
