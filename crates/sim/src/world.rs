@@ -46,7 +46,7 @@ impl Clone for World {
 }
 
 /// Per-step buffers, kept between steps so that a warm step does not allocate
-/// (apart from what the LCP solver itself allocates for its answer).
+/// (apart from the LCP solver's answer).
 #[derive(Default)]
 pub(crate) struct Workspace {
     /// Free velocities `v*`, `ω*` per body.
@@ -67,6 +67,8 @@ pub(crate) struct Workspace {
     pub dw: Vec<Vec3>,
     /// Impulses actually applied (physical `z`, clamped at 0).
     pub z_apply: Vec<f64>,
+    /// The LCP solver's buffers (Lemke's basis inverse, working problem, ...).
+    pub solver: lcp::Workspace,
 }
 
 impl std::fmt::Debug for World {

@@ -44,7 +44,7 @@ impl World {
             // Warm start from the previous step's basis when the LCP kept its size.
             None => {
                 let warm = rec.basis.as_deref().filter(|b| b.len() == n);
-                (lcp::solve_warm(&lcp, &self.params.method, warm), self.params.method.name())
+                (lcp::solve_in(&lcp, &self.params.method, warm, &mut ws.solver), self.params.method.name())
             }
         };
         if let Some(sink) = self.sink.as_mut() {
