@@ -1,6 +1,7 @@
-//! Prints a hash of Lemke's answers (z, w bits, pivots, status, basis, trace)
-//! on ~2600 generated LCPs, cold and warm-started: run it before and after a
-//! change that must keep every answer bit-identical and compare the lines.
+//! Prints hashes of Lemke's answers (z, w bits, pivots, status, basis, trace)
+//! on ~2600 generated LCPs, cold (robust and classic) and warm-started from
+//! the previous problem's basis, apart: run it before and after a change that
+//! must keep answers bit-identical and compare the lines.
 use lcp::{generate, lemke, Lcp, LemkeOptions, Method, Solution};
 use std::hash::{DefaultHasher, Hash, Hasher};
 
@@ -14,23 +15,27 @@ fn main() {
     let classic = LemkeOptions::classic();
     let mut total = DefaultHasher::new();
     let mut group = |name: &str, lcps: Vec<Lcp>| {
-        let mut h = DefaultHasher::new();
+        let (mut h, mut hw) = (DefaultHasher::new(), DefaultHasher::new());
         let mut prev: Option<Vec<bool>> = None;
+        let mut unsolved = [0usize; 2];
         for lcp in &lcps {
             feed(&mut h, &lemke::solve(lcp, &lex));
             feed(&mut h, &lemke::solve(lcp, &classic));
             // Warm: from the previous problem's basis when sizes match.
             let warm = prev.as_deref().filter(|b| b.len() == lcp.n());
             let (s, trace) = lemke::solve_traced(lcp, &lex, warm);
-            feed(&mut h, &s);
+            feed(&mut hw, &s);
+            unsolved[0] += usize::from(!lemke::solve(lcp, &lex).ok());
+            unsolved[1] += usize::from(!s.ok());
             for p in &trace {
-                (p.rung, p.entering, p.leaving, p.theta.to_bits(), p.pivot.to_bits()).hash(&mut h);
+                (p.rung, p.entering, p.leaving, p.theta.to_bits(), p.pivot.to_bits()).hash(&mut hw);
             }
             prev = s.basis.clone();
         }
-        let v = h.finish();
-        println!("{name:>12} {:5} {v:016x}", lcps.len());
-        v.hash(&mut total);
+        let (v, vw) = (h.finish(), hw.finish());
+        let [uc, uw] = unsolved;
+        println!("{name:>14} {:5} cold {v:016x} warm {vw:016x} unsolved cold {uc} warm {uw}", lcps.len());
+        (v, vw).hash(&mut total);
     };
     for scale in [1.0, 1e-3, 1e-6] {
         for nc in [1, 2, 4, 8] {

@@ -198,6 +198,11 @@ impl<'a> Basis<'a> {
         Basis { lcp, d, n, r, r_pos, s, gs, cinv, val_s, val_w, row_s, row_w, tmp, gj_c, gj_inv, since_refactor: 0 }
     }
 
+    /// Sets the covering vector (a complementary basis is factored without one).
+    pub(crate) fn set_covering(&mut self, d: &'a [f64]) {
+        self.d = d;
+    }
+
     /// Gives the buffers back for the next basis.
     pub(crate) fn into_buffers(self) -> BasisBuffers {
         let Basis { r, r_pos, s, gs, cinv, val_s, val_w, row_s, row_w, tmp, gj_c, gj_inv, .. } = self;

@@ -5,6 +5,8 @@
 //! - [`run`]: the pivoting loop with its cycle guard and pivot limit.
 //! - [`refine`]: re-solving the final complementary basis.
 //! - [`frame`]: a rung's working (equilibrated) problem and its acceptance test.
+//! - [`warm`], [`subbasis`]: the warm start's basis, made regular when the
+//!   previous answer's is singular (statically indeterminate contact).
 //! - [`workspace`]: the caller-owned buffers of a solve ([`solve_in`]).
 //!
 //! `Lexicographic` (default) equilibrates `M` (Ruiz, power-of-two factors, so
@@ -19,6 +21,8 @@ mod options;
 mod ratio;
 mod refine;
 mod run;
+mod subbasis;
+mod warm;
 mod workspace;
 
 pub use options::{LemkeOptions, Pivoting};
@@ -31,6 +35,7 @@ use crate::solution::{Solution, Status};
 use basis::Var;
 use ratio::Rule;
 use run::RunSettings;
+use warm::Start;
 
 /// Solves `lcp` by Lemke's method. Never panics on numerics. Allocates a
 /// workspace for the call; a caller that solves often holds one and calls
@@ -40,11 +45,17 @@ pub fn solve(lcp: &Lcp, o: &LemkeOptions) -> Solution {
 }
 
 /// Solves `lcp` starting from a guessed complementary basis (`basis[j]`: z_j
-/// basic), typically the previous time step's `Solution::basis`. If that
-/// basis still solves the problem, no pivot is needed; otherwise Lemke runs
-/// from it with the covering vector `d = B·1`, and the usual cold start
-/// follows if that fails. A basis of the wrong length is ignored. `Classic`
-/// pivoting ignores the guess (the seed's Lemke started cold).
+/// basic), typically the previous time step's `Solution::basis`. A guess
+/// whose block `M_αα` is singular (statically indeterminate contact) is first
+/// cut down to a regular principal block on the same support (`subbasis`).
+/// If that basis solves the problem — its values, round-off negatives
+/// clipped, pass the usual residual check — no pivot is needed; else up to
+/// `warm::SWAP_ROUNDS` block principal pivots exchange its negative basics
+/// for their complements (each exchange counts as a pivot), each result
+/// checked the same way; then Lemke runs from the last basis with the
+/// covering vector `d = B·1`, and the usual cold start follows if that fails.
+/// A basis of the wrong length is ignored. `Classic` pivoting ignores the
+/// guess (the seed's Lemke started cold).
 pub fn solve_warm(lcp: &Lcp, o: &LemkeOptions, basis: Option<&[bool]>) -> Solution {
     solve_in(lcp, o, basis, &mut Workspace::new())
 }
@@ -315,18 +326,8 @@ fn solve_attempt(
 ) -> Solution {
     let n = lcp.n();
     ws.frame.reset(lcp, attempt.equilibrate, o.accept_tol);
-    let Workspace { frame, basis: bufs, pivoting, d, in_alpha, z_work, .. } = ws;
+    let Workspace { frame, basis: bufs, pivoting, d, z_work, warm: warm_bufs, .. } = ws;
     let work = &frame.work;
-    match start {
-        Some(alpha) => run::warm_covering(work, alpha, d, in_alpha),
-        None => {
-            d.clear();
-            match attempt.cover {
-                0 => d.resize(n, 1.0),
-                k => d.extend((0..n).map(|i| covering(i, k))),
-            }
-        }
-    }
     let set = RunSettings {
         rule: Rule::Lexicographic { piv_tol: attempt.piv_rel, tie_tol: o.zero_tol.min(attempt.tie_tol) },
         trace: trace.is_some(),
@@ -334,16 +335,27 @@ fn solve_attempt(
         refactor_every: refactor_every(n),
     };
     let buffers = std::mem::take(bufs);
-    let run = match start {
-        Some(alpha) => run::run_warm(work, d, alpha, &set, buffers, pivoting),
-        None => Ok(run::run(work, d, &set, buffers, pivoting)),
+    let start = match start {
+        Some(alpha) => warm::start(lcp, frame, alpha, &set, buffers, pivoting, d, z_work, warm_bufs),
+        None => {
+            d.clear();
+            match attempt.cover {
+                0 => d.resize(n, 1.0),
+                k => d.extend((0..n).map(|i| covering(i, k))),
+            }
+            Start::Run(run::run(work, d, &set, buffers, pivoting))
+        }
     };
-    let mut r = match run {
-        Ok(r) => r,
-        // A singular warm basis: nothing pivoted, the cold ladder takes over.
-        Err(basis) => {
-            *bufs = basis.into_buffers();
-            return Solution::from_z(lcp, vec![0.0; n], Status::SingularBasis, 0);
+    let mut r = match start {
+        Start::Run(r) => r,
+        Start::Done(sol, b) => {
+            *bufs = b;
+            return sol;
+        }
+        // A singular warm basis: the cold ladder takes over.
+        Start::Singular(b, pivots) => {
+            *bufs = b;
+            return Solution::from_z(lcp, vec![0.0; n], Status::SingularBasis, pivots);
         }
     };
     if let Some(t) = trace {

@@ -124,26 +124,30 @@ pub(crate) fn warm_covering(lcp: &Lcp, alpha: &[usize], d: &mut Vec<f64>, in_alp
     }));
 }
 
-/// Runs Lemke from the complementary basis `α` (a previous answer's basis)
-/// with `d = warm_covering(lcp, α)`. `Err` (with the basis, for its buffers)
-/// when `M_αα` is singular or z0 cannot enter.
+/// Does the factored complementary `basis` solve its problem as it stands,
+/// up to round-off (the answer is checked by its residual afterwards)?
+pub(crate) fn warm_feasible(basis: &Basis) -> bool {
+    basis.most_negative().0 >= -warm_tolerance(basis)
+}
+
+/// How far below zero a basic value may dip by round-off alone.
+pub(crate) fn warm_tolerance(basis: &Basis) -> f64 {
+    WARM_FEASIBLE * basis.val_s.iter().chain(&basis.val_w).fold(1.0f64, |a, v| a.max(v.abs()))
+}
+
+/// Runs Lemke from a factored complementary basis (a previous answer's,
+/// with covering vector `d = warm_covering(lcp, α)`): none at all if it is
+/// [`warm_feasible`]. `Err` (with the basis, for its buffers) when z0 cannot enter.
 pub(crate) fn run_warm<'a>(
-    lcp: &'a Lcp,
-    d: &'a [f64],
-    alpha: &[usize],
+    mut basis: Basis<'a>,
     set: &RunSettings,
-    bufs: BasisBuffers,
     lb: &mut LoopBuffers,
 ) -> Result<Run<'a>, Basis<'a>> {
-    let n = lcp.n();
-    let mut basis = Basis::complementary(lcp, d, alpha, bufs)?;
-    let (worst, at) = basis.most_negative();
-    // The old basis still solves the new problem, up to round-off (the answer
-    // is checked by its residual afterwards): no pivot at all.
-    let scale = basis.val_s.iter().chain(&basis.val_w).fold(1.0f64, |a, v| a.max(v.abs()));
-    if worst >= -WARM_FEASIBLE * scale {
+    let n = basis.val_w.len();
+    if warm_feasible(&basis) {
         return Ok(Run { status: Status::Solved, pivots: 0, basis, trace: Vec::new() });
     }
+    let (worst, at) = basis.most_negative();
     // z0 enters; every basic moves by +θ (x = −1), so the most negative leaves.
     let col = &mut lb.col;
     basis.column(Var::Z0, col);

@@ -20,6 +20,7 @@
 use super::basis::BasisBuffers;
 use super::frame::Frame;
 use super::run::LoopBuffers;
+use super::warm::WarmBuffers;
 
 /// The buffers of a Lemke solve (see the module documentation).
 #[derive(Default)]
@@ -37,10 +38,10 @@ pub struct Workspace {
     pub(super) d: Vec<f64>,
     /// A warm start's complementary set `α` (indices of basic `z_j`).
     pub(super) alpha: Vec<usize>,
-    /// Membership mask of `α`, for its covering vector.
-    pub(super) in_alpha: Vec<bool>,
     /// The final basis' `z` in working units, before it is mapped back.
     pub(super) z_work: Vec<f64>,
+    /// The warm start's complementary sets and block (see `warm::WarmBuffers`).
+    pub(super) warm: WarmBuffers,
 }
 
 impl Workspace {
