@@ -48,7 +48,7 @@ def main() -> None:
         r, traj = rate(build(), n)
         r_step = per_step_rate(build(), min(n, 2000))
         st = traj.lcp_stats()
-        print(f"{name:<28} {r:>14,.0f} {r_step:>15,.0f} {st.max_lcp_size:>9} {st.pivots_median:>7.0f}/{st.pivots_max:<7} {st.failures:>6}/{st.count}")
+        print(f"{name:<28} {r:>14,.0f} {r_step:>15,.0f} {st.max_lcp_size:>9} {st.pivots_median:>7.0f}/{st.pivots_max:<7} {st.failures:>6}/{st.lcps}")
 
 
 if __name__ == "__main__":

@@ -11,7 +11,7 @@ import sys
 import pytest
 
 from lcpsim.cli import main
-from lcpsim.corpus import open_corpus
+from lcpsim.io.capture import open_capture
 
 G = 9.81
 
@@ -20,7 +20,7 @@ JSON_KEYS = {
     "final_velocity", "displacement", "distance", "tilt_deg", "max_tilt_deg", "direction", "slide",
     "expected_slide", "lcp", "wall_time", "steps_per_second", "capture", "captured",
 }
-LCP_KEYS = {"steps", "count", "failures", "by_status", "max_residual", "pivots_median", "pivots_max",
+LCP_KEYS = {"steps", "lcps", "failures", "by_status", "max_residual", "pivots_median", "pivots_max",
             "max_lcp_size", "max_contacts"}
 
 
@@ -38,7 +38,7 @@ def test_json_keys_and_knife_edge_slide(capsys):
     assert d["slide"] == pytest.approx(0.5 * G * (math.sin(th) - math.cos(th)) * 4, rel=0.01)
     assert d["expected_slide"] == pytest.approx(d["slide"], rel=0.01)
     assert d["tilt_deg"] < 0.06 and d["steps"] == 2000 and d["time"] == pytest.approx(2.0)
-    assert d["lcp"]["count"] == 2000 and d["lcp"]["failures"] == 0 and d["lcp"]["by_status"] == {"solved": 2000}
+    assert d["lcp"]["lcps"] == 2000 and d["lcp"]["failures"] == 0 and d["lcp"]["by_status"] == {"solved": 2000}
     assert d["lcp"]["max_lcp_size"] == 40 and d["params"]["angle_deg"] == 45.2
     assert d["world"]["cone_scale"] == "none" and d["capture"] is None and d["captured"] == 0
 
@@ -57,7 +57,7 @@ def test_options_reach_the_world(capsys):
     assert rc == 0 and d["bodies"] == 4 and d["slide"] is None and d["world"]["scale"] == 1e-3
     rc, d = simulate_json(capsys, "box_pile", "--nx", "2", "--ny", "1", "--nz", "2", "--yaw", "0.3", "--seed", "3",
                           "--steps", "0")
-    assert rc == 0 and d["steps"] == 0 and d["lcp"]["count"] == 0 and d["params"]["seed"] == 3
+    assert rc == 0 and d["steps"] == 0 and d["lcp"]["lcps"] == 0 and d["params"]["seed"] == 3
 
 
 def test_text_summary(capsys):
@@ -72,8 +72,8 @@ def test_capture_then_solve_an_index(tmp_path, capsys):
     path = tmp_path / "drop.h5"
     rc, d = simulate_json(capsys, "ball_drop", "--height", "0.05", "--steps", "200", "--capture", str(path))
     assert rc == 0 and d["capture"] == str(path)
-    with open_corpus(path) as c:
-        assert len(c) == d["captured"] == d["lcp"]["count"] > 0
+    with open_capture(path) as c:
+        assert len(c) == d["captured"] == d["lcp"]["lcps"] > 0
         assert c.metadata["scene"] == "ball_drop"
     assert main(["solve", str(path), "--index", "3"]) == 0
     assert "[3]" in capsys.readouterr().out

@@ -1,5 +1,5 @@
 """Failure forensics (issue 5 item 4): solve_lcp(dump=DIR) writes a dump of every
-failure; `lcpsim solve DUMP` and lcpsim.forensics.replay reproduce it."""
+failure; `lcpsim solve DUMP` and lcpsim.io.forensics.replay reproduce it."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ import pytest
 import lcpsim
 from lcpsim import solve_lcp
 from lcpsim.cli import main
-from lcpsim.forensics import DUMP_FORMAT, TRACE_FIELDS, load_dump, replay, variable_name
+from lcpsim.io.forensics import DUMP_FORMAT, TRACE_FIELDS, load_dump, replay, variable_name
 from lcpsim.generate import hard_corpus, spd_lcp
 from lcpsim.io import is_dump, load_lcp
 

@@ -31,7 +31,8 @@ def test_residuals_dict():
     np.testing.assert_allclose(r["w"], w)
     assert r["min_z"] == -0.25
     assert r["min_w"] == pytest.approx(w.min())
-    assert r["natural"] == pytest.approx(np.abs(np.minimum([1.0, -0.25], w)).max())
+    assert r["residual"] == pytest.approx(np.abs(np.minimum([1.0, -0.25], w)).max())
+    assert r["natural"] == r["residual"]  # the old key, kept
     assert r["max_complementarity"] == pytest.approx(np.abs(np.array([1.0, -0.25]) * w).max())
 
 

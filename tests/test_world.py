@@ -249,7 +249,7 @@ def test_free_fall_has_no_contact():
     # Semi-implicit Euler: z_n = z_0 − g h² n(n+1)/2.
     np.testing.assert_allclose(traj.positions[:, ball, 2], 10 - G * H * H * n[1:] * (n[1:] + 1) / 2, rtol=1e-12)
     assert (traj.status == NO_CONTACT).all() and traj.failures == 0
-    assert traj.lcp_stats().count == 0
+    assert traj.lcp_stats().lcps == 0
 
 
 def test_trajectory_arrays():
@@ -266,7 +266,7 @@ def test_trajectory_arrays():
     assert traj.status.dtype.kind == "U" and (traj.status == "solved").all()
     assert (traj.lcp_size == 40).all() and (traj.contacts == 4).all()
     stats = traj.lcp_stats()
-    assert stats.count == 250 and stats.failures == 0 and stats.by_status == {"solved": 250}
+    assert stats.lcps == 250 and stats.failures == 0 and stats.by_status == {"solved": 250}
     # Warm-started from the previous step, most steps need no pivot at all.
     assert stats.max_lcp_size == 40 and stats.pivots_max >= stats.pivots_median >= 0 and stats.pivots_max > 0
     np.testing.assert_array_equal(traj.initial_positions[cube], [0, 0, 0.5])
@@ -274,7 +274,7 @@ def test_trajectory_arrays():
     t2 = w.run(10)
     assert t2.time[0] == pytest.approx(251 * H) and w.steps == 260
     empty = w.run(0)
-    assert len(empty) == 0 and empty.positions.shape == (0, 2, 3) and empty.lcp_stats().count == 0
+    assert len(empty) == 0 and empty.positions.shape == (0, 2, 3) and empty.lcp_stats().lcps == 0
 
 
 def test_run_equals_repeated_step():

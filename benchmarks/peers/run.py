@@ -771,7 +771,12 @@ def write_report(results: dict[str, Any], solvers: list[Solver], sim_md: list[st
         lines.append("")
     if sim_md:
         lines += sim_md
-    RESULTS_MD.write_text("\n".join(lines) + "\n")
+    # many_bodies.py owns the section from "## Many bodies" to the end: keep it.
+    sys.path.insert(0, str(HERE))
+    from many_bodies_report import tail
+
+    kept = tail(RESULTS_MD.read_text()) if RESULTS_MD.exists() else ""
+    RESULTS_MD.write_text("\n".join(lines) + "\n" + kept)
 
 
 # ---------------------------------------------------------------------------

@@ -6,13 +6,16 @@
 #     --system-site-packages and numpy stays below 2 in it;
 #   - Drake (PyPI `drake`), MuJoCo (PyPI `mujoco`), PyBullet (PyPI `pybullet`);
 #   - lcpsim itself, built from this checkout as an abi3 wheel (maturin), which
-#     imports with numpy 1.24 (DESIGN §6).
+#     imports with numpy 1.24 (DESIGN §6);
+#   - benchmarks/rapier_bench (Rapier, and the broad-phase comparison), a Rust
+#     crate outside lcpsim's workspace, built with cargo.
 #
 # Idempotent; needs root for apt-get (as on these machines). Not part of the
 # test suite or CI. Usage:  bash benchmarks/peers/setup.sh  &&  benchmarks/peers/.venv/bin/python benchmarks/peers/run.py
 #
 # Environment: PEERS_VENV (default benchmarks/peers/.venv), SKIP_APT=1,
-# SKIP_WHEEL=1 (reuse the installed lcpsim), DRAKE_SPEC / MUJOCO_SPEC /
+# SKIP_WHEEL=1 (reuse the installed lcpsim), SKIP_RAPIER=1 (don't build
+# benchmarks/rapier_bench, the Rapier peer of many_bodies.py), DRAKE_SPEC / MUJOCO_SPEC /
 # PYBULLET_SPEC (pip requirement strings, default unpinned).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -65,6 +68,14 @@ if [ "${SKIP_WHEEL:-0}" != 1 ]; then
     echo "$rev" >"$venv/lcpsim-revision.txt"
     rm -rf "$wheels"
     [ "$src" = "$root" ] || rm -rf "$src"
+fi
+
+if [ "${SKIP_RAPIER:-0}" != 1 ]; then
+    # Rapier for many_bodies.py: its own crate and workspace (not lcpsim's), its own target dir.
+    echo "==> rapier-bench (cargo, release)"
+    bench="$root/benchmarks/rapier_bench"
+    CARGO_TARGET_DIR="$bench/target" cargo build --quiet --release --manifest-path "$bench/Cargo.toml" \
+        || echo "setup.sh: warning: rapier-bench not built (many_bodies.py skips Rapier)" >&2
 fi
 
 echo "==> versions"

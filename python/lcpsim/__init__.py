@@ -9,14 +9,21 @@ Public API (the compiled module ``lcpsim._core`` is private)::
     solve_lcp(M, q, certify=True).certified   # exact rational check of the final basis
     solve_lcp(M, q, dump="dumps/").dump_path  # failure dump (None when solved)
 
-    from lcpsim import World, scenes, open_corpus
+    from lcpsim import World, scenes, open_capture
     s = scenes.cube_on_slope(30.0, 0.5)   # a ready World plus metadata
     traj = s.world.run(1000, capture="lcps.h5")
+    with open_capture("lcps.h5") as c: ...   # every LCP the run solved
+
+Sub-packages: :mod:`lcpsim.io` (LCP files, captures, failure dumps),
+:mod:`lcpsim.experiments` (the seed note's experiments, their registry, the
+report), :mod:`lcpsim.cli` (the ``lcpsim`` command). Names that moved keep
+working with a DeprecationWarning (:mod:`lcpsim._deprecated`).
 """
 
 from __future__ import annotations
 
 from ._core import __version__
+from . import _deprecated
 from .lcp import (
     METHODS,
     PIVOTINGS,
@@ -32,7 +39,7 @@ from .certification import Certificate, certify
 from .world import NO_CONTACT, BodyState, LcpStats, Stabilization, StepRecord, Trajectory, World
 from . import scenes
 from .scenes import Scene
-from .corpus import Corpus, CorpusRecord, CorpusWriter, open_corpus
+from .io.capture import Capture, CaptureRecord, CaptureWriter, open_capture
 
 __all__ = [
     "__version__",
@@ -56,8 +63,16 @@ __all__ = [
     "NO_CONTACT",
     "scenes",
     "Scene",
-    "Corpus",
-    "CorpusRecord",
-    "CorpusWriter",
-    "open_corpus",
+    "Capture",
+    "CaptureRecord",
+    "CaptureWriter",
+    "open_capture",
 ]
+
+_deprecated.install()
+__getattr__ = _deprecated.deprecated_names(__name__, {
+    "Corpus": ("lcpsim.Capture", lambda: Capture),
+    "CorpusRecord": ("lcpsim.CaptureRecord", lambda: CaptureRecord),
+    "CorpusWriter": ("lcpsim.CaptureWriter", lambda: CaptureWriter),
+    "open_corpus": ("lcpsim.open_capture", lambda: open_capture),
+})

@@ -4,10 +4,18 @@ Use the public wrappers in :mod:`lcpsim` instead; these functions return plain
 dicts and are documented here for the wrappers' sake.
 """
 
-from typing import Any, TypedDict
+from typing import Any, TypedDict, final
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+# Checked against the compiled module by tests/test_stubs.py (mypy.stubtest).
+__all__ = [
+    "__version__", "METHODS", "PIVOTINGS", "STATUSES", "METHOD_OPTIONS", "LEMKE_DEFAULTS", "solve_lcp",
+    "solve_lcp_batch", "lcp_residual", "lcp_residuals", "World", "build_scene", "SCENES", "MU_COMBINE",
+    "contact_lcp", "spd_lcp", "p_matrix_lcp", "hard_contact_lcp", "hard_corpus", "HARD_KINDS", "certify_lcp",
+    "certify_lcp_batch", "solve_lcp_traced",
+]
 
 __version__: str
 #: ["lemke", "pgs", "newton_fb"]
@@ -149,11 +157,12 @@ class StateDict(TypedDict):
     angular_velocity: NDArray[np.float64]  # (B, 3)
     is_static: list[bool]
 
+@final
 class World:
     """`sim::World` (use `lcpsim.World`). Invalid input raises ValueError."""
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         dt: float | None = None,
         gravity: ArrayLike | None = None,
         friction_dirs: int | None = None,
@@ -169,7 +178,7 @@ class World:
         mu_combine: str = "min",
         mu_override: float | None = None,
         **options: Any,
-    ) -> None: ...
+    ) -> World: ...
     @property
     def time(self) -> float: ...
     @property

@@ -41,13 +41,9 @@ PIVOTINGS: tuple[str, ...] = tuple(_core.PIVOTINGS)
 #: Every status a solve can end with; only ``"solved"`` means ``z`` solves the LCP.
 STATUSES: tuple[str, ...] = tuple(_core.STATUSES)
 
-# Lemke-only keyword arguments of solve_lcp and their defaults.
-_LEMKE_DEFAULTS: dict[str, Any] = {
-    "pivoting": "lexicographic",
-    "piv_tol": 1e-12,
-    "zero_tol": 1e-6,
-    "max_pivots": None,
-}
+# Lemke's option defaults, declared once in Rust (crates/lcp's LemkeOptions);
+# solve_lcp's keyword defaults are these very objects.
+_LEMKE_DEFAULTS: dict[str, Any] = _core.LEMKE_DEFAULTS
 
 # dtype kinds that convert to float64 without loss of meaning:
 # bool, signed and unsigned integers, floats.
@@ -153,12 +149,20 @@ class LcpBatchResult:
     def __iter__(self) -> Iterator[LcpResult]:
         return (self[i] for i in range(len(self)))
 
-    def status_counts(self) -> dict[str, int]:
+    @property
+    def by_status(self) -> dict[str, int]:
         """How many problems ended with each status (only statuses that occur)."""
         counts: dict[str, int] = {}
         for s in self.status:
             counts[s] = counts.get(s, 0) + 1
         return counts
+
+    def status_counts(self) -> dict[str, int]:
+        """Deprecated name of :attr:`by_status`."""
+        from ._deprecated import warn
+
+        warn("LcpBatchResult.status_counts()", "LcpBatchResult.by_status")
+        return self.by_status
 
 
 # solve_lcp builds its LcpResult from the compiled solver's dict, which holds
@@ -219,10 +223,10 @@ def solve_lcp(
     q: ArrayLike,
     *,
     method: str = "lemke",
-    pivoting: str = "lexicographic",
-    piv_tol: float = 1e-12,
-    zero_tol: float = 1e-6,
-    max_pivots: int | None = None,
+    pivoting: str = _LEMKE_DEFAULTS["pivoting"],
+    piv_tol: float = _LEMKE_DEFAULTS["piv_tol"],
+    zero_tol: float = _LEMKE_DEFAULTS["zero_tol"],
+    max_pivots: int | None = _LEMKE_DEFAULTS["max_pivots"],
     certify: bool = False,
     dump: str | os.PathLike[str] | None = None,
     **options: Any,
@@ -260,7 +264,7 @@ def solve_lcp(
         with a pivot trace (Lemke) and a failure dump (HDF5: ``M``, ``q``,
         method and options, status, ``z``, ``w``, residuals, trace, lcpsim
         version) is written there; its path is ``dump_path``. Replay it with
-        ``lcpsim solve DUMP`` or :func:`lcpsim.forensics.replay`.
+        ``lcpsim solve DUMP`` or :func:`lcpsim.io.forensics.replay`.
 
     Raises
     ------
@@ -298,7 +302,7 @@ def solve_lcp(
         cert = Certificate._from_core(_core.certify_lcp(M_, q_, np.ascontiguousarray(res.basis, dtype=bool), res.z))
         res = replace(res, certified=cert.certified, certificate=cert)
     if dump is not None and not res.ok:
-        from .forensics import write_dump
+        from .io.forensics import write_dump
 
         opts = _options(method, pivoting, piv_tol, zero_tol, max_pivots, options)
         path = write_dump(dump, M_, q_, method, opts, res)
@@ -308,7 +312,7 @@ def solve_lcp(
 
 # The objects Python passes for solve_lcp's keyword arguments the caller omits.
 _DEFAULT_METHOD, _DEFAULT_PIVOTING, _DEFAULT_PIV_TOL, _DEFAULT_ZERO_TOL = (
-    solve_lcp.__kwdefaults__[k] for k in ("method", "pivoting", "piv_tol", "zero_tol")
+    (solve_lcp.__kwdefaults__ or {})[k] for k in ("method", "pivoting", "piv_tol", "zero_tol")
 )
 
 
@@ -317,10 +321,10 @@ def solve_lcp_batch(
     qs: ArrayLike,
     *,
     method: str = "lemke",
-    pivoting: str = "lexicographic",
-    piv_tol: float = 1e-12,
-    zero_tol: float = 1e-6,
-    max_pivots: int | None = None,
+    pivoting: str = _LEMKE_DEFAULTS["pivoting"],
+    piv_tol: float = _LEMKE_DEFAULTS["piv_tol"],
+    zero_tol: float = _LEMKE_DEFAULTS["zero_tol"],
+    max_pivots: int | None = _LEMKE_DEFAULTS["max_pivots"],
     threads: int = 1,
     **options: Any,
 ) -> LcpBatchResult:
@@ -362,6 +366,9 @@ def lcp_residual(M: ArrayLike, q: ArrayLike, z: ArrayLike) -> float:
 
 
 def lcp_residuals(M: ArrayLike, q: ArrayLike, z: ArrayLike) -> dict[str, Any]:
-    """All error measures of ``z``: ``w``, ``natural``, ``min_z``, ``min_w``,
-    ``max_complementarity``."""
-    return dict(_core.lcp_residuals(_as_real_array(M, "M", 2), _as_real_array(q, "q", 1), _as_real_array(z, "z", 1)))
+    """All error measures of ``z``: ``w``, ``residual`` (the natural residual, as
+    :func:`lcp_residual`), ``min_z``, ``min_w``, ``max_complementarity``.
+    ``natural`` is the old key of ``residual`` (deprecated, kept)."""
+    d = dict(_core.lcp_residuals(_as_real_array(M, "M", 2), _as_real_array(q, "q", 1), _as_real_array(z, "z", 1)))
+    d["residual"] = d["natural"]
+    return d

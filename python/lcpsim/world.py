@@ -26,16 +26,19 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Iterable, Mapping, Sequence, Union
+from typing import TYPE_CHECKING, Any, Mapping, Sequence, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
-from .lcp import METHODS, STATUSES, _new_object, _set_attribute
+from ._json import jsonable
+from .lcp import STATUSES, _new_object, _set_attribute
+from .scale import parse_cone_scale
+from .stabilization import Stabilization, as_stabilization
 
 if TYPE_CHECKING:
-    from .corpus import CorpusWriter
+    from .io.capture import CaptureWriter
 
 __all__ = [
     "World",
@@ -58,7 +61,7 @@ MU_COMBINE: tuple[str, ...] = tuple(_core.MU_COMBINE)
 _STATUS_NAMES = np.array([NO_CONTACT, *STATUSES])
 
 Vec = Union[Sequence[float], NDArray[np.float64]]
-CaptureTarget = Union[str, "os.PathLike[str]", "CorpusWriter", None]
+CaptureTarget = Union[str, "os.PathLike[str]", "CaptureWriter", None]
 
 
 def _vec(x: Any, name: str, n: int = 3) -> tuple[float, ...]:
@@ -80,28 +83,6 @@ def quat_angle(q0: ArrayLike, q1: ArrayLike) -> NDArray[np.float64] | float:
     d = np.abs(np.sum(np.asarray(q0, dtype=float) * np.asarray(q1, dtype=float), axis=-1))
     a = 2.0 * np.arccos(np.clip(d, -1.0, 1.0))
     return float(a) if np.ndim(a) == 0 else a
-
-
-@dataclass(frozen=True)
-class Stabilization:
-    """Penetration stabilization of ``b0`` (DESIGN §1).
-
-    A contact with gap φ > 0 inside the margin adds ``φ/h`` when ``speculative``
-    (it may close within the step, not overshoot); a penetrating one adds
-    ``erp·min(0, φ + slop)/h``. A body resting at φ = 0 gets no term.
-    """
-
-    #: Fraction of the penetration removed per step, in [0, 1].
-    erp: float = 0.2
-    #: Penetration left uncorrected (m), ≥ 0.
-    slop: float = 0.0
-    #: Use the positive gap of contacts inside the margin.
-    speculative: bool = True
-
-    @classmethod
-    def none(cls) -> "Stabilization":
-        """No correction at all: ``b0 = J_n v*``."""
-        return cls(erp=0.0, slop=0.0, speculative=False)
 
 
 @dataclass(frozen=True)
@@ -211,7 +192,7 @@ class LcpStats:
     """LCP statistics of a run: how many LCPs were solved and how they ended."""
 
     steps: int
-    count: int  # steps with an LCP
+    lcps: int  # steps with an LCP
     failures: int  # LCPs not solved
     by_status: dict[str, int]  # every status that occurred (LCP steps only)
     max_residual: float  # physical units; 0 without LCPs
@@ -223,7 +204,7 @@ class LcpStats:
     def to_dict(self) -> dict[str, Any]:
         return {
             "steps": self.steps,
-            "count": self.count,
+            "lcps": self.lcps,
             "failures": self.failures,
             "by_status": dict(self.by_status),
             "max_residual": self.max_residual,
@@ -232,6 +213,14 @@ class LcpStats:
             "max_lcp_size": self.max_lcp_size,
             "max_contacts": self.max_contacts,
         }
+
+    @property
+    def count(self) -> int:
+        """Deprecated name of :attr:`lcps`."""
+        from ._deprecated import warn
+
+        warn("LcpStats.count", "LcpStats.lcps")
+        return self.lcps
 
 
 @dataclass(frozen=True)
@@ -315,7 +304,7 @@ class Trajectory:
         piv = self.pivots[has]
         return LcpStats(
             steps=len(self),
-            count=int(has.sum()),
+            lcps=int(has.sum()),
             failures=self.failures,
             by_status={str(s): int(c) for s, c in zip(statuses, counts)},
             max_residual=float(self.residual[has].max(initial=0.0)),
@@ -351,42 +340,6 @@ class Trajectory:
             initial_orientations=initial["orientation"],
             initial_velocities=np.concatenate([initial["velocity"], initial["angular_velocity"]], axis=1),
         )
-
-
-def _stabilization(s: Stabilization | Mapping[str, Any] | str | None) -> Stabilization:
-    if s is None:
-        return Stabilization()
-    if isinstance(s, Stabilization):
-        return s
-    if isinstance(s, str):
-        if s == "none":
-            return Stabilization.none()
-        if s == "default":
-            return Stabilization()
-        raise ValueError(f"stabilization must be None, 'none', 'default', a Stabilization or a mapping, got {s!r}")
-    if isinstance(s, Mapping):
-        unknown = set(s) - {"erp", "slop", "speculative"}
-        if unknown:
-            raise ValueError(f"unknown stabilization field(s) {sorted(unknown)} (valid: erp, slop, speculative)")
-        return Stabilization(**s)
-    raise ValueError(f"stabilization must be None, 'none', a Stabilization or a mapping, got {s!r}")
-
-
-def _cone_scale(s: Any) -> Any:
-    """None / "none" / "dt" / a number > 0, validated here with a clear message."""
-    if s is None or (isinstance(s, str) and s.lower() in ("none", "unscaled", "1")):
-        return None
-    if isinstance(s, str) and s.lower() in ("dt", "h", "timestep", "time_step"):
-        return "dt"
-    if isinstance(s, bool) or not isinstance(s, (int, float, np.integer, np.floating, str)):
-        raise ValueError(f"cone_scale must be None, 'dt' or a number > 0, got {s!r}")
-    try:
-        x = float(s)
-    except ValueError:
-        raise ValueError(f"cone_scale must be None, 'dt' or a number > 0, got {s!r}") from None
-    if not (math.isfinite(x) and x > 0):
-        raise ValueError(f"cone_scale must be None, 'dt' or a number > 0, got {s!r}")
-    return x
 
 
 class World:
@@ -442,26 +395,20 @@ class World:
         mu_override: float | None = None,
         **solver_options: Any,
     ) -> None:
-        if not isinstance(method, str) or method not in METHODS:
-            raise ValueError(f"unknown method {method!r} (valid: {', '.join(METHODS)})")
-        if isinstance(friction_dirs, bool) or not isinstance(friction_dirs, (int, np.integer)):
-            raise ValueError(f"friction_dirs must be an even integer >= 2, got {friction_dirs!r}")
-        if friction_dirs < 2 or friction_dirs % 2:
-            raise ValueError(f"friction_dirs must be even and >= 2, got {friction_dirs}")
-        if not isinstance(mu_combine, str) or mu_combine not in MU_COMBINE:
-            raise ValueError(f"unknown mu_combine {mu_combine!r} (valid: {', '.join(MU_COMBINE)})")
-        stab = _stabilization(stabilization)
+        # The compiled World validates every parameter (messages name the field and
+        # the value); here only what is Python's own: the Stabilization forms and
+        # the cone scale's spellings (the one parser of lcpsim.scale).
+        stab = as_stabilization(stabilization)
         direct: dict[str, Any] = {
             k: solver_options.pop(k) for k in ("erp", "slop", "speculative") if k in solver_options
         }
         if direct:
             stab = Stabilization(**{**stab.__dict__, **direct})
-        scale = _cone_scale(cone_scale)
         self._core = _core.World(
             dt=dt,
-            gravity=_vec(gravity, "gravity"),
-            friction_dirs=int(friction_dirs),
-            cone_scale=scale,
+            gravity=gravity,
+            friction_dirs=friction_dirs,
+            cone_scale=parse_cone_scale(cone_scale, "cone_scale"),
             method=method,
             margin=margin,
             velocity_margin=bool(velocity_margin),
@@ -513,15 +460,13 @@ class World:
 
     def set_method(self, method: str = "lemke", **options: Any) -> None:
         """Replaces the LCP solver (options as for :func:`lcpsim.solve_lcp`)."""
-        if not isinstance(method, str) or method not in METHODS:
-            raise ValueError(f"unknown method {method!r} (valid: {', '.join(METHODS)})")
         self._core.set_method(method, **options)
         self._method = method
         self._solver_options = {k: v for k, v in options.items() if v is not None}
 
     def set_cone_scale(self, cone_scale: float | str | None) -> None:
         """Replaces the friction-cone scale (None, "dt" or a number > 0)."""
-        self._core.set_cone_scale(_cone_scale(cone_scale))
+        self._core.set_cone_scale(parse_cone_scale(cone_scale, "cone_scale"))
 
     def config(self) -> dict[str, Any]:
         """A JSON-ready description: parameters, solver, scene and bodies (for result files)."""
@@ -541,10 +486,10 @@ class World:
         return {
             "lcpsim_version": __version__,
             "scene": self.scene,
-            "scene_params": _jsonable(self.scene_params),
-            "params": _jsonable(self.params),
+            "scene_params": jsonable(self.scene_params),
+            "params": jsonable(self.params),
             "method": self._method,
-            "solver_options": _jsonable(self._solver_options),
+            "solver_options": jsonable(self._solver_options),
             "bodies": bodies,
         }
 
@@ -583,7 +528,7 @@ class World:
         v, wv = _velocities(velocity, angular_velocity)
         return int(
             self._core.add_box(
-                he, mass, position, orientation, v, wv, mu, is_static=bool(static), inertia=_inertia(inertia)
+                he, mass, position, orientation, v, wv, mu, is_static=bool(static), inertia=inertia
             )
         )
 
@@ -604,7 +549,7 @@ class World:
         v, wv = _velocities(velocity, angular_velocity)
         return int(
             self._core.add_sphere(
-                radius, mass, position, orientation, v, wv, mu, is_static=bool(static), inertia=_inertia(inertia)
+                radius, mass, position, orientation, v, wv, mu, is_static=bool(static), inertia=inertia
             )
         )
 
@@ -754,8 +699,8 @@ class World:
     ) -> Trajectory:
         """Runs ``steps`` steps (the loop in Rust, GIL released) and returns the :class:`Trajectory`.
 
-        ``capture``: a path or a :class:`lcpsim.corpus.CorpusWriter`; every
-        LCP solved is streamed to it (HDF5, see ``docs/corpus.md``), drained
+        ``capture``: a path or a :class:`lcpsim.io.capture.CaptureWriter`; every
+        LCP solved is streamed to it (HDF5, see ``docs/capture.md``), drained
         from Rust every ``chunk_steps`` steps or ``chunk_bytes`` of captured
         data and flushed, so memory stays bounded and an interrupted run
         leaves a readable file. A path is created (overwritten) with this
@@ -775,10 +720,10 @@ class World:
                 if done >= steps:
                     break
             return Trajectory._from_parts(self.dt, parts, initial)
-        from .corpus import CorpusWriter
+        from .io.capture import CaptureWriter
 
-        own = not isinstance(capture, CorpusWriter)
-        writer = capture if isinstance(capture, CorpusWriter) else CorpusWriter(capture, metadata=self.config())
+        own = not isinstance(capture, CaptureWriter)
+        writer = capture if isinstance(capture, CaptureWriter) else CaptureWriter(capture, metadata=self.config())
         try:
             writer.begin_run(self.config())
             self._core.start_capture()
@@ -834,30 +779,3 @@ def _velocities(velocity: Any, angular_velocity: Any) -> tuple[Any, Any]:
             raise ValueError("give the angular velocity either in a 6-value velocity or as angular_velocity, not both")
         return v6[:3], v6[3:]
     return velocity, angular_velocity
-
-
-def _inertia(inertia: ArrayLike | None) -> Any:
-    if inertia is None:
-        return None
-    a = np.asarray(inertia, dtype=float)
-    if a.shape != (3, 3):
-        raise ValueError(f"inertia must be a 3x3 matrix, got shape {a.shape}")
-    return a
-
-
-def _jsonable(x: Any) -> Any:
-    """Numbers, strings, lists and dicts only (numpy scalars and arrays converted)."""
-    if isinstance(x, Mapping):
-        return {str(k): _jsonable(v) for k, v in x.items()}
-    if isinstance(x, np.ndarray):
-        return x.tolist()
-    if isinstance(x, (np.integer,)):
-        return int(x)
-    if isinstance(x, (np.floating,)):
-        return float(x)
-    if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x]
-    if isinstance(x, Iterable) and not isinstance(x, (str, bytes)):
-        return [_jsonable(v) for v in x]
-    return x
-

@@ -16,46 +16,34 @@ JSON-ready config with an explicit seed::
 
 Each returns a dict carrying ``config``, ``seed`` and ``lcpsim_version``;
 :mod:`.sweep` maps them over a Dask cluster, :mod:`.report` runs them all.
+Each module defines one :class:`~.experiment.Experiment` (run, defaults,
+command-line options, text summary, figure, report section), listed in
+:mod:`.registry`; the command line and the report are built from it.
 """
 
 from __future__ import annotations
 
 from typing import Any, Callable, Mapping
 
-from . import critical_scale, failure_rate, invariance, patterns, push, slope
+from .experiment import Experiment
 from .presets import PRESETS, Solver, parse_solver
+from .registry import REGISTRY, experiment
 
-__all__ = ["EXPERIMENTS", "DEFAULTS", "run_experiment", "experiment_name", "PRESETS", "Solver", "parse_solver"]
+__all__ = ["REGISTRY", "Experiment", "experiment", "EXPERIMENTS", "DEFAULTS", "run_experiment", "experiment_name",
+           "PRESETS", "Solver", "parse_solver"]
 
 #: Experiment name → run function.
-EXPERIMENTS: dict[str, Callable[[Mapping[str, Any] | None], dict[str, Any]]] = {
-    "failure-rate": failure_rate.run,
-    "slope": slope.run,
-    "critical-scale": critical_scale.run,
-    "invariance": invariance.run,
-    "patterns": patterns.run,
-    "push": push.run,
-}
+EXPERIMENTS: dict[str, Callable[[Mapping[str, Any] | None], dict[str, Any]]] = {n: e.run for n, e in REGISTRY.items()}
 
 #: Experiment name → its config defaults.
-DEFAULTS: dict[str, dict[str, Any]] = {
-    "failure-rate": failure_rate.DEFAULTS,
-    "slope": slope.DEFAULTS,
-    "critical-scale": critical_scale.DEFAULTS,
-    "invariance": invariance.DEFAULTS,
-    "patterns": patterns.DEFAULTS,
-    "push": push.DEFAULTS,
-}
+DEFAULTS: dict[str, dict[str, Any]] = {n: dict(e.defaults) for n, e in REGISTRY.items()}
 
 
 def experiment_name(name: str) -> str:
     """The canonical name (``failure_rate`` and ``failure-rate`` both work)."""
-    key = str(name).strip().replace("_", "-")
-    if key not in EXPERIMENTS:
-        raise ValueError(f"unknown experiment {name!r} (valid: {', '.join(EXPERIMENTS)})")
-    return key
+    return experiment(name).name
 
 
 def run_experiment(name: str, config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """Runs experiment ``name`` with ``config`` (missing keys take the defaults)."""
-    return EXPERIMENTS[experiment_name(name)](config)
+    return experiment(name).run(config)

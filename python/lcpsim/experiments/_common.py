@@ -1,4 +1,5 @@
-"""Shared pieces of the experiments: scales, configs, the result envelope.
+"""Shared pieces of the experiments: configs, the result envelope (the scale
+parsers are :mod:`lcpsim.scale`'s, re-exported).
 
 Every experiment is a plain function ``run(config) -> dict`` of a JSON-ready
 config (a mapping; missing keys take the experiment's defaults, unknown keys
@@ -9,12 +10,16 @@ it, and a Dask worker can run any case from its config alone.
 
 from __future__ import annotations
 
-import math
 import platform
 import time
-from typing import Any, Iterable, Mapping
+from typing import Any, Mapping
 
 import numpy as np
+
+from .._json import jsonable
+from ..scale import parse_cone_scale as parse_scale
+from ..scale import parse_cone_scales as parse_scales
+from ..scale import scale_label, scale_value
 
 __all__ = [
     "G",
@@ -29,57 +34,6 @@ __all__ = [
 
 #: Gravity (m/s²), DESIGN §8.
 G = 9.81
-
-
-def parse_scale(x: Any) -> float | str | None:
-    """A friction-cone scale as the World takes it: ``None`` (unscaled, s = 1),
-    ``"dt"`` (s = time step) or a number > 0. Accepts the strings ``none``,
-    ``unscaled``, ``dt``, ``h`` and numbers (``1`` means unscaled)."""
-    if x is None:
-        return None
-    if isinstance(x, str):
-        t = x.strip().lower()
-        if t in ("none", "unscaled", ""):
-            return None
-        if t in ("dt", "h"):
-            return "dt"
-        try:
-            v = float(t)
-        except ValueError:
-            raise ValueError(f"a scale must be none, dt or a number > 0, got {x!r}") from None
-    elif isinstance(x, bool) or not isinstance(x, (int, float, np.integer, np.floating)):
-        raise ValueError(f"a scale must be none, dt or a number > 0, got {x!r}")
-    else:
-        v = float(x)
-    if not (math.isfinite(v) and v > 0):
-        raise ValueError(f"a scale must be none, dt or a number > 0, got {x!r}")
-    return None if v == 1.0 else v
-
-
-def scale_value(scale: float | str | None, dt: float) -> float:
-    """The numeric s of a parsed scale."""
-    if scale is None:
-        return 1.0
-    if scale == "dt":
-        return float(dt)
-    return float(scale)
-
-
-def scale_label(scale: float | str | None) -> str:
-    """``none``, ``dt`` or the number (``%g``)."""
-    if scale is None:
-        return "none"
-    if scale == "dt":
-        return "dt"
-    return f"{float(scale):g}"
-
-
-def parse_scales(text: str | Iterable[Any]) -> list[float | str | None]:
-    """A comma-separated list (or an iterable) of scales."""
-    items = [t for t in text.split(",") if t.strip()] if isinstance(text, str) else list(text)
-    if not items:
-        raise ValueError("give at least one scale")
-    return [parse_scale(t) for t in items]
 
 
 def merge_config(name: str, defaults: Mapping[str, Any], config: Mapping[str, Any] | None) -> dict[str, Any]:
@@ -104,24 +58,6 @@ def envelope(experiment: str, config: Mapping[str, Any], started: float) -> dict
         "wall_time_s": time.perf_counter() - started,
         "python": platform.python_version(),
     }
-
-
-def jsonable(x: Any) -> Any:
-    """Plain JSON types only: numpy scalars and arrays converted, non-finite floats as strings."""
-    if isinstance(x, Mapping):
-        return {str(k): jsonable(v) for k, v in x.items()}
-    if isinstance(x, np.ndarray):
-        return jsonable(x.tolist())
-    if isinstance(x, (list, tuple)):
-        return [jsonable(v) for v in x]
-    if isinstance(x, (bool, np.bool_)):
-        return bool(x)
-    if isinstance(x, np.integer):
-        return int(x)
-    if isinstance(x, (float, np.floating)):
-        f = float(x)
-        return f if math.isfinite(f) else ("inf" if f > 0 else "-inf" if f < 0 else "nan")
-    return x
 
 
 def body_energy(traj: Any, world: Any, body: int) -> np.ndarray:

@@ -43,16 +43,24 @@ of ``cert_lcps``.
 
 from __future__ import annotations
 
+import argparse
+import functools
+import os
 import time
-from typing import Any, Mapping
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 
 from ..certification import ETA_CERTIFIED, Certificate, certify_batch
-from ._common import envelope, merge_config, parse_scale, scale_label, scale_value
+from ._common import envelope, merge_config, parse_scale, parse_scales, scale_label, scale_value
 from .presets import Solver, parse_solver
 from .seed_corpus import DEFAULTS as CORPUS_DEFAULTS
-from .seed_corpus import build_world, generate, scaled, simulations, solve_scaled
+from .seed_corpus import build_world, experiment_corpus, generate, scaled, simulations, solve_scaled
+from .document import Doc, pct
+from .experiment import (
+    Experiment, ReportContext, add_common_arguments, add_corpus_arguments, base_config, corpus_config, header,
+)
+from .figure import pyplot, save, solver_label
 
 __all__ = ["DEFAULTS", "HARD_DEFAULTS", "CORPORA", "run", "SEED_VALUES"]
 
@@ -86,15 +94,6 @@ CERT_RESIDUAL_TOL = 1e-14
 
 #: The seed note's rates (fraction of LCPs) by scale.
 SEED_VALUES: dict[str, float] = {"0.001": 97 / 2499, "0.0001": 0.0208, "1e-06": 0.0}
-
-
-def _corpus_config(cfg: Mapping[str, Any]) -> dict[str, Any]:
-    c = {**dict(cfg.get("corpus") or {})}
-    c.setdefault("seed", cfg["seed"])
-    unknown = set(c) - set(CORPUS_DEFAULTS)
-    if unknown:
-        raise ValueError(f"corpus: unknown key(s) {sorted(unknown)} (valid: {', '.join(sorted(CORPUS_DEFAULTS))})")
-    return c
 
 
 def _list(x: Any, what: str) -> list[Any]:
@@ -157,7 +156,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     cert_names = _certify_names(cfg, solvers)
     cert_max_n = int(cfg["certify_max_n"])
     threads = int(cfg["threads"])
-    ccfg = _corpus_config(cfg)
+    ccfg = experiment_corpus(cfg)
     hcfg = _hard_config(cfg) if "hard" in corpora else None
     dt = float(ccfg.get("dt", CORPUS_DEFAULTS["dt"]))
     comparison: list[dict[str, Any]] = []
@@ -433,3 +432,259 @@ class _Acc:
             "rel_accepted_wrong": self.rel_accepted_wrong if measured else None,
             **cert,
         }
+
+
+# ---------------------------------------------------------------- command line, figures, report
+
+
+def cli_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--scales", default="none,1e-3,1e-4,1e-6", help="comma-separated scales (default: none,1e-3,1e-4,1e-6)")
+    p.add_argument("--tol", type=float, default=1e-6, help="physical-unit residual tolerance (default: 1e-6)")
+    p.add_argument("--rel-tol", type=float, default=1e-9,
+                   help="also count residuals above REL_TOL·(1 + ‖q‖∞), physical units (default: 1e-9, issue 5)")
+    p.add_argument("--mode", choices=("resolve", "simulate"), default="resolve",
+                   help="re-solve the corpus LCPs per scale (default) or re-simulate per scale")
+    g = p.add_argument_group("comparison (issue 5)")
+    g.add_argument("--solvers", default=None, metavar="LIST",
+                   help="comma-separated solvers to compare, e.g. seed,robust,pgs,newton_fb (overrides --solver)")
+    g.add_argument("--corpus", default="seed", metavar="LIST",
+                   help="comma-separated corpora: seed (the seed corpus) and/or hard (lcpsim.generate.hard_corpus) "
+                   "(default: seed)")
+    g.add_argument("--hard-count", type=int, default=None, metavar="N", help="LCPs in the hard corpus (default: 200)")
+    g.add_argument("--certify", default=None, metavar="LIST",
+                   help="solvers whose answers are certified exactly (n ≤ --certify-max-n); 'none' for none "
+                   "(default: robust/lemke when listed)")
+    g.add_argument("--certify-max-n", type=int, default=40, metavar="N", help="largest LCP certified (default: 40)")
+    add_common_arguments(p)
+    add_corpus_arguments(p)
+
+
+def cli_config(args: argparse.Namespace) -> dict[str, Any]:
+    cfg = {**base_config(args), **corpus_config(args), "scales": parse_scales(args.scales), "tol": args.tol, "mode": args.mode}
+    cfg["scales"] = ["none" if s is None else s for s in cfg["scales"]]
+    cfg["rel_tol"] = args.rel_tol
+    if args.solvers:
+        names = [t.strip() for t in args.solvers.split(",") if t.strip()]
+        for n in names:
+            parse_solver(n)
+        cfg["solvers"] = names
+    cfg["corpora"] = [t.strip() for t in args.corpus.split(",") if t.strip()]
+    if args.hard_count is not None:
+        cfg["hard"] = {"count": args.hard_count}
+    if args.certify is not None:
+        cfg["certify"] = [] if args.certify.strip().lower() in ("none", "") else args.certify
+    cfg["certify_max_n"] = args.certify_max_n
+    return cfg
+
+
+def _text_failure_rate(r: dict[str, Any]) -> str:
+    lines = [header(r), f"mode {r['mode']}, residual tolerance {r['tol']:g} (physical units)", ""]
+    hdr = f"{'scale':>8} {'LCPs':>6} {'failures':>9} {'rate':>8} {'status':>7} {'st.rate':>8} {'resid.':>7} {'accepted wrong':>15}  statuses"
+    lines += [hdr, "-" * len(hdr)]
+    for row in r["rows"]:
+        st = ", ".join(f"{k} {v}" for k, v in row["by_status"].items() if k != "solved") or "-"
+        lines.append(
+            f"{row['scale']:>8} {row['lcps']:>6} {row['failures']:>9} {100 * row['rate']:>7.2f}% {row['status_failures']:>7}"
+            f" {100 * row['status_rate']:>7.2f}% {row['residual_failures']:>7} {row['accepted_wrong']:>15}  {st}"
+        )
+    seed = r.get("seed_values") or {}
+    lines.append("\nseed note (status failures): " + ", ".join(f"s = {k}: {100 * v:.1f} %" for k, v in seed.items()))
+    return "\n".join(lines)
+
+
+def _share(count: Any, total: Any, space: str = "") -> str:
+    """``count/total (p%)``; "—" when not counted."""
+    if count is None or not total:
+        return "—"
+    return f"{count}/{total} ({100 * count / total:.1f}{space}%)"
+
+
+def _text_comparison(r: dict[str, Any]) -> str:
+    lines = [
+        f"lcpsim {r['lcpsim_version']} failure-rate comparison, seed {r['seed']}, mode {r['mode']}",
+        f"residual failures in physical units (λ = s·λ_scaled, unscaled LCP): '> tol' means > {r['tol']:g}, "
+        f"'> rel' means > {r['rel_tol']:g}·(1 + ‖q‖∞); certified (n ≤ {r['certify_max_n']}): exact / "
+        "backward error η ≤ 1e-14 / η ≤ 1e-14 or exact residual ≤ 1e-14·(1 + ‖q‖∞)",
+    ]
+    for name, c in (r.get("corpora") or {}).items():
+        if name == "hard":
+            lines.append(f"hard corpus: {c['lcps']} LCPs (seed {c['seed']}, n up to {c['max_n']}), "
+                         + ", ".join(f"{k} {v}" for k, v in c["by_kind"].items()))
+        elif "lcps" in c:
+            lines.append(f"seed corpus: {c['lcps']} LCPs")
+    lines.append("")
+    hdr = (f"{'solver':<10} {'corpus':<6} {'scale':>7} {'LCPs':>6} {'status':>7} {'> tol':>6} {'> rel':>6}"
+           f" {'acc.wrong':>9}  {'certified exact':>19} {'η ≤ 1e-14':>19} {'η or resid.':>19}")
+    lines += [hdr, "-" * len(hdr)]
+    for row in r["comparison"]:
+        rel = "—" if row.get("rel_residual_failures") is None else row["rel_residual_failures"]
+        n = row.get("cert_lcps")
+        lines.append(
+            f"{row['solver']:<10} {row['corpus']:<6} {row['scale']:>7} {row['lcps']:>6} {row['status_failures']:>7}"
+            f" {row['residual_failures']:>6} {rel:>6} {row['accepted_wrong']:>9}  {_share(row.get('certified'), n):>19}"
+            f" {_share(row.get('certified_eta'), n):>19} {_share(row.get('certified_either'), n):>19}"
+        )
+    return "\n".join(lines)
+
+
+def summary(r: dict[str, Any], args: argparse.Namespace | None = None) -> str:
+    """The text ``lcpsim failure-rate`` prints: per scale, or the comparison table."""
+    if len(r.get("solvers") or []) > 1 or len(r.get("corpora") or {}) > 1 or "hard" in (r.get("corpora") or {}):
+        return _text_comparison(r)
+    text = _text_failure_rate(r)
+    if r.get("certify"):
+        text += "\n\n" + _text_comparison(r)
+    return text
+
+
+def plot_failure_rate(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str]) -> str:
+    """Failure rate per scale, one group of bars per solver: status failures
+    (solid) and all failures incl. physical-unit residual (hatched); the seed's
+    rates as black diamonds."""
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(7.5, 4.2))
+    scales = [row["scale"] for row in results[0]["rows"]]
+    x = np.arange(len(scales))
+    width = 0.8 / max(len(results), 1)
+    for i, r in enumerate(results):
+        rows = {row["scale"]: row for row in r["rows"]}
+        st = [100 * rows[s]["status_rate"] if s in rows else np.nan for s in scales]
+        al = [100 * rows[s]["rate"] if s in rows else np.nan for s in scales]
+        off = (i - (len(results) - 1) / 2) * width
+        c = f"C{i}"
+        ax.bar(x + off, al, width * 0.95, color=c, alpha=0.35, hatch="//", label=f"{solver_label(r)}: any failure")
+        ax.bar(x + off, st, width * 0.95, color=c, label=f"{solver_label(r)}: status ≠ solved")
+    seed = results[0].get("seed_values") or {}
+    for j, s in enumerate(scales):
+        key = f"{float(s):g}" if s not in ("none", "dt") else s
+        if key in seed:
+            ax.plot([j], [100 * seed[key]], "kD", ms=7, label="seed note" if j == 0 or "seed note" not in
+                    [t.get_label() for t in ax.lines] else None)
+    ax.set_xticks(x, [f"s = {s}" for s in scales])
+    ax.set_ylabel("LCPs failed (%)")
+    n = results[0]["rows"][0]["lcps"]
+    ax.set_title(f"Failure rate over the seed corpus ({n} LCPs, {results[0].get('mode', 'resolve')})")
+    ax.legend(fontsize=8)
+    ax.grid(axis="y", alpha=0.3)
+    return save(fig, path)
+
+
+#: The report's scales, and its solver comparison (issue 5; classic = the seed preset).
+REPORT_SCALES = ["none", 1e-3, 1e-4, 1e-6, 1e-8]
+COMPARE_SOLVERS = ["seed", "robust", "pgs", "newton_fb"]
+COMPARE_SCALES = ["none", 1e-2, 1e-3, 1e-4, 1e-6, 1e-8]
+
+
+def row_at(result: Mapping[str, Any], scale: str) -> dict[str, Any] | None:
+    """The row of ``result`` at ``scale`` (its label), or None."""
+    for r in result["rows"]:
+        if r["scale"] == scale:
+            row: dict[str, Any] = r
+            return row
+    return None
+
+
+def report_run(ctx: ReportContext) -> dict[str, Any]:
+    fr: dict[str, dict[str, Any]] = {}
+    for name in ("seed", "robust"):
+        cfg = {**ctx.base, "solver": name, "scales": REPORT_SCALES}
+        fr[name] = ctx.step(f"failure rate ({name})", functools.partial(run, cfg))
+    fr_sim = ctx.step(
+        "failure rate (seed, simulated)",
+        lambda: run({**ctx.base, "solver": "seed", "scales": REPORT_SCALES, "mode": "simulate"}),
+    )
+    # PGS is slow on these LCPs (10,000 sweeps when it fails): a seeded subset of the seed corpus.
+    cmp_cfg = {
+        **ctx.base,
+        "solvers": COMPARE_SOLVERS,
+        "corpora": ["seed", "hard"],
+        "scales": ["none", 1e-8] if ctx.quick else COMPARE_SCALES,
+        "max_lcps": 100 if ctx.quick else 1000,
+        "hard": {"count": 7 if ctx.quick else 70},
+    }
+    return {
+        "failure_rate": {"seed": fr["seed"], "robust": fr["robust"], "seed_simulate": fr_sim},
+        "comparison": ctx.step("solver comparison", functools.partial(run, cmp_cfg)),
+    }
+
+
+def report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
+    fr = res["failure_rate"]
+    return {
+        "failure_rate": plot_failure_rate([fr["seed"], fr["robust"]], ctx.path("failure_rate.png")),
+        "failure_rate_sim": plot_failure_rate([fr["seed_simulate"]], ctx.path("failure_rate_simulate.png")),
+    }
+
+
+def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
+    fr = res["failure_rate"]
+    d.h(2, "Failure rate per scale")
+    d.p(
+        "`lcpsim failure-rate --scales none,1e-3,1e-4,1e-6,1e-8 --solver seed` (and `--solver robust`). The same "
+        "corpus LCPs are scaled by each s and re-solved. A failure is a status other than solved, or a "
+        "physical-unit residual above 1e-6 (`accepted wrong`: the solver said solved, the unscaled residual "
+        "disagrees — the tolerance artifact)."
+    )
+    hdr = ["solver", "s", "LCPs", "status failures", "residual failures", "accepted wrong", "any failure", "statuses"]
+    trows = []
+    for name, r_ in (("seed", fr["seed"]), ("robust", fr["robust"]), ("seed (simulate)", fr["seed_simulate"])):
+        for r in r_["rows"]:
+            trows.append([name, r["scale"], r["lcps"], f"{r['status_failures']} ({pct(r['status_rate'])})",
+                          f"{r['residual_failures']} ({pct(r['residual_rate'])})", r["accepted_wrong"],
+                          pct(r["rate"]), ", ".join(f"{k} {v}" for k, v in r["by_status"].items() if k != "solved") or "—"])
+    d.table(hdr, trows)
+    d.img(ctx.rel(figs["failure_rate"]), "failure rate per scale")
+    d.p(
+        "The seed counted failures over one simulation run at each scale; `--mode simulate` does that (each "
+        "corpus simulation re-run with the seed preset in the loop; a failed step's last iterate is applied, so "
+        "trajectories, and the LCP counts, differ per scale):"
+    )
+    d.img(ctx.rel(figs["failure_rate_sim"]), "failure rate per scale, simulated")
+    _comparison_section(d, res["comparison"])
+
+
+def _comparison_section(d: Doc, cmp: dict[str, Any]) -> None:
+    cfg = cmp["config"]
+    scales = ",".join("none" if x in (None, "none") else f"{float(x):g}" for x in cfg["scales"])
+    seed_c, hard_c = cmp["corpora"]["seed"], cmp["corpora"]["hard"]
+    d.h(2, "Solver comparison: classic, robust, PGS, Newton–FB")
+    d.p(
+        f"`lcpsim failure-rate --solvers {','.join(s['name'] for s in cmp['solvers'])} --corpus seed,hard "
+        f"--scales {scales} --max-lcps {cfg['max_lcps']} --hard-count {hard_c['lcps']}` "
+        f"(drop `--max-lcps` for the whole seed corpus). Corpora: {seed_c['lcps']} LCPs of the seed corpus "
+        f"(a seeded subset), and {hard_c['lcps']} LCPs of the hard generator (`lcpsim.generate.hard_corpus`, seed "
+        f"{hard_c['seed']}: " + ", ".join(f"{k} {v}" for k, v in hard_c["by_kind"].items())
+        + f"; n up to {hard_c['max_n']}), generated at each scale s and judged on the same scenes at s = 1. "
+        "Solvers: **seed** = classic Lemke (piv_tol 1e-12, zero_tol 1e-6, on the LCP as scaled); **robust** = "
+        "lcpsim's default; **pgs**, **newton_fb** with their defaults. Counts: status ≠ solved; physical residual "
+        f"> {cmp['tol']:g} and > {cmp['rel_tol']:g}·(1 + ‖q‖∞) (issue 5's criterion); accepted wrong = said "
+        "solved, physical residual > 1e-6."
+    )
+    d.p(
+        f"Certified (robust, LCPs with n ≤ {cmp['certify_max_n']}): the final basis re-solved in exact rational "
+        "arithmetic from the floats as given (`solve_lcp(..., certify=True)`). *exact*: z ≥ 0, w ≥ 0, zᵀw = 0 "
+        "hold exactly. On these rank-deficient contact LCPs entries that are exactly 0 in real arithmetic are "
+        "±1e-17 after rounding, so a right basis often fails the exact check; *η ≤ 1e-14*: the answer is the exact "
+        "solution of an LCP within 1e-14 (relative, entrywise) of the one given (Oettli–Prager backward error); "
+        "*η or residual*: that, or the exact basis solution's natural residual ≤ 1e-14·(1 + ‖q‖∞) (resting "
+        "contacts whose tangential q is ±1e-17, where a componentwise η is meaningless)."
+    )
+    trows = []
+    for r in cmp["comparison"]:
+        n = r.get("cert_lcps")
+        trows.append([
+            r["solver"], r["corpus"], r["scale"], r["lcps"], r["status_failures"], r["residual_failures"],
+            "—" if r.get("rel_residual_failures") is None else r["rel_residual_failures"], r["accepted_wrong"],
+            _share(r.get("certified"), n, " "), _share(r.get("certified_eta"), n, " "),
+            _share(r.get("certified_either"), n, " "),
+        ])
+    d.table(["solver", "corpus", "s", "LCPs", "status failures", "residual > 1e-6", "residual > 1e-9·(1+‖q‖)",
+             "accepted wrong", "certified exact", "η ≤ 1e-14", "η or residual"], trows)
+
+
+EXPERIMENT = Experiment.of_module(
+    __name__,
+    "failure-rate",
+    "failure rate of solvers over the seed and hard corpora per friction-cone scale",
+    plot=plot_failure_rate,
+)

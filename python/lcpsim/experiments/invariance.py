@@ -27,16 +27,21 @@ Newton) every pair counts.
 
 from __future__ import annotations
 
+import argparse
+import os
 import time
-from typing import Any, Mapping
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from ._common import envelope, merge_config, parse_scale, scale_label, scale_value
-from .failure_rate import _corpus_config
-from .presets import parse_solver
-from .seed_corpus import DEFAULTS as CORPUS_DEFAULTS
-from .seed_corpus import generate, solve_scaled
+from ._common import envelope, merge_config, scale_label
+from .seed_corpus import scaled_case, solve_scaled
+from .document import Doc
+from .experiment import (
+    Experiment, ReportContext, add_common_arguments, add_corpus_arguments, base_config, corpus_config, header,
+    scale_argument, scale_pair_runs,
+)
+from .figure import pyplot, save, solver_label
 
 __all__ = ["DEFAULTS", "run"]
 
@@ -82,12 +87,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """Runs the comparison; returns ``{"lcps", "max_abs_dfn", "max_abs_dfd", "max_rel_lambda_err", …}``."""
     t0 = time.perf_counter()
     cfg = merge_config("invariance", DEFAULTS, config)
-    solver = parse_solver(cfg["solver"])
-    ccfg = _corpus_config(cfg)
-    dt = float(ccfg.get("dt", CORPUS_DEFAULTS["dt"]))
-    scale = parse_scale(cfg["scale"])
-    s = scale_value(scale, dt)
-    corpus = generate(ccfg).subsample(cfg["max_lcps"], int(cfg["seed"]))
+    solver, scale, s, corpus = scaled_case(cfg)
     valid_tol = float(cfg["valid_tol"])
     threads = int(cfg["threads"])
     keys = ("ef", "ed", "rf", "rd", "rl")
@@ -187,3 +187,110 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     )
     out["wall_time_s"] = time.perf_counter() - t0
     return out
+
+
+# ---------------------------------------------------------------- command line, figures, report
+
+
+def cli_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--scale", type=scale_argument, default=1e-3, metavar="dt|S", help="cone scale compared with unscaled (default: 1e-3)")
+    p.add_argument("--digits", type=int, default=None, metavar="N", help="print example vectors with N significant digits (as the seed: 20)")
+    add_common_arguments(p)
+    add_corpus_arguments(p)
+
+
+def cli_config(args: argparse.Namespace) -> dict[str, Any]:
+    if args.digits is not None and not 1 <= args.digits <= 40:
+        raise ValueError(f"--digits must be in 1…40, got {args.digits}")
+    return {**base_config(args), **corpus_config(args), "scale": args.scale}
+
+
+def summary(r: dict[str, Any], args: argparse.Namespace | None = None) -> str:
+    """The text ``lcpsim invariance`` prints (example vectors with ``args.digits`` digits)."""
+    digits = getattr(args, "digits", None)
+    lines = [
+        header(r),
+        f"{r['lcps']} LCPs, unscaled vs s = {r['scale']} (λ_scaled·s against λ); solved both times: {r['compared']}",
+        f"same Lemke basis: {r['same_basis']}; different basis: {r['different_basis']} "
+        f"(both valid solutions: {r['different_basis_both_valid']}); status changed: {r['status_changed']}",
+        "",
+        "same basis (round-off only):",
+        f"  max |Δfn| = {r['max_abs_dfn']:.3e} N·s   relative {r['max_rel_dfn']:.3e}",
+        f"  max |Δfd| = {r['max_abs_dfd']:.3e} N·s   relative {r['max_rel_dfd']:.3e}",
+        f"  max relative λ error = {r['max_rel_lambda_err']:.3e}",
+        "all pairs solved both times:",
+        "  " + ", ".join(f"{k} {v:.3e}" for k, v in r["all_pairs"].items()),
+        "seed note: fn, fd agree to ~1e-16",
+    ]
+    if digits:
+        for ex in r.get("examples", []):
+            lines += ["", f"Size = {ex['n']}, {ex['contacts']} contact points (LCP {ex['lcp']}, {ex['simulation']} step {ex['step']})",
+                      "Before", " ".join(f"{x:.{digits}g}" for x in ex["before"]),
+                      "After", " ".join(f"{x:.{digits}g}" for x in ex["after"])]
+    return "\n".join(lines)
+
+
+def plot_invariance(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str]) -> str:
+    """Histogram of per-LCP relative changes of (fn, fd) by scaling."""
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for i, r in enumerate(results):
+        h = r["rel_error_hist"]
+        edges = np.asarray(h["log10_edges"])
+        counts = np.asarray(h["counts"], dtype=float)
+        centers = 0.5 * (edges[:-1] + edges[1:])
+        lab = f"{solver_label(r)}, s = {r['scale']} ({h['zeros']} exactly 0)"
+        ax.bar(centers + (i - (len(results) - 1) / 2) * 0.8 / len(results), counts, 0.8 / len(results),
+               color=f"C{i}", label=lab)
+    ax.axvline(-12, color="k", ls=":", lw=1, label="1e-12")
+    ax.axvline(-16, color="grey", ls="--", lw=1, label="seed: ~1e-16")
+    ax.set_yscale("log")
+    ax.set_xlabel("log10 relative change of (fn, fd) by scaling (same Lemke basis)")
+    ax.set_ylabel("LCPs")
+    ax.set_title("Scaling invariance over the seed corpus")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    return save(fig, path)
+
+
+def report_run(ctx: ReportContext) -> dict[str, Any]:
+    return {"invariance": scale_pair_runs(ctx, "invariance", run)}
+
+
+def report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
+    return {"invariance": plot_invariance(res["invariance"], ctx.path("invariance.png"))}
+
+
+def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
+    d.h(2, "Scaling invariance")
+    d.p(
+        "`lcpsim invariance --scale S --solver P [--digits 20]`: every corpus LCP solved unscaled and scaled; "
+        "fn, fd compared directly, λ_scaled·s against λ. Headline figures over LCPs whose Lemke basis is the "
+        "same both times (then only round-off can differ); an LCP with several solutions may end in another "
+        "basis — counted apart, with how many of those are two valid solutions."
+    )
+    irows = []
+    for r in res["invariance"]:
+        irows.append([r["solver"]["name"], r["scale"], r["lcps"], r["compared"], r["max_abs_dfn"], r["max_abs_dfd"],
+                      r["max_rel_dfn"], r["max_rel_dfd"], r["max_rel_lambda_err"], r["different_basis"],
+                      r["different_basis_both_valid"], r["status_changed"]])
+    d.table(["solver", "s", "LCPs", "solved both", "max |Δfn|", "max |Δfd|", "rel Δfn", "rel Δfd", "rel λ err",
+             "other basis", "both valid", "status changed"], irows)
+    d.img(ctx.rel(figs["invariance"]), "invariance histogram")
+    ex = next((r for r in res["invariance"] if r["solver"]["name"] == "robust" and r.get("examples")), None)
+    if ex:
+        lines = []
+        for e in ex["examples"]:
+            lines += [f"Size = {e['n']}, {e['contacts']} contact points ({e['simulation']}, step {e['step']}), s = {ex['scale']}",
+                      "Before", " ".join(f"{x:.20g}" for x in e["before"]),
+                      "After", " ".join(f"{x:.20g}" for x in e["after"]), ""]
+        d.p("As the seed printed them (robust, 20 significant digits; After = the scaled LCP's z, λ = λ/s):")
+        d.pre("\n".join(lines).strip())
+
+
+EXPERIMENT = Experiment.of_module(
+    __name__,
+    "invariance",
+    "fn, fd unchanged and λ·s by cone scaling, over the seed corpus",
+    plot=plot_invariance,
+)

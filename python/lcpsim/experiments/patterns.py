@@ -28,17 +28,22 @@ an impossible pattern occurred (``impossible_lcps``, at most ``max_listed``;
 
 from __future__ import annotations
 
+import argparse
+import os
 import time
 from typing import Any, Mapping
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ._common import envelope, merge_config, parse_scale, scale_label, scale_value
-from .failure_rate import _corpus_config
-from .presets import parse_solver
-from .seed_corpus import DEFAULTS as CORPUS_DEFAULTS
-from .seed_corpus import Group, ScaledSolve, generate, solve_scaled
+from ._common import envelope, merge_config, scale_label
+from .seed_corpus import Group, ScaledSolve, scaled_case, solve_scaled
+from .document import Doc
+from .experiment import (
+    Experiment, ReportContext, add_common_arguments, add_corpus_arguments, base_config, corpus_config, header,
+    scale_argument, scale_pair_runs,
+)
+from .figure import pyplot, save, solver_label
 
 __all__ = ["DEFAULTS", "PATTERNS", "IMPOSSIBLE", "run", "contact_patterns"]
 
@@ -93,13 +98,8 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """Runs the census; returns ``{"counts_unscaled", "counts_scaled", "cross", "impossible", "impossible_lcps", …}``."""
     t0 = time.perf_counter()
     cfg = merge_config("patterns", DEFAULTS, config)
-    solver = parse_solver(cfg["solver"])
-    ccfg = _corpus_config(cfg)
-    dt = float(ccfg.get("dt", CORPUS_DEFAULTS["dt"]))
-    scale = parse_scale(cfg["scale"])
-    s = scale_value(scale, dt)
+    solver, scale, s, corpus = scaled_case(cfg)
     zero_rel = float(cfg["zero_rel"])
-    corpus = generate(ccfg).subsample(cfg["max_lcps"], int(cfg["seed"]))
     cross = np.zeros((8, 8), dtype=np.int64)
     counts = {"unscaled": np.zeros(8, dtype=np.int64), "scaled": np.zeros(8, dtype=np.int64)}
     imp = {"unscaled": 0, "scaled": 0, "unscaled_failed": 0, "scaled_failed": 0}
@@ -164,3 +164,115 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     )
     out["wall_time_s"] = time.perf_counter() - t0
     return out
+
+
+# ---------------------------------------------------------------- command line, figures, report
+
+
+def cli_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--scale", type=scale_argument, default=1e-3, metavar="dt|S", help="cone scale (default: 1e-3)")
+    p.add_argument("--zero-rel", type=float, default=1e-9, help="relative zero for the signs (default: 1e-9)")
+    add_common_arguments(p)
+    add_corpus_arguments(p)
+
+
+def cli_config(args: argparse.Namespace) -> dict[str, Any]:
+    return {**base_config(args), **corpus_config(args), "scale": args.scale, "zero_rel": args.zero_rel}
+
+
+def summary(r: dict[str, Any], args: argparse.Namespace | None = None) -> str:
+    """The text ``lcpsim patterns`` prints."""
+    pats = r["patterns"]
+    lines = [header(r), f"{r['lcps']} LCPs, {r['contacts']} contacts; unscaled vs s = {r['scale']}", ""]
+    lines.append(f"{'(fn,Σfd,λ)':>11} {'unscaled':>9} {'scaled':>9}  meaning")
+    for p in pats:
+        lines.append(f"{'(' + ','.join(p) + ')':>11} {r['counts_unscaled'][p]:>9} {r['counts_scaled'][p]:>9}  {r['meaning'][p]}")
+    lines += ["", "cross table (rows unscaled, columns scaled):", " " * 9 + "".join(f"{'(' + ','.join(p) + ')':>9}" for p in pats)]
+    for p, row in zip(pats, r["cross"]):
+        lines.append(f"{'(' + ','.join(p) + ')':>9}" + "".join(f"{v:>9}" for v in row))
+    imp = r["impossible"]
+    lines += [
+        "",
+        f"contacts whose pattern changed with scaling: {r['changed']}",
+        f"LCPs with an impossible pattern: unscaled {imp['unscaled']} (+{imp['unscaled_failed']} in failed solves), "
+        f"scaled {imp['scaled']} (+{imp['scaled_failed']} in failed solves)",
+    ]
+    for x in r["impossible_lcps"][:10]:
+        lines.append(f"  LCP {x['lcp']} ({x['simulation']} step {x['step']}, {x['solve']}, {x['status']}): "
+                     f"{', '.join(x['patterns'])} fn {x['fn']} Σfd {x['sum_fd']} λ {x['lambda']}")
+    if len(r["impossible_lcps"]) > 10:
+        lines.append(f"  … {len(r['impossible_lcps']) - 10} more listed in --json")
+    return "\n".join(lines)
+
+
+def plot_patterns(result: Mapping[str, Any], path: str | os.PathLike[str]) -> str:
+    """Pattern counts unscaled and scaled, and the cross table."""
+    plt = pyplot()
+    pats = list(result["patterns"])
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.4))
+    x = np.arange(len(pats))
+    u = [result["counts_unscaled"][p] for p in pats]
+    s = [result["counts_scaled"][p] for p in pats]
+    ax1.bar(x - 0.2, u, 0.4, label="unscaled")
+    ax1.bar(x + 0.2, s, 0.4, label=f"s = {result['scale']}")
+    labels = [f"({','.join(p)})" + (" ✗" if p in ("0+0", "0++", "+0+") else "") for p in pats]
+    ax1.set_xticks(x, labels, rotation=45, fontsize=8)
+    ax1.set_yscale("symlog", linthresh=1)
+    ax1.set_ylabel("contacts")
+    ax1.set_title(f"Patterns (fn, Σfd, λ), {solver_label(result)} (✗ impossible)")
+    ax1.legend(fontsize=8)
+    cross = np.asarray(result["cross"], dtype=float)
+    im = ax2.imshow(np.log10(cross + 1), cmap="viridis")
+    for i in range(len(pats)):
+        for j in range(len(pats)):
+            if cross[i, j]:
+                ax2.text(j, i, f"{int(cross[i, j])}", ha="center", va="center", fontsize=7,
+                         color="w" if i != j else "k")
+    ax2.set_xticks(x, labels, rotation=45, fontsize=7)
+    ax2.set_yticks(x, labels, fontsize=7)
+    ax2.set_xlabel(f"scaled (s = {result['scale']})")
+    ax2.set_ylabel("unscaled")
+    ax2.set_title(f"unscaled × scaled ({result['changed']} contacts changed)")
+    fig.colorbar(im, ax=ax2, label="log10(count + 1)")
+    return save(fig, path)
+
+
+def report_run(ctx: ReportContext) -> dict[str, Any]:
+    return {"patterns": scale_pair_runs(ctx, "patterns", run)}
+
+
+def report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
+    figs = {}
+    for r in res["patterns"]:
+        tag = f"{r['solver']['name']}_{r['scale']}".replace(".", "_").replace("-", "m")
+        figs[f"patterns_{tag}"] = plot_patterns(r, ctx.path(f"patterns_{tag}.png"))
+    return figs
+
+
+def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
+    d.h(2, "Contact patterns")
+    d.p(
+        "`lcpsim patterns --scale S --solver P`: sign of (fn, Σfd, λ) per contact, unscaled and scaled; "
+        "(0,+,0), (0,+,+) and (+,0,+) are impossible for an exact solution with μ > 0."
+    )
+    pats_all = res["patterns"][0]["patterns"]
+    prow = []
+    for r in res["patterns"]:
+        for which in ("unscaled", "scaled"):
+            if which == "unscaled" and r["scale"] != "0.001":
+                continue
+            cnt = r["counts_unscaled" if which == "unscaled" else "counts_scaled"]
+            prow.append([r["solver"]["name"], "1" if which == "unscaled" else r["scale"]] + [cnt[p] for p in pats_all] +
+                        [r["impossible"][which], r["impossible"][which + "_failed"]])
+    d.table(["solver", "s"] + [f"({','.join(p)})" for p in pats_all] + ["LCPs w/ impossible (solved)", "(failed)"], prow)
+    for k in sorted(figs):
+        if k.startswith("patterns_"):
+            d.img(ctx.rel(figs[k]), k)
+
+
+EXPERIMENT = Experiment.of_module(
+    __name__,
+    "patterns",
+    "sign patterns (fn, Σfd, λ) per contact, unscaled × scaled",
+    plot=lambda results, path: plot_patterns(results[0], path),
+)

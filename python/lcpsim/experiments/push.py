@@ -19,31 +19,26 @@ position along the push relative to the centre (``contact_offsets_m``).
 
 from __future__ import annotations
 
+import argparse
+import os
 import time
-from typing import Any, Mapping
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 
 from ..scenes import pushed_cube
 from ._common import G, downsample, envelope, merge_config, parse_scale, scale_label, scale_value
 from .presets import parse_solver
-from .slope import classify
+from .slope import CUBE_DEFAULTS, classify
+from .document import Doc
+from .experiment import (
+    Experiment, ReportContext, add_common_arguments, add_simulation_arguments, base_config, header, scale_argument,
+)
+from .figure import pyplot, save, solver_label
 
 __all__ = ["DEFAULTS", "run", "SEED_VALUES"]
 
-DEFAULTS: dict[str, Any] = {
-    "seed": 0,
-    "force": 9.79,
-    "mu": 1.0,
-    "scale": "none",
-    "solver": "robust",
-    "seconds": 1.0,
-    "dt": 1e-3,
-    "friction_dirs": 8,
-    "size": 1.0,
-    "mass": 1.0,
-    "trace": False,
-}
+DEFAULTS: dict[str, Any] = {"seed": 0, "force": 9.79, **CUBE_DEFAULTS}
 
 #: The seed note's pushed cube (9.79 N): λ and the four normal impulses (N·s).
 SEED_VALUES: dict[str, Any] = {
@@ -120,3 +115,150 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
         out["trace"] = {"time": traj.time[i].tolist(), "displacement_m": along[i].tolist(), "friction_N": friction[i].tolist()}
     out["wall_time_s"] = time.perf_counter() - t0
     return out
+
+
+# ---------------------------------------------------------------- command line, figures, report
+
+
+def cli_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--force", type=float, default=9.79, help="horizontal push at the centre of mass, N (default: 9.79)")
+    p.add_argument("--mu", type=float, default=1.0, help="friction coefficient (default: 1)")
+    p.add_argument("--scale", type=scale_argument, default="none", metavar="none|dt|S", help="cone scale (default: none)")
+    add_simulation_arguments(p)
+    add_common_arguments(p)
+
+
+def cli_config(args: argparse.Namespace) -> dict[str, Any]:
+    return {
+        **base_config(args), "force": args.force, "mu": args.mu, "scale": args.scale, "seconds": args.seconds,
+        "dt": args.dt, "friction_dirs": args.friction_dirs, "trace": bool(args.plot),
+    }
+
+
+def summary(r: dict[str, Any], args: argparse.Namespace | None = None) -> str:
+    """The text ``lcpsim push`` prints."""
+    c = r["config"]
+    fn = ", ".join(f"{x:.6g}" for x in r["normal_impulses"])
+    off = ", ".join(f"{x:+.3g}" for x in r["contact_offsets_m"])
+    lines = [
+        header(r),
+        f"cube {c['mass']} kg, μ = {c['mu']}, push {c['force']} N at the centre of mass, s = {r['scale']}, T = {r['seconds']:g} s",
+        f"outcome:   {r['outcome']}  (exact: {r['expected_outcome']})",
+        f"friction:  {r['friction_force_N']:.12g} N  (exact: {r['expected_friction_N']:.12g} N)",
+        f"λ max:     {r['lambda_max']:.3e} m/s   (seed note: ~1e-19)",
+        f"fn:        {fn} N·s at offsets {off} m along the push   (seed note: 0, 1e-05, 0.004895, 0.004905)",
+        f"moved:     {r['displacement_m']:.4e} m  (exact: {r['expected_displacement_m']:.4e} m); LCP failures {r['lcp_failures']}",
+    ]
+    return "\n".join(lines)
+
+
+def plot_push(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str]) -> str:
+    """Displacement and friction force against time for push runs with a trace."""
+    plt = pyplot()
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    for i, r in enumerate(results):
+        tr = r.get("trace")
+        if not tr:
+            continue
+        lab = f"F = {r['config']['force']} N, {solver_label(r)}, s = {r['scale']} → {r['outcome']}"
+        ax1.plot(tr["time"], tr["displacement_m"], color=f"C{i}", label=lab)
+        ax2.plot(tr["time"], tr["friction_N"], color=f"C{i}", label=lab)
+    ax1.set_yscale("symlog", linthresh=1e-9)
+    ax1.set_xlabel("time (s)")
+    ax1.set_ylabel("displacement along the push (m)")
+    ax1.grid(alpha=0.3)
+    ax1.legend(fontsize=7)
+    ax2.set_xlabel("time (s)")
+    ax2.set_ylabel("friction force (N)")
+    ax2.grid(alpha=0.3)
+    return save(fig, path)
+
+
+def plot_push_sweep(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str]) -> str:
+    """Friction force and displacement against the applied force (one run per force and solver)."""
+    plt = pyplot()
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    by: dict[str, list[Mapping[str, Any]]] = {}
+    for r in results:
+        by.setdefault(f"{solver_label(r)}, s = {r['scale']}", []).append(r)
+    for i, (lab, rs) in enumerate(sorted(by.items())):
+        rs = sorted(rs, key=lambda r: r["config"]["force"])
+        F = [r["config"]["force"] for r in rs]
+        ax1.plot(F, [r["friction_force_N"] for r in rs], "o-", color=f"C{i}", label=lab)
+        ax2.plot(F, [max(r["displacement_m"], 1e-12) for r in rs], "o-", color=f"C{i}", label=lab)
+    if results:
+        F = sorted({r["config"]["force"] for r in results})
+        ax1.plot(F, [min(f, 9.81) for f in F], "k--", lw=1, label="exact: min(F, μmg)")
+    ax1.axvline(9.81, color="grey", ls=":", lw=1)
+    ax2.axvline(9.81, color="grey", ls=":", lw=1)
+    ax1.set_xlabel("push F (N)")
+    ax1.set_ylabel("friction force, last step (N)")
+    ax1.legend(fontsize=7)
+    ax1.grid(alpha=0.3)
+    ax2.set_yscale("log")
+    ax2.set_xlabel("push F (N)")
+    ax2.set_ylabel("displacement after the run (m)")
+    ax2.grid(alpha=0.3)
+    fig.suptitle("Pushed 1 kg cube, μ = 1 (μmg = 9.81 N)")
+    return save(fig, path)
+
+
+#: The report's push forces (N), around μmg = 9.81 N.
+REPORT_FORCES = [9.70, 9.75, 9.79, 9.80, 9.81, 9.82, 9.83, 9.90]
+
+
+def find(results: Sequence[Mapping[str, Any]], solver: str, scale: str, force: float) -> Mapping[str, Any]:
+    """The result of ``solver`` at ``scale`` and ``force`` among the report's runs."""
+    return next(r for r in results
+                if r["solver"]["name"] == solver and r["scale"] == scale and r["config"]["force"] == force)
+
+
+def report_run(ctx: ReportContext) -> dict[str, Any]:
+    def runs() -> list[dict[str, Any]]:
+        return [
+            run({"seed": ctx.seed, "solver": solver, "scale": sc, "force": F, "seconds": ctx.seconds,
+                 "trace": F in (9.79, 9.83)})
+            for solver in ("robust", "seed")
+            for sc in ("none", "dt")
+            for F in REPORT_FORCES
+        ]
+
+    return {"push": ctx.step("pushed cube", runs)}
+
+
+def report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
+    pushes = res["push"]
+    return {
+        "push_sweep": plot_push_sweep(pushes, ctx.path("push_sweep.png")),
+        "push_trace": plot_push([r for r in pushes if r.get("trace") and r["scale"] == "none"],
+                                ctx.path("push_trace.png")),
+    }
+
+
+def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
+    d.h(2, "Pushed cube")
+    d.p(
+        "`lcpsim push --force F --mu 1 --solver P`: a 1 kg cube, μ = 1, pushed at its centre of mass; it must "
+        "stay iff F ≤ μmg = 9.81 N with friction exactly F, and slide above."
+    )
+    prows = []
+    for r in res["push"]:
+        prows.append([r["solver"]["name"], r["scale"], r["config"]["force"], r["outcome"], r["expected_outcome"],
+                      f"{r['friction_force_N']:.10g}", r["lambda_max"], r["displacement_m"], r["lcp_failures"]])
+    d.table(["solver", "s", "F (N)", "outcome", "exact", "friction (N)", "λ max", "moved (m)", "LCP failures"], prows)
+    rp = find(res["push"], "robust", "none", 9.79)
+    d.p(
+        "Normal impulses at 9.79 N (robust, unscaled), by position along the push: "
+        + ", ".join(f"{x:.6g} N·s at {o:+.2f} m" for x, o in zip(rp["normal_impulses"], rp["contact_offsets_m"]))
+        + " — the load sits on the leading edge, as the seed's 0, 1e-5, 0.004895, 0.004905 show."
+    )
+    d.img(ctx.rel(figs["push_sweep"]), "push sweep")
+    d.img(ctx.rel(figs["push_trace"]), "push traces")
+
+
+EXPERIMENT = Experiment.of_module(
+    __name__,
+    "push",
+    "the seed's pushed cube (9.79 N, μ = 1)",
+    plot=plot_push,
+)

@@ -49,7 +49,8 @@ from numpy.typing import NDArray
 
 from ..world import World
 from ._common import merge_config
-from .presets import PRESETS, Solver
+from ..scale import parse_cone_scale, scale_value
+from .presets import PRESETS, Solver, parse_solver
 
 __all__ = [
     "DEFAULTS",
@@ -62,6 +63,8 @@ __all__ = [
     "generate",
     "scaled",
     "solve_scaled",
+    "experiment_corpus",
+    "scaled_case",
 ]
 
 #: Corpus config defaults.
@@ -322,12 +325,12 @@ def generate(
     config: Mapping[str, Any] | None = None, *, path: str | os.PathLike[str] | None = None, cache: bool = True
 ) -> SeedCorpus:
     """Runs the corpus's simulations and returns their LCPs. ``path``: also
-    keep the HDF5 corpus file there (``docs/corpus.md`` format), else a
+    keep the HDF5 capture there (``docs/capture.md`` format), else a
     temporary file is used and removed. The last corpus made in this process
     is kept (``cache``), so experiments run one after another share it."""
     import json
 
-    from ..corpus import CorpusWriter, open_corpus
+    from ..io.capture import CaptureWriter, open_capture
 
     cfg = merge_config("seed corpus", DEFAULTS, config)
     key = json.dumps(cfg, sort_keys=True)
@@ -343,11 +346,11 @@ def generate(
     parts: dict[int, dict[str, list[Any]]] = {}
     try:
         meta = {"corpus": "seed", "config": cfg, "simulations": [s.to_dict() for s in sims]}
-        with CorpusWriter(file, metadata=meta) as writer:
+        with CaptureWriter(file, metadata=meta) as writer:
             for spec in sims:
                 world, _ = build_world(spec, dt=float(cfg["dt"]), friction_dirs=int(cfg["friction_dirs"]))
                 world.run(spec.steps, capture=writer)
-        with open_corpus(file) as c:
+        with open_capture(file) as c:
             runs = c.run
             for rec in c:
                 p = parts.setdefault(rec.n, {k: [] for k in ("M", "q", "z", "index", "sim", "step", "nc", "k")})
@@ -429,3 +432,25 @@ def solve_scaled(group: Group, solver: Solver, s: float, threads: int = 1) -> Sc
         solver_residual=np.asarray(res.residual),
         basis=None if res.basis is None else np.asarray(res.basis),
     )
+
+
+def experiment_corpus(cfg: Mapping[str, Any]) -> dict[str, Any]:
+    """The seed-corpus config of an experiment's config: its ``corpus`` mapping,
+    seeded with the experiment's ``seed``; an unknown key is a ValueError."""
+    c = {**dict(cfg.get("corpus") or {})}
+    c.setdefault("seed", cfg["seed"])
+    unknown = set(c) - set(DEFAULTS)
+    if unknown:
+        raise ValueError(f"corpus: unknown key(s) {sorted(unknown)} (valid: {', '.join(sorted(DEFAULTS))})")
+    return c
+
+
+def scaled_case(cfg: Mapping[str, Any]) -> tuple[Solver, float | str | None, float, SeedCorpus]:
+    """What an experiment comparing the seed corpus unscaled with ``cfg["scale"]``
+    starts from: the solver, the parsed scale, its value s and the corpus
+    (``max_lcps`` of it, a subset seeded with ``seed``)."""
+    solver = parse_solver(cfg["solver"])
+    ccfg = experiment_corpus(cfg)
+    scale = parse_cone_scale(cfg["scale"])
+    s = scale_value(scale, float(ccfg.get("dt", DEFAULTS["dt"])))
+    return solver, scale, s, generate(ccfg).subsample(cfg["max_lcps"], int(cfg["seed"]))

@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 import lcpsim
-from lcpsim import _core, open_corpus, scenes
-from lcpsim.corpus import CorpusError, CorpusWriter, is_corpus, load_lcp, load_record
+from lcpsim import _core, open_capture, scenes
+from lcpsim.io.capture import CaptureError, CaptureWriter, is_capture, load_captured_lcp, load_record
 from lcpsim.io import LcpFileError
 from lcpsim.io import load_lcp as io_load_lcp
 
@@ -44,7 +44,7 @@ def slope_corpus(tmp_path_factory):
 
 def test_round_trip_is_bit_for_bit(slope_corpus):
     path, traj, ref = slope_corpus
-    with open_corpus(path) as c:
+    with open_capture(path) as c:
         assert len(c) == 300
         n = ref["n"]
         mo = np.concatenate([[0], np.cumsum(n * n)])
@@ -69,7 +69,7 @@ def test_round_trip_is_bit_for_bit(slope_corpus):
 
 def test_records_solve_and_unscale(slope_corpus):
     path, traj, _ = slope_corpus
-    with open_corpus(path) as c:
+    with open_capture(path) as c:
         rec = c[150]
     # The stored z solves the stored (scaled) LCP, and solving it again agrees.
     assert lcpsim.lcp_residual(rec.M, rec.q, rec.z) < 1e-9
@@ -88,7 +88,7 @@ def test_records_solve_and_unscale(slope_corpus):
 
 def test_metadata(slope_corpus):
     path, _, _ = slope_corpus
-    with open_corpus(path) as c:
+    with open_capture(path) as c:
         assert c.metadata["scene"] == "cube_on_slope"
         assert c.metadata["scene_params"]["angle_deg"] == 45.2
         assert c.metadata["params"]["cone_scale"] == "dt" and c.metadata["method"] == "lemke"
@@ -102,52 +102,52 @@ def test_metadata(slope_corpus):
 
 def test_loader_and_io(slope_corpus):
     path, _, _ = slope_corpus
-    M, q = load_lcp(path, 3)
-    with open_corpus(path) as c:
+    M, q = load_captured_lcp(path, 3)
+    with open_capture(path) as c:
         assert np.array_equal(M, c[3].M) and np.array_equal(q, c[3].q)
     M2, q2 = io_load_lcp(path, 3)
     assert np.array_equal(M2, M) and np.array_equal(q2, q)
     assert load_record(path, -1).step == 299
-    assert is_corpus(path)
+    assert is_capture(path)
     with pytest.raises(LcpFileError, match="corpus of 300 problems"):
         io_load_lcp(path)
     with pytest.raises(LcpFileError, match="out of range"):
         io_load_lcp(path, 300)
-    with pytest.raises(CorpusError, match="out of range"):
-        load_lcp(path, -301)
+    with pytest.raises(CaptureError, match="out of range"):
+        load_captured_lcp(path, -301)
 
 
 def test_not_a_corpus(tmp_path):
     p = tmp_path / "single.h5"
     lcpsim.io.save_lcp(p, np.eye(2), [-1.0, 1.0])
-    assert not is_corpus(p)
-    with pytest.raises(CorpusError, match="not an lcpsim LCP corpus"):
-        open_corpus(p)
+    assert not is_capture(p)
+    with pytest.raises(CaptureError, match="not an lcpsim LCP corpus"):
+        open_capture(p)
     with pytest.raises(LcpFileError, match="single LCP"):
         io_load_lcp(p, 0)
     junk = tmp_path / "junk.h5"
     junk.write_bytes(b"not hdf5 at all")
-    assert not is_corpus(junk)
-    with pytest.raises(CorpusError):
-        open_corpus(junk)
+    assert not is_capture(junk)
+    with pytest.raises(CaptureError):
+        open_capture(junk)
     with pytest.raises(FileNotFoundError):
-        open_corpus(tmp_path / "missing.h5")
+        open_capture(tmp_path / "missing.h5")
 
 
 def test_writer_add_runs_and_small_chunks(tmp_path):
     p = tmp_path / "w.h5"
-    with CorpusWriter(p, metadata={"experiment": "manual", "seed": 7}) as w:
+    with CaptureWriter(p, metadata={"experiment": "manual", "seed": 7}) as w:
         assert w.add(np.eye(3), [-1.0, 2.0, 0.5], status="solved", scale=0.5, step=4) == 0
         w.begin_run({"part": 2})
         w.add([[2.0]], [-1.0], z=[0.5], w=[0.0], status="ray_termination", pivots=3)
-        with pytest.raises(CorpusError):
+        with pytest.raises(CaptureError):
             w.add(np.eye(2), [1.0])
-        with pytest.raises(CorpusError):
+        with pytest.raises(CaptureError):
             w.add(np.eye(1), [1.0], status="bogus")
         assert len(w) == 2 and w.runs == 2
-    with pytest.raises(CorpusError, match="closed"):
+    with pytest.raises(CaptureError, match="closed"):
         w.add(np.eye(1), [1.0])
-    with open_corpus(p) as c:
+    with open_capture(p) as c:
         assert c.metadata == {"experiment": "manual", "seed": 7}
         assert [r["part"] for r in c.runs[1:]] == [2]
         a, b = c[0], c[1]
@@ -158,15 +158,15 @@ def test_writer_add_runs_and_small_chunks(tmp_path):
     s = scenes.box_stack(2)
     traj = s.world.run(20, capture=tmp_path / "tiny.h5", chunk_bytes=1)
     assert s.world._core.captured_count() == 0 and not s.world._core.capturing
-    with open_corpus(tmp_path / "tiny.h5") as c:
+    with open_capture(tmp_path / "tiny.h5") as c:
         assert len(c) == 20 and c.step.tolist() == list(range(20))
         assert (c.n == traj.lcp_size).all()
     # One writer for two runs.
-    with CorpusWriter(tmp_path / "two.h5", metadata={"study": "two"}) as w:
+    with CaptureWriter(tmp_path / "two.h5", metadata={"study": "two"}) as w:
         s1, s2 = scenes.resting_cube(), scenes.pushed_cube(9.0, 1.0)
         s1.world.run(5, capture=w)
         s2.world.run(7, capture=w)
-    with open_corpus(tmp_path / "two.h5") as c:
+    with open_capture(tmp_path / "two.h5") as c:
         assert len(c) == 12 and c.run.tolist() == [0] * 5 + [1] * 7
         assert [r["scene"] for r in c.runs] == ["resting_cube", "pushed_cube"]
 
@@ -176,11 +176,11 @@ _WRITER = textwrap.dedent(
     import os, signal, sys
     import numpy as np
     from lcpsim import scenes
-    from lcpsim.corpus import CorpusWriter
+    from lcpsim.io.capture import CaptureWriter
     path, mode = sys.argv[1], sys.argv[2]
     s = scenes.cube_on_slope(30.0, 0.5, cone_scale="dt")
     if mode == "abandon":
-        w = CorpusWriter(path, metadata={"scene": "cube_on_slope", "mode": mode})
+        w = CaptureWriter(path, metadata={"scene": "cube_on_slope", "mode": mode})
         w.begin_run({})
         core = s.world._core
         core.start_capture()
@@ -207,7 +207,7 @@ def _writer(tmp_path, mode: str) -> tuple[subprocess.Popen, str]:
 
 
 def _check_consistent(path: str, minimum: int) -> int:
-    with open_corpus(path) as c:
+    with open_capture(path) as c:
         count = len(c)
         assert count >= minimum
         assert c.metadata["scene"] == "cube_on_slope"
@@ -225,7 +225,7 @@ def test_killed_writer_leaves_a_readable_file(tmp_path):
     count = _check_consistent(path, 200)
     assert count <= 240  # everything up to the last flush (the unflushed 40 may or may not be there)
     # Plain h5py cannot open it (the writer never closed it), our reader can.
-    assert is_corpus(path)
+    assert is_capture(path)
     M, q = io_load_lcp(path, 199)
     assert M.shape == (40, 40)
 
@@ -238,10 +238,10 @@ def test_run_killed_from_outside_leaves_a_readable_file(tmp_path):
         while time.monotonic() < deadline:
             time.sleep(0.05)
             try:
-                with open_corpus(path) as c:
+                with open_capture(path) as c:
                     if len(c) >= 300:
                         break
-            except (CorpusError, OSError, KeyError):
+            except (CaptureError, OSError, KeyError):
                 pass
         os.kill(p.pid, signal.SIGKILL)
     finally:
@@ -260,7 +260,7 @@ def test_cli_solve_index(slope_corpus):
     assert out.returncode == 0, out.stderr
     d = json.loads(out.stdout)
     assert d["index"] == 3 and d["n"] == 40 and d["status"] == "solved"
-    M, q = load_lcp(path, 3)
+    M, q = load_captured_lcp(path, 3)
     np.testing.assert_array_equal(d["z"], lcpsim.solve_lcp(M, q).z)
     assert main(["solve", str(path), "--index", "3"]) == 0
     assert main(["solve", str(path)]) == 2

@@ -1,51 +1,19 @@
-"""The ``lcpsim`` command line.
-
-Subcommands are registered with :func:`register_command`, so that later ones
-(``simulate``, ``failure-rate``, ``slope``, ``report`` …) plug in without
-touching :func:`main`. Any error a user can cause (missing or malformed file,
-invalid option) prints one line ``lcpsim: error: …`` on stderr and exits 2.
-"""
+"""``lcpsim solve FILE`` (an LCP file, a captured LCP or a failure dump) and
+``lcpsim demo`` (a small contact LCP solved with each method)."""
 
 from __future__ import annotations
 
 import argparse
 import json
-import sys
-from dataclasses import dataclass
-from typing import Any, Callable, Sequence
+from typing import Any
 
 import numpy as np
 
-from . import __version__
-from .lcp import METHODS, PIVOTINGS, LcpResult, solve_lcp
+from .. import __version__
+from ..lcp import METHODS, PIVOTINGS, LcpResult, solve_lcp
+from .command import EXIT_NOT_SOLVED, EXIT_OK, CliError, Command, register_command
 
-__all__ = ["main", "register_command", "Command", "CliError"]
-
-#: Exit codes: solved, solved-not (the solver returned another status), user error.
-EXIT_OK, EXIT_NOT_SOLVED, EXIT_USAGE = 0, 1, 2
-
-
-class CliError(Exception):
-    """An error to report as one line on stderr (exit code 2)."""
-
-
-@dataclass(frozen=True)
-class Command:
-    """A subcommand: ``configure`` adds its arguments, ``run`` returns the exit code."""
-
-    name: str
-    help: str
-    configure: Callable[[argparse.ArgumentParser], None]
-    run: Callable[[argparse.Namespace], int]
-
-
-_COMMANDS: dict[str, Command] = {}
-
-
-def register_command(command: Command) -> Command:
-    """Adds a subcommand (replacing one of the same name)."""
-    _COMMANDS[command.name] = command
-    return command
+__all__: list[str] = []
 
 
 # ---------------------------------------------------------------- solve
@@ -54,10 +22,10 @@ def register_command(command: Command) -> Command:
 def _configure_solve(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "file",
-        help="LCP file: .npz with arrays M, q, HDF5 (.h5) with datasets /M, /q, an LCP corpus (with --index), "
+        help="LCP file: .npz with arrays M, q, HDF5 (.h5) with datasets /M, /q, a capture (with --index), "
         "or a failure dump (solve_lcp(..., dump=DIR)): replayed with its method and options unless overridden",
     )
-    p.add_argument("--index", type=int, default=None, metavar="K", help="problem K of an LCP corpus (lcpsim simulate --capture)")
+    p.add_argument("--index", type=int, default=None, metavar="K", help="problem K of a capture (lcpsim simulate --capture)")
     # Defaults are None here so that a dump's options apply unless given on the command line.
     p.add_argument("--method", choices=METHODS, default=None, help="solver (default: lemke)")
     p.add_argument(
@@ -113,7 +81,7 @@ def _solve_options(args: argparse.Namespace, lemke: bool) -> dict[str, Any]:
 
 
 def _run_replay(args: argparse.Namespace) -> int:
-    from .forensics import load_dump, replay
+    from ..io.forensics import load_dump, replay
 
     if getattr(args, "index", None) is not None:
         raise CliError(f"{args.file}: a failure dump holds one LCP; --index does not apply")
@@ -152,7 +120,7 @@ def _run_replay(args: argparse.Namespace) -> int:
 
 
 def _run_solve(args: argparse.Namespace) -> int:
-    from .io import is_dump, load_lcp
+    from ..io.lcp_file import is_dump, load_lcp
 
     if is_dump(args.file):
         return _run_replay(args)
@@ -187,7 +155,7 @@ def _configure_demo(p: argparse.ArgumentParser) -> None:
 
 
 def _run_demo(args: argparse.Namespace) -> int:
-    from .examples import cube_on_slope_lcp
+    from ..examples import cube_on_slope_lcp
 
     if args.k < 3:
         raise CliError(f"--k must be at least 3, got {args.k}")
@@ -234,57 +202,3 @@ def _run_demo(args: argparse.Namespace) -> int:
 register_command(
     Command("demo", "solve a small built-in contact LCP with each method", _configure_demo, _run_demo)
 )
-
-
-# ---------------------------------------------------------------- simulate
-
-from . import cli_simulate as _cli_simulate  # noqa: E402  (registers `simulate`)
-from . import cli_experiments as _cli_experiments  # noqa: E402  (registers the experiments, report, sweep)
-
-_ = _cli_simulate, _cli_experiments
-
-
-# ---------------------------------------------------------------- main
-
-
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="lcpsim",
-        description="Rigid-body contact simulation with a Lemke LCP solver, and tools to study its LCPs.",
-    )
-    parser.add_argument("--version", action="version", version=f"lcpsim {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for cmd in _COMMANDS.values():
-        p = sub.add_parser(cmd.name, help=cmd.help, description=cmd.help)
-        cmd.configure(p)
-        p.set_defaults(_run=cmd.run)
-    return parser
-
-
-def _one_line(e: BaseException) -> str:
-    msg = str(e) or type(e).__name__
-    if isinstance(e, FileNotFoundError) and e.filename and e.strerror:
-        msg = f"{e.filename}: {e.strerror}"
-    return " ".join(msg.split())
-
-
-def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``lcpsim`` script; returns the exit code."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    run = getattr(args, "_run", None)
-    if run is None:
-        parser.print_help(sys.stderr)
-        return EXIT_USAGE
-    try:
-        return int(run(args))
-    except (CliError, OSError, ValueError) as e:
-        print(f"lcpsim: error: {_one_line(e)}", file=sys.stderr)
-        return EXIT_USAGE
-    except KeyboardInterrupt:
-        print("lcpsim: interrupted", file=sys.stderr)
-        return 130
-
-
-if __name__ == "__main__":
-    sys.exit(main())

@@ -1,23 +1,24 @@
-"""LCP corpora: every LCP a simulation solves, streamed to an HDF5 file.
+"""Captures: every LCP a simulation solves, streamed to an HDF5 file
+(``World.run(capture=...)``; the format is still called ``lcpsim-corpus``).
 
 ::
 
-    from lcpsim import scenes, open_corpus
+    from lcpsim import scenes, open_capture
     s = scenes.cube_on_slope(45.2, 1.0, cone_scale="dt")
     s.world.run(2000, capture="slope.h5")         # streams every LCP to slope.h5
-    with open_corpus("slope.h5") as c:
+    with open_capture("slope.h5") as c:
         print(len(c), c.metadata["scene"])
         for rec in c:                              # constant memory
             rec.M, rec.q, rec.z, rec.w, rec.status, rec.scale, rec.step
-    M, q = load_lcp("slope.h5", 3)                 # or: lcpsim solve slope.h5 --index 3
+    M, q = load_captured_lcp("slope.h5", 3)               # or: lcpsim solve slope.h5 --index 3
 
-The layout (documented in ``docs/corpus.md``) is a handful of growing 1-D
+The layout (documented in ``docs/capture.md``) is a handful of growing 1-D
 datasets — the problems concatenated, plus an index with one row per LCP —
 written in HDF5's single-writer/multiple-reader (SWMR) mode and flushed after
 every chunk, so that a run killed at any moment leaves a file that opens and
 holds every LCP up to the last flush. ``M``, ``q``, ``z``, ``w`` are exactly
 what the solver saw and returned: the *scaled* LCP (``D M D``, ``D q`` with
-``D = diag(I, I, s·I)``, DESIGN §1); :meth:`CorpusRecord.unscaled` undoes it.
+``D = diag(I, I, s·I)``, DESIGN §1); :meth:`CaptureRecord.unscaled` undoes it.
 """
 
 from __future__ import annotations
@@ -32,18 +33,21 @@ from typing import Any, Iterator, Mapping
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import _core
+from .. import _core
+from .._deprecated import deprecated_names
+from .._json import jsonable
 
 __all__ = [
     "FORMAT",
     "FORMAT_VERSION",
-    "CorpusError",
-    "CorpusWriter",
-    "CorpusRecord",
-    "Corpus",
-    "open_corpus",
-    "load_lcp",
-    "is_corpus",
+    "CaptureError",
+    "CaptureWriter",
+    "CaptureRecord",
+    "Capture",
+    "open_capture",
+    "load_captured_lcp",
+    "load_record",
+    "is_capture",
 ]
 
 #: Value of the root attribute ``format``.
@@ -72,8 +76,8 @@ _INDEX: dict[str, tuple[str, int]] = {
 _DATA = {"M": 1 << 16, "q": 1 << 12, "z": 1 << 12, "w": 1 << 12}
 
 
-class CorpusError(ValueError):
-    """A file that is not a readable LCP corpus, or a bad record index."""
+class CaptureError(ValueError):
+    """A file that is not a readable capture, or a bad record index."""
 
 
 def _h5py() -> Any:
@@ -93,7 +97,7 @@ def _open_read(path: Path) -> Any:
     try:
         return h5py.File(path, "r")
     except OSError as e:
-        raise CorpusError(f"{path}: not a readable HDF5 file ({e})") from None
+        raise CaptureError(f"{path}: not a readable HDF5 file ({e})") from None
 
 
 def _append(ds: Any, values: NDArray[Any]) -> None:
@@ -104,8 +108,8 @@ def _append(ds: Any, values: NDArray[Any]) -> None:
     ds[n0:] = values
 
 
-class CorpusWriter:
-    """Streams LCPs to an HDF5 corpus (constant memory; see ``docs/corpus.md``).
+class CaptureWriter:
+    """Streams LCPs to an HDF5 capture (constant memory; see ``docs/capture.md``).
 
     ``metadata`` (JSON-ready: scene, config, seed, …) is stored once for the
     file; :meth:`begin_run` adds a run with its own metadata, and the LCPs
@@ -121,7 +125,7 @@ class CorpusWriter:
         *,
         compression: str | None = None,
     ) -> None:
-        from . import __version__
+        from .. import __version__
 
         h5py = _h5py()
         self.path = Path(path)
@@ -131,7 +135,7 @@ class CorpusWriter:
         f.attrs["format_version"] = FORMAT_VERSION
         f.attrs["lcpsim_version"] = __version__
         f.attrs["created"] = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
-        f.attrs["metadata"] = json.dumps(_jsonable(dict(metadata or {})))
+        f.attrs["metadata"] = json.dumps(jsonable(dict(metadata or {})))
         f.attrs["status_names"] = json.dumps(list(_core.STATUSES))
         f.attrs["method_names"] = json.dumps(list(METHOD_NAMES))
         kw: dict[str, Any] = {"compression": compression} if compression else {}
@@ -171,7 +175,7 @@ class CorpusWriter:
     def begin_run(self, metadata: Mapping[str, Any] | None = None) -> int:
         """Starts a new run (its metadata stored as JSON); returns its number."""
         self._check_open()
-        blob = np.frombuffer(json.dumps(_jsonable(dict(metadata or {}))).encode(), dtype=np.uint8)
+        blob = np.frombuffer(json.dumps(jsonable(dict(metadata or {}))).encode(), dtype=np.uint8)
         _append(self._runs["json"], blob)
         _append(self._runs["offset"], np.array([self._run_bytes], dtype=np.int64))
         _append(self._runs["length"], np.array([blob.size], dtype=np.int64))
@@ -198,7 +202,7 @@ class CorpusWriter:
         w = np.asarray(captured["w"], dtype=np.float64)
         sq, lin = int((n * n).sum()), int(n.sum())
         if M.shape != (sq,) or q.shape != (lin,) or z.shape != (lin,) or w.shape != (lin,):
-            raise CorpusError(
+            raise CaptureError(
                 f"inconsistent batch: n sums to {lin} (n² to {sq}) but M, q, z, w have "
                 f"{M.shape}, {q.shape}, {z.shape}, {w.shape} values"
             )
@@ -256,13 +260,13 @@ class CorpusWriter:
         q_ = np.asarray(q, dtype=np.float64).ravel()
         n = q_.size
         if M_.shape != (n, n):
-            raise CorpusError(f"M has shape {M_.shape} but q has length {n}")
+            raise CaptureError(f"M has shape {M_.shape} but q has length {n}")
         z_ = np.full(n, np.nan) if z is None else np.asarray(z, dtype=np.float64).ravel()
         w_ = np.full(n, np.nan) if w is None else np.asarray(w, dtype=np.float64).ravel()
         if z_.size != n or w_.size != n:
-            raise CorpusError(f"z and w must have length {n}, got {z_.size} and {w_.size}")
+            raise CaptureError(f"z and w must have length {n}, got {z_.size} and {w_.size}")
         if status not in _core.STATUSES:
-            raise CorpusError(f"unknown status {status!r} (valid: {', '.join(_core.STATUSES)})")
+            raise CaptureError(f"unknown status {status!r} (valid: {', '.join(_core.STATUSES)})")
         self.append(
             {
                 "M": M_.ravel(),
@@ -294,9 +298,9 @@ class CorpusWriter:
 
     def _check_open(self) -> None:
         if self._closed:
-            raise CorpusError(f"{self.path}: corpus writer is closed")
+            raise CaptureError(f"{self.path}: corpus writer is closed")
 
-    def __enter__(self) -> "CorpusWriter":
+    def __enter__(self) -> "CaptureWriter":
         return self
 
     def __exit__(self, *exc: Any) -> None:
@@ -304,8 +308,8 @@ class CorpusWriter:
 
 
 @dataclass(frozen=True)
-class CorpusRecord:
-    """One LCP of a corpus: exactly what the solver saw (the scaled LCP) and returned."""
+class CaptureRecord:
+    """One LCP of a capture: exactly what the solver saw (the scaled LCP) and returned."""
 
     index: int
     M: NDArray[np.float64]
@@ -355,10 +359,10 @@ class CorpusRecord:
         return z
 
 
-class Corpus:
-    """A corpus opened for reading (see :func:`open_corpus`).
+class Capture:
+    """A capture opened for reading (see :func:`open_capture`).
 
-    ``len(c)`` LCPs; ``c[i]`` is a :class:`CorpusRecord`; iterating reads the
+    ``len(c)`` LCPs; ``c[i]`` is a :class:`CaptureRecord`; iterating reads the
     data in blocks (bounded memory). The per-LCP index is loaded at once as
     arrays: ``c.n``, ``c.step``, ``c.time``, ``c.contacts``, ``c.scale``,
     ``c.status`` (strings), ``c.pivots``, ``c.method`` (strings), ``c.run``.
@@ -373,10 +377,10 @@ class Corpus:
         self._f = f
         try:
             if f.attrs.get("format") != FORMAT:
-                raise CorpusError(f"{path}: not an lcpsim LCP corpus (no root attribute format={FORMAT!r})")
+                raise CaptureError(f"{path}: not an lcpsim LCP corpus (no root attribute format={FORMAT!r})")
             version = int(f.attrs.get("format_version", 0))
             if version > FORMAT_VERSION:
-                raise CorpusError(f"{path}: corpus format version {version} is newer than this lcpsim reads")
+                raise CaptureError(f"{path}: corpus format version {version} is newer than this lcpsim reads")
             self.format_version = version
             self.lcpsim_version = str(f.attrs.get("lcpsim_version", ""))
             self.created = str(f.attrs.get("created", ""))
@@ -408,7 +412,7 @@ class Corpus:
                     break
         except KeyError as e:
             f.close()
-            raise CorpusError(f"{path}: damaged corpus, missing {e}") from None
+            raise CaptureError(f"{path}: damaged corpus, missing {e}") from None
         except BaseException:
             f.close()
             raise
@@ -463,21 +467,21 @@ class Corpus:
 
     def _check(self, index: Any) -> int:
         if isinstance(index, bool) or not isinstance(index, (int, np.integer)):
-            raise CorpusError(f"index must be an integer, got {index!r}")
+            raise CaptureError(f"index must be an integer, got {index!r}")
         i = int(index)
         count = len(self)
         if i < 0:
             i += count
         if not 0 <= i < count:
-            raise CorpusError(f"{self.path}: index {index} out of range (the corpus holds {count} LCPs)")
+            raise CaptureError(f"{self.path}: index {index} out of range (the corpus holds {count} LCPs)")
         return i
 
-    def _record(self, i: int, M: NDArray[np.float64], q: Any, z: Any, w: Any) -> CorpusRecord:
+    def _record(self, i: int, M: NDArray[np.float64], q: Any, z: Any, w: Any) -> CaptureRecord:
         ix = self._idx
         n = int(ix["n"][i])
         st = int(ix["status"][i])
         me = int(ix["method"][i])
-        return CorpusRecord(
+        return CaptureRecord(
             index=i,
             M=M.reshape(n, n),
             q=q,
@@ -494,7 +498,7 @@ class Corpus:
             run=int(ix["run"][i]),
         )
 
-    def __getitem__(self, index: int) -> CorpusRecord:
+    def __getitem__(self, index: int) -> CaptureRecord:
         i = self._check(index)
         n = int(self._idx["n"][i])
         mo, vo = int(self._idx["m_offset"][i]), int(self._idx["v_offset"][i])
@@ -503,7 +507,7 @@ class Corpus:
             i, d["M"][mo : mo + n * n], d["q"][vo : vo + n], d["z"][vo : vo + n], d["w"][vo : vo + n]
         )
 
-    def records(self, start: int = 0, stop: int | None = None, *, block_bytes: int = 8 << 20) -> Iterator[CorpusRecord]:
+    def records(self, start: int = 0, stop: int | None = None, *, block_bytes: int = 8 << 20) -> Iterator[CaptureRecord]:
         """Records ``start … stop-1``, read in blocks of about ``block_bytes``."""
         stop = len(self) if stop is None else min(stop, len(self))
         d = self._f["data"]
@@ -528,42 +532,42 @@ class Corpus:
                 )
             i = j
 
-    def __iter__(self) -> Iterator[CorpusRecord]:
+    def __iter__(self) -> Iterator[CaptureRecord]:
         return self.records()
 
     def close(self) -> None:
         self._f.close()
 
-    def __enter__(self) -> "Corpus":
+    def __enter__(self) -> "Capture":
         return self
 
     def __exit__(self, *exc: Any) -> None:
         self.close()
 
     def __repr__(self) -> str:
-        return f"Corpus({str(self.path)!r}, {len(self)} LCPs, scene={self.metadata.get('scene')!r})"
+        return f"Capture({str(self.path)!r}, {len(self)} LCPs, scene={self.metadata.get('scene')!r})"
 
 
-def open_corpus(path: str | os.PathLike[str]) -> Corpus:
-    """Opens a corpus for reading (also one whose writer was interrupted)."""
-    return Corpus(path)
+def open_capture(path: str | os.PathLike[str]) -> Capture:
+    """Opens a capture for reading (also one whose writer was interrupted)."""
+    return Capture(path)
 
 
-def load_lcp(path: str | os.PathLike[str], index: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """``(M, q)`` of LCP ``index`` of a corpus (negative counts from the end)."""
-    with Corpus(path) as c:
+def load_captured_lcp(path: str | os.PathLike[str], index: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``(M, q)`` of LCP ``index`` of a capture (negative counts from the end)."""
+    with Capture(path) as c:
         r = c[index]
         return r.M, r.q
 
 
-def load_record(path: str | os.PathLike[str], index: int) -> CorpusRecord:
-    """LCP ``index`` of a corpus with everything recorded about it."""
-    with Corpus(path) as c:
+def load_record(path: str | os.PathLike[str], index: int) -> CaptureRecord:
+    """LCP ``index`` of a capture with everything recorded about it."""
+    with Capture(path) as c:
         return c[index]
 
 
-def is_corpus(path: str | os.PathLike[str]) -> bool:
-    """Whether ``path`` is an HDF5 file with the corpus format attribute."""
+def is_capture(path: str | os.PathLike[str]) -> bool:
+    """Whether ``path`` is an HDF5 file with the capture format attribute."""
     p = Path(path)
     if not p.is_file():
         return False
@@ -572,24 +576,18 @@ def is_corpus(path: str | os.PathLike[str]) -> bool:
             return False
     try:
         f = _open_read(p)
-    except CorpusError:
+    except CaptureError:
         return False
     with f:
         return bool(f.attrs.get("format") == FORMAT)
 
 
-def _jsonable(x: Any) -> Any:
-    if isinstance(x, Mapping):
-        return {str(k): _jsonable(v) for k, v in x.items()}
-    if isinstance(x, np.ndarray):
-        return x.tolist()
-    if isinstance(x, np.integer):
-        return int(x)
-    if isinstance(x, np.floating):
-        return float(x)
-    if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x]
-    if isinstance(x, (str, int, float, bool)) or x is None:
-        return x
-    return str(x)
-
+__getattr__ = deprecated_names(__name__, {
+    "Corpus": ("lcpsim.io.capture.Capture", lambda: Capture),
+    "CorpusRecord": ("lcpsim.io.capture.CaptureRecord", lambda: CaptureRecord),
+    "CorpusWriter": ("lcpsim.io.capture.CaptureWriter", lambda: CaptureWriter),
+    "CorpusError": ("lcpsim.io.capture.CaptureError", lambda: CaptureError),
+    "open_corpus": ("lcpsim.io.capture.open_capture", lambda: open_capture),
+    "is_corpus": ("lcpsim.io.capture.is_capture", lambda: is_capture),
+    "load_lcp": ("lcpsim.io.capture.load_captured_lcp (or lcpsim.io.load_lcp(path, index))", lambda: load_captured_lcp),
+})

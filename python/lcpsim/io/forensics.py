@@ -43,10 +43,10 @@ from typing import TYPE_CHECKING, Any, Mapping
 import numpy as np
 from numpy.typing import NDArray
 
-from . import _core
+from .. import _core
 
 if TYPE_CHECKING:
-    from .lcp import LcpResult
+    from ..lcp import LcpResult
 
 __all__ = ["DUMP_FORMAT", "Dump", "Replay", "write_dump", "load_dump", "replay", "variable_name"]
 
@@ -90,7 +90,7 @@ def write_dump(
     and returns its path. Lemke problems are re-solved with a pivot trace."""
     import h5py  # type: ignore[import-untyped]
 
-    from . import __version__
+    from .. import __version__
 
     d = Path(directory)
     if d.exists() and not d.is_dir():
@@ -194,7 +194,7 @@ def load_dump(path: str | os.PathLike[str]) -> Dump:
     """Reads a failure dump; :class:`lcpsim.io.LcpFileError` if ``path`` is not one."""
     import h5py
 
-    from .io import LcpFileError, _validate, is_dump
+    from .lcp_file import LcpFileError, _validate, is_dump
 
     p = Path(path)
     if not p.exists():
@@ -293,7 +293,7 @@ def replay(
     ``overrides`` (solver options) replace the dumped ones. With another method
     the dumped options are dropped (they belong to the dumped method).
     ``certify`` and ``dump`` are passed to :func:`lcpsim.solve_lcp`."""
-    from .lcp import solve_lcp
+    from ..lcp import solve_lcp
 
     d = path if isinstance(path, Dump) else load_dump(path)
     m = d.method if method is None else method

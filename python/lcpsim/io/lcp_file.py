@@ -1,7 +1,7 @@
 """Reading and writing LCPs: ``.npz`` (arrays ``M``, ``q``) or HDF5 (datasets
-``/M``, ``/q``), and single problems out of an LCP corpus (HDF5 written by
-:mod:`lcpsim.corpus`; choose the problem with ``index``); :func:`is_dump` recognizes a failure dump
-(:mod:`lcpsim.forensics`), which also reads as an LCP. Every problem with a file is a :class:`LcpFileError` (a
+``/M``, ``/q``), and single problems out of a capture (HDF5 written by
+:mod:`lcpsim.io.capture`; choose the problem with ``index``); :func:`is_dump` recognizes a failure dump
+(:mod:`lcpsim.io.forensics`), which also reads as an LCP. Every problem with a file is a :class:`LcpFileError` (a
 ``ValueError``) whose message names the file and what is wrong; a missing file
 is a :class:`FileNotFoundError`."""
 
@@ -94,7 +94,7 @@ def _read_hdf5(path: Path) -> tuple[Any, Any]:
 
 
 def is_dump(path: str | os.PathLike[str]) -> bool:
-    """Whether ``path`` is a failure dump (:mod:`lcpsim.forensics`): an HDF5
+    """Whether ``path`` is a failure dump (:mod:`lcpsim.io.forensics`): an HDF5
     file whose ``format`` attribute is ``"lcpsim-failure-dump"``. A dump also
     holds ``/M`` and ``/q``, so :func:`load_lcp` reads it like any LCP file."""
     p = Path(path)
@@ -148,8 +148,8 @@ def load_lcp(
     path: str | os.PathLike[str], index: int | None = None
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Loads ``(M, q)`` as float64 arrays from an ``.npz`` or HDF5 file, or
-    problem ``index`` of an LCP corpus (:mod:`lcpsim.corpus`; negative counts
-    from the end). A corpus needs ``index``; a single-LCP file refuses one.
+    problem ``index`` of a capture (:mod:`lcpsim.io.capture`; negative counts
+    from the end). A capture needs ``index``; a single-LCP file refuses one.
 
     Raises :class:`FileNotFoundError` if the file does not exist and
     :class:`LcpFileError` if it is not a valid LCP file (unreadable, missing
@@ -161,18 +161,18 @@ def load_lcp(
         raise LcpFileError(f"{path}: is a directory, not an LCP file")
     fmt = file_format(p)
     if fmt == "hdf5":
-        from . import corpus
+        from . import capture
 
-        if corpus.is_corpus(p):
+        if capture.is_capture(p):
             try:
-                with corpus.open_corpus(p) as c:
+                with capture.open_capture(p) as c:
                     if index is None:
                         raise LcpFileError(
                             f"{path}: an LCP corpus of {len(c)} problems; choose one with an index "
                             f"(lcpsim solve FILE --index K, K in 0..{len(c) - 1})"
                         )
                     rec = c[index]
-            except corpus.CorpusError as e:
+            except capture.CaptureError as e:
                 raise LcpFileError(str(e)) from None
             return _validate(p, rec.M, rec.q)
     if index is not None:
@@ -193,7 +193,7 @@ def save_lcp(
     ``attrs`` (str, int or float values, e.g. config, seed) are stored as HDF5
     attributes or as 0-d arrays ``attr_<name>`` in an ``.npz``; the lcpsim
     version is always recorded."""
-    from . import __version__
+    from .. import __version__
 
     p = Path(path)
     suffix = p.suffix.lower()

@@ -15,16 +15,16 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import time
 from typing import Any
 
 import numpy as np
 
-from .cli import EXIT_NOT_SOLVED, EXIT_OK, CliError, Command, register_command
-from .lcp import METHODS, PIVOTINGS
-from .scenes import SCENES, Scene, scene_parameters
-from .world import Trajectory
+from .command import EXIT_NOT_SOLVED, EXIT_OK, CliError, Command, register_command
+from ..lcp import METHODS, PIVOTINGS
+from ..scale import cone_scale_argument
+from ..scenes import SCENES, Scene, scene_parameters
+from ..world import Trajectory
 
 __all__ = ["simulate_summary"]
 
@@ -41,27 +41,12 @@ def _all_scene_params() -> dict[str, set[str]]:
     return out
 
 
-def _scale(text: str) -> Any:
-    t = text.strip().lower()
-    if t in ("none", "unscaled", "1"):
-        return None
-    if t in ("dt", "h"):
-        return "dt"
-    try:
-        x = float(t)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be none, dt or a number > 0, got {text!r}") from None
-    if not (math.isfinite(x) and x > 0):
-        raise argparse.ArgumentTypeError(f"must be none, dt or a number > 0, got {text!r}")
-    return x
-
-
 def _configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("scene", choices=list(SCENES), metavar="SCENE", help=f"one of: {', '.join(SCENES)}")
     p.add_argument("--steps", type=int, default=2000, help="time steps to run (default: 2000)")
     p.add_argument("--dt", type=float, default=1e-3, help="time step h in s (default: 1e-3)")
     p.add_argument(
-        "--scale", type=_scale, default=None, metavar="none|dt|FLOAT",
+        "--scale", type=cone_scale_argument, default=None, metavar="none|dt|FLOAT",
         help="friction-cone scale s (default: none, s = 1; dt: s = h)",
     )
     p.add_argument("--friction-dirs", type=int, default=8, metavar="K", help="friction directions per contact (default: 8)")
@@ -70,7 +55,7 @@ def _configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--piv-tol", type=float, default=None, help="Lemke: smallest pivot")
     p.add_argument("--zero-tol", type=float, default=None, help="Lemke: the user zero")
     p.add_argument("--max-pivots", type=int, default=None, help="Lemke: pivot limit")
-    p.add_argument("--capture", metavar="FILE", default=None, help="stream every LCP solved to this HDF5 corpus")
+    p.add_argument("--capture", metavar="FILE", default=None, help="stream every LCP solved to this HDF5 capture")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.add_argument(
         "--set", action="append", default=[], metavar="NAME=VALUE",
@@ -198,7 +183,7 @@ def _text(s: dict[str, Any]) -> str:
         exp = f"   (analytic: {s['expected_slide']:.6g} m)" if s["expected_slide"] is not None else ""
         lines.append(f"slide:         {s['slide']:.6g} m along {_fmt_vec(s['direction'], 4)}{exp}")
     lines += [
-        f"LCPs:          {lcp['count']} in {lcp['steps']} steps, failures {lcp['failures']} ({fails})",
+        f"LCPs:          {lcp['lcps']} in {lcp['steps']} steps, failures {lcp['failures']} ({fails})",
         f"residual:      max {lcp['max_residual']:.3e} (physical units, ‖min(z, w)‖∞)",
         f"pivots:        median {lcp['pivots_median']:g}, max {lcp['pivots_max']}",
         f"LCP size:      max {lcp['max_lcp_size']} ({lcp['max_contacts']} contacts)",
@@ -211,7 +196,7 @@ def _text(s: dict[str, Any]) -> str:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from .scenes import make_scene
+    from ..scenes import make_scene
 
     if args.steps < 0:
         raise CliError(f"--steps must be >= 0, got {args.steps}")
@@ -230,9 +215,9 @@ def _run(args: argparse.Namespace) -> int:
     summary = simulate_summary(scene, traj, wall)
     summary["capture"] = args.capture
     if args.capture:
-        from .corpus import open_corpus
+        from ..io.capture import open_capture
 
-        with open_corpus(args.capture) as c:
+        with open_capture(args.capture) as c:
             summary["captured"] = len(c)
     else:
         summary["captured"] = 0

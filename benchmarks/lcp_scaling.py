@@ -1,0 +1,298 @@
+#!/usr/bin/env python3
+"""How `lcpsim.solve_lcp` scales on contact LCPs of cube heaps, n ≈ 400 → 40,000.
+
+The LCPs are captured from lcpsim itself: a settled heap of unit cubes (the
+final state of a heap run of ``benchmarks/peers/many_bodies.py``, by default
+MuJoCo's heap of 1,000 cubes in 4 walls; ``--block`` or no such file: a
+connected block of cubes, lcpsim's ``box_pile`` with towers side by side) is
+cut into sub-heaps — the k cubes nearest the centre of the floor, which rest
+on one another as they did in the heap — put at rest into an lcpsim World, and stepped once with
+``World.run(1, capture=PATH)``; ``lcpsim.open_capture(PATH)`` (formerly
+``open_corpus``) gives the step's
+LCP (the capturing step uses PGS with one iteration so that it costs little;
+the LCP is assembled before any solver sees it). Then ``solve_lcp(M, q)``
+(Lemke, defaults) is timed on it. Whatever form of LCP lcpsim captures and
+solves (dense today; per island or sparse later), this script only calls
+``solve_lcp`` on what was captured, summed over the step's LCPs.
+
+With contact islands (one LCP per island), lcpsim sees a MuJoCo-settled heap
+(slightly interpenetrating in places, apart in others) as many islands; the
+fit then runs over every island's LCP, and ``--block`` gives one connected
+LCP per size.
+
+Each size runs in its own process under an address-space cap; sizes grow
+geometrically and stop when the next one is predicted (n from the contacts per
+cube so far, time from the fitted power law) to exceed the memory cap (the
+dense M alone is n² · 8 B) or the time cap. Reported per size: cubes, LCPs
+captured, n, time per solve, pivots, status, the dense M's size and the
+process's peak RSS; and the exponent p of time ∝ n^p (log-log least squares).
+
+    benchmarks/peers/.venv/bin/python benchmarks/lcp_scaling.py [--max-solve-s 300] [--mem-cap-gb 6]
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import gzip
+import json
+import math
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+PEERS = HERE / "peers"
+SIZES = [10, 16, 25, 40, 63, 100, 160, 250, 400, 630, 1000]
+
+
+# --------------------------------------------------------------------------- the heaps
+
+
+def settled_heap(path: Path, scene: str, engines: list[str]) -> tuple[dict[str, Any], str] | None:
+    """(scene description with the boxes at the engine's final poses, where from), or None."""
+    if not path.exists():
+        return None
+    with gzip.open(path, "rt") as f:
+        res = json.load(f)
+    entry = res["scenes"].get(scene)
+    if entry is None:
+        return None
+    for eng in engines:
+        s = entry["engines"].get(eng, {})
+        fs = s.get("final_state")
+        if not fs or not s.get("finite"):
+            continue
+        desc = json.loads(json.dumps(entry["initial_state"]))
+        dyn = [b for b in desc["boxes"] if not b["static"]]
+        for b, p, q in zip(dyn, fs["pos"], fs["quat"]):
+            b["pos"], b["quat"] = p, q
+        return desc, f"{scene} after {fs['step']} steps of {eng} ({path.name})"
+    return None
+
+
+def block_heap(cubes: int) -> tuple[dict[str, Any], str]:
+    """A connected block: lcpsim's box_pile with towers side by side (spacing 1)."""
+    sys.path.insert(0, str(PEERS))
+    from many_scenes import describe
+    from lcpsim import scenes
+
+    side = math.ceil(math.sqrt(cubes / 5))
+    nz = math.ceil(cubes / side**2)
+    w = scenes.box_pile(side, side, nz, spacing=1.0).world
+    return describe(w, f"box_pile({side}, {side}, {nz}, spacing=1.0)"), f"a block of box_pile({side}, {side}, {nz}, spacing=1.0)"
+
+
+def sub_heap(desc: dict[str, Any], k: int) -> Any:
+    """An lcpsim World at rest with the static boxes and the k cubes of ``desc`` nearest
+    the point (0, 0, 0) at the centre of the floor: a chunk of the heap that
+    rests as it did (what holds a cube up is lower, so nearer) and hangs together."""
+    import lcpsim
+
+    w = lcpsim.World(dt=desc["dt"], method="pgs", max_iterations=1)
+    w.add_ground(mu=desc["mu"])
+    dyn = [b for b in desc["boxes"] if not b["static"]]
+    for b in desc["boxes"]:
+        if b["static"]:
+            w.add_box(half_extents=b["half"], position=b["pos"], orientation=b["quat"], mu=desc["mu"], static=True)
+    for b in sorted(dyn, key=lambda b: float(np.linalg.norm(b["pos"])))[:k]:
+        w.add_box(half_extents=b["half"], mass=b["mass"], position=b["pos"], orientation=b["quat"], mu=desc["mu"])
+    return w
+
+
+# --------------------------------------------------------------------------- one size (child process)
+
+
+def one_size(desc_path: str, k: int, reps: int, max_solve_s: float) -> dict[str, Any]:
+    import lcpsim
+
+    with open(desc_path) as f:
+        desc = json.load(f)
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "heap.h5")
+        t0 = time.perf_counter()
+        w = sub_heap(desc, k)
+        w.run(1, capture=path)
+        capture_s = time.perf_counter() - t0
+        del w  # the world's own copy of M, before the corpus's is read
+        gc.collect()
+        out: dict[str, Any] = {"cubes": k, "capture_s": capture_s, "lcps": []}
+        # open_capture is open_corpus's newer name (the old one stays, deprecated).
+        open_capture = getattr(lcpsim, "open_capture", None) or lcpsim.open_corpus
+        with open_capture(path) as corpus:
+            for rec in corpus:
+                M, q = rec.M, rec.q  # as captured (dense today), handed to solve_lcp unchanged
+                times, r = [], None
+                for _ in range(reps):
+                    t0 = time.perf_counter()
+                    r = lcpsim.solve_lcp(M, q)
+                    times.append(time.perf_counter() - t0)
+                    if sum(times) > max_solve_s / 3:
+                        break
+                assert r is not None
+                out["lcps"].append({"n": int(np.shape(q)[0]), "contacts": int(rec.contacts),
+                                    "seconds": float(np.median(times)), "repeats": len(times),
+                                    "pivots": int(r.pivots), "status": r.status, "m_bytes": stored_bytes(M)})
+    out["n"] = sum(lp["n"] for lp in out["lcps"])
+    out["n_max"] = max((lp["n"] for lp in out["lcps"]), default=0)
+    out["seconds"] = sum(lp["seconds"] for lp in out["lcps"])
+    out["pivots"] = sum(lp["pivots"] for lp in out["lcps"])
+    out["m_bytes"] = sum(lp["m_bytes"] for lp in out["lcps"])
+    out["statuses"] = sorted({lp["status"] for lp in out["lcps"]})
+    return out
+
+
+def stored_bytes(M: Any) -> int:
+    """Bytes of M as captured: a dense array's, or a sparse matrix's arrays'."""
+    if hasattr(M, "nbytes"):
+        return int(M.nbytes)
+    return int(sum(getattr(M, a).nbytes for a in ("data", "indices", "indptr") if hasattr(M, a)))
+
+
+# --------------------------------------------------------------------------- driver
+
+
+def lcp_points(rows: list[dict[str, Any]]) -> list[tuple[int, float]]:
+    """(n, seconds) of every LCP solved with n ≥ 100: the points of the fit (each island's
+    LCP on its own once lcpsim splits a step's contacts into islands)."""
+    return [(lp["n"], lp["seconds"]) for r in rows if "error" not in r for lp in r["lcps"] if lp["n"] >= 100]
+
+
+def fit_exponent(points: list[tuple[int, float]]) -> float | None:
+    """p of t ≈ a·n^p by least squares on (log n, log t)."""
+    if len(points) < 2:
+        return None
+    x = np.log([n for n, _ in points])
+    y = np.log([t for _, t in points])
+    return float(np.polyfit(x, y, 1)[0])
+
+
+def run_child(desc_path: str, k: int, reps: int, max_solve_s: float, mem_cap: int, timeout: float) -> dict[str, Any]:
+    cmd = [sys.executable, __file__, "--one", desc_path, str(k), str(reps), str(max_solve_s)]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=lambda: resource.setrlimit(resource.RLIMIT_AS, (mem_cap, mem_cap)))
+    try:
+        out, err = proc.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.communicate()
+        return {"cubes": k, "error": f"killed after {timeout:.0f} s"}
+    finally:
+        peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
+    if proc.returncode != 0:
+        return {"cubes": k, "error": (err.strip().splitlines() or [f"exit {proc.returncode}"])[-1]}
+    res = json.loads(out.strip().splitlines()[-1])
+    res["peak_rss_mb_upto"] = peak  # max over all children so far (sizes grow, so this one's)
+    return res
+
+
+def run_all(desc: dict[str, Any], source: str, max_solve_s: float, mem_cap_gb: float, reps: int) -> dict[str, Any]:
+    cap = int(mem_cap_gb * (1 << 30))
+    n_dyn = sum(not b["static"] for b in desc["boxes"])
+    rows: list[dict[str, Any]] = []
+    stop = "every size ran"
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "heap.json")
+        with open(path, "w") as f:
+            json.dump(desc, f)
+        for k in [k for k in SIZES if k <= n_dyn]:
+            done = [r for r in rows if "error" not in r and r["n"] > 0]
+            if done:
+                per_cube = max(r["n"] / r["cubes"] for r in done)
+                n_next = per_cube * k
+                # Peak RSS grows like the dense M (n² · 8 B): in the simulator, the corpus
+                # read-back, the solver's copies; the last size's ratio predicts the next.
+                copies = max(3.0, done[-1]["peak_rss_mb_upto"] * 2**20 / done[-1]["m_bytes"])
+                need = copies * 8 * n_next**2
+                if need > cap:
+                    stop = (f"stopped before {k} cubes: n ≈ {n_next:,.0f} predicted, needing about {copies:.1f} × "
+                            f"n² · 8 B = {need / 2**30:.1f} GiB > the {mem_cap_gb:g} GiB cap")
+                    break
+                p = fit_exponent(lcp_points(done))
+                last = done[-1]
+                t_next = last["seconds"] * (n_next / last["n"]) ** (p if p else 3.0)  # as if one LCP
+                if t_next > max_solve_s:
+                    stop = (f"stopped before {k} cubes: n ≈ {n_next:,.0f}, one solve predicted to take "
+                            f"{t_next:.3g} s > {max_solve_s:g} s (time ∝ n^{p if p else 3.0:.2f})")
+                    break
+            row = run_child(path, k, reps, max_solve_s, cap, timeout=3 * max_solve_s + 120)
+            rows.append(row)
+            if "error" in row:
+                print(f"  {k} cubes: {row['error']}", flush=True)
+                stop = f"stopped at {k} cubes: {row['error']}"
+                break
+            print(f"  {k} cubes: {len(row['lcps'])} LCP(s), n = {row['n']}, {row['seconds']:.4g} s, "
+                  f"{row['pivots']} pivots, {row['statuses']}, peak RSS ≤ {row['peak_rss_mb_upto']:.0f} MB",
+                  flush=True)
+    return {"source": source, "rows": rows, "stop": stop, "exponent": fit_exponent(lcp_points(rows)),
+            "max_solve_s": max_solve_s, "mem_cap_gb": mem_cap_gb}
+
+
+def render(res: dict[str, Any]) -> list[str]:
+    lines = [
+        "### Contact LCPs of heaps: solve time against n",
+        "",
+        f"LCPs captured from sub-heaps (the k cubes nearest the centre of the floor) of {res['source']}, one step each; `solve_lcp` "
+        "(Lemke, defaults) timed on each (median of up to 3 calls). Command: "
+        "`benchmarks/peers/.venv/bin/python benchmarks/lcp_scaling.py`.",
+        "",
+        "| cubes | LCPs | n (largest, if several) | contacts | time to solve them (s) | pivots | status | M as captured (MB) "
+        "| peak RSS (MB) |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in res["rows"]:
+        if "error" in r:
+            lines.append(f"| {r['cubes']} | **{r['error']}** | | | | | | | |")
+            continue
+        contacts = sum(lp["contacts"] or 0 for lp in r["lcps"])
+        n = f"{r['n']:,}" if len(r["lcps"]) == 1 else f"{r['n']:,} ({r.get('n_max', 0):,})"
+        lines.append(f"| {r['cubes']} | {len(r['lcps'])} | {n} | {contacts:,} | {r['seconds']:.4g} | "
+                     f"{r['pivots']:,} | {', '.join(r['statuses'])} | {r['m_bytes'] / 1e6:,.1f} | "
+                     f"{r['peak_rss_mb_upto']:,.0f} |")
+    p = res["exponent"]
+    lines += ["", f"Fitted exponent (time ∝ n^p over every LCP with n ≥ 100): p = {p:.2f}." if p
+              else "Too few sizes for a fit.",
+              f"Where it stops: {res['stop']}."]
+    good = [r for r in res["rows"] if "error" not in r and r["n"] > 0]
+    if p and good:
+        last = good[-1]
+        t40k = last["seconds"] * (40_000 / last["n"]) ** p
+        lines.append(f"Extrapolated from the largest size along that power law, one dense solve at n = 40,000 "
+                     f"(the 10×10×10 towers) would take about {t40k / 3600:,.0f} h and M alone 12.8 GB.")
+    lines.append("")
+    return lines
+
+
+def main() -> int:
+    if len(sys.argv) > 1 and sys.argv[1] == "--one":
+        _, _, path, k, reps, max_s = sys.argv
+        print(json.dumps(one_size(path, int(k), int(reps), float(max_s))))
+        return 0
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--results", default=str(PEERS / "many_bodies.json.gz"), help="many_bodies.py's result file")
+    ap.add_argument("--scene", default="heap1000")
+    ap.add_argument("--engines", default="mujoco,rapier,pybullet,lcpsim", help="whose final heap to take, in order")
+    ap.add_argument("--block", action="store_true", help="use a block of box_pile towers instead of a settled heap")
+    ap.add_argument("--max-solve-s", type=float, default=300.0, help="stop when one solve would take longer")
+    ap.add_argument("--mem-cap-gb", type=float, default=6.0)
+    ap.add_argument("--reps", type=int, default=3)
+    ap.add_argument("--out", default=str(HERE / "lcp_scaling.json"))
+    args = ap.parse_args()
+    found = None if args.block else settled_heap(Path(args.results), args.scene, args.engines.split(","))
+    desc, source = found if found else block_heap(max(SIZES))
+    print(f"heaps from {source}", flush=True)
+    res = run_all(desc, source, args.max_solve_s, args.mem_cap_gb, args.reps)
+    Path(args.out).write_text(json.dumps(res, indent=1))
+    print("\n".join(render(res)))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

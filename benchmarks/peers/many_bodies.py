@@ -1,0 +1,300 @@
+#!/usr/bin/env python3
+"""Many-body scenes: lcpsim beside MuJoCo, PyBullet and Rapier.
+
+Scenes (``many_scenes.py``): a 10-box stack; 3×3×3 and 10×10×10 towers
+(lcpsim's ``box_pile``: towers on a grid 1.5 m apart); heaps of 200 and 1,000
+unit cubes dropped with random orientations into 4 static walls. 1 kg unit
+cubes, μ = 0.5, g = 9.81, dt = 1e-3, on a ground plane; every engine starts
+from the same state, exported from the lcpsim world.
+
+Each engine × scene runs in its own process (``many_engines.py``; Rapier:
+``benchmarks/rapier_bench``), under an address-space cap (``--mem-cap-gb``)
+and a wall-clock budget (``--budget`` seconds per engine × scene, for all its
+repetitions; a process still stepping ``--grace`` seconds after it is killed).
+Reported: steps/s (stepping calls only, median over repetitions), contacts,
+lcpsim's LCP count, failures and largest LCP, the top boxes' drift, the
+deepest penetration over the sampled states (the same separating-axis code for
+every engine), the worker's peak RSS (``wait4``), and the ratio to MuJoCo.
+
+    bash benchmarks/peers/setup.sh      # venv with mujoco, pybullet, lcpsim; builds rapier-bench
+    benchmarks/peers/.venv/bin/python benchmarks/peers/many_bodies.py [--scenes stack10,towers3] [--engines ...]
+
+Writes ``benchmarks/peers/many_bodies.json`` (with every sampled state) and
+prints the markdown section for ``benchmarks/RESULTS.md``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import gzip
+import json
+import os
+import platform
+import resource
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent.parent
+sys.path.insert(0, str(HERE))
+
+sys.path.insert(0, str(HERE.parent))
+
+import many_bodies_report  # noqa: E402
+from many_scenes import SCENE_BY_KEY, SCENES, describe, drift, penetration  # noqa: E402
+
+ENGINES = ["lcpsim", "mujoco", "pybullet", "rapier"]
+RAPIER_BIN = ROOT / "benchmarks" / "rapier_bench" / "target" / "release" / "rapier-bench"
+SAMPLES = 10  # pose samples per run (plus the start)
+
+
+def worker_command(engine: str, scene: str, desc_path: str, steps: int, budget: float, reps: int) -> list[str]:
+    every = max(1, steps // SAMPLES)
+    if engine == "rapier":
+        return [str(RAPIER_BIN), "scene", desc_path, "--steps", str(steps), "--budget", str(budget),
+                "--sample-every", str(every), "--reps", str(reps)]
+    return [sys.executable, str(HERE / "many_engines.py"), engine, scene, desc_path, str(steps), str(budget),
+            str(every), str(reps)]
+
+
+def run_worker(cmd: list[str], deadline: float, mem_cap: int) -> dict[str, Any]:
+    """Runs one worker; returns its events, exit status, peak RSS and whether it was killed."""
+
+    def limit() -> None:
+        resource.setrlimit(resource.RLIMIT_AS, (mem_cap, mem_cap))
+
+    err = tempfile.TemporaryFile()
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=err, preexec_fn=limit, text=True,
+                            env={**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [
+                                str(HERE), os.environ.get("PYTHONPATH", "")]))})
+    events: list[dict[str, Any]] = []
+
+    def read() -> None:
+        assert proc.stdout is not None
+        for line in proc.stdout:
+            try:
+                events.append(json.loads(line))
+            except json.JSONDecodeError:
+                pass
+
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
+    t0 = time.perf_counter()
+    killed = False
+    # Reaped by wait4 (not Popen.poll) for the child's peak RSS (ru_maxrss, KiB on Linux).
+    while True:
+        pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
+        if pid:
+            break
+        if time.perf_counter() - t0 > deadline:
+            proc.kill()
+            killed = True
+            _, status, usage = os.wait4(proc.pid, 0)
+            break
+        time.sleep(0.1)
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    peak = usage.ru_maxrss / 1024
+    reader.join(timeout=5)
+    err.seek(0)
+    stderr = err.read().decode(errors="replace")[-2000:]
+    return {"events": events, "returncode": proc.returncode, "killed": killed, "peak_rss_mb": peak,
+            "stderr": stderr, "wall_s": time.perf_counter() - t0}
+
+
+def crash_reason(stderr: str, returncode: int) -> str:
+    """The telling line of a crashed worker's stderr (Rust's allocation failure, a panic, an exception)."""
+    lines = [ln for ln in stderr.splitlines() if ln.strip() and not ln.startswith((" ", "\t", "note:", "stack backtrace"))]
+    for ln in lines:
+        if "memory allocation of" in ln or "panicked" in ln:
+            return ln.strip()
+    return lines[-1].strip() if lines else f"exit status {returncode}"
+
+
+def summarize(desc: dict[str, Any], run: dict[str, Any], steps: int) -> dict[str, Any]:
+    """One engine × scene: rates, counts, drift and penetration from the worker's events."""
+    ev = run["events"]
+    reps = [e for e in ev if e["event"] == "rep"]
+    samples = [e for e in ev if e["event"] == "sample"]
+    progress = [e for e in ev if e["event"] == "progress" and e.get("rep", 0) == 0]
+    ready = next((e for e in ev if e["event"] == "ready"), {})
+    out: dict[str, Any] = {"steps_planned": steps, "peak_rss_mb": run["peak_rss_mb"],
+                           "rss_after_build_mb": ready.get("rss_mb"), "wall_s": run["wall_s"],
+                           "returncode": run["returncode"]}
+    done = reps[0]["steps"] if reps else (progress[-1]["steps"] if progress else 0)
+    secs = reps[0]["seconds"] if reps else (progress[-1]["seconds"] if progress else 0.0)
+    out["steps"] = done
+    out["progress"] = [[e["steps"], e["seconds"]] for e in progress]
+    out["rates"] = [r["steps"] / r["seconds"] for r in reps if r["seconds"] > 0]
+    if not out["rates"] and secs > 0:
+        out["rates"] = [done / secs]
+    out["steps_per_second"] = float(np.median(out["rates"])) if out["rates"] else None
+    if reps:
+        out["stats"] = reps[0].get("stats", {})
+    if run["killed"]:
+        out["outcome"] = "killed"
+    elif not reps:
+        out["outcome"] = "crashed"
+    elif reps[0]["timed_out"]:
+        out["outcome"] = "timed_out"
+    else:
+        out["outcome"] = "ok"
+    if out["outcome"] == "crashed":
+        out["error"] = crash_reason(run["stderr"], run["returncode"])
+    if samples and done > 0:
+        pos = [np.array(s["pos"], dtype=float) for s in samples]
+        quat = [np.array(s["quat"], dtype=float) for s in samples]
+        finite = all(np.isfinite(p).all() and np.isfinite(q).all() for p, q in zip(pos, quat))
+        out["finite"] = finite
+        out["sampled_steps"] = [s["step"] for s in samples]
+        out["contacts_sampled"] = [s["contacts"] for s in samples]
+        if finite:
+            depths = [penetration(desc, p, q) for p, q in zip(pos, quat)]
+            out["max_penetration_m"], out["final_penetration_m"] = max(depths), depths[-1]
+            out["drift"] = drift(desc, pos[0], pos[-1])
+        out["final_state"] = {"step": samples[-1]["step"], "pos": samples[-1]["pos"], "quat": samples[-1]["quat"]}
+    return out
+
+
+def locked_version(crate: str) -> str:
+    """The version of ``crate`` in benchmarks/rapier_bench/Cargo.lock."""
+    lock = ROOT / "benchmarks" / "rapier_bench" / "Cargo.lock"
+    blocks = lock.read_text().split("[[package]]") if lock.exists() else []
+    for b in blocks:
+        if f'name = "{crate}"' in b:
+            return b.split('version = "', 1)[1].split('"', 1)[0]
+    return "?"
+
+
+def versions() -> dict[str, str]:
+    from importlib.metadata import PackageNotFoundError, version
+
+    v: dict[str, str] = {"python": platform.python_version()}
+    for dist in ("lcpsim", "mujoco", "pybullet", "numpy"):
+        try:
+            v[dist] = version(dist)
+        except PackageNotFoundError:
+            v[dist] = "not installed"
+    rev = HERE / ".venv" / "lcpsim-revision.txt"
+    if rev.exists():
+        v["lcpsim_revision"] = rev.read_text().strip()
+    try:
+        v["lcpsim_file"] = __import__("lcpsim").__file__
+    except ImportError:
+        pass
+    v["rapier3d-f64"] = locked_version("rapier3d-f64")
+    v["parry3d-f64"] = locked_version("parry3d-f64")
+    return v
+
+
+def machine() -> str:
+    from run import machine as peers_machine
+
+    m = peers_machine()
+    return f"{m['cpu']}, {m['cores']} cores, {m['memory']}, {m['os']}"
+
+
+def run_all(scene_keys: list[str], engines: list[str], budget: float, grace: float, mem_cap_gb: float,
+            progress: Any = print) -> dict[str, Any]:
+    res: dict[str, Any] = {"config": {"dt": 1e-3, "mu": 0.5, "g": 9.81, "budget_s": budget, "grace_s": grace,
+                                      "mem_cap_gb": mem_cap_gb, "samples": SAMPLES},
+                           "machine": machine(), "versions": versions(), "scenes": {},
+                           "load_average_before": os.getloadavg()}
+    with tempfile.TemporaryDirectory() as tmp:
+        for key in scene_keys:
+            spec = SCENE_BY_KEY[key]
+            world, how = spec.build()
+            desc = describe(world, how)
+            path = os.path.join(tmp, f"{key}.json")
+            with open(path, "w") as f:
+                json.dump(desc, f)
+            steps = int(round(spec.seconds / desc["dt"]))
+            n_dyn = sum(not b["static"] for b in desc["boxes"])
+            entry: dict[str, Any] = {"title": spec.title, "built_by": how, "bodies": n_dyn,
+                                     "static_boxes": len(desc["boxes"]) - n_dyn, "seconds": spec.seconds,
+                                     "steps": steps, "reps": spec.reps, "initial_state": desc, "engines": {}}
+            for eng in engines:
+                if eng == "rapier" and not RAPIER_BIN.exists():
+                    entry["engines"][eng] = {"outcome": "not_run", "error": f"{RAPIER_BIN} not built"}
+                    continue
+                cmd = worker_command(eng, key, path, steps, budget, spec.reps)
+                run = run_worker(cmd, budget + grace, int(mem_cap_gb * (1 << 30)))
+                s = summarize(desc, run, steps)
+                entry["engines"][eng] = s
+                progress(f"  {key} {eng}: {describe_outcome(s)}")
+            res["scenes"][key] = entry
+    res["load_average_after"] = os.getloadavg()
+    return res
+
+
+def describe_outcome(s: dict[str, Any]) -> str:
+    sps = s.get("steps_per_second")
+    rate = f"{sps:,.1f} steps/s" if sps else "—"
+    if s["outcome"] == "ok":
+        return f"{s['steps']} steps at {rate}"
+    if s["outcome"] in ("timed_out", "killed"):
+        extra = " (a stepping call still running was killed)" if s["outcome"] == "killed" else ""
+        return f"timed out after {s['steps']} of {s['steps_planned']} steps at {rate}{extra}"
+    return f"{s['outcome']}: {s.get('error', '')}"
+
+
+RESULTS_MD = ROOT / "benchmarks" / "RESULTS.md"
+SCALING_JSON = ROOT / "benchmarks" / "lcp_scaling.json"
+BROADPHASE_JSON = ROOT / "benchmarks" / "broadphase.json"
+
+
+def section(res: dict[str, Any]) -> list[str]:
+    """The whole "Many bodies" section: the peers' table, then lcp_scaling.py's and the
+    broad-phase comparison's tables when their JSON files exist."""
+    import lcp_scaling
+
+    lines = many_bodies_report.render(res)
+    if SCALING_JSON.exists():
+        lines += lcp_scaling.render(json.loads(SCALING_JSON.read_text()))
+    if BROADPHASE_JSON.exists():
+        lines += many_bodies_report.render_broadphase(json.loads(BROADPHASE_JSON.read_text()))
+    return lines
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--scenes", default=",".join(s.key for s in SCENES))
+    ap.add_argument("--engines", default=",".join(ENGINES))
+    ap.add_argument("--budget", type=float, default=60.0, help="wall-clock seconds per engine × scene")
+    ap.add_argument("--grace", type=float, default=30.0, help="seconds past the budget before a kill")
+    ap.add_argument("--mem-cap-gb", type=float, default=4.0, help="address-space cap of each worker")
+    ap.add_argument("--out", default=str(HERE / "many_bodies.json.gz"))
+    ap.add_argument("--render", action="store_true", help="don't run: render the saved --out file")
+    ap.add_argument("--merge", action="store_true", help="replace only the scenes run in the saved --out file")
+    ap.add_argument("--write-results", action="store_true",
+                    help=f"replace the section of {RESULTS_MD.relative_to(ROOT)} from '{many_bodies_report.MARKER}' on")
+    args = ap.parse_args()
+    if args.render:
+        with gzip.open(args.out, "rt") as f:
+            res = json.load(f)
+    else:
+        res = run_all(args.scenes.split(","), args.engines.split(","), args.budget, args.grace, args.mem_cap_gb)
+        if args.merge and os.path.exists(args.out):
+            with gzip.open(args.out, "rt") as f:
+                old = json.load(f)
+            old["scenes"].update(res["scenes"])
+            old["reruns"] = old.get("reruns", []) + [{k: res[k] for k in res if k != "scenes"}
+                                                      | {"scenes": list(res["scenes"])}]
+            res = old
+        with open(args.out, "wb") as raw, gzip.GzipFile(fileobj=raw, mode="wb", mtime=0) as gz:
+            gz.write(json.dumps(res).encode())
+    lines = section(res)
+    print("\n".join(lines))
+    if args.write_results:
+        RESULTS_MD.write_text(many_bodies_report.splice(RESULTS_MD.read_text(), lines))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,179 @@
+"""The markdown section of ``many_bodies.py``'s results (for ``benchmarks/RESULTS.md``)."""
+
+from __future__ import annotations
+
+import math
+import re
+from typing import Any
+
+import numpy as np
+
+TITLES = {
+    "lcpsim": "lcpsim (`World.run`)",
+    "mujoco": "MuJoCo (`mj_step`, nstep)",
+    "pybullet": "PyBullet (DIRECT)",
+    "rapier": "Rapier (rapier3d-f64, Rust)",
+}
+
+NOTES = [
+    "**lcpsim**: hard contact, a Stewart–Trinkle LCP per step over the contacts (per contact island where "
+    "lcpsim splits them; 8 friction directions, so n = 10 per contact point) solved by Lemke; LCPs counts the "
+    "steps with contacts; the stepping loop in Rust (`World.run`). A steps/s of a run that "
+    "timed out is over the steps it did.",
+    "**MuJoCo**: soft contacts (defaults: pyramidal cone, Newton solver, `solref` 0.02 s), so boxes rest a little "
+    "inside each other and stacks sink; `mj_step(m, d, nstep)` from Python.",
+    "**PyBullet**: sequential impulses, 50 iterations, box friction per direction; lateral friction √0.5 on every "
+    "body since Bullet multiplies the pair's values; `stepSimulation` per step from Python.",
+    "**Rapier**: soft-constraint impulse solver (4 iterations, defaults); stepping in Rust in the "
+    "`rapier-bench` process, no Python in the loop.",
+    "Penetration: the deepest box–box (separating-axis depth) or box–ground overlap over the sampled states "
+    "(the start and every tenth of the run; in brackets, in the last one), the same code for every engine. Drift: the largest distance a "
+    "tower's top box moved over the run (the lowest vertical change in brackets). Contacts: the most contact "
+    "points an engine reported at a sample (lcpsim: the most in any step). Peak RSS: the worker process's "
+    "maximum resident set (`wait4`), the interpreter and the engine's libraries included.",
+]
+
+
+def fmt(x: float | None, spec: str = ".3g") -> str:
+    return "—" if x is None else format(x, spec)
+
+
+def ran(s: dict[str, Any], e: dict[str, Any]) -> str:
+    reps = len(s.get("rates", []))
+    if s["outcome"] == "ok":
+        return f"{s['steps']} steps × {reps} rep{'s' if reps != 1 else ''}"
+    if s["outcome"] in ("timed_out", "killed"):
+        how = ", killed mid-call" if s["outcome"] == "killed" else ""
+        return f"**timed out** after {s['steps']} of {e['steps']} steps{how}"
+    err = s.get("error", "")
+    m = re.search(r"memory allocation of (\d+) bytes failed", err)
+    if m:
+        b = int(m.group(1))
+        return (f"**not run**: an allocation of {b / 1e9:.3g} GB (a dense n × n M, n = {math.sqrt(b / 8):,.0f}) "
+                f"failed under the cap, after {s['steps']} steps")
+    return f"**{s['outcome']}**: {err}"
+
+
+def lcp_cell(s: dict[str, Any]) -> str:
+    st = s.get("stats") or {}
+    if "lcps" not in st:
+        return ""
+    if "max_island_lcp" in st:  # one LCP per contact island
+        return (f"{st['lcps']} / {st['failures']} / {st['max_island_lcp']} (up to {st['max_islands']} islands, "
+                f"all contacts n = {st['max_lcp_size']})")
+    return f"{st['lcps']} / {st['failures']} / {st['max_lcp_size']}"
+
+
+def same_steps_ratio(s: dict[str, Any], mj: dict[str, Any]) -> float | None:
+    """MuJoCo's time for the first steps a run did, over that run's: a heap's first
+    steps (in free fall) are cheaper than its last, so a run cut short is compared
+    on the same steps too."""
+    done, prog, mprog = s.get("steps", 0), s.get("progress") or [], mj.get("progress") or []
+    if not done or not prog or not mprog or mprog[-1][0] < done or s is mj:
+        return None
+    t_mj = float(np.interp(done, [0] + [p[0] for p in mprog], [0.0] + [p[1] for p in mprog]))
+    return t_mj / prog[-1][1] if prog[-1][1] > 0 else None
+
+
+def render(res: dict[str, Any]) -> list[str]:
+    cfg = res["config"]
+    v = res["versions"]
+    lines = [
+        "## Many bodies: lcpsim beside MuJoCo, PyBullet and Rapier",
+        "",
+        f"Machine: {res['machine']}. Versions: lcpsim {v.get('lcpsim')} "
+        f"({v.get('lcpsim_revision', 'revision unknown')}), MuJoCo {v.get('mujoco')}, PyBullet {v.get('pybullet')}, "
+        f"rapier3d-f64 {v.get('rapier3d-f64')}, Python {v.get('python')}, numpy {v.get('numpy')}.",
+        "",
+        f"1 kg unit cubes, μ = {cfg['mu']} for every pair, g = {cfg['g']}, dt = {cfg['dt']:g} s, on a ground plane; "
+        "every engine starts from the state exported from the lcpsim world. Each engine × scene runs in its own "
+        f"process under a {cfg['mem_cap_gb']:g} GiB address-space cap and a {cfg['budget_s']:g} s wall-clock budget "
+        f"(killed {cfg['grace_s']:g} s past it if a stepping call is still running). steps/s counts the stepping "
+        "calls only (median over the repetitions that fit in the budget). "
+        "Command: `benchmarks/peers/.venv/bin/python benchmarks/peers/many_bodies.py`. The machine is shared "
+        f"(1-minute load average {res['load_average_before'][0]:.1f} before the run, "
+        f"{res['load_average_after'][0]:.1f} after): rates move by tens of per cent between runs.",
+        "",
+        "| scene | engine | ran | steps/s | × MuJoCo | contacts (max) | LCPs / failures / largest n | top drift (m) "
+        "| max penetration (m) (at the end) | peak RSS (MB) |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for key, e in res["scenes"].items():
+        mj = e["engines"].get("mujoco", {}).get("steps_per_second")
+        first = True
+        for eng, s in e["engines"].items():
+            walls = f" + {e['static_boxes']} static boxes" if e.get("static_boxes") else ""
+            scene = (f"{e['title']} ({e['bodies']} bodies{walls}, {e['seconds']:g} s = {e['steps']} steps)"
+                     if first else "")
+            first = False
+            if s["outcome"] == "not_run":
+                lines.append(f"| {scene} | {TITLES.get(eng, eng)} | not run: {s['error']} | | | | | | | |")
+                continue
+            sps = s.get("steps_per_second")
+            ratio = f"{sps / mj:.3g}×" if sps and mj else "—"
+            same = same_steps_ratio(s, e["engines"].get("mujoco", {}))
+            if s["outcome"] != "ok" and same:
+                ratio += f" ({same:.3g}× over the same first {s['steps']} steps)"
+            contacts = s.get("stats", {}).get("max_contacts")
+            if contacts is None or eng != "lcpsim":
+                sampled = s.get("contacts_sampled") or []
+                contacts = max(sampled) if sampled else None
+            d = s.get("drift")
+            drift = f"{d['max_m']:.2g} ({d['min_dz_m']:+.2g})" if d else "—"
+            if s.get("finite") is False:
+                drift = "**NaN state**"
+            lines.append(
+                f"| {scene} | {TITLES.get(eng, eng)} | {ran(s, e)} | {fmt(sps, ',.1f')} | {ratio} | "
+                f"{fmt(contacts, 'd')} | {lcp_cell(s)} | {drift} | {fmt(s.get('max_penetration_m'), '.2g')} "
+                f"({fmt(s.get('final_penetration_m'), '.2g')}) | "
+                f"{fmt(s.get('peak_rss_mb'), ',.0f')} |"
+            )
+    lines += ["", "How to read it:", ""] + [f"- {n}" for n in NOTES] + [""]
+    built = {e["built_by"] for e in res["scenes"].values()}
+    lines += ["Scenes built by: " + "; ".join(sorted(built)) + ".", ""]
+    return lines
+
+
+# --------------------------------------------------------------------------- the other two benchmarks
+
+#: RESULTS.md's "Many bodies" section runs from this heading to the end of the file.
+MARKER = "## Many bodies"
+
+
+def render_broadphase(bp: dict[str, Any]) -> list[str]:
+    """The table of ``rapier-bench broadphase --json``."""
+    names = {"sap": "sweep-and-prune (reference)", "bvh_rebuild": "parry BVH, rebuilt",
+             "bvh_refit": "parry BVH, updated + refitted", "sim_sap": "lcpsim's broad phase"}
+    methods = [m for m in names if any(m in s["methods"] for s in bp["sizes"])]
+    lines = [
+        "### Broad phase: parry's BVH against sweep-and-prune",
+        "",
+        f"Random boxes (half extents 0.25–0.75 m, about one per 8 m³, each moving at up to 1 m/s, "
+        f"steps of {bp['dt']:.4g} s), parry3d-f64 {bp['parry3d_f64']}; every method finds the same pairs "
+        "(checked every step, and against brute force up to 3,000 boxes). Median milliseconds per update "
+        f"(new bounds in, every overlapping pair out) over {bp['sizes'][0]['steps']} steps. Command: "
+        "`benchmarks/rapier_bench/target/release/rapier-bench broadphase --json > benchmarks/broadphase.json` "
+        "(without `--json`: this table). The plain sweep along x tests every pair overlapping in x, about "
+        "n²·(2 × mean width / side) of them, so it falls behind the tree as boxes fill a cube (sweeping the axis of widest spread "
+        "helps only where the boxes spread unevenly).",
+        "",
+        "| boxes | pairs per step | " + " | ".join(f"{names[m]} (ms)" for m in methods) + " |",
+        "|---|---|" + "---|" * len(methods),
+    ]
+    for s in bp["sizes"]:
+        pairs = s["methods"]["sap"]["pairs"]
+        cells = " | ".join(f"{s['methods'][m]['ms_median']:.3f}" if m in s["methods"] else "—" for m in methods)
+        lines.append(f"| {s['n']:,} | {min(pairs):,}–{max(pairs):,} | {cells} |")
+    return lines + [""]
+
+
+def splice(md: str, section: list[str]) -> str:
+    """``md`` with its "Many bodies" section (from :data:`MARKER` to the end) replaced by ``section``."""
+    head = md.split("\n" + MARKER, 1)[0].rstrip("\n")
+    return head + "\n\n" + "\n".join(section).rstrip("\n") + "\n"
+
+
+def tail(md: str) -> str:
+    """The "Many bodies" section of ``md`` ("" if none), for writers of the rest of the file to keep."""
+    parts = md.split("\n" + MARKER, 1)
+    return "\n" + MARKER + parts[1] if len(parts) == 2 else ""

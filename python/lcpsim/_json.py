@@ -1,0 +1,37 @@
+"""One conversion to plain JSON types, used by every result file, capture
+metadata and config lcpsim writes."""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Mapping
+
+import numpy as np
+
+__all__ = ["jsonable"]
+
+
+def jsonable(x: Any) -> Any:
+    """``x`` with plain JSON types only.
+
+    Mappings become dicts with string keys; numpy arrays, lists, tuples and
+    other iterables become lists; numpy scalars become Python ones; a
+    non-finite float becomes the string ``"inf"``, ``"-inf"`` or ``"nan"``
+    (strict JSON has no such numbers); ``None``, strings, ints and bools stay;
+    anything else becomes ``str(x)``."""
+    if isinstance(x, Mapping):
+        return {str(k): jsonable(v) for k, v in x.items()}
+    if x is None or isinstance(x, str):
+        return x
+    if isinstance(x, (bool, np.bool_)):
+        return bool(x)
+    if isinstance(x, (int, np.integer)):
+        return int(x)
+    if isinstance(x, (float, np.floating)):
+        f = float(x)
+        return f if math.isfinite(f) else ("inf" if f > 0 else "-inf" if f < 0 else "nan")
+    if isinstance(x, np.ndarray):
+        return jsonable(x.tolist())
+    if isinstance(x, (list, tuple, set, frozenset)) or (hasattr(x, "__iter__") and not isinstance(x, bytes)):
+        return [jsonable(v) for v in x]
+    return str(x)

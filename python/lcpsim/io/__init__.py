@@ -1,0 +1,22 @@
+"""Files lcpsim reads and writes:
+
+==================  ==========================================================
+:mod:`.lcp_file`    one LCP in a file (``.npz`` / HDF5 with ``M``, ``q``):
+                    :func:`load_lcp`, :func:`save_lcp`
+:mod:`.capture`     the HDF5 stream of every LCP a simulation solved
+                    (``World.run(capture=...)``)
+:mod:`.forensics`   failure dumps (``solve_lcp(..., dump=DIR)``) and replay
+==================  ==========================================================
+"""
+
+from __future__ import annotations
+
+from .capture import Capture, CaptureRecord, CaptureWriter, load_captured_lcp, open_capture
+from .forensics import load_dump, replay, write_dump
+from .lcp_file import LcpFileError, file_format, is_dump, load_lcp, save_lcp
+
+__all__ = [
+    "LcpFileError", "load_lcp", "save_lcp", "file_format", "is_dump",
+    "Capture", "CaptureRecord", "CaptureWriter", "open_capture", "load_captured_lcp",
+    "load_dump", "replay", "write_dump",
+]

@@ -1,0 +1,53 @@
+"""Penetration stabilization of the contact LCP's ``b0`` (the normal rows' constant): the
+:class:`Stabilization` a :class:`lcpsim.World` takes, and the forms it may be
+given in."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+__all__ = ["Stabilization", "as_stabilization"]
+
+
+@dataclass(frozen=True)
+class Stabilization:
+    """Penetration stabilization of ``b0``.
+
+    A contact with gap φ > 0 inside the margin adds ``φ/h`` when ``speculative``
+    (it may close within the step, not overshoot); a penetrating one adds
+    ``erp·min(0, φ + slop)/h``. A body resting at φ = 0 gets no term.
+    """
+
+    #: Fraction of the penetration removed per step, in [0, 1].
+    erp: float = 0.2
+    #: Penetration left uncorrected (m), ≥ 0.
+    slop: float = 0.0
+    #: Use the positive gap of contacts inside the margin.
+    speculative: bool = True
+
+    @classmethod
+    def none(cls) -> "Stabilization":
+        """No correction at all: ``b0 = J_n v*``."""
+        return cls(erp=0.0, slop=0.0, speculative=False)
+
+
+def as_stabilization(s: Stabilization | Mapping[str, Any] | str | None) -> Stabilization:
+    """None (the default), ``"none"``, ``"default"``, a :class:`Stabilization` or a
+    mapping of its fields."""
+    if s is None:
+        return Stabilization()
+    if isinstance(s, Stabilization):
+        return s
+    if isinstance(s, str):
+        if s == "none":
+            return Stabilization.none()
+        if s == "default":
+            return Stabilization()
+        raise ValueError(f"stabilization must be None, 'none', 'default', a Stabilization or a mapping, got {s!r}")
+    if isinstance(s, Mapping):
+        unknown = set(s) - {"erp", "slop", "speculative"}
+        if unknown:
+            raise ValueError(f"unknown stabilization field(s) {sorted(unknown)} (valid: erp, slop, speculative)")
+        return Stabilization(**s)
+    raise ValueError(f"stabilization must be None, 'none', a Stabilization or a mapping, got {s!r}")

@@ -1,0 +1,245 @@
+"""Issue 12, Python side: one home per concept, and every old name still working.
+
+Old modules and names stay importable with a DeprecationWarning naming the new
+home; the command line and the report are built from the experiment registry;
+one cone-scale parser and one JSON conversion; no file over 800 lines and no
+function over 120."""
+
+from __future__ import annotations
+
+import ast
+import importlib
+import json
+import math
+import subprocess
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import lcpsim
+from lcpsim._json import jsonable
+from lcpsim.scale import cone_scale_argument, parse_cone_scale, scale_label, scale_value
+
+PACKAGE = Path(lcpsim.__file__).parent
+
+
+# ---------------------------------------------------------------- deprecated modules and names
+
+
+def _fresh_import(name: str):
+    """Imports ``name`` as if for the first time (the alias warns on import)."""
+    sys.modules.pop(name, None)
+    return importlib.import_module(name)
+
+
+@pytest.mark.parametrize(
+    "old, new",
+    [
+        ("lcpsim.corpus", "lcpsim.io.capture"),
+        ("lcpsim.forensics", "lcpsim.io.forensics"),
+        ("lcpsim.cli_simulate", "lcpsim.cli.simulate"),
+        ("lcpsim.cli_experiments", "lcpsim.cli.experiments"),
+    ],
+)
+def test_moved_modules_import_under_their_old_names(old, new):
+    with pytest.warns(DeprecationWarning, match=new.replace(".", r"\.")):
+        mod = _fresh_import(old)
+    assert mod is importlib.import_module(new)
+    # `lcpsim.corpus` as an attribute of the package, too (before any import set it).
+    sys.modules.pop(old, None)
+    vars(lcpsim).pop(old.rpartition(".")[2], None)
+    with pytest.warns(DeprecationWarning):
+        assert getattr(lcpsim, old.rpartition(".")[2]) is mod
+
+
+def test_old_capture_names_warn_and_are_the_new_objects():
+    from lcpsim.io import capture
+
+    with pytest.warns(DeprecationWarning, match="open_capture"):
+        assert lcpsim.open_corpus is capture.open_capture
+    for old, new in (("Corpus", "Capture"), ("CorpusRecord", "CaptureRecord"), ("CorpusWriter", "CaptureWriter")):
+        with pytest.warns(DeprecationWarning, match=new):
+            assert getattr(lcpsim, old) is getattr(capture, new)
+    with pytest.warns(DeprecationWarning):
+        from lcpsim.corpus import CorpusError, is_corpus, load_lcp  # noqa: F401
+    assert load_lcp is capture.load_captured_lcp and CorpusError is capture.CaptureError
+    assert is_corpus is capture.is_capture
+    with pytest.raises(AttributeError, match="no_such_name"):
+        capture.no_such_name  # noqa: B018
+    with pytest.raises(AttributeError):
+        lcpsim.no_such_name  # noqa: B018
+
+
+def test_lcp_stats_count_is_a_deprecated_alias_of_lcps():
+    traj = lcpsim.scenes.resting_cube().world.run(5)
+    stats = traj.lcp_stats()
+    with pytest.warns(DeprecationWarning, match="LcpStats.lcps"):
+        assert stats.count == stats.lcps == 5
+    assert stats.to_dict()["lcps"] == 5
+
+
+# Every name these modules exported before the sub-packages (issue 12).
+OLD_API = {
+    "lcpsim": [
+        "__version__", "solve_lcp", "solve_lcp_batch", "lcp_residual", "lcp_residuals", "LcpResult",
+        "LcpBatchResult", "METHODS", "PIVOTINGS", "STATUSES", "certify", "Certificate", "World", "StepRecord",
+        "Trajectory", "BodyState", "Stabilization", "LcpStats", "NO_CONTACT", "scenes", "Scene", "Corpus",
+        "CorpusRecord", "CorpusWriter", "open_corpus",
+    ],
+    "lcpsim.io": ["LcpFileError", "load_lcp", "save_lcp", "file_format", "is_dump"],
+    "lcpsim.corpus": [
+        "FORMAT", "FORMAT_VERSION", "CorpusError", "CorpusWriter", "CorpusRecord", "Corpus", "open_corpus",
+        "load_lcp", "is_corpus", "load_record",
+    ],
+    "lcpsim.forensics": ["DUMP_FORMAT", "Dump", "Replay", "write_dump", "load_dump", "replay", "variable_name",
+                         "TRACE_FIELDS"],
+    "lcpsim.cli": ["main", "register_command", "Command", "CliError", "build_parser", "EXIT_OK",
+                   "EXIT_NOT_SOLVED", "EXIT_USAGE"],
+    "lcpsim.cli_simulate": ["simulate_summary"],
+    "lcpsim.experiments": ["EXPERIMENTS", "DEFAULTS", "run_experiment", "experiment_name", "PRESETS", "Solver",
+                           "parse_solver"],
+    "lcpsim.experiments.plotting": ["plot_failure_rate", "plot_slope", "plot_critical_scale", "plot_invariance",
+                                    "plot_patterns", "plot_push", "plot_push_sweep", "plot_result"],
+    "lcpsim.experiments.report": ["make_report"],
+    "lcpsim.experiments._common": ["G", "parse_scale", "scale_value", "scale_label", "parse_scales",
+                                   "merge_config", "envelope", "jsonable"],
+}
+
+
+@pytest.mark.parametrize("module", sorted(OLD_API))
+def test_every_old_name_still_imports(module):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        mod = importlib.import_module(module)
+        for name in OLD_API[module]:
+            assert getattr(mod, name) is not None, (module, name)
+
+
+def test_io_load_lcp_and_capture_loader_have_distinct_names(tmp_path):
+    from lcpsim import io
+    from lcpsim.io import capture
+
+    assert io.load_lcp is not capture.load_captured_lcp
+    assert "load_lcp" not in capture.__all__ and "load_captured_lcp" in capture.__all__
+
+
+def test_console_script_and_python_m_entry_points():
+    pyproject = (PACKAGE.parents[1] / "pyproject.toml").read_text()
+    assert 'lcpsim = "lcpsim.cli:main"' in pyproject
+    from lcpsim.cli import main
+
+    assert callable(main)
+    out = subprocess.run([sys.executable, "-m", "lcpsim", "--version"], capture_output=True, text=True,
+                         env={"PYTHONPATH": str(PACKAGE.parent), "PATH": ""})
+    assert out.returncode == 0 and out.stdout.startswith("lcpsim "), out.stderr
+
+
+def test_cli_modules_import_without_a_circle():
+    # Each command module imports alone in a fresh interpreter, and the
+    # registry module imports nothing else of lcpsim.cli.
+    for mod in ("lcpsim.cli.command", "lcpsim.cli.solve", "lcpsim.cli.simulate", "lcpsim.cli.experiments",
+                "lcpsim.cli.main"):
+        out = subprocess.run([sys.executable, "-W", "error::DeprecationWarning", "-c", f"import {mod}"],
+                             capture_output=True, text=True, env={"PYTHONPATH": str(PACKAGE.parent), "PATH": ""})
+        assert out.returncode == 0, (mod, out.stderr)
+    tree = ast.parse((PACKAGE / "cli" / "command.py").read_text())
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            assert node.level == 0, "lcpsim.cli.command must not import the command modules"
+
+
+# ---------------------------------------------------------------- the experiment registry
+
+
+def test_cli_and_report_are_built_from_the_registry():
+    from lcpsim.cli.command import commands
+    from lcpsim.experiments import DEFAULTS, EXPERIMENTS, REGISTRY
+    from lcpsim.experiments.experiment import Experiment
+
+    names = [c.name for c in commands()]
+    assert names == ["solve", "demo", "simulate", *REGISTRY, "report", "sweep"]
+    assert list(EXPERIMENTS) == list(DEFAULTS) == list(REGISTRY)
+    for name, e in REGISTRY.items():
+        assert isinstance(e, Experiment) and e.name == name
+        mod = importlib.import_module(e.run.__module__)
+        assert mod.EXPERIMENT is e and e.defaults is mod.DEFAULTS and e.report is not None
+
+
+# ---------------------------------------------------------------- one cone-scale parser
+
+
+@pytest.mark.parametrize(
+    "given, parsed",
+    [
+        (None, None), ("none", None), ("None", None), ("unscaled", None), ("", None), ("1", None), (1, None),
+        (1.0, None), (np.float64(1.0), None), ("dt", "dt"), ("DT", "dt"), ("h", "dt"), ("timestep", "dt"),
+        ("time_step", "dt"), (" 1e-3 ", 1e-3), (1e-3, 1e-3), (np.float32(0.5), 0.5), (np.int64(2), 2.0), (3, 3.0),
+    ],
+)
+def test_cone_scale_spellings(given, parsed):
+    assert parse_cone_scale(given) == parsed
+
+
+@pytest.mark.parametrize("bad", [0, 0.0, -1e-3, "huge", float("inf"), float("nan"), "-1", True, np.bool_(False),
+                                 [1e-3], {"s": 1}])
+def test_bad_cone_scales_name_the_field_and_value(bad):
+    with pytest.raises(ValueError, match=r"cone_scale must be none, dt or a number > 0, got"):
+        parse_cone_scale(bad, "cone_scale")
+    with pytest.raises(ValueError, match="cone_scale") as e:
+        lcpsim.World(cone_scale=bad)
+    assert repr(bad) in str(e.value)
+
+
+def test_cone_scale_argument_labels_and_values():
+    import argparse
+
+    assert cone_scale_argument("none") == "none" and cone_scale_argument("1e-3") == 1e-3
+    with pytest.raises(argparse.ArgumentTypeError, match="got 'x'"):
+        cone_scale_argument("x")
+    assert scale_value(None, 1e-3) == 1.0 and scale_value("dt", 1e-3) == 1e-3 and scale_value(0.5, 1e-3) == 0.5
+    assert [scale_label(s) for s in (None, "dt", 1e-3)] == ["none", "dt", "0.001"]
+    # The World reads the same spellings (and shows "none"/"dt"/the number).
+    assert lcpsim.World(cone_scale="unscaled").params["cone_scale"] == "none"
+    assert lcpsim.World(cone_scale="time_step").params["cone_scale"] == "dt"
+    assert lcpsim.World(cone_scale="2e-3").params["cone_scale"] == 2e-3
+
+
+# ---------------------------------------------------------------- one JSON conversion
+
+
+def test_jsonable_edge_cases():
+    x = {
+        1: np.float64(0.5), "i": np.int32(3), "b": np.bool_(True), "a": np.arange(3), "nan": float("nan"),
+        "inf": np.float64("inf"), "-inf": -math.inf, "none": None, "s": "text", "t": (1, 2.5), "set": {4},
+        "nested": [{"m": np.array([[1.0, np.nan]])}], "keys": {"k": 1}.keys(), "obj": Path("p"), "bytes": b"x",
+    }
+    j = jsonable(x)
+    assert j == {
+        "1": 0.5, "i": 3, "b": True, "a": [0, 1, 2], "nan": "nan", "inf": "inf", "-inf": "-inf", "none": None,
+        "s": "text", "t": [1, 2.5], "set": [4], "nested": [{"m": [[1.0, "nan"]]}], "keys": ["k"], "obj": "p",
+        "bytes": "b'x'",
+    }
+    assert type(j["i"]) is int and type(j["b"]) is bool and type(j["1"]) is float
+    json.dumps(j, allow_nan=False)  # strict JSON
+
+
+def test_every_json_writer_uses_the_one_conversion():
+    sources = {p: p.read_text() for p in PACKAGE.rglob("*.py")}
+    defs = [p.relative_to(PACKAGE) for p, s in sources.items() if "def jsonable(" in s or "def _jsonable(" in s]
+    assert defs == [Path("_json.py")]
+
+
+# ---------------------------------------------------------------- sizes
+
+
+def test_no_file_over_800_lines_and_no_function_over_120():
+    for path in sorted(PACKAGE.rglob("*.py")):
+        text = path.read_text()
+        assert text.count("\n") <= 800, f"{path.relative_to(PACKAGE)}: {text.count(chr(10))} lines"
+        for node in ast.walk(ast.parse(text)):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                length = (node.end_lineno or node.lineno) - node.lineno + 1
+                assert length <= 120, f"{path.relative_to(PACKAGE)}:{node.lineno} {node.name}: {length} lines"
