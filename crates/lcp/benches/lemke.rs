@@ -1,6 +1,8 @@
 //! Criterion bench: median time per solve for contact-structured LCPs
 //! (DESIGN §1, sizes 20 and 40, from `sim::generate`) and random SPD LCPs (40, 200, 1000).
-//! Run with `cargo bench -p lcpsim-lcp --bench lemke`.
+//! Run with `cargo bench -p lcpsim-lcp --bench lemke`. Each solve runs in
+//! one reused workspace (`lemke::solve_in`), as the simulator and the Python
+//! glue call it.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use lcp::{generate, lemke, LemkeOptions};
@@ -14,10 +16,11 @@ fn contact(c: &mut Criterion) {
         for (name, o) in [("robust", LemkeOptions::default()), ("classic", LemkeOptions::classic())] {
             let id = BenchmarkId::new(name, format!("n{}_s{scale:e}", 10 * nc));
             let mut i = 0;
+            let mut ws = lemke::Workspace::new();
             g.bench_function(id, |b| {
                 b.iter(|| {
                     i = (i + 1) % set.len();
-                    black_box(lemke::solve(&set[i], &o))
+                    black_box(lemke::solve_in(&set[i], &o, None, &mut ws))
                 })
             });
         }
@@ -30,8 +33,9 @@ fn spd(c: &mut Criterion) {
     g.sample_size(10);
     for n in [40usize, 200, 1000] {
         let lcp = generate::spd_lcp(n, 1);
+        let mut ws = lemke::Workspace::new();
         g.bench_function(BenchmarkId::new("robust", n), |b| {
-            b.iter(|| black_box(lemke::solve(&lcp, &LemkeOptions::default())))
+            b.iter(|| black_box(lemke::solve_in(&lcp, &LemkeOptions::default(), None, &mut ws)))
         });
     }
     g.finish();

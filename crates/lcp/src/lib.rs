@@ -4,7 +4,8 @@
 //! contract, `solve(&Lcp, &Options) -> Solution`, never panics on numerics and
 //! reports how it ended in `Solution::status` together with residuals
 //! recomputed from its answer (`Residuals`). `method::solve` dispatches on a
-//! `Method` value.
+//! `Method` value; `method::solve_in` does so in a caller-owned [`Workspace`]
+//! (one per thread, reused), which spares Lemke its per-solve allocations.
 //!
 //! - [`lemke`]: Lemke's complementary pivoting — `Lexicographic` (robust
 //!   default: equilibration, relative tie tolerance, O(n²) block-inverse
@@ -29,13 +30,12 @@ pub mod method;
 pub mod newton_fb;
 pub mod pgs;
 pub mod problem;
-mod recycle;
 pub mod scaling;
 pub mod solution;
 
 pub use contact::ContactLayout;
 pub use lemke::{LemkeOptions, Pivoting};
-pub use method::{solve, solve_warm, Method};
+pub use method::{solve, solve_in, solve_warm, Method, Workspace};
 pub use newton_fb::NewtonFbOptions;
 pub use pgs::PgsOptions;
 pub use problem::{Lcp, LcpError};

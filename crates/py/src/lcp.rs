@@ -1,21 +1,38 @@
 //! Bindings of the `lcp` crate: `solve_lcp`, `solve_lcp_batch` (GIL released,
 //! optionally threaded), `lcp_residual` and `lcp_residuals`.
+//!
+//! Solves run in an `lcp::Workspace` owned here: single solves in one per
+//! thread ([`WORKSPACE`]), a batch in one per worker thread.
 
 use crate::errors::panic_error;
 use crate::method::method_from_py;
 use crate::problem::{lcp_from_py, lcps_from_py, vector_of_len};
 use crate::solution::{batch_to_dict, residuals_into, solution_to_dict};
-use lcp::{Lcp, Method, Residuals, Solution};
+use lcp::{Lcp, Method, Residuals, Solution, Workspace};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::cell::RefCell;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// The payload of a caught panic.
 type Panic = Box<dyn std::any::Any + Send>;
 
-/// Solves one LCP; a panic (a solver bug) is caught and returned as the payload.
-fn solve_guarded(lcp: &Lcp, method: &Method) -> Result<Solution, Panic> {
-    catch_unwind(AssertUnwindSafe(|| lcp::solve(lcp, method)))
+thread_local! {
+    /// The solver workspace of `solve_lcp` on this thread (the GIL is
+    /// released on the calling thread, so one per thread suffices). A solve
+    /// rebuilds whatever it reads, so one interrupted by a panic leaves
+    /// nothing behind that matters.
+    static WORKSPACE: RefCell<Workspace> = RefCell::new(Workspace::new());
+}
+
+/// Solves one LCP in `ws`; a panic (a solver bug) is caught and returned as the payload.
+fn solve_guarded(lcp: &Lcp, method: &Method, ws: &mut Workspace) -> Result<Solution, Panic> {
+    catch_unwind(AssertUnwindSafe(|| lcp::solve_in(lcp, method, None, ws)))
+}
+
+/// [`solve_guarded`] in this thread's [`WORKSPACE`].
+fn solve_here(lcp: &Lcp, method: &Method) -> Result<Solution, Panic> {
+    WORKSPACE.with(|ws| solve_guarded(lcp, method, &mut ws.borrow_mut()))
 }
 
 /// Solves the LCP `(M, q)`: find z ≥ 0 with w = M z + q ≥ 0 and zᵀw = 0.
@@ -36,12 +53,8 @@ pub fn solve_lcp<'py>(
     let lcp = lcp_from_py(m, q)?;
     // Small problems are solved in microseconds: releasing the GIL would cost
     // more than it frees, so only large ones are solved detached.
-    let sol = if lcp.n() >= 64 {
-        py.detach(|| solve_guarded(&lcp, &method_v))
-    } else {
-        solve_guarded(&lcp, &method_v)
-    }
-    .map_err(panic_error)?;
+    let sol = if lcp.n() >= 64 { py.detach(|| solve_here(&lcp, &method_v)) } else { solve_here(&lcp, &method_v) }
+        .map_err(panic_error)?;
     solution_to_dict(py, sol, method_v.name())
 }
 
@@ -70,7 +83,8 @@ pub fn solve_lcp_batch<'py>(
     .min(lcps.len().max(1));
     let results: Vec<Result<Solution, (usize, Panic)>> = py.detach(|| {
         if threads <= 1 {
-            lcps.iter().enumerate().map(|(i, l)| solve_guarded(l, &method_v).map_err(|p| (i, p))).collect()
+            let mut ws = Workspace::new();
+            lcps.iter().enumerate().map(|(i, l)| solve_guarded(l, &method_v, &mut ws).map_err(|p| (i, p))).collect()
         } else {
             let chunk = lcps.len().div_ceil(threads);
             std::thread::scope(|scope| {
@@ -80,9 +94,10 @@ pub fn solve_lcp_batch<'py>(
                     .map(|(c, part)| {
                         let method_v = &method_v;
                         scope.spawn(move || {
+                            let mut ws = Workspace::new();
                             part.iter()
                                 .enumerate()
-                                .map(|(i, l)| solve_guarded(l, method_v).map_err(|p| (c * chunk + i, p)))
+                                .map(|(i, l)| solve_guarded(l, method_v, &mut ws).map_err(|p| (c * chunk + i, p)))
                                 .collect::<Vec<_>>()
                         })
                     })

@@ -26,6 +26,7 @@ fn main() {
     s.world.step().unwrap();
     let lcp_copy = s.world.contact_lcp().to_lcp().unwrap();
     let cached = lcp::solve(&lcp_copy, &Method::default());
+    let mut ws = lcp::Workspace::new();
     let full = min_time(batches, per, || {
         s.world.step().unwrap();
     });
@@ -34,7 +35,7 @@ fn main() {
         s.world.step_with(&mut f).unwrap();
     });
     let solve = min_time(batches, per, || {
-        std::hint::black_box(lcp::solve(&lcp_copy, &Method::default()));
+        std::hint::black_box(lcp::solve_in(&lcp_copy, &Method::default(), None, &mut ws));
     });
     let detect = min_time(batches, per, || {
         s.world.forces_stage().unwrap();

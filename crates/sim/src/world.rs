@@ -72,6 +72,8 @@ pub(crate) struct Workspace {
     /// Contact islands, and one LCP slot per island (slots are kept, never shrunk).
     pub islands: Islands,
     pub pool: Vec<IslandLcp>,
+    /// The LCP solver's buffers, one per solving thread (Lemke's basis inverse, working problem, …).
+    pub solvers: Vec<lcp::Workspace>,
     /// Bases of the previous step's islands.
     pub warm: WarmStarts,
     /// What `contact_lcp` shows without contacts.

@@ -19,7 +19,6 @@
 //! O(n³) of refactoring (Drake's Moby) or the O(n²) of a full tableau.
 
 use crate::problem::Lcp;
-use crate::recycle;
 use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
 
@@ -91,27 +90,15 @@ impl Var {
     }
 }
 
-/// The entering column expressed in the current basis: `x = B⁻¹ a_e`.
+/// The entering column expressed in the current basis: `x = B⁻¹ a_e`
+/// ([`Basis::column`] sizes it).
+#[derive(Default)]
 pub(crate) struct Column {
     /// Entries for the z-type basics, by position in `S`.
     pub(crate) xs: Vec<f64>,
     /// Entries for basic `w_i`, indexed by row `i`; 0 where `i ∈ R` (so
     /// the ratio test and the value update can sweep all rows branch-free).
     pub(crate) xw: Vec<f64>,
-}
-
-impl Column {
-    /// Room for a problem of size `n`.
-    pub(crate) fn new(n: usize) -> Column {
-        Column { xs: recycle::take(n), xw: recycle::filled(n, 0.0) }
-    }
-}
-
-impl Drop for Column {
-    fn drop(&mut self) {
-        recycle::give(std::mem::take(&mut self.xs));
-        recycle::give(std::mem::take(&mut self.xw));
-    }
 }
 
 /// Which basic variable leaves.
@@ -150,56 +137,83 @@ pub(crate) struct Basis<'a> {
     pub(crate) row_w: Vec<usize>,
     /// Scratch of length n.
     tmp: Vec<f64>,
+    /// Scratch of the Gauss–Jordan refactorization.
+    gj_c: Vec<f64>,
+    gj_inv: Vec<f64>,
     /// Pivots since the last refactorization.
     pub(crate) since_refactor: usize,
 }
 
-impl Drop for Basis<'_> {
-    fn drop(&mut self) {
-        for v in [&mut self.gs, &mut self.cinv, &mut self.val_s, &mut self.val_w, &mut self.tmp] {
-            recycle::give(std::mem::take(v));
-        }
-        for v in [&mut self.r, &mut self.row_s, &mut self.row_w] {
-            recycle::give(std::mem::take(v));
-        }
-    }
+/// The buffers of a [`Basis`], kept in the caller's workspace between
+/// solves: a basis takes them when it is built and gives them back with
+/// [`Basis::into_buffers`], so a warm workspace pivots without allocating.
+#[derive(Default)]
+pub(crate) struct BasisBuffers {
+    r: Vec<usize>,
+    r_pos: Vec<Option<usize>>,
+    s: Vec<Var>,
+    gs: Vec<f64>,
+    cinv: Vec<f64>,
+    val_s: Vec<f64>,
+    val_w: Vec<f64>,
+    row_s: Vec<usize>,
+    row_w: Vec<usize>,
+    tmp: Vec<f64>,
+    /// `C` and its inverse for the Gauss–Jordan refactorization (m ≤ [`SMALL_INVERSE`]).
+    gj_c: Vec<f64>,
+    gj_inv: Vec<f64>,
 }
 
 impl<'a> Basis<'a> {
-    /// The all-slack basis `B = I`, values `w = q`.
-    pub(crate) fn slack(lcp: &'a Lcp, d: &'a [f64]) -> Self {
+    /// The all-slack basis `B = I`, values `w = q`, in the buffers `b`.
+    pub(crate) fn slack(lcp: &'a Lcp, d: &'a [f64], b: BasisBuffers) -> Self {
         let n = lcp.n();
-        Basis {
-            lcp,
-            d,
-            n,
-            r: recycle::take(n),
-            r_pos: vec![None; n],
-            s: Vec::with_capacity(n),
-            gs: recycle::take(n * n.min(64)),
-            // Grown row by row as `C` grows (`ensure_rows`).
-            cinv: recycle::take(n * n.min(64)),
-            val_s: recycle::take(n),
-            val_w: {
-                let mut v = recycle::take(n);
-                v.extend_from_slice(lcp.q());
-                v
-            },
-            row_s: recycle::take(n),
-            row_w: {
-                let mut v = recycle::take(n);
-                v.extend(0..n);
-                v
-            },
-            tmp: recycle::filled(n, 0.0),
-            since_refactor: 0,
+        let BasisBuffers {
+            mut r,
+            mut r_pos,
+            mut s,
+            mut gs,
+            mut cinv,
+            mut val_s,
+            mut val_w,
+            mut row_s,
+            mut row_w,
+            mut tmp,
+            gj_c,
+            gj_inv,
+        } = b;
+        for v in [&mut gs, &mut cinv, &mut val_s, &mut val_w, &mut tmp] {
+            v.clear();
         }
+        for v in [&mut r, &mut row_s, &mut row_w] {
+            v.clear();
+        }
+        r_pos.clear();
+        r_pos.resize(n, None);
+        s.clear();
+        // (`gs` and `cinv` grow row by row as `C` grows, see `ensure_rows`.)
+        val_w.extend_from_slice(lcp.q());
+        row_w.extend(0..n);
+        tmp.resize(n, 0.0);
+        Basis { lcp, d, n, r, r_pos, s, gs, cinv, val_s, val_w, row_s, row_w, tmp, gj_c, gj_inv, since_refactor: 0 }
+    }
+
+    /// Sets the covering vector (a complementary basis is factored without one).
+    pub(crate) fn set_covering(&mut self, d: &'a [f64]) {
+        self.d = d;
+    }
+
+    /// Gives the buffers back for the next basis.
+    pub(crate) fn into_buffers(self) -> BasisBuffers {
+        let Basis { r, r_pos, s, gs, cinv, val_s, val_w, row_s, row_w, tmp, gj_c, gj_inv, .. } = self;
+        BasisBuffers { r, r_pos, s, gs, cinv, val_s, val_w, row_s, row_w, tmp, gj_c, gj_inv }
     }
 
     /// The complementary basis `{z_j : j ∈ α} ∪ {w_i : i ∉ α}`, factored.
-    /// `None` when `M_αα` is numerically singular.
-    pub(crate) fn complementary(lcp: &'a Lcp, d: &'a [f64], alpha: &[usize]) -> Option<Self> {
-        let mut b = Basis::slack(lcp, d);
+    /// `Err` (with the unfactored basis, for its buffers) when `M_αα` is
+    /// numerically singular.
+    pub(crate) fn complementary(lcp: &'a Lcp, d: &'a [f64], alpha: &[usize], b: BasisBuffers) -> Result<Self, Self> {
+        let mut b = Basis::slack(lcp, d, b);
         for (p, &j) in alpha.iter().enumerate() {
             b.r.push(j);
             b.r_pos[j] = Some(p);
@@ -209,7 +223,11 @@ impl<'a> Basis<'a> {
             b.row_s.push(j);
             b.val_w[j] = 0.0;
         }
-        b.refactor().then_some(b)
+        if b.refactor() {
+            Ok(b)
+        } else {
+            Err(b)
+        }
     }
 
     /// The most negative basic value and where it sits.
@@ -524,14 +542,21 @@ impl<'a> Basis<'a> {
         if m > 0 && m <= SMALL_INVERSE {
             // Small C (the warm-started simulator step): Gauss–Jordan in place,
             // without faer's setup cost, which dominates below a few dozen rows.
-            let mut c: Vec<f64> = (0..m * m).map(|k| self.a(self.r[k / m], self.s[k % m])).collect();
-            let mut inv = vec![0.0; m * m];
-            if !gauss_jordan_inverse(&mut c, &mut inv, m) {
-                return false;
+            let (mut c, mut inv) = (std::mem::take(&mut self.gj_c), std::mem::take(&mut self.gj_inv));
+            c.clear();
+            c.extend((0..m * m).map(|k| self.a(self.r[k / m], self.s[k % m])));
+            inv.clear();
+            inv.resize(m * m, 0.0);
+            let regular = gauss_jordan_inverse(&mut c, &mut inv, m);
+            if regular {
+                self.ensure_rows(m);
+                for a in 0..m {
+                    self.cinv[a * n..a * n + m].copy_from_slice(&inv[a * m..(a + 1) * m]);
+                }
             }
-            self.ensure_rows(m);
-            for a in 0..m {
-                self.cinv[a * n..a * n + m].copy_from_slice(&inv[a * m..(a + 1) * m]);
+            (self.gj_c, self.gj_inv) = (c, inv);
+            if !regular {
+                return false;
             }
         } else if m > 0 {
             let c = Mat::<f64>::from_fn(m, m, |a, b| self.a(self.r[a], self.s[b]));
@@ -589,9 +614,10 @@ impl<'a> Basis<'a> {
         self.tmp = res;
     }
 
-    /// Current `z` (length n) from the basic values; `z0` is returned apart.
-    pub(crate) fn z(&self) -> (Vec<f64>, f64) {
-        let mut z = vec![0.0; self.n];
+    /// Current `z` (length n) from the basic values, written into `z`; `z0` is returned.
+    pub(crate) fn z_into(&self, z: &mut Vec<f64>) -> f64 {
+        z.clear();
+        z.resize(self.n, 0.0);
         let mut z0 = 0.0;
         for (p, &v) in self.s.iter().enumerate() {
             match v {
@@ -600,6 +626,6 @@ impl<'a> Basis<'a> {
                 Var::W(_) => {}
             }
         }
-        (z, z0)
+        z0
     }
 }

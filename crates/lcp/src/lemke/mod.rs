@@ -4,6 +4,10 @@
 //! - [`ratio`]: the lexicographic and the classic (seed) ratio tests.
 //! - [`run`]: the pivoting loop with its cycle guard and pivot limit.
 //! - [`refine`]: re-solving the final complementary basis.
+//! - [`frame`]: a rung's working (equilibrated) problem and its acceptance test.
+//! - [`warm`], [`subbasis`]: the warm start's basis, made regular when the
+//!   previous answer's is singular (statically indeterminate contact).
+//! - [`workspace`]: the caller-owned buffers of a solve ([`solve_in`]).
 //!
 //! `Lexicographic` (default) equilibrates `M` (Ruiz, power-of-two factors, so
 //! the scaling itself adds no round-off) and normalizes `q`, pivots, re-solves
@@ -12,52 +16,85 @@
 //! absolute tolerances and trusts its own values, as the seed note's did.
 
 mod basis;
+mod frame;
 mod options;
 mod ratio;
 mod refine;
 mod run;
+mod subbasis;
+mod warm;
+mod workspace;
 
 pub use options::{LemkeOptions, Pivoting};
 pub use run::PivotRecord;
+pub use workspace::Workspace;
 
 use crate::newton_fb::NewtonFbOptions;
 use crate::problem::Lcp;
-use crate::scaling::Scaling;
 use crate::solution::{Solution, Status};
 use basis::Var;
 use ratio::Rule;
 use run::RunSettings;
+use warm::Start;
 
-/// Ruiz sweeps used by the default equilibration.
-const RUIZ_ITERATIONS: usize = 8;
-
-/// Solves `lcp` by Lemke's method. Never panics on numerics.
+/// Solves `lcp` by Lemke's method. Never panics on numerics. Allocates a
+/// workspace for the call; a caller that solves often holds one and calls
+/// [`solve_in`].
 pub fn solve(lcp: &Lcp, o: &LemkeOptions) -> Solution {
-    solve_warm(lcp, o, None)
+    solve_in(lcp, o, None, &mut Workspace::new())
 }
 
 /// Solves `lcp` starting from a guessed complementary basis (`basis[j]`: z_j
-/// basic), typically the previous time step's `Solution::basis`. If that
-/// basis still solves the problem, no pivot is needed; otherwise Lemke runs
-/// from it with the covering vector `d = B·1`, and the usual cold start
-/// follows if that fails. A basis of the wrong length is ignored. `Classic`
-/// pivoting ignores the guess (the seed's Lemke started cold).
+/// basic), typically the previous time step's `Solution::basis`. A guess
+/// whose block `M_αα` is singular (statically indeterminate contact) is first
+/// cut down to a regular principal block on the same support (`subbasis`).
+/// If that basis solves the problem — its values, round-off negatives
+/// clipped, pass the usual residual check — no pivot is needed; else up to
+/// `warm::SWAP_ROUNDS` block principal pivots exchange its negative basics
+/// for their complements (each exchange counts as a pivot), each result
+/// checked the same way; then Lemke runs from the last basis with the
+/// covering vector `d = B·1`, and the usual cold start follows if that fails.
+/// A basis of the wrong length is ignored. `Classic` pivoting ignores the
+/// guess (the seed's Lemke started cold).
 pub fn solve_warm(lcp: &Lcp, o: &LemkeOptions, basis: Option<&[bool]>) -> Solution {
-    solve_inner(lcp, o, basis, None)
+    solve_in(lcp, o, basis, &mut Workspace::new())
 }
 
 /// As [`solve_warm`], also returning every pivot taken (over all rungs of
 /// the repair ladder): the pivot trace of a failure dump.
 pub fn solve_traced(lcp: &Lcp, o: &LemkeOptions, basis: Option<&[bool]>) -> (Solution, Vec<PivotRecord>) {
+    solve_traced_in(lcp, o, basis, &mut Workspace::new())
+}
+
+/// As [`solve_warm`], in the caller's workspace `ws`: on a workspace that
+/// has solved a problem of this size before, nothing is allocated but the
+/// answer (see [`Workspace`]). The answer does not depend on what `ws` saw.
+pub fn solve_in(lcp: &Lcp, o: &LemkeOptions, basis: Option<&[bool]>, ws: &mut Workspace) -> Solution {
+    solve_inner(lcp, o, basis, None, ws)
+}
+
+/// As [`solve_traced`], in the caller's workspace `ws`.
+pub fn solve_traced_in(
+    lcp: &Lcp,
+    o: &LemkeOptions,
+    basis: Option<&[bool]>,
+    ws: &mut Workspace,
+) -> (Solution, Vec<PivotRecord>) {
     let mut trace = Vec::new();
-    let sol = solve_inner(lcp, o, basis, Some(&mut trace));
+    let sol = solve_inner(lcp, o, basis, Some(&mut trace), ws);
     (sol, trace)
 }
 
-fn solve_inner(lcp: &Lcp, o: &LemkeOptions, basis: Option<&[bool]>, trace: Option<&mut Vec<PivotRecord>>) -> Solution {
+fn solve_inner(
+    lcp: &Lcp,
+    o: &LemkeOptions,
+    basis: Option<&[bool]>,
+    trace: Option<&mut Vec<PivotRecord>>,
+    ws: &mut Workspace,
+) -> Solution {
     match o.pivoting {
-        Pivoting::Classic => solve_classic(lcp, o, trace),
-        Pivoting::Lexicographic => solve_lexicographic(lcp, o, basis.filter(|_| o.warm_start), trace),
+        Pivoting::Classic => solve_classic(lcp, o, trace, ws),
+        Pivoting::Lexicographic => solve_lexicographic(lcp, o, basis.filter(|_| o.warm_start), trace, ws),
     }
 }
 
@@ -66,7 +103,7 @@ fn refactor_every(n: usize) -> usize {
     n.max(50)
 }
 
-fn solve_classic(lcp: &Lcp, o: &LemkeOptions, trace: Option<&mut Vec<PivotRecord>>) -> Solution {
+fn solve_classic(lcp: &Lcp, o: &LemkeOptions, trace: Option<&mut Vec<PivotRecord>>, ws: &mut Workspace) -> Solution {
     // z = 0 when no q_i is below −zero_tol.
     if lcp.q().iter().all(|&v| v > -o.zero_tol) {
         return Solution::from_z(lcp, vec![0.0; lcp.n()], Status::Solved, 0);
@@ -74,18 +111,22 @@ fn solve_classic(lcp: &Lcp, o: &LemkeOptions, trace: Option<&mut Vec<PivotRecord
     // The standard covering vector d = 1. (Moby uses 1 only where q < 0; with
     // d_i = 0 elsewhere Lemke loses its guarantee and this rule ray-terminates
     // on nearly every step of a cube resting on a 30° slope.)
-    let d = vec![1.0; lcp.n()];
+    ws.d.clear();
+    ws.d.resize(lcp.n(), 1.0);
     let set = RunSettings {
         rule: Rule::Classic { piv_tol: o.piv_tol, zero_tol: o.zero_tol },
         trace: trace.is_some(),
         max_pivots: o.pivot_limit(lcp.n()),
         refactor_every: refactor_every(lcp.n()),
     };
-    let r = run::run(lcp, &d, &set);
+    let r = run::run(lcp, &ws.d, &set, std::mem::take(&mut ws.basis), &mut ws.pivoting);
     if let Some(t) = trace {
         t.extend_from_slice(&r.trace);
     }
-    let (z, _) = r.basis.z();
+    let mut z = Vec::with_capacity(lcp.n());
+    r.basis.z_into(&mut z);
+    let mask = basic_mask(&r.basis.s, lcp.n());
+    ws.basis = r.basis.into_buffers();
     let mut sol = Solution::from_z(lcp, z, r.status, r.pivots);
     // z0 left, but does z solve the problem? Moby's check, with the user zero
     // on the problem as given: z, w ≥ −zero_tol and |z_i w_i| < zero_tol.
@@ -95,7 +136,7 @@ fn solve_classic(lcp: &Lcp, o: &LemkeOptions, trace: Option<&mut Vec<PivotRecord
     {
         sol.status = Status::Numerical;
     }
-    sol.basis = Some(basic_mask(&r.basis.s, lcp.n()));
+    sol.basis = Some(mask);
     sol
 }
 
@@ -131,14 +172,19 @@ const EXTRA_COVERS: u32 = 4;
 /// Lemke restarts from failed rungs' final bases (see `solve_lexicographic`).
 const RESTARTS: usize = 6;
 
+/// Rungs of the full ladder.
+const RUNGS: usize = 5 + EXTRA_COVERS as usize;
+
 /// The repair ladder: each rung runs only if the previous one failed its check;
 /// after the last, restarts from the rungs' final bases and a Newton–FB polish
-/// of the closest answer (see `solve_lexicographic`).
-fn ladder(o: &LemkeOptions) -> Vec<Attempt> {
+/// of the closest answer (see `solve_lexicographic`). Returned as an array
+/// with the number of rungs in use.
+fn ladder(o: &LemkeOptions) -> ([Attempt; RUNGS], usize) {
     let first =
         Attempt { equilibrate: o.equilibrate, piv_rel: o.piv_tol.max(MIN_RELATIVE_PIVOT), cover: 0, tie_tol: TIE_TOL };
+    let mut all = [first; RUNGS];
     if !o.fallback {
-        return vec![first];
+        return (all, 1);
     }
     let named = [
         first,
@@ -159,7 +205,8 @@ fn ladder(o: &LemkeOptions) -> Vec<Attempt> {
     // 27 failures without these rungs, 6 (all one LCP) with them.
     let more =
         (2..2 + EXTRA_COVERS).map(|k| Attempt { piv_rel: if k % 2 == 0 { 1e-7 } else { 1e-9 }, cover: k, ..first });
-    named.into_iter().chain(more).collect()
+    all.iter_mut().zip(named.into_iter().chain(more)).for_each(|(a, b)| *a = b);
+    (all, RUNGS)
 }
 
 fn solve_lexicographic(
@@ -167,27 +214,35 @@ fn solve_lexicographic(
     o: &LemkeOptions,
     warm: Option<&[bool]>,
     mut trace: Option<&mut Vec<PivotRecord>>,
+    ws: &mut Workspace,
 ) -> Solution {
     let mut best: Option<Solution> = None;
     // Final bases of the failed rungs, with their natural residuals.
     let mut ends: Vec<(f64, Vec<bool>)> = Vec::new();
     let mut pivots = 0;
     let limit = o.pivot_limit(lcp.n());
-    let rungs = ladder(o);
+    let (all_rungs, used) = ladder(o);
+    let rungs = &all_rungs[..used];
     // A warm start runs first, on the first rung's settings; the cold ladder follows if it fails.
-    let alpha: Option<Vec<usize>> =
-        warm.filter(|b| b.len() == lcp.n()).map(|b| (0..b.len()).filter(|&j| b[j]).collect());
-    let warm_rung = alpha.as_ref().map(|a| (rungs[0], Some(a.as_slice())));
+    let mut alpha = std::mem::take(&mut ws.alpha);
+    alpha.clear();
+    let warm = warm.filter(|b| b.len() == lcp.n());
+    if let Some(b) = warm {
+        alpha.extend((0..b.len()).filter(|&j| b[j]));
+    }
+    let warm_rung = warm.map(|_| (rungs[0], Some(alpha.as_slice())));
     let warm_rung_count = warm_rung.is_some() as usize;
     for (rung, (attempt, start)) in warm_rung.into_iter().chain(rungs.iter().map(|&r| (r, None))).enumerate() {
         // `max_pivots` bounds the whole ladder, not each rung.
         if pivots >= limit && best.is_some() {
             break;
         }
-        let mut sol = solve_attempt(lcp, o, &attempt, limit.saturating_sub(pivots), start, trace.as_deref_mut(), rung);
+        let left = limit.saturating_sub(pivots);
+        let mut sol = solve_attempt(lcp, o, &attempt, left, start, trace.as_deref_mut(), rung, ws);
         pivots += sol.iterations;
         sol.iterations = pivots;
         if sol.ok() {
+            ws.alpha = alpha;
             return sol;
         }
         if let Some(b) = sol.basis.clone().filter(|b| !ends.iter().any(|(_, e)| e == b)) {
@@ -198,6 +253,7 @@ fn solve_lexicographic(
             best = Some(sol);
         }
     }
+    ws.alpha = alpha;
     // Restart Lemke from the rungs' final bases, closest first. On twin and
     // duplicate contacts a run crosses bases whose C is ill-conditioned
     // (pivots ~1e-7 of their column), decides near-ties on values carrying that
@@ -222,7 +278,8 @@ fn solve_lexicographic(
             }
             let alpha: Vec<usize> = (0..start.len()).filter(|&j| start[j]).collect();
             tried.push(start);
-            let mut sol = solve_attempt(lcp, o, &rungs[0], limit - pivots, Some(&alpha), trace.as_deref_mut(), rung);
+            let mut sol =
+                solve_attempt(lcp, o, &rungs[0], limit - pivots, Some(&alpha), trace.as_deref_mut(), rung, ws);
             rung += 1;
             pivots += sol.iterations;
             sol.iterations = pivots;
@@ -242,7 +299,8 @@ fn solve_lexicographic(
         // Its z is accepted only by the rungs' residual check, in the units
         // given and in the first rung's working units (it solves M, not a
         // regularized M); its basis is the support of z.
-        let frame = Frame::new(lcp, rungs[0].equilibrate, o.accept_tol);
+        let frame = &mut ws.frame;
+        frame.reset(lcp, rungs[0].equilibrate, o.accept_tol);
         let opts = NewtonFbOptions { tol: frame.tol, ..Default::default() };
         let polished = crate::newton_fb::solve_from(lcp, &sol.z, &opts);
         if frame.accept(&polished) && polished.residuals.natural < sol.residuals.natural {
@@ -255,6 +313,7 @@ fn solve_lexicographic(
 
 /// One rung: scale, pivot (from the complementary basis `start` if given),
 /// re-solve the final basis, map back and check.
+#[allow(clippy::too_many_arguments)]
 fn solve_attempt(
     lcp: &Lcp,
     o: &LemkeOptions,
@@ -263,28 +322,41 @@ fn solve_attempt(
     start: Option<&[usize]>,
     trace: Option<&mut Vec<PivotRecord>>,
     rung: usize,
+    ws: &mut Workspace,
 ) -> Solution {
     let n = lcp.n();
-    let frame = Frame::new(lcp, attempt.equilibrate, o.accept_tol);
+    ws.frame.reset(lcp, attempt.equilibrate, o.accept_tol);
+    let Workspace { frame, basis: bufs, pivoting, d, z_work, warm: warm_bufs, .. } = ws;
     let work = &frame.work;
-    let d: Vec<f64> = match start {
-        Some(alpha) => run::warm_covering(work, alpha),
-        None if attempt.cover > 0 => (0..n).map(|i| covering(i, attempt.cover)).collect(),
-        None => vec![1.0; n],
-    };
     let set = RunSettings {
         rule: Rule::Lexicographic { piv_tol: attempt.piv_rel, tie_tol: o.zero_tol.min(attempt.tie_tol) },
         trace: trace.is_some(),
         max_pivots,
         refactor_every: refactor_every(n),
     };
-    let run = match start {
-        Some(alpha) => run::run_warm(work, &d, alpha, &set),
-        None => Some(run::run(work, &d, &set)),
+    let buffers = std::mem::take(bufs);
+    let start = match start {
+        Some(alpha) => warm::start(lcp, frame, alpha, &set, buffers, pivoting, d, z_work, warm_bufs),
+        None => {
+            d.clear();
+            match attempt.cover {
+                0 => d.resize(n, 1.0),
+                k => d.extend((0..n).map(|i| covering(i, k))),
+            }
+            Start::Run(run::run(work, d, &set, buffers, pivoting))
+        }
     };
-    // A singular warm basis: nothing pivoted, the cold ladder takes over.
-    let Some(mut r) = run else {
-        return Solution::from_z(lcp, vec![0.0; n], Status::SingularBasis, 0);
+    let mut r = match start {
+        Start::Run(r) => r,
+        Start::Done(sol, b) => {
+            *bufs = b;
+            return sol;
+        }
+        // A singular warm basis: the cold ladder takes over.
+        Start::Singular(b, pivots) => {
+            *bufs = b;
+            return Solution::from_z(lcp, vec![0.0; n], Status::SingularBasis, pivots);
+        }
     };
     if let Some(t) = trace {
         t.extend(r.trace.drain(..).map(|p| PivotRecord { rung, ..p }));
@@ -294,7 +366,9 @@ fn solve_attempt(
         // Shed the round-off of the updates: refine with the kept C⁻¹ first.
         r.basis.polish();
     }
-    let mut sol = Solution::from_z(lcp, frame.unscale(&r.basis.z().0), r.status, r.pivots);
+    r.basis.z_into(z_work);
+    *bufs = r.basis.into_buffers();
+    let mut sol = Solution::from_z(lcp, frame.unscale(z_work), r.status, r.pivots);
     if sol.status == Status::Solved && !frame.accept(&sol) {
         // C⁻¹ drifted: re-solve the final basis from scratch by LU.
         let alpha: Vec<usize> = (0..n).filter(|&j| mask[j]).collect();
@@ -319,55 +393,6 @@ fn solve_attempt(
     sol
 }
 
-/// A rung's working problem — `M` Ruiz-equilibrated or not, `q` brought to
-/// unit size (`z` scales linearly with `q`) — and how its answers map back and
-/// are judged.
-struct Frame {
-    scaling: Scaling,
-    qscale: f64,
-    work: Lcp,
-    /// Bounds on the natural residual in the units given and in the working units.
-    tol: f64,
-    tol_work: f64,
-}
-
-impl Frame {
-    fn new(lcp: &Lcp, equilibrate: bool, accept_tol: f64) -> Frame {
-        let n = lcp.n();
-        let scaling = if equilibrate { Scaling::ruiz(lcp, RUIZ_ITERATIONS) } else { Scaling::identity(n) };
-        let qmax = lcp.q_norm_inf();
-        let qscale = if qmax > 0.0 { pow2_inverse(qmax) } else { 1.0 };
-        let work = scaling.apply_pow2(lcp, qscale);
-        let tol_work = accept_tol * (1.0 + work.q_norm_inf());
-        Frame { scaling, qscale, work, tol: accept_tol * (1.0 + qmax), tol_work }
-    }
-
-    /// `z` in the units given (rounded-off negatives clipped) from working units.
-    fn unscale(&self, z_work: &[f64]) -> Vec<f64> {
-        self.scaling.z_back(z_work).into_iter().map(|v| (v / self.qscale).max(0.0)).collect()
-    }
-
-    /// Accepted in the units given and in the working ones, where
-    /// z' = qs·D_c⁻¹·z and w' = qs·D_r·w: a cone-scaled problem's λ rows are
-    /// divided by s on the way back to physical units, and the equilibration
-    /// undoes that scaling, so its units are the ones that matter.
-    fn accept(&self, s: &Solution) -> bool {
-        let (qs, sc) = (self.qscale, &self.scaling);
-        let work_residual = (0..s.z.len()).fold(0.0f64, |a, i| {
-            let (zw, ww) = (qs * s.z[i] / sc.col[i], qs * sc.row[i] * s.w[i]);
-            a.max(zw.min(ww).abs())
-        });
-        s.residuals.natural <= self.tol && work_residual <= self.tol_work
-    }
-}
-
-impl Drop for Frame {
-    fn drop(&mut self) {
-        let work = std::mem::replace(&mut self.work, Lcp::from_parts_unchecked(Vec::new(), Vec::new()));
-        crate::recycle::give(work.into_parts().0);
-    }
-}
-
 /// Which `z_j` are basic.
 fn basic_mask(s: &[Var], n: usize) -> Vec<bool> {
     let mut mask = vec![false; n];
@@ -383,10 +408,4 @@ fn basic_mask(s: &[Var], n: usize) -> Vec<bool> {
 /// [1, 2): a golden-ratio sequence, shifted by `(k − 1)(√2 − 1)` per vector.
 fn covering(i: usize, k: u32) -> f64 {
     1.0 + ((i as f64 + 1.0) * 0.618_033_988_749_895 + (k - 1) as f64 * 0.414_213_562_373_095).fract()
-}
-
-/// A power of two near `1/x` for `x > 0`, kept normal so that scaling by it is
-/// exact and finite even for a subnormal `x` (where `1/x` overflows).
-fn pow2_inverse(x: f64) -> f64 {
-    2f64.powi((-x.log2().round()).clamp(-1000.0, 1000.0) as i32)
 }

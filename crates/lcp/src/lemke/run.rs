@@ -1,6 +1,6 @@
 //! The complementary pivoting loop, shared by both pivoting rules.
 
-use super::basis::{Basis, Column, Leaving, Var};
+use super::basis::{Basis, BasisBuffers, Column, Leaving, Var};
 use super::ratio::{column_max, first_leaving, leaving, Choice, Rule, Scratch};
 use crate::problem::Lcp;
 use crate::solution::Status;
@@ -9,7 +9,7 @@ use std::hash::{BuildHasherDefault, Hasher};
 
 /// The basis hash is already well mixed: hash it as itself.
 #[derive(Default)]
-struct Identity(u64);
+pub(crate) struct Identity(u64);
 
 impl Hasher for Identity {
     fn finish(&self) -> u64 {
@@ -21,6 +21,18 @@ impl Hasher for Identity {
     fn write_u64(&mut self, v: u64) {
         self.0 = v;
     }
+}
+
+/// The set of bases seen by a run (see `pivot_loop`).
+pub(crate) type Seen = HashSet<u64, BuildHasherDefault<Identity>>;
+
+/// Scratch of the pivoting loop, reused across runs: the entering column,
+/// the ratio test's candidate lists and the bases seen.
+#[derive(Default)]
+pub(crate) struct LoopBuffers {
+    pub col: Column,
+    pub scratch: Scratch,
+    pub seen: Seen,
 }
 
 /// Settings of one run of the loop.
@@ -72,74 +84,97 @@ pub(crate) fn key(id: usize) -> u64 {
     x ^ (x >> 31)
 }
 
-/// Runs Lemke with covering vector `d` from the all-slack basis.
-pub(crate) fn run<'a>(lcp: &'a Lcp, d: &'a [f64], set: &RunSettings) -> Run<'a> {
+/// Runs Lemke with covering vector `d` from the all-slack basis, in the
+/// basis buffers `bufs` and the loop's scratch `lb`.
+pub(crate) fn run<'a>(
+    lcp: &'a Lcp,
+    d: &'a [f64],
+    set: &RunSettings,
+    bufs: BasisBuffers,
+    lb: &mut LoopBuffers,
+) -> Run<'a> {
     let n = lcp.n();
-    let mut basis = Basis::slack(lcp, d);
+    let mut basis = Basis::slack(lcp, d, bufs);
     // q ≥ 0: z = 0 solves it.
     if lcp.q().iter().all(|&v| v >= 0.0) {
         return Run { status: Status::Solved, pivots: 0, basis, trace: Vec::new() };
     }
-    let mut col = Column::new(n);
+    let col = &mut lb.col;
     // z0 enters at the value that makes every w ≥ 0.
     let r = first_leaving(lcp.q(), d, set.rule);
-    basis.column(Var::Z0, &mut col);
+    basis.column(Var::Z0, col);
     let theta = -lcp.q()[r] / d[r];
-    let first = record(n, Var::Z0, Var::W(r), theta, col.xw[r], &col);
-    basis.pivot(Var::Z0, Leaving::W(r), &col, theta);
+    let first = record(n, Var::Z0, Var::W(r), theta, col.xw[r], col);
+    basis.pivot(Var::Z0, Leaving::W(r), col, theta);
     let hash = (0..n).fold(0u64, |h, i| h ^ key(i)) ^ key(r) ^ key(Var::Z0.id(n));
-    pivot_loop(basis, col, Var::Z(r), 1, hash, set, first)
+    pivot_loop(basis, lb, Var::Z(r), 1, hash, set, first)
 }
 
 /// The covering vector that makes a warm start's first pivot uniform:
-/// `d = B·1` for the complementary basis `α`, so that `B⁻¹(−d) = −1`.
-pub(crate) fn warm_covering(lcp: &Lcp, alpha: &[usize]) -> Vec<f64> {
-    let mut in_alpha = vec![false; lcp.n()];
+/// `d = B·1` for the complementary basis `α`, so that `B⁻¹(−d) = −1`;
+/// written into `d`, with `in_alpha` as scratch.
+pub(crate) fn warm_covering(lcp: &Lcp, alpha: &[usize], d: &mut Vec<f64>, in_alpha: &mut Vec<bool>) {
+    in_alpha.clear();
+    in_alpha.resize(lcp.n(), false);
     alpha.iter().for_each(|&j| in_alpha[j] = true);
-    (0..lcp.n())
-        .map(|i| {
-            let row = lcp.row(i);
-            (!in_alpha[i]) as u8 as f64 - alpha.iter().map(|&j| row[j]).sum::<f64>()
-        })
-        .collect()
+    d.clear();
+    d.extend((0..lcp.n()).map(|i| {
+        let row = lcp.row(i);
+        (!in_alpha[i]) as u8 as f64 - alpha.iter().map(|&j| row[j]).sum::<f64>()
+    }));
 }
 
-/// Runs Lemke from the complementary basis `α` (a previous answer's basis)
-/// with `d = warm_covering(lcp, α)`. `None` when `M_αα` is singular.
-pub(crate) fn run_warm<'a>(lcp: &'a Lcp, d: &'a [f64], alpha: &[usize], set: &RunSettings) -> Option<Run<'a>> {
-    let n = lcp.n();
-    let mut basis = Basis::complementary(lcp, d, alpha)?;
-    let (worst, at) = basis.most_negative();
-    // The old basis still solves the new problem, up to round-off (the answer
-    // is checked by its residual afterwards): no pivot at all.
-    let scale = basis.val_s.iter().chain(&basis.val_w).fold(1.0f64, |a, v| a.max(v.abs()));
-    if worst >= -WARM_FEASIBLE * scale {
-        return Some(Run { status: Status::Solved, pivots: 0, basis, trace: Vec::new() });
+/// Does the factored complementary `basis` solve its problem as it stands,
+/// up to round-off (the answer is checked by its residual afterwards)?
+pub(crate) fn warm_feasible(basis: &Basis) -> bool {
+    basis.most_negative().0 >= -warm_tolerance(basis)
+}
+
+/// How far below zero a basic value may dip by round-off alone.
+pub(crate) fn warm_tolerance(basis: &Basis) -> f64 {
+    WARM_FEASIBLE * basis.val_s.iter().chain(&basis.val_w).fold(1.0f64, |a, v| a.max(v.abs()))
+}
+
+/// Runs Lemke from a factored complementary basis (a previous answer's,
+/// with covering vector `d = warm_covering(lcp, α)`): none at all if it is
+/// [`warm_feasible`]. `Err` (with the basis, for its buffers) when z0 cannot enter.
+pub(crate) fn run_warm<'a>(
+    mut basis: Basis<'a>,
+    set: &RunSettings,
+    lb: &mut LoopBuffers,
+) -> Result<Run<'a>, Basis<'a>> {
+    let n = basis.val_w.len();
+    if warm_feasible(&basis) {
+        return Ok(Run { status: Status::Solved, pivots: 0, basis, trace: Vec::new() });
     }
+    let (worst, at) = basis.most_negative();
     // z0 enters; every basic moves by +θ (x = −1), so the most negative leaves.
-    let mut col = Column::new(n);
-    basis.column(Var::Z0, &mut col);
+    let col = &mut lb.col;
+    basis.column(Var::Z0, col);
     let x = match at {
         Leaving::S(p) => col.xs[p],
         Leaving::W(i) => col.xw[i],
     };
     if !(x < 0.0) {
-        return None;
+        return Err(basis);
     }
     let left = match at {
         Leaving::S(p) => basis.s[p],
         Leaving::W(i) => Var::W(i),
     };
-    let first = record(n, Var::Z0, left, worst / x, x, &col);
-    basis.pivot(Var::Z0, at, &col, worst / x);
+    let first = record(n, Var::Z0, left, worst / x, x, col);
+    basis.pivot(Var::Z0, at, col, worst / x);
     let hash = basis.hash(n);
-    Some(pivot_loop(basis, col, left.complement()?, 1, hash, set, first))
+    let Some(entering) = left.complement() else {
+        return Err(basis);
+    };
+    Ok(pivot_loop(basis, lb, entering, 1, hash, set, first))
 }
 
 /// The main loop from an almost-complementary basis with z0 basic.
 fn pivot_loop<'a>(
     mut basis: Basis<'a>,
-    mut col: Column,
+    lb: &mut LoopBuffers,
     mut entering: Var,
     mut pivots: usize,
     mut hash: u64,
@@ -148,20 +183,20 @@ fn pivot_loop<'a>(
 ) -> Run<'a> {
     let n = basis.val_w.len();
     let mut trace = if set.trace { vec![first] } else { Vec::new() };
+    let LoopBuffers { col, scratch, seen } = lb;
     // Basis hash: XOR of the basic variables' keys; a repeat means cycling.
-    let mut seen: HashSet<u64, BuildHasherDefault<Identity>> =
-        HashSet::with_capacity_and_hasher(4 * n, Default::default());
+    seen.clear();
+    seen.reserve(4 * n);
     seen.insert(hash);
-    let mut scratch = Scratch::default();
     let status = loop {
         if pivots >= set.max_pivots {
             break Status::MaxPivots;
         }
-        basis.column(entering, &mut col);
-        let Some(xmax) = column_max(&col) else {
+        basis.column(entering, col);
+        let Some(xmax) = column_max(col) else {
             break Status::Numerical;
         };
-        let Some(Choice { at: out, theta, xmax }) = leaving(&basis, &col, xmax, set.rule, &mut scratch) else {
+        let Some(Choice { at: out, theta, xmax }) = leaving(&basis, col, xmax, set.rule, scratch) else {
             break Status::RayTermination;
         };
         let (left, pivot) = match out {
@@ -171,9 +206,9 @@ fn pivot_loop<'a>(
         // A pivot small against its column inflates C⁻¹'s round-off: refactor after it.
         let small_pivot = pivot.abs() < SMALL_PIVOT * xmax;
         if set.trace {
-            trace.push(PivotRecord { column_max: xmax, ..record(n, entering, left, theta, pivot, &col) });
+            trace.push(PivotRecord { column_max: xmax, ..record(n, entering, left, theta, pivot, col) });
         }
-        basis.pivot(entering, out, &col, theta);
+        basis.pivot(entering, out, col, theta);
         pivots += 1;
         if left == Var::Z0 {
             break Status::Solved;

@@ -19,7 +19,6 @@ mod exponents;
 use exponents::ZERO_EXPONENT;
 
 use crate::problem::{Lcp, LcpError};
-use crate::recycle;
 
 /// Row and column scale factors: the scaled problem is `D_r M D_c, D_r q` with
 /// `D_r = diag(row)`, `D_c = diag(col)`. All factors should be positive and finite.
@@ -27,6 +26,15 @@ use crate::recycle;
 pub struct Scaling {
     pub row: Vec<f64>,
     pub col: Vec<f64>,
+}
+
+/// Exponent buffers of [`Scaling::ruiz_in`]: the binary exponents of every
+/// entry of `M` (rows padded to whole registers) and the factor exponents
+/// with a round's row and column maxima.
+#[derive(Default)]
+pub(crate) struct RuizBuffers {
+    entries: Vec<i16>,
+    factors: Vec<i16>,
 }
 
 /// Exponents beyond this are clamped so that `2^e` stays a normal, finite number.
@@ -54,32 +62,52 @@ impl Scaling {
     /// entirely zero keeps factor 1. For symmetric `M` the result is symmetric
     /// (`row == col`). Stops early once a round changes nothing.
     pub fn ruiz(lcp: &Lcp, iterations: usize) -> Scaling {
+        let mut scaling = Scaling { row: Vec::new(), col: Vec::new() };
+        scaling.ruiz_in(lcp, iterations, &mut RuizBuffers::default());
+        scaling
+    }
+
+    /// [`Scaling::ruiz`] into `self`'s vectors, with the exponent buffers `b`
+    /// (a solver's workspace keeps both between solves).
+    pub(crate) fn ruiz_in(&mut self, lcp: &Lcp, iterations: usize, b: &mut RuizBuffers) {
         let n = lcp.n();
         // Exponents as i16 (entries span ±1075, factors ±MAX_EXPONENT), rows
         // padded to whole registers (see `exponents`).
         let stride = n.next_multiple_of(exponents::LANES);
-        let mut ex: Vec<i16> = recycle::filled(n * stride, ZERO_EXPONENT);
+        let ex = &mut b.entries;
+        ex.clear();
+        ex.resize(n * stride, ZERO_EXPONENT);
         for (padded, row) in ex.chunks_exact_mut(stride).zip(lcp.m().chunks_exact(n)) {
             exponents::of_row(row, &mut padded[..n]);
         }
         // Factor exponents and the maxima of a round; the padding columns keep factor 2⁰.
-        let mut exps = recycle::filled(2 * n + 2 * stride, 0i16);
+        let exps = &mut b.factors;
+        exps.clear();
+        exps.resize(2 * n + 2 * stride, 0i16);
         let (row_exp, rest) = exps.split_at_mut(n);
         let (row_max, rest) = rest.split_at_mut(n);
         let (col_exp, col_max) = rest.split_at_mut(stride);
         for _ in 0..iterations {
             // Largest exponent of every row and column of the current D_r M D_c.
-            exponents::maxima(&ex, row_exp, col_exp, ZERO_EXPONENT, row_max, col_max);
+            exponents::maxima(ex, row_exp, col_exp, ZERO_EXPONENT, row_max, col_max);
             let rows_moved = step_toward_one(row_exp, row_max);
             if !(step_toward_one(&mut col_exp[..n], &col_max[..n]) | rows_moved) {
                 break;
             }
         }
         let pow = |e: &i16| pow2(*e as i32);
-        let scaling = Scaling { row: row_exp.iter().map(pow).collect(), col: col_exp[..n].iter().map(pow).collect() };
-        recycle::give(ex);
-        recycle::give(exps);
-        scaling
+        self.row.clear();
+        self.row.extend(row_exp.iter().map(pow));
+        self.col.clear();
+        self.col.extend(col_exp[..n].iter().map(pow));
+    }
+
+    /// No scaling of size `n`, into `self`'s vectors.
+    pub(crate) fn identity_in(&mut self, n: usize) {
+        for v in [&mut self.row, &mut self.col] {
+            v.clear();
+            v.resize(n, 1.0);
+        }
     }
 
     /// The seed's friction-cone scaling for `nc` contacts with `k` directions
@@ -123,14 +151,17 @@ impl Scaling {
     /// `(D_r M D_c, qf·D_r q)` in one pass without re-validation, for factors
     /// that are powers of two (Ruiz): the result is then exact. An overflow
     /// shows up as non-finite entries, which solvers report as `Numerical`.
-    pub(crate) fn apply_pow2(&self, lcp: &Lcp, qf: f64) -> Lcp {
+    /// Written into `out`, whose buffers are reused.
+    pub(crate) fn apply_pow2_into(&self, lcp: &Lcp, qf: f64, out: &mut Lcp) {
         let n = lcp.n();
-        let mut m = recycle::take(n * n);
+        let (mut m, mut q) = std::mem::replace(out, Lcp::from_parts_unchecked(Vec::new(), Vec::new())).into_parts();
+        m.clear();
         for (row, &ri) in lcp.m().chunks_exact(n).zip(&self.row) {
             m.extend(row.iter().zip(&self.col).map(|(&mij, &cj)| ri * mij * cj));
         }
-        let q = lcp.q().iter().zip(&self.row).map(|(&qi, &ri)| qf * ri * qi).collect();
-        Lcp::from_parts_unchecked(m, q)
+        q.clear();
+        q.extend(lcp.q().iter().zip(&self.row).map(|(&qi, &ri)| qf * ri * qi));
+        *out = Lcp::from_parts_unchecked(m, q);
     }
 
     /// Original unknowns from scaled ones: `z = D_c z'`.

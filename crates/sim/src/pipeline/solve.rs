@@ -52,9 +52,13 @@ impl World {
             None => {
                 let work = ws.pool[..count].iter().map(|isl| isl.lcp.n().pow(2)).sum();
                 let threads = self.threads_for(count, work);
-                let mut states = vec![(); threads];
-                parallel::for_each(&mut self.ws.pool[..count], &mut states, |_, isl| {
-                    isl.solve(&mut |lcp, warm| lcp::solve_warm(lcp, &method, warm))
+                // One solver workspace per thread, kept from step to step.
+                let ws = &mut self.ws;
+                if ws.solvers.len() < threads {
+                    ws.solvers.resize_with(threads, Default::default);
+                }
+                parallel::for_each(&mut ws.pool[..count], &mut ws.solvers[..threads], |solver, isl| {
+                    isl.solve(&mut |lcp, warm| lcp::solve_in(lcp, &method, warm, solver))
                 });
                 method.name()
             }
@@ -89,7 +93,7 @@ impl World {
         rec.scale = self.params.scale();
         rec.contacts.clear();
         rec.contacts.extend_from_slice(&self.ws.contacts);
-        rec.lcp_size = nc * (self.params.friction_dirs + 2);
+        rec.lcp_size = lcp::contact::ContactLayout::new(nc, self.params.friction_dirs).n();
         rec.zeroed = false;
         rec.status = None;
         rec.iterations = 0;

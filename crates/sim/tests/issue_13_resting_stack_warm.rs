@@ -1,0 +1,37 @@
+//! Issue 13: a resting stack costs (close to) no pivots per step. Its LCP is
+//! statically indeterminate (four corner contacts per interface, three
+//! independent normal constraints), so the previous step's basis can be
+//! singular or a hair infeasible at the next step; the warm start must still
+//! keep one of the exact solutions instead of pivoting anew every step.
+
+mod common;
+use common::*;
+use sim::scenes::BoxStack;
+use sim::WorldParams;
+
+#[test]
+fn resting_five_box_stack_takes_no_pivots_once_settled() {
+    let n = 5;
+    let h = 1e-3;
+    let mut s = BoxStack::new(n).build(WorldParams::default()).unwrap();
+    let mut pivots = Vec::new();
+    for step in 0..300 {
+        let r = step_ok(&mut s.world);
+        // Each interface carries the weight above it, exactly.
+        for j in 0..n {
+            let below = if j == 0 { s.ground.0 } else { s.bodies[j - 1].0 };
+            let f = interface_fn(&r, below, s.bodies[j].0);
+            let expect = (n - j) as f64 * G * h;
+            assert!(rel(f, expect) < 1e-6, "step {step}: interface {j} carries {f:e}, expected {expect:e}");
+        }
+        if step >= 50 {
+            pivots.push(r.iterations);
+        }
+    }
+    pivots.sort_unstable();
+    let median = pivots[pivots.len() / 2];
+    // Measured: median 0 (cold-start Lemke from the previous basis: 84).
+    assert!(median <= 2, "median pivots per settled step {median}, sorted {pivots:?}");
+    let top = s.world.body(s.body).unwrap();
+    assert!(top.velocity().norm() < 1e-9, "top box moves at {:?}", top.velocity());
+}
