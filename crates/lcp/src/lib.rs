@@ -14,6 +14,8 @@
 //! - [`newton_fb`]: damped semismooth Newton on the Fischer–Burmeister function.
 //! - [`scaling`]: diagonal scaling `D_r M D_c, D_r q` and the map back.
 //! - [`certify`]: exact (rational) check that a complementary basis solves the LCP of the floats given.
+//! - [`support`]: solving on a guessed complementary basis through an operator
+//!   (`M` never formed): the zero-pivot step of a simulator.
 //! - [`enumerate`]: brute-force enumeration of complementary bases (small n; tests).
 //! - [`generate`]: seeded generators of test LCPs (contact-structured, P-matrix, SPD, Murty).
 
@@ -29,6 +31,7 @@ pub mod problem;
 mod recycle;
 pub mod scaling;
 pub mod solution;
+pub mod support;
 
 pub use lemke::{LemkeOptions, Pivoting};
 pub use method::{solve, solve_warm, Method};

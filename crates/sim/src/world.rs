@@ -67,6 +67,8 @@ pub(crate) struct Workspace {
     pub dw: Vec<Vec3>,
     /// Impulses actually applied (physical `z`, clamped at 0).
     pub z_apply: Vec<f64>,
+    /// Buffers of the body-space check of the previous basis.
+    pub support: lcp::support::SupportWorkspace,
 }
 
 impl std::fmt::Debug for World {

@@ -47,8 +47,8 @@ impl World {
         self.forces_stage()?;
         // contacts with φ ≤ margin
         self.detect();
-        // the Stewart–Trinkle LCP of DESIGN §1
-        self.assemble();
+        // the Stewart–Trinkle LCP of DESIGN §1 (its rows; `solve` forms M if it needs it)
+        self.assemble_rows();
         // solve, map to physical units, fill the step record, capture
         self.solve(solver)?;
         // contact impulses → v⁺, then positions
@@ -124,6 +124,12 @@ impl World {
 
     /// Stage `assemble`: the contact LCP from this step's contacts and free velocities.
     pub fn assemble(&mut self) {
+        self.assemble_rows();
+        self.ws.lcp.assemble_matrix();
+    }
+
+    /// The Jacobian rows and `q` of stage `assemble`, without the dense `M`.
+    fn assemble_rows(&mut self) {
         if !self.free_velocities_ready() {
             self.ws.contacts.clear();
         }
@@ -141,7 +147,7 @@ impl World {
             v_free: &ws.v_free,
             w_free: &ws.w_free,
         };
-        ws.lcp.assemble(&ws.contacts, &dynamics, &p);
+        ws.lcp.assemble_rows(&ws.contacts, &dynamics, &p);
     }
 
     /// Stage `integrate`: `v⁺ = v* + M⁻¹ Jᵀ z` with the impulses chosen by
