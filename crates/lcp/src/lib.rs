@@ -16,6 +16,8 @@
 //! - [`scaling`]: diagonal scaling `D_r M D_c, D_r q` and the map back.
 //! - [`contact`]: the layout of a contact LCP's `z = [fn; fd; λ]`, its cone scaling and sign patterns.
 //! - [`certify`]: exact (rational) check that a complementary basis solves the LCP of the floats given.
+//! - [`support`]: solving on a guessed complementary basis through an operator
+//!   (`M` never formed): the zero-pivot step of a simulator.
 //! - [`enumerate`]: brute-force enumeration of complementary bases (small n; tests).
 //! - [`generate`]: seeded generators of test LCPs (P-matrix, SPD, Murty, infeasible); contact
 //!   LCPs are generated from bodies by `sim::generate`.
@@ -32,6 +34,7 @@ pub mod pgs;
 pub mod problem;
 pub mod scaling;
 pub mod solution;
+pub mod support;
 
 pub use contact::ContactLayout;
 pub use lemke::{LemkeOptions, Pivoting};

@@ -95,6 +95,13 @@ pub struct ContactLcp {
     adj_cursor: Vec<usize>,
     /// Scratch for the block expansion: `G·[0; c_j; s_j]` per column direction.
     col: Vec<[f64; 3]>,
+    /// Bodies in the world the rows index into.
+    bodies: usize,
+    /// `M` was formed for the current rows.
+    matrix_ready: bool,
+    /// Distinct dynamic bodies among the contacts (and scratch to count them).
+    dynamic_bodies: usize,
+    seen: Vec<usize>,
 }
 
 #[inline]
@@ -160,6 +167,46 @@ impl ContactLcp {
         ContactRows { body: [self.side_body[2 * i], self.side_body[2 * i + 1]], rows: [self.jac[2 * i], self.jac[2 * i + 1]] }
     }
 
+    /// The dynamic body on `side` (0 = A, 1 = B) of contact `c`, `None` if static.
+    #[inline]
+    pub fn side_body(&self, c: usize, side: usize) -> Option<usize> {
+        self.side_body[2 * c + side]
+    }
+
+    /// Rows `[n, t1, t2]` of `J` and of `M_b⁻¹ Jᵀ` on `side` of contact `c`.
+    #[inline]
+    pub fn side_rows(&self, c: usize, side: usize) -> (&[Row6; 3], &[Row6; 3]) {
+        (&self.jac[2 * c + side], &self.minv_jt[2 * c + side])
+    }
+
+    /// `(cos, sin)` of friction direction `j`'s angle `2πj/k`.
+    #[inline]
+    pub fn cos_sin(&self, j: usize) -> (f64, f64) {
+        self.trig[j]
+    }
+
+    /// Number of bodies of the world the rows index into.
+    pub fn body_count(&self) -> usize {
+        self.bodies
+    }
+
+    /// Number of distinct dynamic bodies the contacts touch.
+    pub fn dynamic_body_count(&self) -> usize {
+        self.dynamic_bodies
+    }
+
+    /// Contact `c`'s impulse of `z` in its `(n, t1, t2)` frame:
+    /// `Σ_j fd_j d_j = t1 Σ c_j fd_j + t2 Σ s_j fd_j`.
+    #[inline]
+    pub fn frame_impulse(&self, c: usize, z: &[f64]) -> [f64; 3] {
+        let mut imp = [z[c], 0.0, 0.0];
+        for (&f, &(cj, sj)) in z[self.layout.fd_of(c)].iter().zip(&self.trig) {
+            imp[1] += cj * f;
+            imp[2] += sj * f;
+        }
+        imp
+    }
+
     /// The Jacobian row of direction `d_j` of contact `i` for `side` (0 = A, 1 = B).
     pub fn direction_row(&self, i: usize, side: usize, j: usize) -> Row6 {
         let r = &self.jac[2 * i + side];
@@ -169,6 +216,20 @@ impl ContactLcp {
 
     /// Assembles `(M, q)` for `contacts` (DESIGN §1).
     pub fn assemble(&mut self, contacts: &[Contact], dynamics: &BodyDynamics<'_>, p: &AssemblyParams) {
+        self.assemble_rows(contacts, dynamics, p);
+        self.assemble_matrix();
+    }
+
+    /// `true` when `M` is formed for the current rows (after
+    /// [`ContactLcp::assemble_matrix`], and not lent out).
+    pub fn has_matrix(&self) -> bool {
+        self.matrix_ready && self.m.len() == self.n() * self.n()
+    }
+
+    /// The Jacobian rows, `M_b⁻¹ Jᵀ` and `q` — everything but the dense `M`,
+    /// which [`ContactLcp::assemble_matrix`] forms from them when it is needed
+    /// (the body-space view [`super::BodySpaceLcp`] works without it).
+    pub fn assemble_rows(&mut self, contacts: &[Contact], dynamics: &BodyDynamics<'_>, p: &AssemblyParams) {
         let nc = contacts.len();
         let k = p.k;
         let lay = ContactLayout::new(nc, k);
@@ -210,8 +271,50 @@ impl ContactLcp {
             }
         }
 
+        self.bodies = dynamics.bodies.len();
+        self.matrix_ready = false;
+        self.seen.clear();
+        self.seen.extend(self.side_body.iter().flatten());
+        self.seen.sort_unstable();
+        self.seen.dedup();
+        self.dynamic_bodies = self.seen.len();
+
+        // q = [J_n v* + stabilization; J_d v*; 0].
+        self.q.clear();
+        self.q.resize(n, 0.0);
+        for (c, ct) in contacts.iter().enumerate() {
+            // J v* for n, t1, t2, and J_n v (pre-step, for restitution).
+            let mut jv = [0.0; 3];
+            let mut vn_pre = 0.0;
+            for side in 0..2 {
+                let Some(b) = self.side_body[2 * c + side] else { continue };
+                let vel = row(dynamics.v_free[b], dynamics.w_free[b]);
+                let rows = &self.jac[2 * c + side];
+                for (r, v) in jv.iter_mut().enumerate() {
+                    *v += dot6(&rows[r], &vel);
+                }
+                let body = &dynamics.bodies[b];
+                vn_pre += dot6(&rows[0], &row(body.velocity(), body.angular_velocity()));
+            }
+            for (f, &(cj, sj)) in lay.fd_of(c).zip(&self.trig) {
+                self.q[f] = cj * jv[1] + sj * jv[2];
+            }
+            let mut bias = p.stabilization.bias(ct.gap, p.h);
+            let e = p.restitution.coefficient;
+            if e > 0.0 && vn_pre < -p.restitution.threshold && ct.gap + p.h * vn_pre <= 0.0 {
+                // Bounce: require v⁺_n ≥ e·|v⁻_n|, or more if stabilization asks for more.
+                bias = bias.min(e * vn_pre);
+            }
+            self.q[c] = jv[0] + bias;
+        }
+    }
+
+    /// Forms the dense `M` from the rows of [`ContactLcp::assemble_rows`].
+    pub fn assemble_matrix(&mut self) {
+        let lay = self.layout;
+        let (nc, k, n, s) = (lay.nc, lay.k, lay.n(), self.s);
+        let nb = self.bodies;
         // Group (contact, side) by body: a counting sort over body indices.
-        let nb = dynamics.bodies.len();
         self.adj_start.clear();
         self.adj_start.resize(nb + 1, 0);
         for b in self.side_body.iter().flatten() {
@@ -248,7 +351,6 @@ impl ContactLcp {
         }
 
         // Friction-cone coupling: sE in the friction rows, sμ and −sEᵀ in the cone rows.
-        let s = p.s;
         for c in 0..nc {
             let l = lay.lambda_index(c);
             for f in lay.fd_of(c) {
@@ -258,34 +360,7 @@ impl ContactLcp {
             self.m[l * n + c] = s * self.mu[c];
         }
 
-        // q = [J_n v* + stabilization; J_d v*; 0].
-        self.q.clear();
-        self.q.resize(n, 0.0);
-        for (c, ct) in contacts.iter().enumerate() {
-            // J v* for n, t1, t2, and J_n v (pre-step, for restitution).
-            let mut jv = [0.0; 3];
-            let mut vn_pre = 0.0;
-            for side in 0..2 {
-                let Some(b) = self.side_body[2 * c + side] else { continue };
-                let vel = row(dynamics.v_free[b], dynamics.w_free[b]);
-                let rows = &self.jac[2 * c + side];
-                for (r, v) in jv.iter_mut().enumerate() {
-                    *v += dot6(&rows[r], &vel);
-                }
-                let body = &dynamics.bodies[b];
-                vn_pre += dot6(&rows[0], &row(body.velocity(), body.angular_velocity()));
-            }
-            for (f, &(cj, sj)) in lay.fd_of(c).zip(&self.trig) {
-                self.q[f] = cj * jv[1] + sj * jv[2];
-            }
-            let mut bias = p.stabilization.bias(ct.gap, p.h);
-            let e = p.restitution.coefficient;
-            if e > 0.0 && vn_pre < -p.restitution.threshold && ct.gap + p.h * vn_pre <= 0.0 {
-                // Bounce: require v⁺_n ≥ e·|v⁻_n|, or more if stabilization asks for more.
-                bias = bias.min(e * vn_pre);
-            }
-            self.q[c] = jv[0] + bias;
-        }
+        self.matrix_ready = true;
     }
 
     /// Adds the `(1+k)²` block of contacts `(c1, c2)` expanded from the Gram
@@ -386,12 +461,7 @@ impl ContactLcp {
     /// the physical `z`) to the per-body `dv`, `dw`.
     pub fn apply_impulses(&self, z: &[f64], dv: &mut [Vec3], dw: &mut [Vec3]) {
         for c in 0..self.layout.nc {
-            // Impulse in the (n, t1, t2) frame: Σ_j fd_j d_j = t1 Σ c_j fd_j + t2 Σ s_j fd_j.
-            let mut imp = [z[c], 0.0, 0.0];
-            for (&f, &(cj, sj)) in z[self.layout.fd_of(c)].iter().zip(&self.trig) {
-                imp[1] += cj * f;
-                imp[2] += sj * f;
-            }
+            let imp = self.frame_impulse(c, z);
             for side in 0..2 {
                 let Some(b) = self.side_body[2 * c + side] else { continue };
                 for (w, &zi) in self.minv_jt[2 * c + side].iter().zip(&imp) {

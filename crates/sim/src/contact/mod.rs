@@ -5,13 +5,17 @@
 //! - [`friction`]: the polyhedral friction basis `d_j`.
 //! - [`assembly`]: Jacobian rows per contact, `A = J M_b⁻¹ Jᵀ`, and the LCP
 //!   `(M, q)` with `z = [fn; fd; λ]`, plus the map back to physical units.
+//! - [`body_space`]: the same LCP as an operator on the Jacobian rows, without
+//!   the dense `M` (products and entries for a basis check).
 //!
 //! Assembly never solves and solvers never see bodies (DESIGN §6).
 
 pub mod assembly;
+pub mod body_space;
 pub mod friction;
 pub mod params;
 
 pub use assembly::{ContactLcp, ContactRows};
+pub use body_space::BodySpaceLcp;
 pub use friction::{friction_directions, FrictionBasis};
 pub use params::{ConeScale, MuCombine, Restitution, Stabilization};

@@ -54,7 +54,7 @@ impl World {
         // bodies linked through contacts, one LCP each
         self.islands();
         // the Stewart–Trinkle LCP of DESIGN §1, per island
-        self.assemble();
+        self.assemble_islands(false);
         // solve the islands, map to physical units, fill the step record, capture
         self.solve(solver)?;
         // contact impulses → v⁺, then positions
@@ -161,6 +161,13 @@ impl World {
 
     /// Stage `assemble`: each island's LCP from its contacts and the free velocities.
     pub fn assemble(&mut self) {
+        self.assemble_islands(true);
+    }
+
+    /// Stage `assemble`, forming each island's dense `M` only if `matrix`
+    /// (the step leaves that to `solve`, which needs it only when the
+    /// previous basis does not solve the island in body space).
+    fn assemble_islands(&mut self, matrix: bool) {
         if !self.free_velocities_ready() {
             self.ws.contacts.clear();
             self.ws.islands.invalidate();
@@ -187,7 +194,7 @@ impl World {
             w_free: &ws.w_free,
         };
         let mut states = vec![(); threads];
-        parallel::for_each(&mut ws.pool[..count], &mut states, |_, isl| isl.assemble(&dynamics, &p));
+        parallel::for_each(&mut ws.pool[..count], &mut states, |_, isl| isl.assemble(&dynamics, &p, matrix));
     }
 
     /// Stage `integrate`: `v⁺ = v* + M⁻¹ Jᵀ z` with the impulses chosen by

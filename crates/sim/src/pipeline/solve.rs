@@ -13,7 +13,7 @@
 //! the global layout when every island reported one.
 
 use super::capture::CapturedLcp;
-use super::island_lcp::scatter;
+use super::island_lcp::{basis_check_applies, scatter};
 use super::record::IslandRecord;
 use crate::error::SimError;
 use crate::parallel;
@@ -45,7 +45,7 @@ impl World {
             Some(f) => {
                 for isl in &mut ws.pool[..count] {
                     isl.warm = None;
-                    isl.solve(&mut |lcp, _warm| f(lcp));
+                    isl.solve(&mut |lcp, _warm| f(lcp), None);
                 }
                 "custom"
             }
@@ -57,8 +57,10 @@ impl World {
                 if ws.solvers.len() < threads {
                     ws.solvers.resize_with(threads, Default::default);
                 }
+                // A sink captures every island's dense M: no body-space shortcut then.
+                let check = if self.sink.is_none() { basis_check_applies(&method) } else { None };
                 parallel::for_each(&mut ws.pool[..count], &mut ws.solvers[..threads], |solver, isl| {
-                    isl.solve(&mut |lcp, warm| lcp::solve_in(lcp, &method, warm, solver))
+                    isl.solve(&mut |lcp, warm| lcp::solve_in(lcp, &method, warm, solver), check)
                 });
                 method.name()
             }

@@ -1,0 +1,176 @@
+//! The contact LCP in body space: `M = J M_b⁻¹ Jᵀ` (plus the cone blocks)
+//! reached through the Jacobian rows, never formed as an `n × n` matrix.
+//!
+//! ```text
+//! (M z)_fn  = J_n Δv                       Δv = M_b⁻¹ (J_nᵀ fn + J_dᵀ fd), per body
+//! (M z)_fd  = J_d Δv + s·E λ
+//! (M z)_λ   = s·μ fn − s·Eᵀ fd
+//! ```
+//!
+//! A product costs O(contacts) and an entry O(1) (two 6-vectors per shared
+//! body), so checking a guessed basis ([`lcp::support`]) costs the size of
+//! the basis, not `n²`: this is what lets a resting stack take a step
+//! without assembling or equilibrating a dense matrix. The solver still never
+//! sees a body — it sees [`lcp::support::LcpOperator`].
+
+use super::assembly::{ContactLcp, Row6};
+use lcp::support::LcpOperator;
+use std::cell::RefCell;
+
+/// What an index of `z` is, for one contact.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Var {
+    Normal(usize),
+    Dir(usize, usize),
+    Lambda(usize),
+}
+
+/// A [`ContactLcp`]'s rows seen as an LCP operator at cone scale `s`
+/// (`s = 1`: the unscaled, physical LCP).
+pub struct BodySpaceLcp<'a> {
+    lcp: &'a ContactLcp,
+    s: f64,
+    /// Per-body velocity change `[Δv; Δω]` of a product.
+    dv: RefCell<Vec<Row6>>,
+}
+
+impl<'a> BodySpaceLcp<'a> {
+    /// The LCP of `lcp`'s rows at its own scale.
+    pub fn new(lcp: &'a ContactLcp) -> Self {
+        Self::at_scale(lcp, lcp.scale())
+    }
+
+    /// The same rows at cone scale `s`.
+    pub fn at_scale(lcp: &'a ContactLcp, s: f64) -> Self {
+        BodySpaceLcp { lcp, s, dv: RefCell::new(vec![[0.0; 6]; lcp.body_count()]) }
+    }
+
+    fn var(&self, i: usize) -> Var {
+        let lay = self.lcp.layout();
+        let c = lay.contact_of(i);
+        if i == lay.fn_index(c) {
+            Var::Normal(c)
+        } else if i == lay.lambda_index(c) {
+            Var::Lambda(c)
+        } else {
+            Var::Dir(c, i - lay.fd_of(c).start)
+        }
+    }
+
+    /// `(body, J row, M_b⁻¹ Jᵀ row)` of variable `v` on `side`, if that side is dynamic.
+    fn side_rows(&self, c: usize, v: Var, side: usize) -> Option<(usize, Row6, Row6)> {
+        let body = self.lcp.side_body(c, side)?;
+        let (jac, minv) = self.lcp.side_rows(c, side);
+        let pick = |rows: &[Row6; 3]| -> Row6 {
+            match v {
+                Var::Normal(_) => rows[0],
+                Var::Dir(_, j) => {
+                    let (cj, sj) = self.lcp.cos_sin(j);
+                    std::array::from_fn(|m| cj * rows[1][m] + sj * rows[2][m])
+                }
+                Var::Lambda(_) => [0.0; 6],
+            }
+        };
+        Some((body, pick(jac), pick(minv)))
+    }
+}
+
+fn contact(v: Var) -> usize {
+    match v {
+        Var::Normal(c) | Var::Dir(c, _) | Var::Lambda(c) => c,
+    }
+}
+
+#[inline]
+fn dot6(a: &Row6, b: &Row6) -> f64 {
+    (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) + (a[3] * b[3] + a[4] * b[4] + a[5] * b[5])
+}
+
+impl LcpOperator for BodySpaceLcp<'_> {
+    fn n(&self) -> usize {
+        self.lcp.n()
+    }
+
+    fn q(&self) -> &[f64] {
+        self.lcp.q()
+    }
+
+    fn block(&self, rows: &[usize], cols: &[usize], out: &mut [f64]) {
+        // Each index's rows per side, computed once: an entry is then one or
+        // two 6-term dots (bodies shared by the two contacts).
+        let sides = |idx: &[usize]| -> Vec<[Option<(usize, Row6, Row6)>; 2]> {
+            idx.iter()
+                .map(|&i| {
+                    let v = self.var(i);
+                    if matches!(v, Var::Lambda(_)) {
+                        return [None, None];
+                    }
+                    std::array::from_fn(|side| self.side_rows(contact(v), v, side))
+                })
+                .collect()
+        };
+        let (rs, cs) = (sides(rows), sides(cols));
+        for (r, &i) in rows.iter().enumerate() {
+            for (c, &j) in cols.iter().enumerate() {
+                out[r * cols.len() + c] = match (self.var(i), self.var(j)) {
+                    (Var::Lambda(a), Var::Normal(b)) if a == b => self.s * self.lcp.mu()[a],
+                    (Var::Lambda(a), Var::Dir(b, _)) if a == b => -self.s,
+                    (Var::Dir(a, _), Var::Lambda(b)) if a == b => self.s,
+                    (Var::Lambda(_), _) | (_, Var::Lambda(_)) => 0.0,
+                    _ => {
+                        let mut sum = 0.0;
+                        for (bi, jrow, _) in rs[r].iter().flatten() {
+                            for (bj, _, mrow) in cs[c].iter().flatten() {
+                                if bi == bj {
+                                    sum += dot6(jrow, mrow);
+                                }
+                            }
+                        }
+                        sum
+                    }
+                };
+            }
+        }
+    }
+
+    fn w_of(&self, z: &[f64], w: &mut [f64]) {
+        let (lay, s) = (self.lcp.layout(), self.s);
+        let nc = lay.nc;
+        let mut dv = self.dv.borrow_mut();
+        dv.iter_mut().for_each(|x| *x = [0.0; 6]);
+        // Δv = M_b⁻¹ Jᵀ z per body, from each contact's impulse in its (n, t1, t2) frame.
+        for c in 0..nc {
+            let imp = self.lcp.frame_impulse(c, z);
+            for side in 0..2 {
+                let Some(b) = self.lcp.side_body(c, side) else { continue };
+                let (_, minv) = self.lcp.side_rows(c, side);
+                for (row, &p) in minv.iter().zip(&imp) {
+                    for m in 0..6 {
+                        dv[b][m] += row[m] * p;
+                    }
+                }
+            }
+        }
+        let q = self.lcp.q();
+        for c in 0..nc {
+            // J Δv along n, t1, t2.
+            let mut jv = [0.0; 3];
+            for side in 0..2 {
+                let Some(b) = self.lcp.side_body(c, side) else { continue };
+                let (jac, _) = self.lcp.side_rows(c, side);
+                for (v, row) in jv.iter_mut().zip(jac) {
+                    *v += dot6(row, &dv[b]);
+                }
+            }
+            let lambda = z[lay.lambda_index(c)];
+            w[lay.fn_index(c)] = q[lay.fn_index(c)] + jv[0];
+            let mut sum_fd = 0.0;
+            for (j, f) in lay.fd_of(c).enumerate() {
+                let (cj, sj) = self.lcp.cos_sin(j);
+                w[f] = q[f] + (cj * jv[1] + sj * jv[2]) + s * lambda;
+                sum_fd += z[f];
+            }
+            w[lay.lambda_index(c)] = s * (self.lcp.mu()[c] * z[lay.fn_index(c)] - sum_fd);
+        }
+    }
+}
