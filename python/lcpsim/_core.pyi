@@ -335,7 +335,7 @@ HARD_KINDS: list[str]
 def contact_lcp(
     nc: int, k: int = 8, scale: float = 1.0, seed: int = 0
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], str, int, int]:
-    """Contact LCP of a unit cube on a random slope (DESIGN §1)."""
+    """Contact LCP (z = [fn; fd; λ]) of a unit cube on a random slope."""
 
 def spd_lcp(n: int, seed: int = 0) -> tuple[NDArray[np.float64], NDArray[np.float64], str]:
     """Random LCP with M = A Aᵀ/n + 0.1 I."""

@@ -3,7 +3,7 @@
 Every generator is deterministic per seed, across platforms, and returns a
 :class:`GeneratedLcp`: ``M`` (n×n), ``q`` (n), a ``label`` naming the
 generator and its arguments, and for contact LCPs the layout ``(nc, k)`` and
-the friction-cone scale ``s`` (DESIGN §1)::
+the friction-cone scale ``s``::
 
     from lcpsim import generate
     p = generate.contact_lcp(nc=4, scale=1e-3, seed=7)   # 40×40, z = [fn; fd; λ]
@@ -122,7 +122,7 @@ def _contact(
 
 
 def contact_lcp(nc: int, k: int = 8, scale: float = 1.0, seed: int = 0) -> GeneratedLcp:
-    """The contact LCP (DESIGN §1) of a 1 kg unit cube on a random slope (0–60°),
+    """The contact LCP of a 1 kg unit cube on a random slope (0–60°),
     ``nc`` contacts on its bottom face (corners first), ``k`` friction directions,
     random μ in [0.1, 1.5] and velocity, h = 0.01, friction-cone scale ``scale``.
     Size ``nc·(k + 2)``.

@@ -1,4 +1,4 @@
-"""The test scenes of DESIGN §3, built by the Rust ``sim::scenes`` (one implementation).
+"""The test scenes with analytic answers, built by the Rust ``sim::scenes`` (one implementation).
 
 Each function takes the scene's own parameters, then any :class:`lcpsim.World`
 argument (``dt``, ``cone_scale``, ``method``, ``friction_dirs``, solver
@@ -73,7 +73,7 @@ class Scene:
 
     def expected_slide(self, t: float) -> float | None:
         """The analytic distance (m) travelled along :attr:`direction` after
-        ``t`` seconds from the start, where DESIGN §3 gives one (the slope
+        ``t`` seconds from the start, where the physics gives one (the slope
         scenes and the pushed cube; None otherwise, e.g. for a cube that tips)."""
         p = self.world.params
         g = float(np.linalg.norm(p["gravity"]))

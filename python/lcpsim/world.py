@@ -1,5 +1,5 @@
 """The simulator: a :class:`World` of rigid bodies stepped with the
-Stewart–Trinkle / Anitescu–Potra contact LCP (DESIGN §1).
+Stewart–Trinkle / Anitescu–Potra contact LCP.
 
 ::
 
@@ -11,7 +11,7 @@ Stewart–Trinkle / Anitescu–Potra contact LCP (DESIGN §1).
     traj = w.run(1000)              # Trajectory of numpy arrays
     traj.positions[-1, cube]
 
-Conventions (DESIGN §8): SI units, gravity (0, 0, −9.81), quaternions
+Conventions: SI units, gravity (0, 0, −9.81), quaternions
 (w, x, y, z) rotating body → world, velocities ``[v; ω]`` in the world frame,
 LCP unknowns ``z = [fn; fd; λ]`` (impulses in N·s, λ ≈ sliding speed in m/s).
 
@@ -118,11 +118,10 @@ class StepRecord:
     (``λ = s·λ_scaled``), ``points``/``normals``/``tangents`` (nc, 3),
     ``directions`` (nc, k, 3) the friction directions ``d_j``, ``friction``
     (nc, 3) the friction impulse vector ``Σ_j fd_j d_j`` on body A, ``gaps``,
-    ``mu``, ``body_a``/``body_b`` (the normal points from B to A).
-
-    ``islands``: contact islands, one LCP each (static bodies link none): ``island_of_contact`` (nc,);
-    per island ``island_bodies``, ``island_lcp_size``/``pivots``/``residual``/``status``. ``status`` is
-    "solved" iff every island was, else the first unsolved one's; ``pivots`` total, ``residual`` max.
+    ``mu``, ``body_a``/``body_b`` (the normal points from B to A). Contact ``islands``
+    (one LCP each): ``island_of_contact`` (nc,), per island ``island_bodies``,
+    ``island_lcp_size``/``pivots``/``residual``/``status``; ``status`` is "solved" iff every island
+    was, else the first unsolved one's; ``pivots`` total, ``residual`` max.
     """
 
     step: int
@@ -181,8 +180,7 @@ class StepRecord:
         return np.asarray((self.normals * self.fn[:, None]).sum(axis=0) + self.friction.sum(axis=0))
 
     def patterns(self, zero: float = 1e-12) -> NDArray[np.bool_]:
-        """The seed's pattern per contact (nc, 3): whether fn, Σfd, λ exceed ``zero``
-        (:meth:`lcpsim.ContactLayout.patterns` with one absolute threshold)."""
+        """Per contact (nc, 3): whether fn, Σfd, λ exceed ``zero`` (``ContactLayout.patterns``)."""
         if self.contacts == 0:
             return np.zeros((0, 3), dtype=bool)
         codes = _core.ContactLayout(self.contacts, self.friction_dirs).patterns(self.z, zero)
@@ -242,15 +240,13 @@ class LcpStats:
 class Trajectory:
     """The state after every step of a run, and each step's LCP outcome.
 
-    ``T`` steps, ``B`` bodies (static ones included, in body order):
-    ``time`` (T,) the time after each step; ``positions`` (T, B, 3);
-    ``orientations`` (T, B, 4) as (w, x, y, z); ``velocities`` (T, B, 6) as
-    ``[v; ω]``. Per step: ``status`` (T,) strings (``"no_contact"`` without an
-    LCP), ``pivots``, ``residual`` (physical units), ``solver_residual``,
-    ``lcp_size``, ``contacts``, ``normal_impulse`` (Σ fn, N·s),
-    ``friction_impulse`` (T, 3) (Σ over contacts of the friction impulse on
-    body A), ``max_lambda`` (largest physical λ, m/s), ``islands`` and ``max_island_size``
-    (contact islands and largest island LCP). ``initial_*`` hold the state before the first step.
+    ``T`` steps, ``B`` bodies (static ones included, in body order): ``time`` (T,) the time after
+    each step; ``positions`` (T, B, 3); ``orientations`` (T, B, 4) as (w, x, y, z); ``velocities``
+    (T, B, 6) as ``[v; ω]``. Per step: ``status`` (T,) strings (``"no_contact"`` without an LCP),
+    ``pivots``, ``residual`` (physical units), ``solver_residual``, ``lcp_size``, ``contacts``,
+    ``normal_impulse`` (Σ fn, N·s), ``friction_impulse`` (T, 3) (Σ over contacts of the friction
+    impulse on body A), ``max_lambda`` (largest physical λ, m/s), ``islands`` and
+    ``max_island_size`` (largest island LCP). ``initial_*`` hold the state before the first step.
     """
 
     dt: float
@@ -362,7 +358,7 @@ class Trajectory:
 
 
 class World:
-    """A rigid-body world stepped with the contact LCP of DESIGN §1.
+    """A rigid-body world stepped with the Stewart–Trinkle contact LCP.
 
     Parameters
     ----------

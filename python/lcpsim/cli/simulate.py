@@ -1,4 +1,4 @@
-"""``lcpsim simulate SCENE``: run one of the scenes of DESIGN §3 and summarize it.
+"""``lcpsim simulate SCENE``: run one of the test scenes and summarize it.
 
 ::
 

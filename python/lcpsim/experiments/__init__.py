@@ -1,4 +1,4 @@
-"""The seed note's experiments (DESIGN §2, issue 4), as plain functions of a
+"""The seed note's experiments (issue 4), as plain functions of a
 JSON-ready config with an explicit seed::
 
     from lcpsim.experiments import run_experiment

@@ -32,7 +32,7 @@ __all__ = [
     "jsonable",
 ]
 
-#: Gravity (m/s²), DESIGN §8.
+#: Gravity (m/s²), the simulator's convention.
 G = 9.81
 
 

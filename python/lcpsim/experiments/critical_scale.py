@@ -2,7 +2,7 @@
 the cube is *held* (rests or tips) although it should slide.
 
 The seed found ≈ 4e-3 at 45° + 1e-4 with its own (unstated) units. Here a
-1 kg, 1 m cube at h = 1e-3 s (DESIGN §2): the slope test (:mod:`.slope`,
+1 kg, 1 m cube at h = 1e-3 s: the slope test (:mod:`.slope`,
 its outcome decided by the motion's onset, so independent of ``seconds``)
 is run on a grid of one scale per decade from ``hi`` (1 = unscaled) down to
 ``lo``; the largest grid scale where the cube is held, just below one where

@@ -1,7 +1,7 @@
 """Failure rate of a solver over the seed corpus at several friction-cone scales.
 
 The seed note counted Lemke failures over the LCPs of one simulation at
-s = 1e-3, 1e-4 and 1e-6 (DESIGN §2: 3.9 %, ≈ 2.1 %, 0). Here, by default
+s = 1e-3, 1e-4 and 1e-6 (the seed note: 3.9 %, ≈ 2.1 %, 0). Here, by default
 (``mode = "resolve"``), the *same* LCPs — the seed corpus, assembled unscaled
 along physical trajectories — are scaled by each s (``D M D``, ``D q``) and
 solved with the chosen solver, so that the rates at different scales compare
@@ -17,7 +17,7 @@ A failure is either (report both counts):
   unchanged, ``λ = s·λ_scaled``) has a natural residual ``‖min(z, w)‖∞``
   above ``tol`` on the *unscaled* LCP — whatever the solver said. An answer
   the solver called ``solved`` that fails here is counted in
-  ``accepted_wrong``: the tolerance artifact of DESIGN §2.
+  ``accepted_wrong``: the seed's tolerance artifact.
 
 ``failures`` is the union, ``rate = failures / lcps``. Beside the absolute
 ``tol`` every row also counts ``rel_residual_failures`` against issue 5's

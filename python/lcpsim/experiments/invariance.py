@@ -1,5 +1,5 @@
 """Scaling invariance: fn and fd do not change when the friction cone is
-scaled; λ grows by 1/s (DESIGN §1–2).
+scaled; λ grows by 1/s.
 
 The scaled LCP is ``D M D, D q`` with ``D = diag(I, I, s·I)``: its solutions
 are exactly ``(fn, fd, λ/s)`` for the solutions ``(fn, fd, λ)`` of the

@@ -1,6 +1,6 @@
 """Contact patterns: the sign of (fn, Σfd, λ) per contact, unscaled and scaled.
 
-The seed's table (DESIGN §2), ``+`` meaning positive, ``0`` zero:
+The seed's table, ``+`` meaning positive, ``0`` zero:
 
 ========  ============================================================
 (0,0,0)   contact breaks

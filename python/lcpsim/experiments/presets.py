@@ -5,7 +5,7 @@
     Drake style: absolute tolerances, Harris slack), ``piv_tol = 1e-12``,
     ``zero_tol = 1e-6``, applied to the LCP *as assembled* — the scaled one
     when a cone scale s < 1 is used — so its user zero of 1e-6 on the cone
-    row means ``μ fn − Eᵀ fd ≥ −1e-6 / s`` in physical units (DESIGN §2).
+    row means ``μ fn − Eᵀ fd ≥ −1e-6 / s`` in physical units.
 ``robust``
     lcpsim's default Lemke (lexicographic pivoting, its own equilibration,
     relative tie tolerance, answer accepted by its residual). The experiments

@@ -2,7 +2,7 @@
 pushed horizontally at its centre of mass.
 
 It must stay iff F ≤ μ m g (9.81 N), with a friction force of exactly F;
-above that it slides with a = (F − μ m g)/m (DESIGN §3). The seed pushed
+above that it slides with a = (F − μ m g)/m. The seed pushed
 with 9.79 N: the cube stayed, λ ≈ 1e-19 (far below its user zero) and the
 normal impulses 0, 1e-5, 0.004895, 0.004905 N·s showed the load moving onto
 the leading edge (the push at the centre of mass tips the contact pressure

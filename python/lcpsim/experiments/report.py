@@ -3,7 +3,7 @@
 Writes to the output directory ``index.html`` and ``report.md`` (the same
 content), the figures as PNG, and ``results.json`` with every result (each
 carrying its config, seed and lcpsim version). For each claim of the seed
-note (DESIGN §2) the page puts the seed's number beside ours — with the
+note the page puts the seed's number beside ours — with the
 ``seed`` preset (the seed's solver setting) and with ``robust`` (lcpsim's
 default) — and says why they differ. Each experiment's runs, figures and
 section come from its :class:`~.experiment.ReportPart` (see :mod:`.registry`);
@@ -36,7 +36,7 @@ __all__ = ["make_report", "Doc", "SCALES", "SLOPE_SCALES", "PUSH_FORCES", "COMPA
 TITLE = "lcpsim: the seed note's experiments"
 
 UNITS_NOTE = (
-    "The seed note does not state its units, mass, cube size or time step (DESIGN §2); every figure here is for "
+    "The seed note does not state its units, mass, cube size or time step; every figure here is for "
     "a 1 kg, 1 m cube at h = 1e-3 s with impulses in N·s and k = 8 friction directions, so an absolute "
     "tolerance such as the seed's user zero of 1e-6 bites at different problems and different scales than in "
     "the seed's runs. Where a number differs, the phenomenon — not the number — is what is compared."
@@ -133,7 +133,7 @@ def _claims(res: dict[str, Any]) -> list[list[Any]]:
             f"{pct(s_row['status_rate'])} status; {pct(s_row['rate'])} incl. residual > 1e-6" if s_row else "—",
             f"{pct(r_row['rate'])}" if r_row else "—",
         ])
-    for angle, seedval in ((45.0001, "≈ 4e-3"), (45.2, "— (DESIGN §2, independent implementation: tips for s ≤ 0.1)")):
+    for angle, seedval in ((45.0001, "≈ 4e-3"), (45.2, "— (an independent classic implementation: tips for s ≤ 0.1)")):
         rows.append([f"critical scale, {angle}°, μ = 1", seedval, critical_text(crit[("seed", angle)]),
                      critical_text(crit[("robust", angle)])])
     si, ri = inv[("seed", "0.001")], inv[("robust", "0.001")]
@@ -194,7 +194,7 @@ def _differences_text(res: dict[str, Any]) -> list[str]:
             "the seed's one simulation, units and Lemke are not ours, and our corpus mixes many scenes. Judged in "
             "physical units the improvement is an artifact: the answers accepted at s = 1e-6 fail the unscaled "
             f"residual in {pct(s6['residual_rate'])} of the LCPs (friction without normal force, friction beyond "
-            "the cone) — the looser cone of DESIGN §2. The robust solver fails on none at any scale."
+            "the cone) — the seed's looser cone. The robust solver fails on none at any scale."
         )
     a, b = sl.get(("seed", 45.2, "none")), sl.get(("seed", 45.2, "0.001"))
     c0, c2 = crit[("seed", 45.0001)], crit[("seed", 45.2)]
@@ -215,7 +215,7 @@ def _differences_text(res: dict[str, Any]) -> list[str]:
                    "as a blow-up." if b["energy_gain_J"] > 1e-6 else ".")
             )
         txt += (
-            f" The switch lies at s ≈ {_g(c2['critical_scale'])}; DESIGN §2's independent classic implementation "
+            f" The switch lies at s ≈ {_g(c2['critical_scale'])}; an independent classic implementation "
             "tipped for s ≤ 0.1."
         )
         parts.append(txt)

@@ -3,7 +3,7 @@ steeper than 45°.
 
 With tan θ > μ the cube must slide, with a = g (sin θ − μ cos θ), and since
 μ = 1 ≤ 1 it must not tip: sliding caps friction at μN = N, which puts the
-resultant of the normal forces exactly on the downhill edge (DESIGN §2). Any
+resultant of the normal forces exactly on the downhill edge. Any
 extra friction — e.g. a cone row accepted at ``μ fn − Eᵀ fd ≥ −zero_tol/s`` —
 holds the cube, and it rests or tips.
 

@@ -18,7 +18,7 @@ written in HDF5's single-writer/multiple-reader (SWMR) mode and flushed after
 every chunk, so that a run killed at any moment leaves a file that opens and
 holds every LCP up to the last flush. ``M``, ``q``, ``z``, ``w`` are exactly
 what the solver saw and returned: the *scaled* LCP (``D M D``, ``D q`` with
-``D = diag(I, I, s·I)``, DESIGN §1); :meth:`CaptureRecord.unscaled` undoes it.
+``D = diag(I, I, s·I)``); :meth:`CaptureRecord.unscaled` undoes it.
 """
 
 from __future__ import annotations
