@@ -41,7 +41,7 @@ fn main() {
         for nc in [1, 2, 4, 8] {
             group(
                 &format!("contact{nc}@{scale:e}"),
-                (0..100).map(|s| generate::contact_lcp(nc, 8, scale, s)).collect(),
+                (0..100).map(|s| sim::generate::contact_lcp(nc, 8, scale, s)).collect(),
             );
         }
     }
@@ -52,7 +52,7 @@ fn main() {
     for scale in [1.0, 1e-4, 1e-8] {
         group(
             &format!("hard@{scale:e}"),
-            generate::hard_corpus(2026, 300, scale).into_iter().map(|(_, l)| l).collect(),
+            sim::generate::hard_corpus(2026, 300, scale).into_iter().map(|(_, l)| l).collect(),
         );
     }
     // Method dispatch, PGS and Newton–FB.
