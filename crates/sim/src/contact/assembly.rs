@@ -105,12 +105,12 @@ pub struct ContactLcp {
 }
 
 #[inline]
-fn dot6(a: &Row6, b: &Row6) -> f64 {
+pub(crate) fn dot6(a: &Row6, b: &Row6) -> f64 {
     (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) + (a[3] * b[3] + a[4] * b[4] + a[5] * b[5])
 }
 
 #[inline]
-fn row(lin: Vec3, ang: Vec3) -> Row6 {
+pub(crate) fn row(lin: Vec3, ang: Vec3) -> Row6 {
     [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z]
 }
 

@@ -13,7 +13,8 @@
 //! without assembling or equilibrating a dense matrix. The solver still never
 //! sees a body — it sees [`lcp::support::LcpOperator`].
 
-use super::assembly::{ContactLcp, Row6};
+use super::assembly::{dot6, row, ContactLcp, Row6};
+use crate::math::Vec3;
 use lcp::support::LcpOperator;
 use std::cell::RefCell;
 
@@ -30,8 +31,8 @@ enum Var {
 pub struct BodySpaceLcp<'a> {
     lcp: &'a ContactLcp,
     s: f64,
-    /// Per-body velocity change `[Δv; Δω]` of a product.
-    dv: RefCell<Vec<Row6>>,
+    /// Per-body velocity change `Δv`, `Δω` of a product.
+    dv: RefCell<(Vec<Vec3>, Vec<Vec3>)>,
 }
 
 impl<'a> BodySpaceLcp<'a> {
@@ -42,7 +43,8 @@ impl<'a> BodySpaceLcp<'a> {
 
     /// The same rows at cone scale `s`.
     pub fn at_scale(lcp: &'a ContactLcp, s: f64) -> Self {
-        BodySpaceLcp { lcp, s, dv: RefCell::new(vec![[0.0; 6]; lcp.body_count()]) }
+        let nb = lcp.body_count();
+        BodySpaceLcp { lcp, s, dv: RefCell::new((vec![Vec3::ZERO; nb], vec![Vec3::ZERO; nb])) }
     }
 
     fn var(&self, i: usize) -> Var {
@@ -81,10 +83,6 @@ fn contact(v: Var) -> usize {
     }
 }
 
-#[inline]
-fn dot6(a: &Row6, b: &Row6) -> f64 {
-    (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) + (a[3] * b[3] + a[4] * b[4] + a[5] * b[5])
-}
 
 impl LcpOperator for BodySpaceLcp<'_> {
     fn n(&self) -> usize {
@@ -136,21 +134,12 @@ impl LcpOperator for BodySpaceLcp<'_> {
     fn w_of(&self, z: &[f64], w: &mut [f64]) {
         let (lay, s) = (self.lcp.layout(), self.s);
         let nc = lay.nc;
-        let mut dv = self.dv.borrow_mut();
-        dv.iter_mut().for_each(|x| *x = [0.0; 6]);
-        // Δv = M_b⁻¹ Jᵀ z per body, from each contact's impulse in its (n, t1, t2) frame.
-        for c in 0..nc {
-            let imp = self.lcp.frame_impulse(c, z);
-            for side in 0..2 {
-                let Some(b) = self.lcp.side_body(c, side) else { continue };
-                let (_, minv) = self.lcp.side_rows(c, side);
-                for (row, &p) in minv.iter().zip(&imp) {
-                    for m in 0..6 {
-                        dv[b][m] += row[m] * p;
-                    }
-                }
-            }
-        }
+        // Δv = M_b⁻¹ Jᵀ z per body (the integrator's own map of impulses).
+        let mut guard = self.dv.borrow_mut();
+        let (dv, dw) = &mut *guard;
+        dv.fill(Vec3::ZERO);
+        dw.fill(Vec3::ZERO);
+        self.lcp.apply_impulses(z, dv, dw);
         let q = self.lcp.q();
         for c in 0..nc {
             // J Δv along n, t1, t2.
@@ -158,8 +147,9 @@ impl LcpOperator for BodySpaceLcp<'_> {
             for side in 0..2 {
                 let Some(b) = self.lcp.side_body(c, side) else { continue };
                 let (jac, _) = self.lcp.side_rows(c, side);
-                for (v, row) in jv.iter_mut().zip(jac) {
-                    *v += dot6(row, &dv[b]);
+                let vel = row(dv[b], dw[b]);
+                for (v, r) in jv.iter_mut().zip(jac) {
+                    *v += dot6(r, &vel);
                 }
             }
             let lambda = z[lay.lambda_index(c)];
