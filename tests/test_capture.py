@@ -219,9 +219,12 @@ def _check_consistent(path: str, minimum: int) -> int:
 
 
 def test_killed_writer_leaves_a_readable_file(tmp_path):
-    p, path = _writer(tmp_path, "abandon")
+    p, target = _writer(tmp_path, "abandon")
     _, err = p.communicate(timeout=120)
     assert p.returncode == -signal.SIGKILL, err.decode()
+    # The data is in the documented partial file; the target was never created.
+    path = target + ".partial"
+    assert not os.path.exists(target)
     count = _check_consistent(path, 200)
     assert count <= 240  # everything up to the last flush (the unflushed 40 may or may not be there)
     # Plain h5py cannot open it (the writer never closed it), our reader can.
@@ -238,7 +241,7 @@ def test_run_killed_from_outside_leaves_a_readable_file(tmp_path):
         while time.monotonic() < deadline:
             time.sleep(0.05)
             try:
-                with open_capture(path) as c:
+                with open_capture(path + ".partial") as c:
                     if len(c) >= 300:
                         break
             except (CaptureError, OSError, KeyError):
@@ -246,7 +249,8 @@ def test_run_killed_from_outside_leaves_a_readable_file(tmp_path):
         os.kill(p.pid, signal.SIGKILL)
     finally:
         p.wait(timeout=60)
-    _check_consistent(path, 300)
+    assert not os.path.exists(path)
+    _check_consistent(path + ".partial", 300)
 
 
 def test_cli_solve_index(slope_corpus):

@@ -294,6 +294,8 @@ def solve_lcp(
     q_ = q if type(q) is np.ndarray and q.dtype is _FLOAT64 and q.ndim == 1 else _as_real_array(q, "q", 1)
     if certify is not False and certify is not True and not isinstance(certify, np.bool_):
         raise ValueError(f"certify must be True or False, got {certify!r}")
+    if dump is not None and not isinstance(dump, (str, os.PathLike)):
+        raise ValueError(f"dump must be a directory path (str or os.PathLike), got {dump!r}")
     res = _new_object(LcpResult)
     _set_attribute(res, "__dict__", _core.solve_lcp(M_, q_) if defaults else _core.solve_lcp(M_, q_, method, **opts))
     if certify and res.basis is not None:
@@ -333,7 +335,7 @@ def solve_lcp_batch(
     (0 = one per core) share the batch. Options as in :func:`solve_lcp`; the
     results equal ``solve_lcp`` on each problem."""
     method = _check_method(method)
-    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 0:
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or not 0 <= threads < 2**63:
         raise ValueError(f"threads must be a non-negative integer, got {threads!r}")
     opts = _options(method, pivoting, piv_tol, zero_tol, max_pivots, options)
     Ms_ = _as_real_array(Ms, "Ms", 3)

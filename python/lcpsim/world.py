@@ -715,15 +715,17 @@ class World:
         *,
         chunk_steps: int = 10_000,
         chunk_bytes: int = 64 << 20,
+        overwrite: bool = False,
     ) -> Trajectory:
         """Runs ``steps`` steps (the loop in Rust, GIL released) and returns the :class:`Trajectory`.
 
         ``capture``: a path or a :class:`lcpsim.io.capture.CaptureWriter`; every
         LCP solved is streamed to it (HDF5, see ``docs/capture.md``), drained
         from Rust every ``chunk_steps`` steps or ``chunk_bytes`` of captured
-        data and flushed, so memory stays bounded and an interrupted run
-        leaves a readable file. A path is created (overwritten) with this
-        world's :meth:`config` as metadata and closed at the end."""
+        data and flushed, so memory stays bounded. A path is refused if it
+        exists (unless ``overwrite``), written as ``PATH.partial`` with this
+        world's :meth:`config` as metadata and renamed onto ``PATH`` at the end;
+        an interrupted run leaves the readable ``PATH.partial``."""
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 0:
             raise ValueError(f"steps must be a non-negative integer, got {steps!r}")
         if isinstance(chunk_steps, bool) or not isinstance(chunk_steps, (int, np.integer)) or chunk_steps < 1:
@@ -739,31 +741,9 @@ class World:
                 if done >= steps:
                     break
             return Trajectory._from_parts(self.dt, parts, initial)
-        from .io.capture import CaptureWriter
+        from .io.capture import run_captured
 
-        own = not isinstance(capture, CaptureWriter)
-        writer = capture if isinstance(capture, CaptureWriter) else CaptureWriter(capture, metadata=self.config())
-        try:
-            writer.begin_run(self.config())
-            self._core.start_capture()
-            parts = []
-            done = 0
-            try:
-                while True:
-                    part = self._core.run(min(int(steps) - done, chunk_steps), max_capture_bytes=int(chunk_bytes))
-                    parts.append(part)
-                    done += len(part["time"])
-                    writer.append(self._core.drain_capture())
-                    writer.flush()
-                    if done >= steps:
-                        break
-            finally:
-                self._core.stop_capture()
-                writer.append(self._core.drain_capture())
-                writer.flush()
-        finally:
-            if own:
-                writer.close()
+        parts = run_captured(self, int(steps), capture, int(chunk_steps), int(chunk_bytes), overwrite=overwrite)
         return Trajectory._from_parts(self.dt, parts, initial)
 
     def copy(self) -> "World":
@@ -779,7 +759,7 @@ class World:
 
 
 def _index(i: Any) -> int:
-    if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or i < 0:
+    if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < 2**63:
         raise ValueError(f"body must be a body index (int >= 0), got {i!r}")
     return int(i)
 

@@ -19,6 +19,7 @@
 //! - [`support`]: solving on a guessed complementary basis through an operator
 //!   (`M` never formed): the zero-pivot step of a simulator.
 //! - [`enumerate`]: brute-force enumeration of complementary bases (small n; tests).
+//! - [`limits`]: sizes checked before allocating (memory a dense LCP needs, `try_reserve`).
 //! - [`generate`]: seeded generators of test LCPs (P-matrix, SPD, Murty, infeasible); contact
 //!   LCPs are generated from bodies by `sim::generate`.
 
@@ -28,6 +29,7 @@ pub mod enumerate;
 pub mod generate;
 mod kernels;
 pub mod lemke;
+pub mod limits;
 pub mod method;
 pub mod newton_fb;
 pub mod pgs;

@@ -51,9 +51,14 @@ fn new_array<'py, T: numpy::Element + Copy>(py: Python<'py>, v: Vec<T>, shape: &
 #[pymethods]
 impl PyContactLayout {
     #[new]
-    fn new(nc: usize, k: usize) -> PyResult<Self> {
+    fn new(nc: &Bound<'_, PyAny>, k: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let (nc, k) = (crate::args::count(nc, "nc")?, crate::args::count(k, "k")?);
         if nc == 0 || k == 0 {
             return Err(value_error(format!("a contact layout needs nc >= 1 and k >= 1, got nc = {nc}, k = {k}")));
+        }
+        // n = nc·(k + 2) must be a size numpy can allocate.
+        if nc.checked_mul(k.saturating_add(2)).is_none_or(|n| n > isize::MAX as usize / 8) {
+            return Err(value_error(format!("a contact layout of nc = {nc}, k = {k} is too large (n = nc·(k + 2) overflows)")));
         }
         Ok(PyContactLayout(ContactLayout::new(nc, k)))
     }

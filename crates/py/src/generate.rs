@@ -4,7 +4,9 @@
 //! the label a string that names the generator and its arguments. The
 //! contact generators also return `(nc, k)` so that Python can undo the
 //! friction-cone scaling (DESIGN §1). Arguments the Rust generators would panic
-//! on are rejected here with a `ValueError`.
+//! on, and sizes whose matrices could not fit in memory, are rejected here with
+//! a `ValueError` (saying how much memory the request needs). Integer arguments are checked
+//! by the Python wrappers (`lcpsim.generate`), so they arrive here as ints that fit.
 
 use crate::errors::value_error;
 use lcp::generate;
@@ -48,6 +50,21 @@ fn check_positive(value: usize, name: &str) -> PyResult<()> {
     Ok(())
 }
 
+/// Friction directions of a generated contact LCP: in [1, `sim::limits::MAX_FRICTION_DIRS`].
+fn check_dirs(k: usize) -> PyResult<()> {
+    check_positive(k, "k")?;
+    let max = sim::limits::MAX_FRICTION_DIRS;
+    if k > max {
+        return Err(value_error(format!("k must be at most {max} friction directions, got {k}")));
+    }
+    Ok(())
+}
+
+/// Refuses a generator call whose `copies` dense `n × n` matrices could not fit in memory.
+fn check_size(what: impl FnOnce() -> String, n: usize, copies: u32) -> PyResult<()> {
+    lcp::limits::check_dense(what, n, copies).map_err(|e| value_error(e.to_string()))
+}
+
 fn hard_kind(name: &str) -> PyResult<HardKind> {
     HardKind::ALL
         .into_iter()
@@ -60,8 +77,10 @@ fn hard_kind(name: &str) -> PyResult<HardKind> {
 #[pyo3(signature = (nc, k = 8, scale = 1.0, seed = 0))]
 pub fn contact_lcp(py: Python<'_>, nc: usize, k: usize, scale: f64, seed: u64) -> PyResult<ContactTuple<'_>> {
     check_positive(nc, "nc")?;
-    check_positive(k, "k")?;
+    check_dirs(k)?;
     check_scale(scale)?;
+    let n = sim::limits::lcp_size(nc, k).unwrap_or(usize::MAX);
+    check_size(|| format!("contact_lcp(nc={nc}, k={k}): an LCP of n = {n} unknowns"), n, 2)?;
     let lcp = scenes::contact_lcp(nc, k, scale, seed);
     let (m, q) = to_numpy(py, lcp)?;
     Ok((m, q, format!("contact/nc{nc}/k{k}/seed{seed}"), nc, k))
@@ -72,6 +91,7 @@ pub fn contact_lcp(py: Python<'_>, nc: usize, k: usize, scale: f64, seed: u64) -
 #[pyo3(signature = (n, seed = 0))]
 pub fn spd_lcp(py: Python<'_>, n: usize, seed: u64) -> PyResult<PlainTuple<'_>> {
     check_positive(n, "n")?;
+    check_size(|| format!("spd_lcp(n={n})"), n, 3)?;
     let lcp = py.detach(|| generate::spd_lcp(n, seed));
     let (m, q) = to_numpy(py, lcp)?;
     Ok((m, q, format!("spd/n{n}/seed{seed}")))
@@ -82,6 +102,7 @@ pub fn spd_lcp(py: Python<'_>, n: usize, seed: u64) -> PyResult<PlainTuple<'_>> 
 #[pyo3(signature = (n, seed = 0))]
 pub fn p_matrix_lcp(py: Python<'_>, n: usize, seed: u64) -> PyResult<PlainTuple<'_>> {
     check_positive(n, "n")?;
+    check_size(|| format!("p_matrix_lcp(n={n})"), n, 4)?;
     let lcp = py.detach(|| generate::p_matrix_lcp(n, seed));
     let (m, q) = to_numpy(py, lcp)?;
     Ok((m, q, format!("p_matrix/n{n}/seed{seed}")))
@@ -99,7 +120,7 @@ pub fn hard_contact_lcp<'py>(
     k: usize,
 ) -> PyResult<ContactTuple<'py>> {
     let kind = hard_kind(kind)?;
-    check_positive(k, "k")?;
+    check_dirs(k)?;
     check_scale(scale)?;
     let scene = scenes::HardScene::random(kind, k, seed);
     let (label, nc) = (scene.label(seed), scene.nc);
@@ -112,6 +133,9 @@ pub fn hard_contact_lcp<'py>(
 #[pyo3(signature = (seed, count, scale = 1.0))]
 pub fn hard_corpus(py: Python<'_>, seed: u64, count: usize, scale: f64) -> PyResult<Vec<ContactTuple<'_>>> {
     check_scale(scale)?;
+    // Every item is at least one contact with k = 4 (an LCP of 6 unknowns).
+    let bytes = (count as u128).saturating_mul(lcp::limits::dense_bytes(6, 1) + 64);
+    lcp::limits::check_bytes(|| format!("hard_corpus(count={count})"), bytes).map_err(|e| value_error(e.to_string()))?;
     let items = py.detach(|| scenes::hard_corpus(seed, count, scale));
     items
         .into_iter()

@@ -5,6 +5,7 @@
 //! options → `Method`), `solution` (`Solution` → dict), `lcp` (the solver
 //! functions), `contact` (`ContactLayout`), `math` (quaternions), `errors`. `sim` (the simulator: `World`, scenes, LCP capture).
 
+mod args;
 mod certify;
 mod contact;
 mod errors;

@@ -34,18 +34,20 @@ pub enum SimError {
     NonFiniteState { body: usize },
     /// The assembled LCP was rejected by `lcp::Lcp::new` (non-finite data).
     Lcp(lcp::LcpError),
+    /// A size (of a scene, an island's LCP, a trajectory) that would not fit in memory.
+    TooLarge(lcp::limits::SizeError),
 }
 
 impl fmt::Display for SimError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            SimError::NotPositive { field, value } => write!(f, "{field} must be > 0, got {value}"),
-            SimError::Negative { field, value } => write!(f, "{field} must be >= 0, got {value}"),
-            SimError::OutOfRange { field, value, range } => write!(f, "{field} must be in {range}, got {value}"),
-            SimError::NonFinite { field, value } => write!(f, "{field} must be finite, got {value}"),
+            SimError::NotPositive { field, value } => write!(f, "{field} must be > 0, got {}", num(*value)),
+            SimError::Negative { field, value } => write!(f, "{field} must be >= 0, got {}", num(*value)),
+            SimError::OutOfRange { field, value, range } => write!(f, "{field} must be in {range}, got {}", num(*value)),
+            SimError::NonFinite { field, value } => write!(f, "{field} must be finite, got {}", num(*value)),
             SimError::ZeroLength { field } => write!(f, "{field} has zero length and cannot be normalized"),
             SimError::FrictionDirs { k } => {
-                write!(f, "friction_dirs must be even and >= 2, got {k}")
+                write!(f, "friction_dirs must be even and in [2, {}], got {k}", crate::limits::MAX_FRICTION_DIRS)
             }
             SimError::UnknownBody { index, bodies } => {
                 write!(f, "body {index} does not exist (the world has {bodies} bodies)")
@@ -55,11 +57,22 @@ impl fmt::Display for SimError {
             SimError::BadInertia { reason } => write!(f, "inertia tensor {reason}"),
             SimError::NonFiniteState { body } => write!(f, "body {body} has a non-finite state"),
             SimError::Lcp(e) => write!(f, "contact LCP: {e}"),
+            SimError::TooLarge(e) => write!(f, "{e}"),
         }
     }
 }
 
 impl std::error::Error for SimError {}
+
+/// A value for a message: plain decimals, exponent form for the very small
+/// or very large (`1e-300`, not three hundred zeros).
+fn num(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e16).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
 
 // Small checks shared by every constructor, so that each field is named once.
 

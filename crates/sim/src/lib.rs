@@ -36,6 +36,7 @@ pub mod error;
 pub mod generate;
 pub mod geometry;
 pub mod islands;
+pub mod limits;
 pub mod math;
 pub mod parallel;
 pub mod params;

@@ -10,6 +10,7 @@ use crate::contact::Restitution;
 use crate::dynamics::{BodyDesc, BodyId};
 use crate::error::{finite, non_negative, positive, SimError};
 use crate::geometry::{Downhill, Plane};
+use crate::limits;
 use crate::math::{Quat, Vec3};
 use crate::params::WorldParams;
 use crate::world::World;
@@ -244,6 +245,8 @@ impl BoxStack {
             return Err(SimError::NotPositive { field: "n", value: 0.0 });
         }
         let mut world = World::new(params)?;
+        // One stack is one contact island.
+        limits::check_scene("box_stack", "n", (Some(self.n), self.n as f64), self.n, world.params().friction_dirs)?;
         let ground = world.add_ground(self.mu)?;
         let h = 0.5 * self.size;
         let bodies = (0..self.n)
@@ -326,11 +329,15 @@ impl BoxPile {
         positive("size", self.size)?;
         positive("spacing", self.spacing)?;
         non_negative("yaw", self.yaw)?;
-        let count = self.nx * self.ny * self.nz;
-        if count == 0 {
+        let count = self.nx.checked_mul(self.ny).and_then(|c| c.checked_mul(self.nz));
+        if count == Some(0) {
             return Err(SimError::NotPositive { field: "nx*ny*nz", value: 0.0 });
         }
         let mut world = World::new(params)?;
+        // Each tower of nz boxes is one contact island.
+        let requested = self.nx as f64 * self.ny as f64 * self.nz as f64;
+        let k = world.params().friction_dirs;
+        let count = limits::check_scene("box_pile", "nx*ny*nz", (count, requested), self.nz, k)?;
         let ground = world.add_ground(self.mu)?;
         let mut rng = SplitMix64(self.seed);
         let h = 0.5 * self.size;
@@ -412,6 +419,8 @@ impl CubeHeap {
             return Err(SimError::OutOfRange { field: "spacing", value: self.spacing, range: "[1 + 4·jitter, ∞)" });
         }
         let mut world = World::new(params)?;
+        // A heap can join into one contact island.
+        limits::check_scene("cube_heap", "n", (Some(self.n), self.n as f64), self.n, world.params().friction_dirs)?;
         let ground = world.add_ground(self.mu)?;
         let (g, s, h) = (self.base(), self.size, 0.5 * self.size);
         let step = self.spacing * s;

@@ -7,7 +7,7 @@
 
 from __future__ import annotations
 
-from .command import EXIT_NOT_SOLVED, EXIT_OK, EXIT_USAGE, CliError, Command, register_command
+from .command import EXIT_INTERNAL, EXIT_NOT_SOLVED, EXIT_OK, EXIT_USAGE, CliError, Command, register_command
 from .main import build_parser, main
 
 __all__ = [
@@ -19,4 +19,5 @@ __all__ = [
     "EXIT_OK",
     "EXIT_NOT_SOLVED",
     "EXIT_USAGE",
+    "EXIT_INTERNAL",
 ]

@@ -14,7 +14,8 @@ Every experiment command takes ``--json`` (print the result), ``--plot FILE``
 (write a PNG), ``--solver`` (a preset — ``seed``, ``robust`` (default),
 ``pgs``, ``newton_fb`` — or ``method:key=value,…``) and ``--seed``. A scale is
 a number, ``none`` (unscaled) or ``dt`` (the time step). Exit codes: 0 done,
-2 invalid input.
+1 a sweep case failed (or is missing), 2 invalid input (a sweep's whole config
+is checked before any case runs).
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ from typing import Any
 
 from ..experiments.experiment import Experiment
 from ..experiments.registry import REGISTRY
-from .command import EXIT_OK, Command, register_command
+from .command import EXIT_NOT_SOLVED, EXIT_OK, Command, register_command
 
 __all__: list[str] = []
 
@@ -106,7 +107,8 @@ def _run_sweep(args: argparse.Namespace) -> int:
             print(json.dumps(rec))
     else:
         print(sweep.summary_text(out))
-    return EXIT_OK
+    # A case that raised, or one still missing, is a failure of the sweep.
+    return EXIT_OK if out["failed"] == 0 and out["complete"] else EXIT_NOT_SOLVED
 
 
 for _exp in REGISTRY.values():

@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from .command import EXIT_NOT_SOLVED, EXIT_OK, CliError, Command, register_command
+from .command import EXIT_NOT_SOLVED, EXIT_OK, CliError, Command, lemke_options, register_command
 from ..lcp import METHODS, PIVOTINGS
 from ..scale import cone_scale_argument
 from ..scenes import SCENES, Scene, scene_parameters
@@ -57,6 +57,7 @@ def _configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--zero-tol", type=float, default=None, help="Lemke: the user zero")
     p.add_argument("--max-pivots", type=int, default=None, help="Lemke: pivot limit")
     p.add_argument("--capture", metavar="FILE", default=None, help="stream every LCP solved to this HDF5 capture")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing capture FILE (default: refuse it)")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.add_argument(
         "--set", action="append", default=[], metavar="NAME=VALUE",
@@ -99,11 +100,7 @@ def _world_kwargs(args: argparse.Namespace) -> dict[str, Any]:
         "friction_dirs": args.friction_dirs,
         "method": args.method,
     }
-    lemke_opts = {"pivoting": args.pivoting, "piv_tol": args.piv_tol, "zero_tol": args.zero_tol, "max_pivots": args.max_pivots}
-    given = {k: v for k, v in lemke_opts.items() if v is not None}
-    if given and args.method != "lemke":
-        raise CliError(f"--{next(iter(given)).replace('_', '-')} applies only to --method lemke")
-    kw.update(given)
+    kw.update(lemke_options(args, args.method))
     for item in args.set:
         if "=" not in item:
             raise CliError(f"--set expects NAME=VALUE, got {item!r}")
@@ -222,7 +219,9 @@ def _run(args: argparse.Namespace) -> int:
     except TypeError as e:  # an unknown --set name
         raise CliError(str(e)) from None
     t0 = time.perf_counter()
-    traj = scene.world.run(args.steps, capture=args.capture)
+    if args.overwrite and not args.capture:
+        raise CliError("--overwrite applies only with --capture FILE")
+    traj = scene.world.run(args.steps, capture=args.capture, overwrite=args.overwrite)
     wall = time.perf_counter() - t0
     summary = simulate_summary(scene, traj, wall)
     summary["capture"] = args.capture

@@ -11,7 +11,7 @@ import numpy as np
 
 from .. import __version__
 from ..lcp import METHODS, PIVOTINGS, LcpResult, solve_lcp
-from .command import EXIT_NOT_SOLVED, EXIT_OK, CliError, Command, register_command
+from .command import EXIT_NOT_SOLVED, EXIT_OK, CliError, Command, lemke_options, register_command
 
 __all__: list[str] = []
 
@@ -67,19 +67,6 @@ def _summary(path: str, res: LcpResult, pivoting: str | None) -> str:
     return "\n".join(lines)
 
 
-def _solve_options(args: argparse.Namespace, lemke: bool) -> dict[str, Any]:
-    """The Lemke options given on the command line (only those given)."""
-    if not lemke:
-        return {}
-    given = {
-        "pivoting": args.pivoting,
-        "piv_tol": args.piv_tol,
-        "zero_tol": args.zero_tol,
-        "max_pivots": args.max_pivots,
-    }
-    return {k: v for k, v in given.items() if v is not None}
-
-
 def _run_replay(args: argparse.Namespace) -> int:
     from ..io.forensics import load_dump, replay
 
@@ -87,7 +74,7 @@ def _run_replay(args: argparse.Namespace) -> int:
         raise CliError(f"{args.file}: a failure dump holds one LCP; --index does not apply")
     dump = load_dump(args.file)
     method = args.method or dump.method
-    overrides = _solve_options(args, method == "lemke")
+    overrides = lemke_options(args, method)
     rep = replay(dump, method=args.method, certify=args.certify, dump=args.dump, **overrides)
     res = rep.result
     pivoting = rep.options.get("pivoting", "lexicographic") if rep.method == "lemke" else None
@@ -128,7 +115,7 @@ def _run_solve(args: argparse.Namespace) -> int:
     M, q = load_lcp(args.file, index)
     method = args.method or "lemke"
     lemke = method == "lemke"
-    kwargs = _solve_options(args, lemke)
+    kwargs = lemke_options(args, method)
     pivoting = kwargs.get("pivoting", "lexicographic") if lemke else None
     res = solve_lcp(M, q, method=method, certify=args.certify, dump=args.dump, **kwargs)
     if args.json:

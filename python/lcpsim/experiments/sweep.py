@@ -42,6 +42,7 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
+import math
 import os
 import sys
 import time
@@ -75,9 +76,15 @@ def load_config(path: str | os.PathLike[str]) -> dict[str, Any]:
     if p.suffix.lower() in (".yaml", ".yml"):
         import yaml  # type: ignore[import-untyped]
 
-        cfg = yaml.safe_load(text)
+        try:
+            cfg = yaml.safe_load(text)
+        except yaml.YAMLError as e:
+            raise ValueError(f"{path}: not valid YAML ({' '.join(str(e).split())})") from None
     else:
-        cfg = json.loads(text)
+        try:
+            cfg = json.loads(text)
+        except json.JSONDecodeError as e:
+            raise ValueError(f"{path}: not valid JSON ({e})") from None
     if not isinstance(cfg, dict):
         raise ValueError(f"{path}: a sweep config must be a mapping, got {type(cfg).__name__}")
     out = cfg.get("output")
@@ -138,12 +145,66 @@ def expand_cases(cfg: Mapping[str, Any]) -> list[dict[str, Any]]:
                 c = {k: _yaml_number(v) if k != "solver" else v for k, v in {**base, **dict(zip(keys, values))}.items()}
                 c["seed"] = int(seed)
                 full = merge_config(exp, DEFAULTS[exp], c)
+                check_case(exp, full)
                 cid = case_id(exp, full)
                 if cid in seen:
                     continue
                 seen.add(cid)
                 cases.append({"id": cid, "experiment": exp, "config": jsonable(full)})
     return cases
+
+
+# Config keys whose values are integers (the others of numeric default are reals).
+_INT_KEYS = {"seed", "friction_dirs", "threads", "max_lcps", "max_listed", "certify_max_n", "count"}
+
+
+def _check_value(key: str, value: Any, default: Any) -> None:
+    """``value`` of the kind of ``default`` (None: anything); a ValueError says which kind."""
+    if default is None or value is None and key in ("max_lcps", "certify", "solvers"):
+        return
+    if isinstance(default, bool):
+        ok = isinstance(value, bool)
+        kind = "true or false"
+    elif isinstance(default, (int, float)):
+        real = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+        ok = real and (not (key in _INT_KEYS) or float(value).is_integer())
+        kind = "an integer" if key in _INT_KEYS else "a finite number"
+    elif isinstance(default, str):
+        ok, kind = isinstance(value, str), "a string"
+    elif isinstance(default, Mapping):
+        ok, kind = isinstance(value, Mapping), "a mapping"
+    elif isinstance(default, list):
+        ok, kind = isinstance(value, (list, str)), "a list"
+    else:
+        return
+    if not ok:
+        raise ValueError(f"must be {kind}")
+
+
+def check_case(experiment: str, config: Mapping[str, Any]) -> None:
+    """Checks every value of one case's config before anything runs: numbers
+    where the default is a number (integers for counts and seeds), booleans,
+    strings, solvers (``solver``, ``solvers``) and cone scales (``scale``,
+    ``scales``) that parse. A ValueError names the experiment, key and value."""
+    from .. import scale as cone
+    from . import DEFAULTS
+    from .presets import parse_solver
+
+    for key, value in config.items():
+        try:
+            if key == "solver":
+                parse_solver(value)
+            elif key == "solvers" and value is not None:
+                for spec in value.split(",") if isinstance(value, str) else value:
+                    parse_solver(spec)
+            elif key == "scale":
+                cone.parse_cone_scale(value)
+            elif key == "scales":
+                cone.parse_cone_scales(value)
+            else:
+                _check_value(key, value, DEFAULTS[experiment].get(key))
+        except (TypeError, ValueError) as e:
+            raise ValueError(f"sweep: {experiment}: {key} = {value!r}: {' '.join(str(e).split())}") from None
 
 
 def run_case(case: Mapping[str, Any]) -> dict[str, Any]:

@@ -36,6 +36,8 @@ from numpy.typing import ArrayLike, NDArray
 from .. import _core
 from .._deprecated import deprecated_names
 from .._json import jsonable
+from .limits import human_bytes
+from .safe_file import SafeTarget, partial_path
 
 __all__ = [
     "FORMAT",
@@ -48,6 +50,7 @@ __all__ = [
     "load_captured_lcp",
     "load_record",
     "is_capture",
+    "run_captured",
 ]
 
 #: Value of the root attribute ``format``.
@@ -91,16 +94,36 @@ def _h5py() -> Any:
 
 def _open_read(path: Path) -> Any:
     """Opens an HDF5 file for reading, also one whose writer died without
-    closing it (SWMR read mode ignores the 'file is open for writing' flag)."""
+    closing it (SWMR read mode ignores the 'file is open for writing' flag),
+    without HDF5's file locking: a reader never waits for a writer."""
     h5py = _h5py()
     try:
-        return h5py.File(path, "r", libver="latest", swmr=True)
-    except OSError:
+        return h5py.File(path, "r", libver="latest", swmr=True, locking=False)
+    except (OSError, ValueError):
         pass
     try:
-        return h5py.File(path, "r")
-    except OSError as e:
+        return h5py.File(path, "r", locking=False)
+    except (OSError, ValueError) as e:
         raise CaptureError(f"{path}: not a readable HDF5 file ({e})") from None
+
+
+def _check_lengths(path: Path, f: Any, datasets: Mapping[str, Any]) -> None:
+    """Refuses datasets longer than the file could hold (a damaged file can
+    claim any shape; reading it would allocate that much). A chunk of slack
+    covers a writer's last, not yet written, resize; compressed data up to
+    gzip's ratio."""
+    size = path.stat().st_size
+    for name, ds in datasets.items():
+        if ds.ndim != 1:
+            raise CaptureError(f"{path}: damaged corpus, {name} has shape {ds.shape} (1-D expected)")
+        ratio = 1100 if ds.compression else 1
+        slack = (ds.chunks[0] if ds.chunks else 0) * ds.dtype.itemsize
+        nbytes = ds.shape[0] * ds.dtype.itemsize
+        if nbytes > ratio * size + slack + (1 << 20):
+            raise CaptureError(
+                f"{path}: damaged corpus, {name} claims {ds.shape[0]} entries ({human_bytes(nbytes)}) "
+                f"in a file of {human_bytes(size)}"
+            )
 
 
 def _append(ds: Any, values: NDArray[Any]) -> None:
@@ -109,6 +132,32 @@ def _append(ds: Any, values: NDArray[Any]) -> None:
     n0 = ds.shape[0]
     ds.resize((n0 + values.shape[0],))
     ds[n0:] = values
+
+
+def _create_layout(f: Any, metadata: Mapping[str, Any] | None, compression: str | None) -> tuple[dict[str, Any], ...]:
+    """Root attributes and the empty growing datasets of a new capture: ``(data, index, runs)``."""
+    from .. import __version__
+
+    f.attrs["format"] = FORMAT
+    f.attrs["format_version"] = FORMAT_VERSION
+    f.attrs["lcpsim_version"] = __version__
+    f.attrs["created"] = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+    f.attrs["metadata"] = json.dumps(jsonable(dict(metadata or {})))
+    f.attrs["status_names"] = json.dumps(list(_core.STATUSES))
+    f.attrs["method_names"] = json.dumps(list(METHOD_NAMES))
+    kw: dict[str, Any] = {"compression": compression} if compression else {}
+    data = f.create_group("data")
+    index = f.create_group("index")
+    runs = f.create_group("runs")
+    return (
+        {k: data.create_dataset(k, shape=(0,), maxshape=(None,), chunks=(c,), dtype="f8", **kw) for k, c in _DATA.items()},
+        {k: index.create_dataset(k, shape=(0,), maxshape=(None,), chunks=(c,), dtype=t) for k, (t, c) in _INDEX.items()},
+        {
+            "json": runs.create_dataset("json", shape=(0,), maxshape=(None,), chunks=(4096,), dtype="u1"),
+            "offset": runs.create_dataset("offset", shape=(0,), maxshape=(None,), chunks=(256,), dtype="i8"),
+            "length": runs.create_dataset("length", shape=(0,), maxshape=(None,), chunks=(256,), dtype="i8"),
+        },
+    )
 
 
 class CaptureWriter:
@@ -127,39 +176,24 @@ class CaptureWriter:
         metadata: Mapping[str, Any] | None = None,
         *,
         compression: str | None = None,
+        overwrite: bool = False,
     ) -> None:
-        from .. import __version__
-
-        h5py = _h5py()
         self.path = Path(path)
-        self._f = h5py.File(self.path, "w", libver="latest")
-        f = self._f
-        f.attrs["format"] = FORMAT
-        f.attrs["format_version"] = FORMAT_VERSION
-        f.attrs["lcpsim_version"] = __version__
-        f.attrs["created"] = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
-        f.attrs["metadata"] = json.dumps(jsonable(dict(metadata or {})))
-        f.attrs["status_names"] = json.dumps(list(_core.STATUSES))
-        f.attrs["method_names"] = json.dumps(list(METHOD_NAMES))
-        kw: dict[str, Any] = {"compression": compression} if compression else {}
-        data = f.create_group("data")
-        self._data = {
-            k: data.create_dataset(k, shape=(0,), maxshape=(None,), chunks=(c,), dtype="f8", **kw)
-            for k, c in _DATA.items()
-        }
-        index = f.create_group("index")
-        self._index = {
-            k: index.create_dataset(k, shape=(0,), maxshape=(None,), chunks=(c,), dtype=t)
-            for k, (t, c) in _INDEX.items()
-        }
-        runs = f.create_group("runs")
-        self._runs = {
-            "json": runs.create_dataset("json", shape=(0,), maxshape=(None,), chunks=(4096,), dtype="u1"),
-            "offset": runs.create_dataset("offset", shape=(0,), maxshape=(None,), chunks=(256,), dtype="i8"),
-            "length": runs.create_dataset("length", shape=(0,), maxshape=(None,), chunks=(256,), dtype="i8"),
-        }
+        self._closed = True
+        # Lock, refuse an existing path, write beside it (see safe_file).
+        self._target = SafeTarget(self.path, overwrite=overwrite, what="capture")
+        #: The file being written; renamed onto ``path`` by :meth:`close`.
+        self.partial_path = self._target.partial
+        try:
+            self._f = f = _h5py().File(self.partial_path, "w", libver="latest")
+            self._data, self._index, self._runs = _create_layout(f, metadata, compression)
+        except BaseException:
+            if getattr(self, "_f", None) is not None:
+                self._f.close()
+            self._target.abandon()
+            raise
         # From here on the file's structure is fixed and every write keeps it readable.
-        f.swmr_mode = True
+        self._f.swmr_mode = True
         self._count = 0
         self._m_end = 0
         self._v_end = 0
@@ -297,10 +331,20 @@ class CaptureWriter:
         self._check_open()
         self._f.flush()
 
-    def close(self) -> None:
+    def close(self, *, complete: bool = True) -> None:
+        """Closes the file and renames it onto ``path`` — or, with
+        ``complete=False`` (an interrupted run), leaves it as ``PATH.partial``."""
         if not self._closed:
             self._closed = True
-            self._f.close()
+            try:
+                self._f.close()
+            except BaseException:
+                self._target.abandon()
+                raise
+            if complete:
+                self._target.commit()
+            else:
+                self._target.abandon()
 
     def _check_open(self) -> None:
         if self._closed:
@@ -309,8 +353,43 @@ class CaptureWriter:
     def __enter__(self) -> "CaptureWriter":
         return self
 
-    def __exit__(self, *exc: Any) -> None:
-        self.close()
+    def __exit__(self, exc_type: Any, *exc: Any) -> None:
+        self.close(complete=exc_type is None)
+
+
+def run_captured(
+    world: Any, steps: int, capture: "CaptureWriter | str | os.PathLike[str]", chunk_steps: int, chunk_bytes: int,
+    *, overwrite: bool = False,
+) -> list[Any]:
+    """``World.run``'s loop with a capture: the trajectory's parts, every LCP streamed
+    to ``capture`` (a writer, or a path opened here and renamed into place at the end)."""
+    own = not isinstance(capture, CaptureWriter)
+    writer = CaptureWriter(capture, metadata=world.config(), overwrite=overwrite) if own else capture
+    core = world._core
+    complete = False
+    try:
+        writer.begin_run(world.config())
+        core.start_capture()
+        parts = []
+        done = 0
+        try:
+            while True:
+                part = core.run(min(steps - done, chunk_steps), max_capture_bytes=chunk_bytes)
+                parts.append(part)
+                done += len(part["time"])
+                writer.append(core.drain_capture())
+                writer.flush()
+                if done >= steps:
+                    break
+        finally:
+            core.stop_capture()
+            writer.append(core.drain_capture())
+            writer.flush()
+        complete = True
+    finally:
+        if own:
+            writer.close(complete=complete)
+    return parts
 
 
 @dataclass(frozen=True)
@@ -378,7 +457,9 @@ class Capture:
     def __init__(self, path: str | os.PathLike[str]) -> None:
         self.path = Path(path)
         if not self.path.exists():
-            raise FileNotFoundError(f"{path}: no such file")
+            partial = partial_path(self.path)
+            hint = f" (an interrupted capture is at {partial})" if partial.exists() else ""
+            raise FileNotFoundError(f"{path}: no such file{hint}")
         f = _open_read(self.path)
         self._f = f
         try:
@@ -394,7 +475,14 @@ class Capture:
             self.status_names: list[str] = json.loads(f.attrs["status_names"])
             self.method_names: list[str] = json.loads(f.attrs["method_names"])
             stored = f["index"]
-            idx = {k: stored[k][()] for k in _INDEX if k not in _ADDED_IN_V2 or k in stored}
+            present = {k: stored[k] for k in _INDEX if k not in _ADDED_IN_V2 or k in stored}
+            runs = f["runs"]
+            _check_lengths(self.path, f, {
+                **{f"/index/{k}": v for k, v in present.items()},
+                **{f"/data/{k}": f["data"][k] for k in _DATA},
+                **{f"/runs/{k}": runs[k] for k in ("json", "offset", "length")},
+            })
+            idx = {k: v[()] for k, v in present.items()}
             data_len = {k: f["data"][k].shape[0] for k in _DATA}
             # Complete records only: as many as every index dataset holds and
             # whose data lies within the data written.
@@ -403,14 +491,15 @@ class Capture:
             for k, value in _ADDED_IN_V2.items():
                 idx.setdefault(k, np.full(count, value, dtype=_INDEX[k][0]))
             n = idx["n"].astype(np.int64)
-            m_end = idx["m_offset"] + n * n
-            v_end = idx["v_offset"] + n
-            ok = (m_end <= data_len["M"]) & (v_end <= min(data_len["q"], data_len["z"], data_len["w"]))
+            m_off, v_off = idx["m_offset"].astype(np.int64), idx["v_offset"].astype(np.int64)
+            m_end = m_off + n * n
+            v_end = v_off + n
+            ok = (n >= 1) & (m_off >= 0) & (v_off >= 0)
+            ok &= (m_end <= data_len["M"]) & (v_end <= min(data_len["q"], data_len["z"], data_len["w"]))
             if not ok.all():
                 count = int(np.argmin(ok))
                 idx = {k: v[:count] for k, v in idx.items()}
             self._idx: dict[str, NDArray[Any]] = idx
-            runs = f["runs"]
             r_count = min(runs["offset"].shape[0], runs["length"].shape[0])
             blob = runs["json"][()].tobytes()
             self.runs: list[dict[str, Any]] = []
@@ -422,6 +511,11 @@ class Capture:
         except KeyError as e:
             f.close()
             raise CaptureError(f"{path}: damaged corpus, missing {e}") from None
+        except (OSError, TypeError, ValueError) as e:
+            f.close()
+            if isinstance(e, CaptureError):
+                raise
+            raise CaptureError(f"{path}: damaged corpus ({type(e).__name__}: {e})") from None
         except BaseException:
             f.close()
             raise

@@ -190,11 +190,42 @@ def _attr(f: Any, key: str, default: Any = None) -> Any:
     return v
 
 
-def load_dump(path: str | os.PathLike[str]) -> Dump:
-    """Reads a failure dump; :class:`lcpsim.io.LcpFileError` if ``path`` is not one."""
-    import h5py
+def _vector(path: Path, f: Any, key: str, n: int, dtype: Any) -> NDArray[Any] | None:
+    """Dataset ``/key`` as a length-``n`` vector (None when absent)."""
+    from .lcp_file import LcpFileError, hdf5_dataset
 
-    from .lcp_file import LcpFileError, _validate, is_dump
+    if key not in f:
+        return None
+    v = np.asarray(hdf5_dataset(path, f, key, LcpFileError)[()])
+    if v.shape != (n,):
+        raise LcpFileError(f"{path}: '/{key}' has shape {v.shape}, expected ({n},)")
+    return v.astype(dtype)
+
+
+def _trace(path: Path, f: Any) -> dict[str, NDArray[Any]] | None:
+    """The pivot trace: 1-D numeric datasets of one length, or an error naming what is wrong."""
+    from .lcp_file import LcpFileError, hdf5_dataset
+
+    if "trace" not in f:
+        return None
+    group = f["trace"]
+    if not hasattr(group, "keys"):
+        raise LcpFileError(f"{path}: '/trace' must be a group of datasets ({', '.join(TRACE_FIELDS)})")
+    trace = {k: np.asarray(hdf5_dataset(path, group, k, LcpFileError)[()]) for k in TRACE_FIELDS if k in group}
+    missing = [k for k in TRACE_FIELDS if k not in trace]
+    lengths = {v.shape for v in trace.values()}
+    if missing or len(lengths) > 1 or any(len(s) != 1 for s in lengths):
+        raise LcpFileError(
+            f"{path}: damaged pivot trace (missing: {', '.join(missing) or 'none'}; shapes: "
+            f"{', '.join(f'{k} {v.shape}' for k, v in trace.items())}; 1-D of one length expected)"
+        )
+    return trace
+
+
+def load_dump(path: str | os.PathLike[str]) -> Dump:
+    """Reads a failure dump; :class:`lcpsim.io.LcpFileError` if ``path`` is not one
+    (or is damaged: every field is checked before it is used)."""
+    from .lcp_file import LcpFileError, _validate, hdf5_dataset, is_dump, open_hdf5
 
     p = Path(path)
     if not p.exists():
@@ -202,35 +233,40 @@ def load_dump(path: str | os.PathLike[str]) -> Dump:
     if not is_dump(p):
         raise LcpFileError(f"{path}: not an lcpsim failure dump")
     try:
-        with h5py.File(p, "r") as f:
-            M, q = _validate(p, f["M"][()], f["q"][()])
+        with open_hdf5(p, LcpFileError) as f:
+            M, q = _validate(p, hdf5_dataset(p, f, "M", LcpFileError)[()], hdf5_dataset(p, f, "q", LcpFileError)[()])
+            n = q.shape[0]
             try:
                 options = json.loads(str(_attr(f, "options", "{}")))
             except json.JSONDecodeError as e:
                 raise LcpFileError(f"{path}: the options attribute is not JSON ({e})") from None
-            trace = None
-            if "trace" in f:
-                trace = {k: np.asarray(f["trace"][k][()]) for k in TRACE_FIELDS if k in f["trace"]}
+            if not isinstance(options, dict) or not all(isinstance(k, str) for k in options):
+                raise LcpFileError(f"{path}: the options attribute must be a JSON object of name: value, got {options!r}")
+            z, w = _vector(p, f, "z", n, np.float64), _vector(p, f, "w", n, np.float64)
             ts = _attr(f, "trace_status", "")
             return Dump(
                 path=str(p),
                 M=M,
                 q=q,
                 method=str(_attr(f, "method", "lemke")),
-                options=dict(options),
+                options=options,
                 status=str(_attr(f, "status", "")),
-                z=np.asarray(f["z"][()], dtype=np.float64) if "z" in f else np.zeros(q.shape[0]),
-                w=np.asarray(f["w"][()], dtype=np.float64) if "w" in f else np.zeros(q.shape[0]),
-                basis=np.asarray(f["basis"][()], dtype=bool) if "basis" in f else None,
+                z=np.zeros(n) if z is None else z,
+                w=np.zeros(n) if w is None else w,
+                basis=_vector(p, f, "basis", n, bool),
                 pivots=int(_attr(f, "pivots", 0)),
                 residuals={k: float(_attr(f, k, float("nan"))) for k in _RESIDUAL_FIELDS},
-                trace=trace,
+                trace=_trace(p, f),
                 trace_status=str(ts) if ts else None,
                 lcpsim_version=str(_attr(f, "lcpsim_version", "")),
                 attrs={k: _attr(f, k) for k in f.attrs},
             )
-    except (OSError, KeyError) as e:
+    except (OSError, KeyError, TypeError) as e:
         raise LcpFileError(f"{path}: unreadable failure dump ({e})") from None
+    except ValueError as e:
+        if isinstance(e, LcpFileError):
+            raise
+        raise LcpFileError(f"{path}: damaged failure dump ({e})") from None
 
 
 @dataclass(frozen=True)

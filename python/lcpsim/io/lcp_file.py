@@ -15,6 +15,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .limits import SizeLimitError, array_bytes, check_bytes, human_bytes
+
 __all__ = ["LcpFileError", "load_lcp", "save_lcp", "file_format", "is_dump"]
 
 _NPZ_SUFFIXES = {".npz"}
@@ -47,6 +49,28 @@ def file_format(path: str | os.PathLike[str]) -> str:
     )
 
 
+def _npz_header(path: Path, zf: zipfile.ZipFile, name: str) -> None:
+    """Checks array ``name``'s ``.npy`` header before numpy allocates it: the
+    shape it claims must fit in memory and in the bytes the archive holds."""
+    info = zf.getinfo(name + ".npy")
+    with zf.open(info) as fh:
+        version = np.lib.format.read_magic(fh)
+        if version == (1, 0):
+            shape, _, dtype = np.lib.format.read_array_header_1_0(fh)
+        else:
+            shape, _, dtype = np.lib.format.read_array_header_2_0(fh)
+        header = fh.tell()
+    nbytes = array_bytes(shape, dtype)
+    if dtype.hasobject:
+        return  # numpy refuses it without allocating (allow_pickle=False)
+    if nbytes > info.file_size - header:
+        raise LcpFileError(
+            f"{path}: array {name!r} claims shape {shape} ({human_bytes(nbytes)}) but the file holds "
+            f"{human_bytes(max(info.file_size - header, 0))} of it: damaged or truncated"
+        )
+    check_bytes(f"{path}: array {name!r} of shape {shape}", nbytes)
+
+
 def _read_npz(path: Path) -> tuple[Any, Any]:
     try:
         data = np.load(path, allow_pickle=False)
@@ -63,29 +87,63 @@ def _read_npz(path: Path) -> tuple[Any, Any]:
                 f"(found: {', '.join(names) if names else 'none'})"
             )
         try:
+            for key in ("M", "q"):
+                _npz_header(path, data.zip, key)
             return data["M"], data["q"]
-        except (OSError, ValueError, EOFError, zipfile.BadZipFile) as e:
+        except LcpFileError:
+            raise
+        except SizeLimitError as e:
+            raise LcpFileError(str(e)) from None
+        except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile) as e:
             raise LcpFileError(f"{path}: cannot read arrays M, q ({e})") from None
 
 
-def _read_hdf5(path: Path) -> tuple[Any, Any]:
+def open_hdf5(path: Path, error: type[ValueError] = ValueError) -> Any:
+    """An HDF5 file opened for reading without HDF5's file locking (a reader
+    never waits for, or is refused by, a writer's lock); ``error`` for a file
+    that is not readable HDF5."""
     import h5py  # type: ignore[import-untyped]
 
     try:
-        f = h5py.File(path, "r")
-    except OSError as e:
-        raise LcpFileError(f"{path}: not a readable HDF5 file ({e})") from None
-    with f:
+        return h5py.File(path, "r", locking=False)
+    except (OSError, ValueError) as e:
+        raise error(f"{path}: not a readable HDF5 file ({e})") from None
+
+
+def hdf5_dataset(path: Path, f: Any, key: str, error: type[ValueError] = ValueError) -> Any:
+    """Dataset ``/key`` of ``f`` once it is safe to read: a dataset in this
+    file (external links, external storage and virtual datasets are refused),
+    whose shape fits in memory."""
+    import h5py
+
+    link = f.get(key, getlink=True)
+    if link is None:
         found = list(f.keys())
+        raise error(f"{path}: no dataset '/{key}' (found: {', '.join('/' + k for k in found) if found else 'none'})")
+    if isinstance(link, h5py.ExternalLink):
+        raise error(f"{path}: '/{key}' is an external link (to {link.filename}:{link.path}); lcpsim reads only data in the file itself")
+    try:
+        ds = f[key]
+    except (KeyError, OSError, ValueError) as e:
+        raise error(f"{path}: cannot open '/{key}' ({e})") from None
+    if not isinstance(ds, h5py.Dataset):
+        raise error(f"{path}: '/{key}' is a group, not a dataset")
+    if ds.external or ds.is_virtual:
+        raise error(f"{path}: '/{key}' keeps its data outside the file (external or virtual dataset); refused")
+    if ds.dtype.kind not in "biuf" or ds.shape is None:
+        raise error(f"{path}: '/{key}' must hold real numbers, got dtype {ds.dtype}")
+    try:
+        check_bytes(f"{path}: dataset '/{key}' of shape {ds.shape}", array_bytes(ds.shape, ds.dtype))
+    except SizeLimitError as e:
+        raise error(str(e)) from None
+    return ds
+
+
+def _read_hdf5(path: Path) -> tuple[Any, Any]:
+    with open_hdf5(path, LcpFileError) as f:
         out = []
         for key in ("M", "q"):
-            if key not in f:
-                raise LcpFileError(
-                    f"{path}: no dataset '/{key}' (found: {', '.join('/' + k for k in found) if found else 'none'})"
-                )
-            ds = f[key]
-            if not isinstance(ds, h5py.Dataset):
-                raise LcpFileError(f"{path}: '/{key}' is a group, not a dataset")
+            ds = hdf5_dataset(path, f, key, LcpFileError)
             try:
                 out.append(ds[()])
             except (OSError, TypeError, ValueError) as e:
@@ -105,14 +163,12 @@ def is_dump(path: str | os.PathLike[str]) -> bool:
             return False
     except LcpFileError:
         return False
-    import h5py
-
     from .forensics import DUMP_FORMAT
 
     try:
-        with h5py.File(p, "r") as f:
+        with open_hdf5(p) as f:
             fmt = f.attrs.get("format")
-    except OSError:
+    except (OSError, ValueError):
         return False
     if isinstance(fmt, bytes):
         fmt = fmt.decode(errors="replace")

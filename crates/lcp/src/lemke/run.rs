@@ -99,6 +99,10 @@ pub(crate) fn run<'a>(
     if lcp.q().iter().all(|&v| v >= 0.0) {
         return Run { status: Status::Solved, pivots: 0, basis, trace: Vec::new() };
     }
+    // No budget left: the first pivot would already exceed it.
+    if set.max_pivots == 0 {
+        return Run { status: Status::MaxPivots, pivots: 0, basis, trace: Vec::new() };
+    }
     let col = &mut lb.col;
     // z0 enters at the value that makes every w ≥ 0.
     let r = first_leaving(lcp.q(), d, set.rule);
@@ -146,6 +150,9 @@ pub(crate) fn run_warm<'a>(
     let n = basis.val_w.len();
     if warm_feasible(&basis) {
         return Ok(Run { status: Status::Solved, pivots: 0, basis, trace: Vec::new() });
+    }
+    if set.max_pivots == 0 {
+        return Ok(Run { status: Status::MaxPivots, pivots: 0, basis, trace: Vec::new() });
     }
     let (worst, at) = basis.most_negative();
     // z0 enters; every basic moves by +θ (x = −1), so the most negative leaves.

@@ -136,15 +136,7 @@ pub fn downhill(name: &str) -> PyResult<sim::Downhill> {
     }
 }
 
-/// A count ≥ 0 (ints only; bools, floats and negatives are refused).
-pub fn count(value: &Bound<'_, PyAny>, field: &str) -> PyResult<usize> {
-    if value.is_instance_of::<PyBool>() {
-        return Err(value_error(format!("{field} must be a non-negative integer, got {}", repr(value))));
-    }
-    value
-        .extract::<usize>()
-        .map_err(|_| value_error(format!("{field} must be a non-negative integer, got {}", repr(value))))
-}
+pub use crate::args::count;
 
 /// A slope angle in degrees, in [0, 90).
 pub fn angle_deg(value: f64) -> PyResult<f64> {

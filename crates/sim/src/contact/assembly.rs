@@ -405,6 +405,12 @@ impl ContactLcp {
         }
     }
 
+    /// Room for the dense `M` of `n` unknowns (`try_reserve`: an allocation the
+    /// system refuses is an error, not an abort).
+    pub fn reserve_matrix(&mut self, n: usize) -> Result<(), lcp::limits::SizeError> {
+        lcp::limits::try_reserve(&mut self.m, n.saturating_mul(n), || format!("a dense matrix of {n} × {n}"))
+    }
+
     /// Moves `(M, q)` into an [`Lcp`] without copying (give it back with
     /// [`ContactLcp::restore`] to keep the buffers). Fails only on non-finite data.
     pub fn take_lcp(&mut self) -> Result<Lcp, LcpError> {

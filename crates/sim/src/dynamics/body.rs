@@ -164,11 +164,19 @@ impl Body {
             });
         }
         positive("mass", d.mass)?;
-        let inertia = match d.inertia {
-            Some(i) => i,
-            None => d.shape.inertia(d.mass).ok_or(SimError::DynamicPlane)?,
+        let (inertia, inv_inertia) = match d.inertia {
+            Some(i) => (i, check_inertia(&i)?),
+            None => {
+                let i = d.shape.inertia(d.mass).ok_or(SimError::DynamicPlane)?;
+                // The shape's own inertia is valid unless the mass makes it under- or overflow.
+                let inv = check_inertia(&i).map_err(|_| SimError::OutOfRange {
+                    field: "mass",
+                    value: d.mass,
+                    range: "a range where this shape's inertia (∝ mass) and its inverse are finite and nonzero",
+                })?;
+                (i, inv)
+            }
         };
-        let inv_inertia = check_inertia(&inertia)?;
         Ok(Body {
             shape: d.shape,
             mass: d.mass,
@@ -292,5 +300,17 @@ fn check_inertia(i: &Mat3) -> Result<Mat3, SimError> {
     if !(d1 > 0.0 && d2 > 0.0 && d3 > 0.0) {
         return Err(SimError::BadInertia { reason: "is not positive definite" });
     }
-    i.try_inverse().ok_or(SimError::BadInertia { reason: "is singular" })
+    // A rigid body's principal moments obey the triangle inequality
+    // (I₁ + I₂ ≥ I₃: I₃ = ∫(x² + y²) ≤ ∫(y² + z²) + ∫(x² + z²)); equality is a flat plate.
+    let trace = m[0][0] + m[1][1] + m[2][2];
+    if 2.0 * i.symmetric_max_eigenvalue() > trace * (1.0 + 1e-9) {
+        return Err(SimError::BadInertia {
+            reason: "violates the triangle inequality of principal moments (I₁ + I₂ ≥ I₃): no rigid body has it",
+        });
+    }
+    let inv = i.try_inverse().ok_or(SimError::BadInertia { reason: "is singular" })?;
+    if !inv.is_finite() {
+        return Err(SimError::BadInertia { reason: "has an inverse that overflows" });
+    }
+    Ok(inv)
 }

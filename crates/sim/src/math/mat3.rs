@@ -68,6 +68,26 @@ impl Mat3 {
         Some(inv * (1.0 / det))
     }
 
+    /// Largest eigenvalue of a symmetric matrix (closed form, Smith 1961):
+    /// for an inertia tensor, the largest principal moment.
+    pub fn symmetric_max_eigenvalue(&self) -> f64 {
+        let m = &self.m;
+        let off = m[0][1] * m[0][1] + m[0][2] * m[0][2] + m[1][2] * m[1][2];
+        let q = (m[0][0] + m[1][1] + m[2][2]) / 3.0;
+        let dev = (m[0][0] - q).powi(2) + (m[1][1] - q).powi(2) + (m[2][2] - q).powi(2) + 2.0 * off;
+        let p = (dev / 6.0).sqrt();
+        if p == 0.0 {
+            return q;
+        }
+        let mut b = *self;
+        for (i, row) in b.m.iter_mut().enumerate() {
+            row[i] -= q;
+            row.iter_mut().for_each(|v| *v /= p);
+        }
+        let r = (0.5 * b.determinant()).clamp(-1.0, 1.0);
+        q + 2.0 * p * (r.acos() / 3.0).cos()
+    }
+
     /// `true` when all entries are finite.
     pub fn is_finite(&self) -> bool {
         self.m.iter().flatten().all(|v| v.is_finite())

@@ -51,8 +51,9 @@ impl World {
         self.forces_stage()?;
         // contacts with φ ≤ margin
         self.detect();
-        // bodies linked through contacts, one LCP each
+        // bodies linked through contacts, one LCP each (each checked to fit in memory)
         self.islands();
+        self.reserve_islands()?;
         // the Stewart–Trinkle LCP of DESIGN §1, per island
         self.assemble_islands(false);
         // solve the islands, map to physical units, fill the step record, capture
@@ -83,6 +84,7 @@ impl World {
     /// Like [`World::run`], but stops early, after a step, once `stop(world)`
     /// says so (e.g. when an LCP sink holds enough to be drained).
     pub fn run_until(&mut self, steps: usize, mut stop: impl FnMut(&World) -> bool) -> Result<Trajectory, SimError> {
+        crate::limits::check_trajectory(steps, self.bodies.len())?;
         let mut traj = Trajectory::with_capacity(steps, self.bodies.len());
         for _ in 0..steps {
             self.step()?;
