@@ -367,8 +367,8 @@ class World:
     gravity:
         (m/s²).
     friction_dirs:
-        Friction directions per contact k (even, ≥ 2); LCP size is (k + 2)
-        per contact.
+        Friction directions per contact k (even, 2 ≤ k ≤ 1024); LCP size is
+        (k + 2) per contact.
     cone_scale:
         The friction-cone scale s: None (unscaled, s = 1), ``"dt"`` (s = h,
         the seed's choice) or a number > 0.

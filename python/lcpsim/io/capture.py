@@ -37,6 +37,7 @@ from .. import _core
 from .._deprecated import deprecated_names
 from .._json import jsonable
 from .limits import human_bytes
+from .lcp_file import HDF5_ERRORS
 from .safe_file import SafeTarget, partial_path
 
 __all__ = [
@@ -93,18 +94,65 @@ def _h5py() -> Any:
 
 
 def _open_read(path: Path) -> Any:
-    """Opens an HDF5 file for reading, also one whose writer died without
-    closing it (SWMR read mode ignores the 'file is open for writing' flag),
-    without HDF5's file locking: a reader never waits for a writer."""
+    """Opens a capture for reading without HDF5's file locking (a reader never
+    waits for a writer). A complete file opens plainly, where damaged metadata
+    fails at once; only a file still marked open for writing (a live or killed
+    writer's ``PATH.partial``) is opened in SWMR read mode — with HDF5's
+    metadata read attempts cut from 100 (retried with exponential back-off, so
+    a damaged file hangs the reader) to :data:`SWMR_READ_ATTEMPTS`."""
     h5py = _h5py()
     try:
-        return h5py.File(path, "r", libver="latest", swmr=True, locking=False)
-    except (OSError, ValueError):
-        pass
-    try:
         return h5py.File(path, "r", locking=False)
-    except (OSError, ValueError) as e:
-        raise CaptureError(f"{path}: not a readable HDF5 file ({e})") from None
+    except HDF5_ERRORS as e:
+        plain_error = e
+    # Only the "open for writing" flag sends a file to the SWMR reader: SWMR
+    # tolerates a file shorter than its superblock says, where a truncated file hangs it.
+    if "already open for write" in str(plain_error):
+        try:
+            return _open_swmr(path)
+        except HDF5_ERRORS:
+            pass
+    raise CaptureError(f"{path}: not a readable HDF5 file ({plain_error})") from None
+
+
+#: Metadata read attempts of a SWMR reader (HDF5's default, 100, backs off
+#: exponentially: hours on a damaged file; 16 wait about 65 ms in all).
+SWMR_READ_ATTEMPTS = 16
+
+
+def _open_swmr(path: Path) -> Any:
+    h5py = _h5py()
+    fapl = h5py.h5p.create(h5py.h5p.FILE_ACCESS)
+    fapl.set_libver_bounds(h5py.h5f.LIBVER_LATEST, h5py.h5f.LIBVER_LATEST)
+    fapl.set_fclose_degree(h5py.h5f.CLOSE_STRONG)
+    fapl.set_file_locking(False, True)
+    if not _limit_read_attempts(fapl.id, SWMR_READ_ATTEMPTS):  # pragma: no cover - HDF5 not found
+        raise CaptureError(f"{path}: open for writing, and SWMR reading cannot be bounded here")
+    fid = h5py.h5f.open(os.fsencode(str(path)), h5py.h5f.ACC_RDONLY | h5py.h5f.ACC_SWMR_READ, fapl=fapl)
+    return h5py.File(fid)
+
+
+def _limit_read_attempts(fapl_id: int, attempts: int) -> bool:
+    """``H5Pset_metadata_read_attempts`` (not wrapped by h5py) on the HDF5
+    library h5py uses, found among the process's mapped libraries."""
+    import ctypes
+    import re
+
+    try:
+        with open("/proc/self/maps") as fh:
+            libs = sorted(set(re.findall(r"(/\S*libhdf5(?:[-.][^/\s]*)?\.so[^/\s]*)", fh.read())))
+    except OSError:  # pragma: no cover - not Linux
+        return False
+    for lib in libs:
+        if "_hl" in lib:
+            continue
+        try:
+            fn = ctypes.CDLL(lib).H5Pset_metadata_read_attempts
+        except (OSError, AttributeError):
+            continue
+        fn.argtypes, fn.restype = [ctypes.c_int64, ctypes.c_uint], ctypes.c_int
+        return bool(fn(fapl_id, attempts) >= 0)
+    return False
 
 
 def _check_lengths(path: Path, f: Any, datasets: Mapping[str, Any]) -> None:
@@ -511,7 +559,7 @@ class Capture:
         except KeyError as e:
             f.close()
             raise CaptureError(f"{path}: damaged corpus, missing {e}") from None
-        except (OSError, TypeError, ValueError) as e:
+        except (TypeError, *HDF5_ERRORS) as e:
             f.close()
             if isinstance(e, CaptureError):
                 raise
@@ -607,19 +655,24 @@ class Capture:
             island=int(ix["island"][i]),
         )
 
+    def _data(self, key: str, lo: int, hi: int) -> NDArray[np.float64]:
+        """``/data/key[lo:hi]``; a damaged dataset is a :class:`CaptureError` (an I/O error stays an OSError)."""
+        try:
+            return np.asarray(self._f["data"][key][lo:hi], dtype=np.float64)
+        except (KeyError, TypeError, RuntimeError, ValueError) as e:
+            raise CaptureError(f"{self.path}: damaged corpus, cannot read /data/{key} ({e})") from None
+
     def __getitem__(self, index: int) -> CaptureRecord:
         i = self._check(index)
         n = int(self._idx["n"][i])
         mo, vo = int(self._idx["m_offset"][i]), int(self._idx["v_offset"][i])
-        d = self._f["data"]
         return self._record(
-            i, d["M"][mo : mo + n * n], d["q"][vo : vo + n], d["z"][vo : vo + n], d["w"][vo : vo + n]
+            i, self._data("M", mo, mo + n * n), *(self._data(k, vo, vo + n) for k in ("q", "z", "w"))
         )
 
     def records(self, start: int = 0, stop: int | None = None, *, block_bytes: int = 8 << 20) -> Iterator[CaptureRecord]:
         """Records ``start … stop-1``, read in blocks of about ``block_bytes``."""
         stop = len(self) if stop is None else min(stop, len(self))
-        d = self._f["data"]
         ix = self._idx
         i = max(start, 0)
         while i < stop:
@@ -632,7 +685,7 @@ class Capture:
                 m1 = int(ix["m_offset"][j]) + n * n
                 v1 = int(ix["v_offset"][j]) + n
                 j += 1
-            M, q, z, w = d["M"][m0:m1], d["q"][v0:v1], d["z"][v0:v1], d["w"][v0:v1]
+            M, q, z, w = self._data("M", m0, m1), *(self._data(k, v0, v1) for k in ("q", "z", "w"))
             for r in range(i, j):
                 n = int(ix["n"][r])
                 mo, vo = int(ix["m_offset"][r]) - m0, int(ix["v_offset"][r]) - v0
@@ -688,7 +741,10 @@ def is_capture(path: str | os.PathLike[str]) -> bool:
     except CaptureError:
         return False
     with f:
-        return bool(f.attrs.get("format") == FORMAT)
+        try:
+            return bool(f.attrs.get("format") == FORMAT)
+        except (TypeError, *HDF5_ERRORS):  # a damaged attribute: not a capture we can read
+            return False
 
 
 __getattr__ = deprecated_names(__name__, {

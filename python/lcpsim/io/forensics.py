@@ -261,7 +261,7 @@ def load_dump(path: str | os.PathLike[str]) -> Dump:
                 lcpsim_version=str(_attr(f, "lcpsim_version", "")),
                 attrs={k: _attr(f, k) for k in f.attrs},
             )
-    except (OSError, KeyError, TypeError) as e:
+    except (TypeError, OSError, KeyError, RuntimeError) as e:
         raise LcpFileError(f"{path}: unreadable failure dump ({e})") from None
     except ValueError as e:
         if isinstance(e, LcpFileError):

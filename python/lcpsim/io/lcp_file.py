@@ -74,7 +74,7 @@ def _npz_header(path: Path, zf: zipfile.ZipFile, name: str) -> None:
 def _read_npz(path: Path) -> tuple[Any, Any]:
     try:
         data = np.load(path, allow_pickle=False)
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as e:
+    except (OSError, ValueError, EOFError, NotImplementedError, zipfile.BadZipFile) as e:
         raise LcpFileError(f"{path}: not a readable .npz file ({e})") from None
     if not isinstance(data, np.lib.npyio.NpzFile):
         raise LcpFileError(f"{path}: not an .npz archive (a single .npy array?)")
@@ -94,8 +94,13 @@ def _read_npz(path: Path) -> tuple[Any, Any]:
             raise
         except SizeLimitError as e:
             raise LcpFileError(str(e)) from None
-        except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile) as e:
+        except (OSError, ValueError, EOFError, KeyError, NotImplementedError, zipfile.BadZipFile) as e:
             raise LcpFileError(f"{path}: cannot read arrays M, q ({e})") from None
+
+
+#: What h5py raises on a damaged file (RuntimeError: e.g. a bad superblock
+#: version; KeyError: an object whose header fails its checksum).
+HDF5_ERRORS: tuple[type[Exception], ...] = (OSError, ValueError, RuntimeError, KeyError)
 
 
 def open_hdf5(path: Path, error: type[ValueError] = ValueError) -> Any:
@@ -106,7 +111,7 @@ def open_hdf5(path: Path, error: type[ValueError] = ValueError) -> Any:
 
     try:
         return h5py.File(path, "r", locking=False)
-    except (OSError, ValueError) as e:
+    except HDF5_ERRORS as e:
         raise error(f"{path}: not a readable HDF5 file ({e})") from None
 
 
@@ -116,7 +121,10 @@ def hdf5_dataset(path: Path, f: Any, key: str, error: type[ValueError] = ValueEr
     whose shape fits in memory."""
     import h5py
 
-    link = f.get(key, getlink=True)
+    try:
+        link = f.get(key, getlink=True)
+    except HDF5_ERRORS as e:
+        raise error(f"{path}: cannot read the link '/{key}' ({e})") from None
     if link is None:
         found = list(f.keys())
         raise error(f"{path}: no dataset '/{key}' (found: {', '.join('/' + k for k in found) if found else 'none'})")
@@ -124,7 +132,7 @@ def hdf5_dataset(path: Path, f: Any, key: str, error: type[ValueError] = ValueEr
         raise error(f"{path}: '/{key}' is an external link (to {link.filename}:{link.path}); lcpsim reads only data in the file itself")
     try:
         ds = f[key]
-    except (KeyError, OSError, ValueError) as e:
+    except (KeyError, *HDF5_ERRORS) as e:
         raise error(f"{path}: cannot open '/{key}' ({e})") from None
     if not isinstance(ds, h5py.Dataset):
         raise error(f"{path}: '/{key}' is a group, not a dataset")
@@ -146,7 +154,7 @@ def _read_hdf5(path: Path) -> tuple[Any, Any]:
             ds = hdf5_dataset(path, f, key, LcpFileError)
             try:
                 out.append(ds[()])
-            except (OSError, TypeError, ValueError) as e:
+            except (TypeError, *HDF5_ERRORS) as e:
                 raise LcpFileError(f"{path}: cannot read dataset '/{key}' ({e})") from None
         return out[0], out[1]
 
@@ -168,7 +176,7 @@ def is_dump(path: str | os.PathLike[str]) -> bool:
     try:
         with open_hdf5(p) as f:
             fmt = f.attrs.get("format")
-    except (OSError, ValueError):
+    except (TypeError, *HDF5_ERRORS):
         return False
     if isinstance(fmt, bytes):
         fmt = fmt.decode(errors="replace")

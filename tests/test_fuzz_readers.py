@@ -1,0 +1,112 @@
+"""Issue 15, item 6: the file readers on damaged input (the Python side of the
+fuzzing; ``scripts/fuzz_readers.py`` runs the same readers on mutated files
+for a fixed time). A reader returns or raises a clean error — a ValueError
+(``LcpFileError``, ``CaptureError``) or an OSError — within seconds; never
+another exception, never a hang. ``data/fuzz/`` keeps what the fuzzer found."""
+
+from __future__ import annotations
+
+import faulthandler
+import gzip
+import random
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from lcpsim import open_capture, solve_lcp
+from lcpsim.io import load_dump, load_lcp, save_lcp
+from lcpsim.io.capture import CaptureWriter
+
+FOUND = Path(__file__).parent / "data" / "fuzz"
+CLEAN = (ValueError, OSError)
+
+
+def _read_all(path: Path) -> None:
+    """Every reader on ``path``; only clean errors may escape each."""
+    for read in (load_lcp, lambda p: load_lcp(p, 0), load_dump, _capture_records):
+        try:
+            read(path)
+        except CLEAN:
+            pass
+
+
+def _capture_records(path: Path) -> None:
+    with open_capture(path) as c:
+        for rec in c:
+            rec.unscaled()
+
+
+@pytest.mark.parametrize("name", sorted(p.name for p in FOUND.glob("*.gz")))
+def test_inputs_the_fuzzer_found(tmp_path, name):
+    """Each once hung a reader (HDF5's SWMR reader retries a bad checksum with
+    exponential back-off; a truncated file sent to it hangs too) or raised
+    RuntimeError, KeyError or NotImplementedError. Run in a subprocess with a
+    deadline, so a regression fails instead of hanging the suite."""
+    path = tmp_path / name[:-3]
+    path.write_bytes(gzip.decompress((FOUND / name).read_bytes()))
+    code = f"""
+        import faulthandler, sys
+        faulthandler.dump_traceback_later(30, exit=True)
+        sys.path[:0] = {sys.path[:1]!r}
+        from pathlib import Path
+        from test_fuzz_readers import _read_all
+        _read_all(Path({str(path)!r}))
+        print("clean")
+    """
+    p = subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, timeout=60,
+        cwd=Path(__file__).parent,
+    )
+    assert p.returncode == 0 and p.stdout.strip() == "clean", p.stderr[-3000:]
+
+
+@pytest.fixture(scope="module")
+def seeds(tmp_path_factory) -> dict[str, bytes]:
+    d = tmp_path_factory.mktemp("seeds")
+    M, q = np.array([[2.0, 1.0], [1.0, 2.0]]), np.array([-1.0, -1.0])
+    out = {"npz": save_lcp(d / "p.npz", M, q).read_bytes(), "h5": save_lcp(d / "p.h5", M, q).read_bytes()}
+    with CaptureWriter(d / "c.h5") as w:
+        w.add(M, q, np.array([1 / 3, 1 / 3]), np.zeros(2))
+    out["capture"] = (d / "c.h5").read_bytes()
+    out["dump"] = Path(solve_lcp(-np.eye(2), q, dump=str(d)).dump_path).read_bytes()
+    return out
+
+
+@settings(max_examples=100, deadline=None)
+@given(data=st.binary(max_size=2048), suffix=st.sampled_from([".npz", ".h5", ".bin"]))
+def test_arbitrary_bytes(tmp_path_factory, data, suffix):
+    path = tmp_path_factory.mktemp("bytes") / f"x{suffix}"
+    path.write_bytes(data)
+    _read_all(path)
+
+
+@settings(max_examples=100, deadline=None)
+@given(
+    kind=st.sampled_from(["npz", "h5", "capture", "dump"]),
+    seed=st.integers(0, 2**32 - 1),
+    edits=st.integers(1, 16),
+)
+def test_mutated_valid_files(tmp_path_factory, seeds, kind, seed, edits):
+    rng = random.Random(seed)
+    b = bytearray(seeds[kind])
+    for _ in range(edits):
+        i = rng.randrange(len(b))
+        if rng.random() < 0.2:
+            del b[rng.randrange(len(b)) :]
+            if not b:
+                break
+        else:
+            b[i] = rng.randrange(256)
+    path = tmp_path_factory.mktemp("mutated") / ("x.npz" if kind == "npz" else "x.h5")
+    path.write_bytes(bytes(b))
+    faulthandler.dump_traceback_later(60, exit=True)  # a hang fails the run instead of stalling it
+    try:
+        _read_all(path)
+    finally:
+        faulthandler.cancel_dump_traceback_later()
