@@ -6,6 +6,7 @@ option combinations the API refuses."""
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -120,18 +121,13 @@ def test_sweep_malformed_yaml_exits_2(tmp_path):
 
 
 def test_sweep_checks_the_whole_config_before_starting(tmp_path):
-    cfg = tmp_path / "s.yaml"
-    cfg.write_text(
-        "experiment: push\n"
-        "base: {seconds: 0.05}\n"
-        "grid:\n"
-        "  force: [9.79, 9.83]\n"
-        "  solver: [robust, 'lemke:bogus_option=1']\n"
-        "output: out.h5\n"
-    )
+    # The second solver of the grid is invalid: refused before the first case runs.
+    grid = {"force": [9.79, 9.83], "solver": ["robust", "lemke:bogus_option=1"]}
+    cfg = tmp_path / "s.json"
+    cfg.write_text(json.dumps({"experiment": "push", "base": {"seconds": 0.05}, "grid": grid, "output": "out.h5"}))
     assert_user_error(run("sweep", str(cfg), "--workers", "1", "--no-progress"), "sweep: push: solver")
     assert not (tmp_path / "out.h5").exists()
-    cfg.write_text("experiment: push\nbase: {seconds: fast}\noutput: out.h5\n")
+    cfg.write_text(json.dumps({"experiment": "push", "base": {"seconds": "fast"}, "output": "out.h5"}))
     assert_user_error(run("sweep", str(cfg), "--workers", "1", "--no-progress"), "seconds", "must be a finite number")
 
 

@@ -46,9 +46,10 @@ impl fmt::Display for SimError {
             SimError::OutOfRange { field, value, range } => write!(f, "{field} must be in {range}, got {}", num(*value)),
             SimError::NonFinite { field, value } => write!(f, "{field} must be finite, got {}", num(*value)),
             SimError::ZeroLength { field } => write!(f, "{field} has zero length and cannot be normalized"),
-            SimError::FrictionDirs { k } => {
+            SimError::FrictionDirs { k } if *k > crate::limits::MAX_FRICTION_DIRS => {
                 write!(f, "friction_dirs must be even and in [2, {}], got {k}", crate::limits::MAX_FRICTION_DIRS)
             }
+            SimError::FrictionDirs { k } => write!(f, "friction_dirs must be even and >= 2, got {k}"),
             SimError::UnknownBody { index, bodies } => {
                 write!(f, "body {index} does not exist (the world has {bodies} bodies)")
             }

@@ -79,7 +79,8 @@ pub(crate) fn start<'a>(
         }
         // Else exchange the negative basics for their complements.
         let k = swap_negatives(&basis, run::warm_tolerance(&basis), &mut wb.next);
-        if round == SWAP_ROUNDS || k == 0 {
+        // (The exchanges spend the pivot budget too.)
+        if round == SWAP_ROUNDS || k == 0 || swaps + k > set.max_pivots {
             break;
         }
         basis = match warm_basis(work, &mut wb.next, &mut wb.block, basis.into_buffers()) {
@@ -92,7 +93,9 @@ pub(crate) fn start<'a>(
     run::warm_covering(work, &wb.beta, d, &mut wb.in_beta);
     let d: &'a Vec<f64> = d;
     basis.set_covering(d);
-    match run::run_warm(basis, set, pivoting) {
+    // What the exchanges left of the budget.
+    let set = RunSettings { max_pivots: set.max_pivots - swaps, rule: set.rule, trace: set.trace, refactor_every: set.refactor_every };
+    match run::run_warm(basis, &set, pivoting) {
         Ok(mut r) => {
             r.pivots += swaps;
             Start::Run(r)

@@ -13,44 +13,22 @@ use sim::math::{Quat, Vec3};
 use sim::lcp::{self, Status};
 use sim::{BodyDesc, BodyId, Restitution, SimError, Stabilization, World, WorldParams};
 
-/// Reads numbers out of fuzzer bytes; past the end every read is 0.
-pub struct Bytes<'a> {
-    data: &'a [u8],
-    at: usize,
+#[path = "../../../lcp/tests/properties/bytes.rs"]
+mod bytes;
+use bytes::Bytes;
+
+/// Mostly plausible values in `[-range, range]`, sometimes an extreme or raw bits.
+fn value(b: &mut Bytes<'_>, range: f64) -> f64 {
+    match b.u8() % 16 {
+        0..=11 => (b.u8() as i8 as f64 / 127.0) * range,
+        12 => b.pick(&[0.0, 1e-300, -1e-12, 1e12, 1e300]),
+        13 => b.pick(&[f64::MIN_POSITIVE, 5e-324, f64::MAX, -f64::MAX]),
+        _ => b.raw_f64(),
+    }
 }
 
-impl<'a> Bytes<'a> {
-    pub fn new(data: &'a [u8]) -> Self {
-        Bytes { data, at: 0 }
-    }
-
-    pub fn u8(&mut self) -> u8 {
-        let b = self.data.get(self.at).copied().unwrap_or(0);
-        self.at += 1;
-        b
-    }
-
-    pub fn pick<T: Copy>(&mut self, choices: &[T]) -> T {
-        choices[self.u8() as usize % choices.len()]
-    }
-
-    /// Mostly plausible values in `[-range, range]`, sometimes an extreme or raw bits.
-    pub fn f64(&mut self, range: f64) -> f64 {
-        match self.u8() % 16 {
-            0..=11 => (self.u8() as i8 as f64 / 127.0) * range,
-            12 => self.pick(&[0.0, 1e-300, -1e-12, 1e12, 1e300]),
-            13 => self.pick(&[f64::MIN_POSITIVE, 5e-324, f64::MAX, -f64::MAX]),
-            _ => {
-                let mut raw = [0u8; 8];
-                raw.iter_mut().for_each(|b| *b = self.u8());
-                f64::from_le_bytes(raw)
-            }
-        }
-    }
-
-    pub fn vec3(&mut self, range: f64) -> Vec3 {
-        Vec3::new(self.f64(range), self.f64(range), self.f64(range))
-    }
+fn vec3(b: &mut Bytes<'_>, range: f64) -> Vec3 {
+    Vec3::new(value(b, range), value(b, range), value(b, range))
 }
 
 /// The world's parameters: plausible mostly, invalid sometimes (odd or huge k, dt ≤ 0, NaN).
@@ -63,11 +41,11 @@ pub fn decode_params(b: &mut Bytes<'_>) -> WorldParams {
     };
     WorldParams {
         dt: b.pick(&[1e-3, 1e-2, 1e-4, 0.05]) * if b.u8() == 255 { -1.0 } else { 1.0 },
-        gravity: if b.u8() % 4 == 0 { b.vec3(20.0) } else { d.gravity },
+        gravity: if b.u8() % 4 == 0 { vec3(b, 20.0) } else { d.gravity },
         friction_dirs: b.pick(&[2, 4, 8, 8, 16, 3, 0, 1 << 20]),
         cone_scale: match b.u8() % 4 {
             0 => ConeScale::TimeStep,
-            1 => ConeScale::Value(b.f64(1.0).abs()),
+            1 => ConeScale::Value(value(b, 1.0).abs()),
             _ => ConeScale::Unscaled,
         },
         margin: b.pick(&[1e-3, 0.0, 0.05]),
@@ -84,32 +62,41 @@ pub fn decode_params(b: &mut Bytes<'_>) -> WorldParams {
 /// extreme), any orientation, some velocity, now and then static.
 pub fn decode_body(b: &mut Bytes<'_>) -> BodyDesc {
     let shape = if b.u8() % 2 == 0 {
-        let he = b.vec3(1.0);
+        let he = vec3(b, 1.0);
         BodyDesc::cuboid(Vec3::new(he.x.abs(), he.y.abs(), he.z.abs()))
     } else {
-        BodyDesc::sphere(b.f64(1.0).abs())
+        BodyDesc::sphere(value(b, 1.0).abs())
     };
     let mass = match b.u8() % 8 {
-        0 => b.f64(1e8).abs(),
+        0 => value(b, 1e8).abs(),
         _ => 10f64.powi(b.u8() as i32 % 5 - 2),
     };
     shape
         .mass(mass)
-        .position(b.vec3(2.0))
-        .orientation(Quat::from_array([b.f64(1.0), b.f64(1.0), b.f64(1.0), b.f64(1.0)]))
-        .velocity(b.vec3(5.0))
-        .angular_velocity(b.vec3(5.0))
-        .mu(b.f64(2.0).abs())
+        .position(vec3(b, 2.0))
+        .orientation(Quat::from_array([value(b, 1.0), value(b, 1.0), value(b, 1.0), value(b, 1.0)]))
+        .velocity(vec3(b, 5.0))
+        .angular_velocity(vec3(b, 5.0))
+        .mu(value(b, 2.0).abs())
         .fixed(b.u8() % 8 == 0)
 }
 
+/// What one input exercised: steps taken, contact LCPs solved.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Stats {
+    pub steps: usize,
+    pub contacts: usize,
+    pub solved: usize,
+}
+
 /// Builds and steps the world the bytes describe, checking every record.
-pub fn check(data: &[u8]) -> Result<(), String> {
+pub fn check(data: &[u8]) -> Result<Stats, String> {
+    let mut stats = Stats::default();
     let mut b = Bytes::new(data);
     let params = decode_params(&mut b);
-    let Ok(mut world) = World::new(params) else { return Ok(()) };
+    let Ok(mut world) = World::new(params) else { return Ok(stats) };
     if b.u8() % 4 != 0 {
-        let _ = world.add_ground(b.f64(2.0).abs());
+        let _ = world.add_ground(value(&mut b, 2.0).abs());
     }
     let count = 1 + b.u8() % 5;
     for _ in 0..count {
@@ -117,14 +104,14 @@ pub fn check(data: &[u8]) -> Result<(), String> {
     }
     for _ in 0..b.u8() % 3 {
         let body = BodyId(b.u8() as usize % 6);
-        let _ = world.apply_force(body, b.vec3(100.0), if b.u8() % 2 == 0 { Some(b.vec3(0.5)) } else { None });
+        let _ = world.apply_force(body, vec3(&mut b, 100.0), if b.u8() % 2 == 0 { Some(vec3(&mut b, 0.5)) } else { None });
     }
     let steps = 1 + b.u8() % 12;
     let k = world.params().friction_dirs;
     for _ in 0..steps {
         let rec = match world.step() {
             Ok(rec) => rec,
-            Err(SimError::NonFiniteState { .. } | SimError::Lcp(_) | SimError::TooLarge(_)) => return Ok(()),
+            Err(SimError::NonFiniteState { .. } | SimError::Lcp(_) | SimError::TooLarge(_)) => return Ok(stats),
             Err(e) => return Err(format!("step failed with an unexpected error: {e}")),
         };
         let nc = rec.contacts.len();
@@ -140,7 +127,10 @@ pub fn check(data: &[u8]) -> Result<(), String> {
             if !finite {
                 return Err(format!("a solved step with non-finite z or residual: {:?}", rec.residuals));
             }
+            stats.solved += 1;
         }
+        stats.steps += 1;
+        stats.contacts += nc;
     }
-    Ok(())
+    Ok(stats)
 }
