@@ -71,18 +71,21 @@ def choose_frames(
         stride = max(stride + 1, int(stride * 1.05))
 
 
-def _plane_direction(config: Mapping[str, Any] | None, gravity: NDArray[np.float64]) -> NDArray[np.float64] | None:
-    """Down-slope direction of the first plane not level with gravity (None if all are level)."""
+def _slope(
+    bodies: list[dict[str, Any]], gravity: NDArray[np.float64]
+) -> tuple[NDArray[np.float64] | None, NDArray[np.float64]]:
+    """Down-slope direction of the first plane not level with gravity (None if all are level),
+    and that plane's normal (else "up", against gravity)."""
     g = gravity / (np.linalg.norm(gravity) or 1.0)
-    for b in (config or {}).get("bodies", []):
+    for b in bodies:
         if b.get("kind") != "plane":
             continue
         n = np.asarray(b["normal"], dtype=float)
         n = n / np.linalg.norm(n)
         d = g - (g @ n) * n
         if np.linalg.norm(d) > 1e-9:
-            return np.asarray(d / np.linalg.norm(d))
-    return None
+            return np.asarray(d / np.linalg.norm(d)), n
+    return None, (-g if np.linalg.norm(g) > 0 else np.array([0.0, 0.0, 1.0]))
 
 
 def payload(
@@ -108,10 +111,9 @@ def payload(
     elif not (0 <= body < nb and body in dynamic):
         raise ValueError(f"body must be the index of a moving body (one of {dynamic}), got {body!r}")
     gravity = np.asarray((config.get("params") or {}).get("gravity", (0.0, 0.0, -9.81)), dtype=float)
-    if direction is None:
-        d = _plane_direction(config, gravity)
-        label = "down-slope distance"
-    else:
+    d, up = _slope(cfg_bodies, gravity)
+    label = "down-slope distance"
+    if direction is not None:
         d = np.asarray(direction, dtype=float)
         if d.shape != (3,) or not np.all(np.isfinite(d)) or not np.linalg.norm(d) > 0:
             raise ValueError(f"direction must be 3 finite numbers, not all 0, got {direction!r}")
@@ -170,7 +172,7 @@ def payload(
             "length_per_Ns": 0.6 * size / ref,
             "legend": f"arrow of {0.6 * size:.3g} m = {ref:.3g} N·s",
         },
-        "view": _view(pos, dynamic, cfg_bodies, d, size),
+        "view": _view(pos, dynamic, d, up, size),
         "arrays": arrays,
     }
 
@@ -238,10 +240,11 @@ def _body_json(b: Mapping[str, Any], i: int, traj: Trajectory) -> dict[str, Any]
 
 
 def _view(
-    pos: NDArray[np.float64], dynamic: list[int], bodies: list[dict[str, Any]], d: NDArray[np.float64] | None,
+    pos: NDArray[np.float64], dynamic: list[int], d: NDArray[np.float64] | None, up: NDArray[np.float64],
     size: float,
 ) -> dict[str, Any]:
-    """Camera and ground: looking at every place the bodies went, from the side of the slope."""
+    """Camera and ground: looking at every place the bodies went, from the side of the
+    motion ``d`` (so it crosses the screen) and above the surface with normal ``up``."""
     p = pos[:, dynamic].reshape(-1, 3) if dynamic else np.zeros((1, 3))
     p = p[np.all(np.isfinite(p), axis=1)]
     lo, hi = (p.min(axis=0), p.max(axis=0)) if p.size else (np.zeros(3), np.zeros(3))
@@ -256,13 +259,13 @@ def _view(
     if d is not None and np.linalg.norm(d[:2]) > 1e-9:
         h = np.array([d[0], d[1], 0.0]) / np.linalg.norm(d[:2])
         side = np.cross([0.0, 0.0, 1.0], h) * -1.0 + 0.25 * h
-    eye = side / np.linalg.norm(side) + np.array([0.0, 0.0, 0.3])
+    eye = side / np.linalg.norm(side) + 0.6 * up
     eye = eye / np.linalg.norm(eye) * radius * 4.2
     return {
         "target": target.tolist(),
         "eye_offset": eye.tolist(),
         "center": target.tolist(),
         "size": size,
-        "plane_size": float(max(8 * size, 6 * radius)),
+        "plane_size": float(max(8 * size, 5 * radius)),
         "grid": float(size / 4),
     }

@@ -95,7 +95,7 @@ function lcpsimStartViewer(THREE, OrbitControls, D) {
       new THREE.MeshStandardMaterial({ color: 0xc9ced6, roughness: 1, side: THREE.DoubleSide }));
     plane.quaternion.setFromUnitVectors(new THREE.Vector3(0, 0, 1), n);
     const divisions = Math.max(2, Math.round(size / D.view.grid));
-    const grid = new THREE.GridHelper(size, divisions, 0x7d8590, 0xa4abb5);
+    const grid = new THREE.GridHelper(size, divisions, 0x59606b, 0x868e99);
     grid.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), n);
     grid.position.addScaledVector(n, 1e-3 * D.view.size);
     g.add(plane, grid);
@@ -190,6 +190,7 @@ function lcpsimStartViewer(THREE, OrbitControls, D) {
       vector(c, vec);
       const len = vec.length();
       if (len < 1e-6 * D.view.size) continue;  // nothing to draw
+      if (len > 3 * D.view.size) vec.multiplyScalar((3 * D.view.size) / len);  // a failed solve's wild iterate
       tail.set(A.c_point[3 * (a + c)], A.c_point[3 * (a + c) + 1], A.c_point[3 * (a + c) + 2]);
       tip.copy(tail).add(vec);
       pos.setXYZ(2 * m, tail.x, tail.y, tail.z);
@@ -225,8 +226,10 @@ function lcpsimStartViewer(THREE, OrbitControls, D) {
     const a = A.c_offsets ? A.c_offsets[frame] : 0, b = A.c_offsets ? A.c_offsets[frame + 1] : 0;
     let fn = 0;
     for (let c = a; c < b; c++) fn += A.c_fn[c];
-    $("contact-readout").textContent = D.has_contacts
-      ? `contacts: ${b - a} · Σ fn = ${lcpsimFmt(fn, 4)} N·s` : "contacts: not recorded in this trajectory";
+    const failed = st > 0 && D.failed_statuses.includes(status);
+    $("contact-readout").textContent = !D.has_contacts ? "contacts: not recorded in this trajectory"
+      : `contacts: ${b - a} · Σ fn = ${lcpsimFmt(fn, 4)} N·s` +
+        (failed ? " — the solver's last iterate (arrows capped at 3 body sizes); no impulse was applied" : "");
     bodyReadout();
   }
 
