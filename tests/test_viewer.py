@@ -212,3 +212,18 @@ def test_view_bad_input_exits_2_with_one_line(tmp_path, capsys, case, failing):
     err = capsys.readouterr().err
     assert rc == 2 and err.count("\n") == 1 and err.startswith("lcpsim: error: ")
     assert not (tmp_path / "x.html").exists()
+
+
+def test_report_pages_rerun_the_experiments_runs():
+    """A report page's run is the experiment's: same scene, same steps, same motion."""
+    from lcpsim.experiments import push, slope
+
+    r = slope.run({"solver": "seed", "angle_deg": 45.0001, "scale": "none", "seconds": 0.3})
+    s = slope.make_scene(r["config"])
+    traj = s.world.run(r["steps"], record_contacts=True)
+    assert traj.displacement(s.body) @ s.direction == r["slide_distance_m"]
+    assert traj.failures == r["lcp_failures"] > 0
+    r = push.run({"force": 9.83, "seconds": 0.3})
+    s = push.make_scene(r["config"])
+    traj = s.world.run(300, record_contacts=True)
+    assert traj.displacement(s.body) @ s.direction == r["displacement_m"]

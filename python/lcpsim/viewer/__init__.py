@@ -29,7 +29,7 @@ import json
 import os
 import re
 from pathlib import Path
-from typing import Any
+from typing import Any, Mapping
 
 from ..trajectory import Trajectory
 from .encode import STATUS_COLORS, payload
@@ -125,7 +125,7 @@ def _fill(template: str, parts: dict[str, str]) -> str:
     return re.sub(r"@([A-Z_]+)@", lambda m: parts[m.group(1)], template)
 
 
-def _default_title(config: dict[str, Any]) -> str:
+def _default_title(config: Mapping[str, Any]) -> str:
     scene = config.get("scene")
     if not scene:
         return "lcpsim trajectory"
@@ -133,7 +133,7 @@ def _default_title(config: dict[str, Any]) -> str:
     return f"lcpsim: {scene}" + (f" ({params})" if params else "")
 
 
-def _header(traj: Trajectory, config: dict[str, Any], description: str | None) -> str:
+def _header(traj: Trajectory, config: Mapping[str, Any], description: str | None) -> str:
     p = config.get("params") or {}
     lines = []
     if description:
