@@ -170,6 +170,16 @@ def test_slider_changes_the_frame(open_page, pages):
     p.page.check("#show-points")
     p.page.check("#show-normal")
     assert (np.abs(p.canvas() - bare).sum(axis=2) > 30).sum() > 20
+    # Play at 0.25× real time: frames advance by themselves; pause stops them.
+    p.page.select_option("#speed", "0.25")
+    p.eval("lcpsimViewer.setFrame(0)")
+    p.page.click("#play")
+    p.page.wait_for_timeout(400)
+    p.page.click("#play")
+    stopped = p.eval("lcpsimViewer.frame")
+    assert stopped > 0 and p.eval("lcpsimViewer.playing") is False
+    p.page.wait_for_timeout(200)
+    assert p.eval("lcpsimViewer.frame") == stopped
 
 
 def test_failed_steps_have_markers_that_jump_there(open_page, pages):
@@ -189,6 +199,10 @@ def test_failed_steps_have_markers_that_jump_there(open_page, pages):
     (r, g, b, _), solved = px
     assert r > 150 and g < 80 and b < 80, px
     assert solved[1] > solved[0], px  # green
+    strip = p.page.locator("#strip")
+    box = strip.bounding_box()
+    strip.click(position={"x": box["width"] * 249.5 / 300, "y": box["height"] / 2})
+    assert abs(p.eval("lcpsimViewer.step") - 250) <= 2
     markers.nth(1).click()
     assert p.eval("lcpsimViewer.step") == failed[1]
     lcp = p.page.inner_text("#lcp-readout")

@@ -96,9 +96,10 @@ function lcpsimStartViewer(THREE, OrbitControls, D) {
     plane.quaternion.setFromUnitVectors(new THREE.Vector3(0, 0, 1), n);
     const divisions = Math.max(2, Math.round(size / D.view.grid));
     const grid = new THREE.GridHelper(size, divisions, 0x59606b, 0x868e99);
-    grid.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), n);
-    grid.position.addScaledVector(n, 1e-3 * D.view.size);
-    g.add(plane, grid);
+    grid.rotation.x = Math.PI / 2;  // the grid's normal (y) onto the plane's (local z), then on the plane
+    grid.position.z = 1e-3 * D.view.size;
+    plane.add(grid);
+    g.add(plane);
     return g;
   }
 
