@@ -107,17 +107,20 @@ def render_html(
     parts["HEADER"] = _header(traj, config, description)
     template = (_HERE / "template.html").read_text(encoding="utf-8")
     fixed = len(_fill(template, {**parts, "DATA": "", "NOTICES": ""}).encode("utf-8"))
-    # Room for the notices and the JSON around the arrays: 6 kB, plus one byte per step of failed-run list.
-    budget = max_bytes - fixed - 6_000 - 8 * len(traj) // 100
-    data = payload(traj, body=body, direction=direction, direction_label=direction_label, budget=budget)
-    parts["NOTICES"] = _notices(traj, data)
-    # "</" never appears in the JSON text ("<\/" is the same string to JSON.parse).
-    parts["DATA"] = json.dumps(data, separators=(",", ":"), allow_nan=True).replace("</", "<\\/")
-    page = _fill(template, parts)
-    size = len(page.encode("utf-8"))
-    if size > max_bytes:
-        raise ValueError(f"max_bytes={max_bytes} is too small for this trajectory's page ({size} bytes)")
-    return page
+    # The frames get what the page, the notices and the JSON around the arrays (16 kB, with up to
+    # 500 failed runs) and every step's status (one byte a step, base64) leave.
+    budget = max_bytes - fixed - 16_000 - 4 * (len(traj) + 2) // 3
+    for _ in range(4):  # an estimate a little short: retry with less
+        data = payload(traj, body=body, direction=direction, direction_label=direction_label, budget=budget)
+        parts["NOTICES"] = _notices(traj, data)
+        # "</" never appears in the JSON text ("<\/" is the same string to JSON.parse).
+        parts["DATA"] = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("</", "<\\/")
+        page = _fill(template, parts)
+        size = len(page.encode("utf-8"))
+        if size <= max_bytes:
+            return page
+        budget -= size - max_bytes + 1_000
+    raise ValueError(f"max_bytes={max_bytes} is too small for this trajectory's page ({size} bytes)")
 
 
 def _fill(template: str, parts: dict[str, str]) -> str:
@@ -166,7 +169,7 @@ def _notices(traj: Trajectory, data: dict[str, Any]) -> str:
     if data["stride"] > 1 or data["frames"] < len(traj) + 1:
         out.append(
             f'<p class="notice" id="downsampled-notice">Downsampled to fit the page: {data["frames"]} of '
-            f"{len(traj) + 1} states are kept (every {data['stride']}th step, the last one and every step whose "
+            f"{len(traj) + 1} states are kept (one step in {data['stride']}, the last one and every step whose "
             "LCP failed). The status strip below the slider shows every step.</p>"
         )
     if not data["has_contacts"] and len(traj):
