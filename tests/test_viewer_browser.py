@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import base64
 import io
+import math
 import os
 import shutil
 
@@ -147,6 +148,10 @@ def test_sliding_cube_moves_down_the_slope_and_resting_cube_does_not(open_page, 
     assert (np.abs(a - b).sum(axis=2) > 30).sum() > 500
     assert "step 2000 / 2000" in slide.page.inner_text("#step-readout")
     assert float(slide.page.inner_text("#body-readout").split("down-slope distance:")[1].split()[0]) > 0.09
+    # λ, the sliding speed the LCP chose, is g (sin θ − μ cos θ) t at t = 2 s.
+    lam = float(slide.page.inner_text("#contact-readout").split("max λ =")[1].split()[0])
+    th = math.radians(45.2)
+    assert lam == pytest.approx(9.81 * (math.sin(th) - math.cos(th)) * 2.0, rel=0.02)
 
     rest = open_page(pages["rest"])
     rest.hide_contacts()

@@ -225,11 +225,11 @@ function lcpsimStartViewer(THREE, OrbitControls, D) {
       : "LCP: —";
     s.style.color = st > 0 && D.failed_statuses.includes(status) ? "#c0191f" : "";
     const a = A.c_offsets ? A.c_offsets[frame] : 0, b = A.c_offsets ? A.c_offsets[frame + 1] : 0;
-    let fn = 0;
-    for (let c = a; c < b; c++) fn += A.c_fn[c];
+    let fn = 0, lam = 0;
+    for (let c = a; c < b; c++) { fn += A.c_fn[c]; lam = Math.max(lam, A.c_lam[c]); }
     const failed = st > 0 && D.failed_statuses.includes(status);
     $("contact-readout").textContent = !D.has_contacts ? "contacts: not recorded in this trajectory"
-      : `contacts: ${b - a} · Σ fn = ${lcpsimFmt(fn, 4)} N·s` +
+      : `contacts: ${b - a} · Σ fn = ${lcpsimFmt(fn, 4)} N·s · max λ = ${lcpsimFmt(lam, 3)} m/s` +
         (failed ? " — the solver's last iterate (arrows capped at 3 body sizes); no impulse was applied" : "");
     bodyReadout();
   }
