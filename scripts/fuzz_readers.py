@@ -2,7 +2,8 @@
 """Fuzzes lcpsim's file readers on damaged files for a fixed time (issue 15).
 
 The readers — ``lcpsim.io.load_lcp`` (``.npz``, HDF5, capture, dump),
-``open_capture`` (and reading every record), ``load_dump`` — are given
+``open_capture`` (and reading every record), ``load_dump``,
+``load_trajectory`` (the viewer's files) — are given
 mutations (bit flips, overwritten runs, truncations, spliced bytes) of small
 valid files of each kind. A reader must return or raise a clean error (a
 ``ValueError`` such as ``LcpFileError``/``CaptureError``, or an ``OSError``)
@@ -47,12 +48,14 @@ def _read_capture(path: str) -> None:
 
 def _readers() -> dict[str, Callable[[str], Any]]:
     from lcpsim.io import load_dump, load_lcp
+    from lcpsim.io.trajectory_file import load_trajectory
 
     readers: dict[str, Callable[[str], Any]] = {
         "load_lcp": load_lcp,
         "load_lcp_index0": lambda p: load_lcp(p, 0),
         "open_capture": _read_capture,
         "load_dump": load_dump,
+        "load_trajectory": load_trajectory,
     }
     try:  # the FCLib reader (issue 17), once it has landed
         from lcpsim.io import fclib  # type: ignore[attr-defined]
@@ -80,6 +83,10 @@ def _seeds(directory: Path) -> list[Path]:
     seeds.append(directory / "c.h5")
     res = solve_lcp(-np.eye(2), q, dump=str(directory / "dumps"))
     seeds.append(Path(res.dump_path))
+    from lcpsim import scenes
+
+    traj = scenes.resting_cube().world.run(3, record_contacts=True)
+    seeds.append(Path(traj.save(directory / "t.h5")))
     return seeds
 
 

@@ -19,9 +19,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from lcpsim import open_capture, solve_lcp
+from lcpsim import open_capture, scenes, solve_lcp
 from lcpsim.io import load_dump, load_lcp, save_lcp
 from lcpsim.io.capture import CaptureWriter
+from lcpsim.io.trajectory_file import load_trajectory
 
 FOUND = Path(__file__).parent / "data" / "fuzz"
 CLEAN = (ValueError, OSError)
@@ -29,7 +30,7 @@ CLEAN = (ValueError, OSError)
 
 def _read_all(path: Path) -> None:
     """Every reader on ``path``; only clean errors may escape each."""
-    for read in (load_lcp, lambda p: load_lcp(p, 0), load_dump, _capture_records):
+    for read in (load_lcp, lambda p: load_lcp(p, 0), load_dump, _capture_records, load_trajectory):
         try:
             read(path)
         except CLEAN:
@@ -45,8 +46,9 @@ def _capture_records(path: Path) -> None:
 @pytest.mark.parametrize("name", sorted(p.name for p in FOUND.glob("*.gz")))
 def test_inputs_the_fuzzer_found(tmp_path, name):
     """Each once hung a reader (HDF5's SWMR reader retries a bad checksum with
-    exponential back-off; a truncated file sent to it hangs too) or raised
-    RuntimeError, KeyError or NotImplementedError. Run in a subprocess with a
+    exponential back-off; a truncated file sent to it hangs too; a global heap
+    whose free space has size 0 stalls HDF5 itself) or raised RuntimeError,
+    KeyError or NotImplementedError. Run in a subprocess with a
     deadline, so a regression fails instead of hanging the suite."""
     path = tmp_path / name[:-3]
     path.write_bytes(gzip.decompress((FOUND / name).read_bytes()))
@@ -75,6 +77,7 @@ def seeds(tmp_path_factory) -> dict[str, bytes]:
         w.add(M, q, np.array([1 / 3, 1 / 3]), np.zeros(2))
     out["capture"] = (d / "c.h5").read_bytes()
     out["dump"] = Path(solve_lcp(-np.eye(2), q, dump=str(d)).dump_path).read_bytes()
+    out["trajectory"] = Path(scenes.resting_cube().world.run(2, record_contacts=True).save(d / "t.h5")).read_bytes()
     return out
 
 
@@ -88,7 +91,7 @@ def test_arbitrary_bytes(tmp_path_factory, data, suffix):
 
 @settings(max_examples=100, deadline=None)
 @given(
-    kind=st.sampled_from(["npz", "h5", "capture", "dump"]),
+    kind=st.sampled_from(["npz", "h5", "capture", "dump", "trajectory"]),
     seed=st.integers(0, 2**32 - 1),
     edits=st.integers(1, 16),
 )

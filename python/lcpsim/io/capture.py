@@ -37,6 +37,7 @@ from .. import _core
 from .._deprecated import deprecated_names
 from .._json import jsonable
 from .limits import human_bytes
+from .hdf5_check import DamagedHdf5Error, check_global_heaps
 from .lcp_file import HDF5_ERRORS
 from .safe_file import SafeTarget, partial_path
 
@@ -102,7 +103,10 @@ def _open_read(path: Path) -> Any:
     a damaged file hangs the reader) to :data:`SWMR_READ_ATTEMPTS`."""
     h5py = _h5py()
     try:
+        check_global_heaps(path)
         return h5py.File(path, "r", locking=False)
+    except DamagedHdf5Error as e:
+        raise CaptureError(str(e)) from None
     except HDF5_ERRORS as e:
         plain_error = e
     # Only the "open for writing" flag sends a file to the SWMR reader: SWMR

@@ -105,11 +105,15 @@ HDF5_ERRORS: tuple[type[Exception], ...] = (OSError, ValueError, RuntimeError, K
 
 def open_hdf5(path: Path, error: type[ValueError] = ValueError) -> Any:
     """An HDF5 file opened for reading without HDF5's file locking (a reader
-    never waits for, or is refused by, a writer's lock); ``error`` for a file
-    that is not readable HDF5."""
+    never waits for, or is refused by, a writer's lock), once
+    :func:`~lcpsim.io.hdf5_check.check_global_heaps` has found nothing that
+    would hang HDF5; ``error`` for a file that is not readable HDF5."""
     import h5py  # type: ignore[import-untyped]
 
+    from .hdf5_check import check_global_heaps
+
     try:
+        check_global_heaps(path)
         return h5py.File(path, "r", locking=False)
     except HDF5_ERRORS as e:
         raise error(f"{path}: not a readable HDF5 file ({e})") from None
@@ -126,8 +130,11 @@ def hdf5_dataset(path: Path, f: Any, key: str, error: type[ValueError] = ValueEr
     except HDF5_ERRORS as e:
         raise error(f"{path}: cannot read the link '/{key}' ({e})") from None
     if link is None:
-        found = list(f.keys())
-        raise error(f"{path}: no dataset '/{key}' (found: {', '.join('/' + k for k in found) if found else 'none'})")
+        try:
+            found = ", ".join("/" + k for k in f.keys()) or "none"
+        except HDF5_ERRORS:
+            found = "an unreadable group"
+        raise error(f"{path}: no dataset '/{key}' (found: {found})")
     if isinstance(link, h5py.ExternalLink):
         raise error(f"{path}: '/{key}' is an external link (to {link.filename}:{link.path}); lcpsim reads only data in the file itself")
     try:

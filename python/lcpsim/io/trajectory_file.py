@@ -42,6 +42,7 @@ import numpy as np
 
 from .._json import jsonable
 from ..trajectory import STATUS_NAMES, ContactLog, Trajectory
+from .hdf5_check import DamagedHdf5Error, check_global_heaps
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "TrajectoryFileError", "save_trajectory", "load_trajectory"]
 
@@ -124,26 +125,37 @@ def load_trajectory(path: str | os.PathLike[str]) -> Trajectory:
     if not p.exists():
         raise FileNotFoundError(2, "No such file or directory", os.fspath(path))
     try:
-        f = h5py.File(p, "r")
-    except OSError as e:
+        check_global_heaps(p)  # a damaged global heap would hang HDF5 itself
+        f = h5py.File(p, "r", locking=False)
+    except DamagedHdf5Error as e:
+        raise TrajectoryFileError(str(e)) from None
+    except (OSError, RuntimeError) as e:
         raise TrajectoryFileError(f"{path}: not a readable HDF5 file (truncated or not HDF5: {_reason(e)})") from None
     with f:
-        fmt = f.attrs.get("format")
-        if isinstance(fmt, bytes):
-            fmt = fmt.decode()
-        if fmt != FORMAT:
-            what = f"its format is {fmt!r}" if fmt else f"it holds {', '.join(sorted(f.keys())[:4]) or 'nothing'}"
-            raise TrajectoryFileError(
-                f"{path}: not an lcpsim trajectory ({what}); write one with Trajectory.save or "
-                "`lcpsim view SCENE --save FILE.h5`"
-            )
-        version = int(f.attrs.get("format_version", 0))
-        if version > FORMAT_VERSION:
-            raise TrajectoryFileError(f"{path}: trajectory format version {version} is newer than this lcpsim reads")
         try:
-            return _read(f, path)
-        except (KeyError, OSError, json.JSONDecodeError) as e:
+            return _checked(f, path)
+        except (KeyError, RuntimeError, TypeError) as e:  # h5py on damaged metadata
             raise TrajectoryFileError(f"{path}: damaged trajectory file ({_reason(e)})") from None
+
+
+def _checked(f: Any, path: str | os.PathLike[str]) -> Trajectory:
+    """The format checks, then :func:`_read`."""
+    fmt = f.attrs.get("format")
+    if isinstance(fmt, bytes):
+        fmt = fmt.decode()
+    if fmt != FORMAT:
+        what = f"its format is {fmt!r}" if fmt else f"it holds {', '.join(sorted(f.keys())[:4]) or 'nothing'}"
+        raise TrajectoryFileError(
+            f"{path}: not an lcpsim trajectory ({what}); write one with Trajectory.save or "
+            "`lcpsim view SCENE --save FILE.h5`"
+        )
+    version = int(f.attrs.get("format_version", 0))
+    if version > FORMAT_VERSION:
+        raise TrajectoryFileError(f"{path}: trajectory format version {version} is newer than this lcpsim reads")
+    try:
+        return _read(f, path)
+    except (KeyError, OSError, json.JSONDecodeError) as e:
+        raise TrajectoryFileError(f"{path}: damaged trajectory file ({_reason(e)})") from None
 
 
 def _read(f: Any, path: str | os.PathLike[str]) -> Trajectory:
