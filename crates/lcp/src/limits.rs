@@ -41,9 +41,7 @@ impl std::error::Error for SizeError {}
 /// `8·n²·copies`: the bytes of `copies` dense `n × n` float64 matrices (saturating).
 pub fn dense_bytes(n: usize, copies: u32) -> u128 {
     let n = n as u128;
-    n.checked_mul(n)
-        .and_then(|v| v.checked_mul(F64_BYTES * copies as u128))
-        .unwrap_or(u128::MAX)
+    n.checked_mul(n).and_then(|v| v.checked_mul(F64_BYTES * copies as u128)).unwrap_or(u128::MAX)
 }
 
 /// A byte count for people: `1.5 GiB`, `116 TiB`, `800 B`.

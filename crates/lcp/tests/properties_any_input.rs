@@ -62,17 +62,50 @@ fn restarts_keep_the_pivot_budget() {
     let cases: [(Vec<f64>, Vec<f64>, usize); 2] = [
         (
             vec![
-                0.0, 0.0, 0.0, 0.0, 0.0, 1e-20, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 1e4, 0.0, 0.0, 0.0, 0.0, tiny, 0.0, 0.0, 0.0,
-                0.0, 0.0, 0.25, 0.0, 0.0, tiny, tiny, 0.0, tiny, tiny, 0.0, 0.0, 0.0, 0.0, 0.0,
+                0.0, 0.0, 0.0, 0.0, 0.0, 1e-20, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 1e4, 0.0, 0.0, 0.0, 0.0, tiny, 0.0, 0.0,
+                0.0, 0.0, 0.0, 0.25, 0.0, 0.0, tiny, tiny, 0.0, tiny, tiny, 0.0, 0.0, 0.0, 0.0, 0.0,
             ],
             vec![0.0, 0.0, 0.0, 0.0, 0.0, -8.0],
             10,
         ),
         (
             vec![
-                1.0, 1.0, -1.0, 4.25, 6.375, -7.5, 0.0, 1.0, 0.9999999999999998, 0.0, 1.0, -1.0, 0.0, 0.0, 1.0, -7e20,
-                2.2250738585072014e-308, 1.0000000000000033, 0.0, 0.0, 0.0, 1.0, -7.625, -5.5, 0.0, 0.0, 0.0, 0.0, 1.0,
-                -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+                1.0,
+                1.0,
+                -1.0,
+                4.25,
+                6.375,
+                -7.5,
+                0.0,
+                1.0,
+                0.9999999999999998,
+                0.0,
+                1.0,
+                -1.0,
+                0.0,
+                0.0,
+                1.0,
+                -7e20,
+                2.2250738585072014e-308,
+                1.0000000000000033,
+                0.0,
+                0.0,
+                0.0,
+                1.0,
+                -7.625,
+                -5.5,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                1.0,
+                -1.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                1.0,
             ],
             vec![0.0, 0.0, -1.0, -7.75, -5.625, 0.0],
             34,
@@ -81,7 +114,13 @@ fn restarts_keep_the_pivot_budget() {
     for (m, q, budget) in cases {
         let lcp = Lcp::new(m, q).unwrap();
         for zero_tol in [1e-6, 1e-13] {
-            let o = LemkeOptions { max_pivots: Some(budget), equilibrate: false, warm_start: false, zero_tol, ..Default::default() };
+            let o = LemkeOptions {
+                max_pivots: Some(budget),
+                equilibrate: false,
+                warm_start: false,
+                zero_tol,
+                ..Default::default()
+            };
             let method = Method::Lemke(o);
             let sol = lcp::solve(&lcp, &method);
             assert!(sol.iterations <= budget, "{} pivots of {budget}", sol.iterations);

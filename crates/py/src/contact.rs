@@ -58,7 +58,9 @@ impl PyContactLayout {
         }
         // n = nc·(k + 2) must be a size numpy can allocate.
         if nc.checked_mul(k.saturating_add(2)).is_none_or(|n| n > isize::MAX as usize / 8) {
-            return Err(value_error(format!("a contact layout of nc = {nc}, k = {k} is too large (n = nc·(k + 2) overflows)")));
+            return Err(value_error(format!(
+                "a contact layout of nc = {nc}, k = {k} is too large (n = nc·(k + 2) overflows)"
+            )));
         }
         Ok(PyContactLayout(ContactLayout::new(nc, k)))
     }

@@ -135,7 +135,8 @@ pub fn hard_corpus(py: Python<'_>, seed: u64, count: usize, scale: f64) -> PyRes
     check_scale(scale)?;
     // Every item is at least one contact with k = 4 (an LCP of 6 unknowns).
     let bytes = (count as u128).saturating_mul(lcp::limits::dense_bytes(6, 1) + 64);
-    lcp::limits::check_bytes(|| format!("hard_corpus(count={count})"), bytes).map_err(|e| value_error(e.to_string()))?;
+    lcp::limits::check_bytes(|| format!("hard_corpus(count={count})"), bytes)
+        .map_err(|e| value_error(e.to_string()))?;
     let items = py.detach(|| scenes::hard_corpus(seed, count, scale));
     items
         .into_iter()

@@ -43,7 +43,9 @@ impl fmt::Display for SimError {
         match self {
             SimError::NotPositive { field, value } => write!(f, "{field} must be > 0, got {}", num(*value)),
             SimError::Negative { field, value } => write!(f, "{field} must be >= 0, got {}", num(*value)),
-            SimError::OutOfRange { field, value, range } => write!(f, "{field} must be in {range}, got {}", num(*value)),
+            SimError::OutOfRange { field, value, range } => {
+                write!(f, "{field} must be in {range}, got {}", num(*value))
+            }
             SimError::NonFinite { field, value } => write!(f, "{field} must be finite, got {}", num(*value)),
             SimError::ZeroLength { field } => write!(f, "{field} has zero length and cannot be normalized"),
             SimError::FrictionDirs { k } if *k > crate::limits::MAX_FRICTION_DIRS => {

@@ -31,8 +31,18 @@ pub fn lcp_size(contacts: usize, k: usize) -> Option<usize> {
 /// Refuses a contact LCP of `contacts` contacts whose dense matrix cannot fit in memory.
 pub fn check_contact_lcp(what: impl FnOnce() -> String, contacts: usize, k: usize) -> Result<(), SimError> {
     let n = lcp_size(contacts, k).unwrap_or(usize::MAX);
-    check_dense(|| format!("{}: a contact LCP of {contacts} contacts × (k + 2 = {}) = {n} unknowns", what(), k.saturating_add(2)), n, 1)
-        .map_err(SimError::TooLarge)
+    check_dense(
+        || {
+            format!(
+                "{}: a contact LCP of {contacts} contacts × (k + 2 = {}) = {n} unknowns",
+                what(),
+                k.saturating_add(2)
+            )
+        },
+        n,
+        1,
+    )
+    .map_err(SimError::TooLarge)
 }
 
 /// A scene's body count `count` (`None`: it overflowed) checked against
@@ -89,6 +99,9 @@ const TRAJECTORY_STEP_BYTES: u128 = 16 * 8;
 /// Refuses a run of `steps` steps of `bodies` bodies whose trajectory cannot fit in memory.
 pub fn check_trajectory(steps: usize, bodies: usize) -> Result<(), SimError> {
     let per_step = (bodies as u128).saturating_mul(TRAJECTORY_BODY_BYTES).saturating_add(TRAJECTORY_STEP_BYTES);
-    lcp::limits::check_bytes(|| format!("a trajectory of {steps} steps of {bodies} bodies"), per_step.saturating_mul(steps as u128))
-        .map_err(SimError::TooLarge)
+    lcp::limits::check_bytes(
+        || format!("a trajectory of {steps} steps of {bodies} bodies"),
+        per_step.saturating_mul(steps as u128),
+    )
+    .map_err(SimError::TooLarge)
 }

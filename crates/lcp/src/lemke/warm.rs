@@ -94,7 +94,12 @@ pub(crate) fn start<'a>(
     let d: &'a Vec<f64> = d;
     basis.set_covering(d);
     // What the exchanges left of the budget.
-    let set = RunSettings { max_pivots: set.max_pivots - swaps, rule: set.rule, trace: set.trace, refactor_every: set.refactor_every };
+    let set = RunSettings {
+        max_pivots: set.max_pivots - swaps,
+        rule: set.rule,
+        trace: set.trace,
+        refactor_every: set.refactor_every,
+    };
     match run::run_warm(basis, &set, pivoting) {
         Ok(mut r) => {
             r.pivots += swaps;

@@ -56,4 +56,3 @@ impl<'a> Bytes<'a> {
         f64::from_le_bytes(raw)
     }
 }
-

@@ -36,11 +36,19 @@ pub fn decode(data: &[u8]) -> Case {
     let raw: Vec<f64> = (0..n * n).map(|_| b.f64()).collect();
     let m = match shape {
         // A Aᵀ: positive semidefinite.
-        0 | 1 => (0..n * n)
-            .map(|ij| (0..n).map(|k| raw[(ij / n) * n + k] * raw[(ij % n) * n + k]).sum())
-            .collect(),
+        0 | 1 => (0..n * n).map(|ij| (0..n).map(|k| raw[(ij / n) * n + k] * raw[(ij % n) * n + k]).sum()).collect(),
         // Unit upper triangular: a P-matrix, one solution.
-        2 => (0..n * n).map(|ij| if ij / n == ij % n { 1.0 } else if ij % n > ij / n { raw[ij] } else { 0.0 }).collect(),
+        2 => (0..n * n)
+            .map(|ij| {
+                if ij / n == ij % n {
+                    1.0
+                } else if ij % n > ij / n {
+                    raw[ij]
+                } else {
+                    0.0
+                }
+            })
+            .collect(),
         // A wrong shape (Lcp::new must refuse it).
         3 if b.u8() % 8 == 0 => raw[..n * n - 1].to_vec(),
         _ => raw,
@@ -100,7 +108,9 @@ pub fn well_formed(m: &[f64], q: &[f64]) -> bool {
 pub fn documented_rule(lcp: &Lcp, method: &Method, z: &[f64]) -> Result<(), String> {
     let (w, r) = Residuals::compute(lcp, z);
     let q_norm = lcp.q_norm_inf();
-    let terms = 1.0 + q_norm + (0..lcp.n()).map(|i| lcp.row(i).iter().zip(z).map(|(a, b)| (a * b).abs()).sum::<f64>()).fold(0.0, f64::max);
+    let terms = 1.0
+        + q_norm
+        + (0..lcp.n()).map(|i| lcp.row(i).iter().zip(z).map(|(a, b)| (a * b).abs()).sum::<f64>()).fold(0.0, f64::max);
     let slack = 8.0 * f64::EPSILON * terms;
     let (ok, rule) = match method {
         Method::Lemke(o) if o.pivoting == Pivoting::Lexicographic => {
@@ -108,7 +118,9 @@ pub fn documented_rule(lcp: &Lcp, method: &Method, z: &[f64]) -> Result<(), Stri
             (r.natural <= bound + slack, format!("‖min(z, w)‖∞ ≤ {bound:e}"))
         }
         Method::Lemke(o) => (
-            r.min_z >= -o.zero_tol - slack && r.min_w >= -o.zero_tol - slack && r.max_complementarity < o.zero_tol + slack,
+            r.min_z >= -o.zero_tol - slack
+                && r.min_w >= -o.zero_tol - slack
+                && r.max_complementarity < o.zero_tol + slack,
             format!("z, w ≥ −{0:e}, |z_i w_i| < {0:e}", o.zero_tol),
         ),
         Method::Pgs(PgsOptions { tol, .. }) | Method::NewtonFb(NewtonFbOptions { tol, .. }) => {
@@ -143,7 +155,12 @@ pub fn check_solution(lcp: &Lcp, method: &Method, sol: &Solution) -> Result<(), 
         }
     }
     if sol.iterations > budget(method, n) {
-        return Err(format!("{} pivots/iterations beyond the budget {} ({:?})", sol.iterations, budget(method, n), sol.status));
+        return Err(format!(
+            "{} pivots/iterations beyond the budget {} ({:?})",
+            sol.iterations,
+            budget(method, n),
+            sol.status
+        ));
     }
     if sol.status == Status::Solved {
         if !sol.z.iter().all(|v| v.is_finite()) {
@@ -164,5 +181,6 @@ pub fn check(case: &Case) -> Result<(), String> {
         Err(_) => return Ok(()),
     };
     let sol = lcp::solve_warm(&lcp, &case.method, case.warm.as_deref());
-    check_solution(&lcp, &case.method, &sol).map_err(|e| format!("{e}\nmethod {:?}\nM = {:?}\nq = {:?}", case.method, case.m, case.q))
+    check_solution(&lcp, &case.method, &sol)
+        .map_err(|e| format!("{e}\nmethod {:?}\nM = {:?}\nq = {:?}", case.method, case.m, case.q))
 }

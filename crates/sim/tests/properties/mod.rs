@@ -9,8 +9,8 @@
 #![allow(dead_code)]
 
 use sim::contact::ConeScale;
-use sim::math::{Quat, Vec3};
 use sim::lcp::{self, Status};
+use sim::math::{Quat, Vec3};
 use sim::{BodyDesc, BodyId, Restitution, SimError, Stabilization, World, WorldParams};
 
 #[path = "../../../lcp/tests/properties/bytes.rs"]
@@ -50,7 +50,11 @@ pub fn decode_params(b: &mut Bytes<'_>) -> WorldParams {
         },
         margin: b.pick(&[1e-3, 0.0, 0.05]),
         velocity_margin: b.u8() % 2 == 0,
-        stabilization: Stabilization { erp: b.pick(&[0.2, 0.0, 1.0]), slop: b.pick(&[0.0, 1e-3]), speculative: b.u8() % 2 == 0 },
+        stabilization: Stabilization {
+            erp: b.pick(&[0.2, 0.0, 1.0]),
+            slop: b.pick(&[0.0, 1e-3]),
+            speculative: b.u8() % 2 == 0,
+        },
         restitution: Restitution { coefficient: b.pick(&[0.0, 0.5, 1.0]), threshold: 1e-2 },
         method,
         threads: b.pick(&[1, 1, 2]),
@@ -104,7 +108,8 @@ pub fn check(data: &[u8]) -> Result<Stats, String> {
     }
     for _ in 0..b.u8() % 3 {
         let body = BodyId(b.u8() as usize % 6);
-        let _ = world.apply_force(body, vec3(&mut b, 100.0), if b.u8() % 2 == 0 { Some(vec3(&mut b, 0.5)) } else { None });
+        let _ =
+            world.apply_force(body, vec3(&mut b, 100.0), if b.u8() % 2 == 0 { Some(vec3(&mut b, 0.5)) } else { None });
     }
     let steps = 1 + b.u8() % 12;
     let k = world.params().friction_dirs;
