@@ -68,7 +68,9 @@ pub struct Residuals {
 }
 
 impl Residuals {
-    /// Residuals of `z` and `w` (which should be `M z + q`).
+    /// Residuals of `z` and `w` (which should be `M z + q`). A non-finite
+    /// `z_i` or `w_i` makes the natural residual and the complementarity
+    /// infinite (`f64::max` would skip a NaN), so that no rule accepts it.
     pub fn of(z: &[f64], w: &[f64]) -> Self {
         let mut r = Residuals { natural: 0.0, min_z: f64::INFINITY, min_w: f64::INFINITY, max_complementarity: 0.0 };
         for (&zi, &wi) in z.iter().zip(w) {
@@ -76,6 +78,10 @@ impl Residuals {
             r.min_z = r.min_z.min(zi);
             r.min_w = r.min_w.min(wi);
             r.max_complementarity = r.max_complementarity.max((zi * wi).abs());
+            if !(zi.is_finite() && wi.is_finite()) {
+                r.natural = f64::INFINITY;
+                r.max_complementarity = f64::INFINITY;
+            }
         }
         if z.is_empty() {
             r.min_z = 0.0;

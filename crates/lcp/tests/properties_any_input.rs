@@ -128,3 +128,22 @@ fn restarts_keep_the_pivot_budget() {
         }
     }
 }
+
+/// Found by `cargo fuzz` (lcp_solvers): classic Lemke accepted z = [∞, …] as
+/// solved — `w = M z + q` held NaN, and the residuals' maxima skipped it.
+/// A non-finite z or w now has an infinite residual.
+#[test]
+fn a_non_finite_answer_is_never_solved() {
+    let data = [
+        53u8, 34, 254, 254, 13, 13, 0, 0, 0, 0, 0, 2, 69, 0, 0, 102, 0, 0, 0, 0, 43, 43, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    ];
+    let mut data = data.to_vec();
+    data.extend([186u8; 30]);
+    data.extend([147u8; 39]);
+    data.extend([186u8; 36]);
+    data.extend([13u8, 235, 13, 13, 13]);
+    let case = properties::decode(&data);
+    properties::check(&case).unwrap();
+    let r = lcp::Residuals::of(&[f64::INFINITY, 1.0], &[f64::NAN, 0.0]);
+    assert_eq!((r.natural, r.max_complementarity), (f64::INFINITY, f64::INFINITY));
+}

@@ -41,3 +41,17 @@ fn random_worlds_reach_contact() {
     eprintln!("random worlds: {steps} steps, {solved} with contacts solved");
     assert!(steps > 400 && solved > 50, "{steps} steps, {solved} solved contact steps");
 }
+
+/// Found by `cargo fuzz` (world): a sphere thrown at 1.8e308 m/s with a cone
+/// scale of 1e12 — the scaled LCP was solved, its physical z overflowed, and
+/// the step said `solved` with infinite impulses. Such an island is now
+/// `numerical` with no impulse.
+#[test]
+fn an_overflowing_physical_answer_is_not_solved() {
+    let data = [
+        1u8, 239, 239, 245, 10, 253, 108, 108, 108, 239, 239, 10, 195, 195, 195, 195, 195, 195, 195, 195, 195, 195, 195,
+        195, 195, 195, 242, 125, 195, 195, 195, 195, 195, 195, 195, 195, 240, 245, 125, 10, 22, 22, 22, 49, 22, 135, 10,
+        245, 195, 195, 195, 195, 195, 108, 195, 195, 195,
+    ];
+    properties::check(&data).unwrap();
+}

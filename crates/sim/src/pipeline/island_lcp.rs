@@ -87,11 +87,18 @@ impl IslandLcp {
                 sol
             }
         };
-        // Physical z, or zeros if the solver's z is unusable.
+        // Physical z, or zeros if the solver's z is unusable — also when
+        // undoing the cone scale overflows it: a "solved" z is then no answer.
         self.zeroed = false;
-        if sol.z.len() == n && sol.z.iter().all(|v| v.is_finite()) {
+        let mut sol = sol;
+        let usable = sol.z.len() == n && sol.z.iter().all(|v| v.is_finite()) && {
             self.lcp.unscale_z(&sol.z, &mut self.z);
-        } else {
+            self.z.iter().all(|v| v.is_finite())
+        };
+        if !usable {
+            if sol.status == Status::Solved {
+                sol.status = Status::Numerical;
+            }
             self.zeroed = true;
             self.z.clear();
             self.z.resize(n, 0.0);
