@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from lcpsim.cli import EXIT_INTERNAL, Command, main, register_command
+from lcpsim.cli import EXIT_INTERNAL, Command, main
 from lcpsim.io import save_lcp
 
 REPROS = Path(__file__).parent / "data" / "repros"
@@ -104,11 +104,14 @@ def test_simulate_capture_refuses_an_existing_file(tmp_path):
     assert run(*args, "--overwrite").returncode == 0
 
 
-def test_a_bug_is_exit_3_not_1(capsys):
+def test_a_bug_is_exit_3_not_1(capsys, monkeypatch):
+    from lcpsim.cli import command
+
     def boom(_args):
         raise RuntimeError("a bug")
 
-    register_command(Command("__boom", "test only", lambda p: None, boom))
+    # Registered for this test only (the registry is global).
+    monkeypatch.setitem(command._COMMANDS, "__boom", Command("__boom", "test only", lambda p: None, boom))
     assert main(["__boom"]) == EXIT_INTERNAL == 3
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("lcpsim: internal error") and "RuntimeError: a bug" in err[0]

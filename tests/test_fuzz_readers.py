@@ -113,3 +113,19 @@ def test_mutated_valid_files(tmp_path_factory, seeds, kind, seed, edits):
         _read_all(path)
     finally:
         faulthandler.cancel_dump_traceback_later()
+
+
+def test_probe_turns_a_crash_or_a_hang_into_an_error(tmp_path, monkeypatch):
+    """``lcpsim solve`` reads HDF5 files in a child first (``hdf5_check.probe``):
+    the HDF5 library can crash (the fuzzer found a segmentation fault reading a
+    damaged attribute) or loop where no Python exception reaches."""
+    from lcpsim.io import hdf5_check
+
+    path = save_lcp(tmp_path / "p.h5", np.eye(2), -np.ones(2))
+    hdf5_check.probe(path)  # a sound file passes
+    monkeypatch.setattr(hdf5_check, "_PROBE", "import os, signal; os.kill(os.getpid(), signal.SIGSEGV)")
+    with pytest.raises(hdf5_check.DamagedHdf5Error, match="crashes the HDF5 library"):
+        hdf5_check.probe(path)
+    monkeypatch.setattr(hdf5_check, "_PROBE", "import time; time.sleep(60)")
+    with pytest.raises(hdf5_check.DamagedHdf5Error, match="did not finish in 1 s"):
+        hdf5_check.probe(path, timeout=1.0)

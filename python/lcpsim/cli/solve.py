@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 from typing import Any
 
 import numpy as np
@@ -107,8 +108,12 @@ def _run_replay(args: argparse.Namespace) -> int:
 
 
 def _run_solve(args: argparse.Namespace) -> int:
-    from ..io.lcp_file import is_dump, load_lcp
+    from ..io.hdf5_check import probe
+    from ..io.lcp_file import file_format, is_dump, load_lcp
 
+    # The HDF5 library can crash or loop on a damaged file: read it in a child first.
+    if os.path.isfile(args.file) and file_format(args.file) == "hdf5":
+        probe(args.file, getattr(args, "index", None))
     if is_dump(args.file):
         return _run_replay(args)
     index = getattr(args, "index", None)

@@ -9,6 +9,10 @@ spins forever in C, out of reach of Python (found by ``scripts/fuzz_readers.py``
 :func:`check_global_heaps` walks every collection the same way first and
 refuses such a file with a clear error.
 
+Other damage can crash or stall HDF5 where no check of ours reaches (a
+segmentation fault reading a damaged attribute was found too): :func:`probe`
+reads a file in a child process first, as ``lcpsim solve`` does.
+
 Collections are found by their ``GCOL`` signature (version 1, reserved bytes
 zero, size at least 4096 and within the file) in the first
 :data:`SCAN_BYTES` of the file, where files written by lcpsim keep their
@@ -22,7 +26,7 @@ import os
 import struct
 from pathlib import Path
 
-__all__ = ["SCAN_BYTES", "DamagedHdf5Error", "check_global_heaps"]
+__all__ = ["SCAN_BYTES", "PROBE_SECONDS", "DamagedHdf5Error", "check_global_heaps", "probe"]
 
 #: How much of a file is searched for global heap collections.
 SCAN_BYTES = 64 << 20
@@ -76,3 +80,41 @@ def check_global_heaps(path: str | os.PathLike[str]) -> None:
                         if why is not None:
                             raise DamagedHdf5Error(f"{p}: damaged HDF5 global heap ({why}); the HDF5 library would hang on it")
                 at = buf.find(b"GCOL", at + 4, scan_end)
+
+
+#: How long :func:`probe` lets the child read before calling the file damaged.
+PROBE_SECONDS = 30.0
+
+_PROBE = """
+import sys
+from lcpsim.io import load_dump, load_lcp
+from lcpsim.io.lcp_file import is_dump
+path, index = sys.argv[1], (None if sys.argv[2] == "-" else int(sys.argv[2]))
+try:
+    load_dump(path) if is_dump(path) else load_lcp(path, index)
+except (ValueError, OSError):
+    pass
+"""
+
+
+def probe(path: str | os.PathLike[str], index: int | None = None, timeout: float = PROBE_SECONDS) -> None:
+    """Reads ``path`` (as ``lcpsim solve`` would: a dump, or ``load_lcp(path,
+    index)``) in a child process first, and raises :class:`DamagedHdf5Error`
+    if that child crashes or does not finish within ``timeout`` seconds.
+
+    The HDF5 library itself can crash (a segmentation fault on some damaged
+    attribute heaps) or loop on a damaged file, beyond the reach of any
+    Python exception; a child process is the only sure guard. Clean errors
+    are left to the caller's own read. ``lcpsim solve`` probes every HDF5
+    file; a program reading untrusted files can do the same."""
+    import subprocess
+    import sys
+
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
+    args = [sys.executable, "-c", _PROBE, os.fspath(path), "-" if index is None else str(int(index))]
+    try:
+        p = subprocess.run(args, capture_output=True, timeout=timeout, env=env)
+    except subprocess.TimeoutExpired:
+        raise DamagedHdf5Error(f"{path}: reading it did not finish in {timeout:g} s (a damaged file the HDF5 library loops on)") from None
+    if p.returncode < 0:
+        raise DamagedHdf5Error(f"{path}: reading it crashes the HDF5 library (signal {-p.returncode}): a damaged file")

@@ -131,7 +131,8 @@ def hdf5_dataset(path: Path, f: Any, key: str, error: type[ValueError] = ValueEr
         raise error(f"{path}: cannot read the link '/{key}' ({e})") from None
     if link is None:
         try:
-            found = ", ".join("/" + k for k in f.keys()) or "none"
+            # (a damaged name comes back as bytes)
+            found = ", ".join("/" + (k.decode(errors="replace") if isinstance(k, bytes) else k) for k in f.keys()) or "none"
         except HDF5_ERRORS:
             found = "an unreadable group"
         raise error(f"{path}: no dataset '/{key}' (found: {found})")
