@@ -112,6 +112,10 @@ impl IslandLcp {
             BodySpaceLcp::at_scale(&self.lcp, 1.0).w_of(&self.z, &mut self.w);
         }
         self.residuals = Residuals::of(&self.z, &self.w);
+        // A physical w that overflows cannot be checked: not solved either.
+        if sol.status == Status::Solved && !self.residuals.natural.is_finite() {
+            sol.status = Status::Numerical;
+        }
         self.z_apply.clear();
         if sol.status == Status::Solved {
             self.z_apply.extend(self.z.iter().map(|v| v.max(0.0)));
