@@ -51,8 +51,8 @@ class BatchDict(TypedDict):
     z: NDArray[np.float64]  # (b, n)
     w: NDArray[np.float64]  # (b, n)
     status: list[str]
-    iterations: NDArray[np.int64]
-    natural: NDArray[np.float64]
+    pivots: NDArray[np.int64]
+    residual: NDArray[np.float64]
     min_z: NDArray[np.float64]
     min_w: NDArray[np.float64]
     max_complementarity: NDArray[np.float64]
@@ -61,7 +61,7 @@ class BatchDict(TypedDict):
 
 class ResidualsDict(TypedDict):
     w: NDArray[np.float64]
-    natural: float
+    residual: float
     min_z: float
     min_w: float
     max_complementarity: float
@@ -136,7 +136,7 @@ class RunDict(TypedDict):
     contacts: NDArray[np.int64]
     lcp_size: NDArray[np.int64]
     status: NDArray[np.int8]  # -1 no contact, else an index into STATUSES
-    iterations: NDArray[np.int64]
+    pivots: NDArray[np.int64]
     residual: NDArray[np.float64]
     solver_residual: NDArray[np.float64]
     normal_impulse: NDArray[np.float64]
@@ -158,7 +158,7 @@ class CaptureDict(TypedDict):
     friction_dirs: NDArray[np.int64]
     scale: NDArray[np.float64]
     status: NDArray[np.int8]  # index into STATUSES
-    iterations: NDArray[np.int64]
+    pivots: NDArray[np.int64]
     method: list[str]
 
 class StateDict(TypedDict):

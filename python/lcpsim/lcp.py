@@ -349,8 +349,8 @@ def solve_lcp_batch(
         w=d["w"],
         status=status,
         ok=np.array([s == "solved" for s in status], dtype=bool),
-        pivots=d["iterations"],
-        residual=d["natural"],
+        pivots=d["pivots"],
+        residual=d["residual"],
         min_z=d["min_z"],
         min_w=d["min_w"],
         max_complementarity=d["max_complementarity"],
@@ -370,5 +370,5 @@ def lcp_residuals(M: ArrayLike, q: ArrayLike, z: ArrayLike) -> dict[str, Any]:
     :func:`lcp_residual`), ``min_z``, ``min_w``, ``max_complementarity``.
     ``natural`` is the old key of ``residual`` (deprecated, kept)."""
     d = dict(_core.lcp_residuals(_as_real_array(M, "M", 2), _as_real_array(q, "q", 1), _as_real_array(z, "z", 1)))
-    d["residual"] = d["natural"]
+    d["natural"] = d["residual"]
     return d

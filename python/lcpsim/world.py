@@ -341,7 +341,7 @@ class Trajectory:
             orientations=cat("orientation"),
             velocities=np.concatenate([cat("velocity"), cat("angular_velocity")], axis=2),
             status=_STATUS_NAMES[cat("status").astype(np.int64) + 1],
-            pivots=cat("iterations"),
+            pivots=cat("pivots"),
             residual=cat("residual"),
             solver_residual=cat("solver_residual"),
             lcp_size=cat("lcp_size"),

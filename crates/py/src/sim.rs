@@ -137,12 +137,12 @@ fn record_to_dict<'py>(py: Python<'py>, r: &StepRecord) -> PyResult<Bound<'py, P
     d.set_item(intern!(py, "lcp_size"), r.lcp_size)?;
     d.set_item(intern!(py, "scale"), r.scale)?;
     d.set_item(intern!(py, "status"), r.status.map_or(NO_CONTACT, |s| s.as_str()))?;
-    d.set_item(intern!(py, "pivots"), r.iterations)?;
-    d.set_item(intern!(py, "residual"), r.residuals.natural)?;
+    d.set_item(intern!(py, "pivots"), r.pivots)?;
+    d.set_item(intern!(py, "residual"), r.residuals.residual)?;
     d.set_item(intern!(py, "min_z"), r.residuals.min_z)?;
     d.set_item(intern!(py, "min_w"), r.residuals.min_w)?;
     d.set_item(intern!(py, "max_complementarity"), r.residuals.max_complementarity)?;
-    d.set_item(intern!(py, "solver_residual"), r.solver_residuals.natural)?;
+    d.set_item(intern!(py, "solver_residual"), r.solver_residuals.residual)?;
     d.set_item(intern!(py, "zeroed"), r.zeroed)?;
     // The solver's z, or zeros where it was unusable (then also no friction).
     let lay = r.layout();
@@ -211,7 +211,7 @@ fn islands_to_dict(py: Python<'_>, r: &StepRecord, d: &Bound<'_, PyDict>) -> PyR
     d.set_item(intern!(py, "island_of_contact"), copied(py, &of_contact, &[r.nc()]))?;
     d.set_item(intern!(py, "island_bodies"), pyo3::types::PyTuple::new(py, bodies)?)?;
     d.set_item(intern!(py, "island_lcp_size"), copied(py, &each(|i| i.lcp_size as i64), &[count]))?;
-    d.set_item(intern!(py, "island_pivots"), copied(py, &each(|i| i.iterations as i64), &[count]))?;
+    d.set_item(intern!(py, "island_pivots"), copied(py, &each(|i| i.pivots as i64), &[count]))?;
     let res: Vec<f64> = r.islands.iter().map(|i| i.residual).collect();
     d.set_item(intern!(py, "island_residual"), copied(py, &res, &[count]))?;
     let status = r.islands.iter().map(|i| i.status.as_str());
@@ -226,7 +226,7 @@ fn trajectory_to_dict(py: Python<'_>, t: Trajectory) -> PyResult<Bound<'_, PyDic
     let d = PyDict::new(py);
     d.set_item("contacts", ints(&t.contacts))?;
     d.set_item("lcp_size", ints(&t.lcp_size))?;
-    d.set_item("iterations", ints(&t.iterations))?;
+    d.set_item("pivots", ints(&t.pivots))?;
     d.set_item("islands", ints(&t.islands))?;
     d.set_item("max_island_size", ints(&t.max_island_size))?;
     d.set_item("status", PyArray1::from_vec(py, status))?;
@@ -658,7 +658,7 @@ impl World {
     /// Takes the captured LCPs: a dict with flat `M`, `q`, `z`, `w` (problems
     /// concatenated) and per-problem `n`, `step`, `island`, `time`, `contacts`,
     /// `friction_dirs`, `scale`, `status` (index into STATUSES),
-    /// `iterations`, `method`.
+    /// `pivots`, `method`.
     fn drain_capture<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let buf = self.capture.clone().unwrap_or_default();
         buf.drain(py)

@@ -111,6 +111,13 @@ def _append(ds: Any, values: NDArray[Any]) -> None:
     ds[n0:] = values
 
 
+def _pivots(captured: Mapping[str, Any], b: int) -> Any:
+    """A batch's pivots (``iterations`` in batches drained by an older lcpsim)."""
+    if "pivots" in captured:
+        return captured["pivots"]
+    return captured.get("iterations", np.zeros(b))
+
+
 class CaptureWriter:
     """Streams LCPs to an HDF5 capture (constant memory; see ``docs/capture.md``).
 
@@ -190,8 +197,10 @@ class CaptureWriter:
         """Appends a batch of LCPs in the compiled module's capture layout:
         flat ``M``, ``q``, ``z``, ``w`` (problems concatenated) and per-problem
         ``n``, ``step``, ``island``, ``time``, ``contacts``, ``friction_dirs``, ``scale``,
-        ``status`` (index into :data:`lcpsim.STATUSES`), ``iterations``,
-        ``method`` (names). Returns the number appended."""
+        ``status`` (index into :data:`lcpsim.STATUSES`), ``pivots``,
+        ``method`` (names). Returns the number appended. A batch drained by
+        an older lcpsim (``iterations`` instead of ``pivots``) is still
+        accepted."""
         self._check_open()
         n = np.asarray(captured["n"], dtype=np.int64)
         b = int(n.size)
@@ -231,7 +240,7 @@ class CaptureWriter:
             "friction_dirs": np.asarray(captured.get("friction_dirs", np.zeros(b)), dtype=np.int32),
             "scale": np.asarray(captured.get("scale", np.ones(b)), dtype=np.float64),
             "status": np.asarray(captured["status"], dtype=np.int8),
-            "pivots": np.asarray(captured.get("iterations", np.zeros(b)), dtype=np.int64),
+            "pivots": np.asarray(_pivots(captured, b), dtype=np.int64),
             "method": codes,
             "run": np.full(b, self._run, dtype=np.int32),
             "n": n.astype(np.int32),
@@ -286,7 +295,7 @@ class CaptureWriter:
                 "friction_dirs": [friction_dirs],
                 "scale": [scale],
                 "status": [_core.STATUSES.index(status)],
-                "iterations": [pivots],
+                "pivots": [pivots],
                 "method": [method],
             }
         )

@@ -27,7 +27,7 @@ pub struct Captured {
     pub scale: Vec<f64>,
     /// Index into `lcp::Status::ALL`.
     pub status: Vec<i8>,
-    pub iterations: Vec<i64>,
+    pub pivots: Vec<i64>,
     pub method: Vec<&'static str>,
 }
 
@@ -72,7 +72,7 @@ impl CaptureBuffer {
         d.set_item("friction_dirs", PyArray1::from_vec(py, c.friction_dirs))?;
         d.set_item("scale", PyArray1::from_vec(py, c.scale))?;
         d.set_item("status", PyArray1::from_vec(py, c.status))?;
-        d.set_item("iterations", PyArray1::from_vec(py, c.iterations))?;
+        d.set_item("pivots", PyArray1::from_vec(py, c.pivots))?;
         d.set_item("method", c.method)?;
         Ok(d)
     }
@@ -100,7 +100,7 @@ impl LcpSink for CaptureBuffer {
         c.friction_dirs.push(l.friction_dirs as i64);
         c.scale.push(l.scale);
         c.status.push(status_code(l.status));
-        c.iterations.push(l.iterations as i64);
+        c.pivots.push(l.pivots as i64);
         c.method.push(l.method);
     }
 }

@@ -27,7 +27,7 @@ pub struct CapturedLcp<'a> {
     pub z: &'a [f64],
     pub w: &'a [f64],
     pub status: Status,
-    pub iterations: usize,
+    pub pivots: usize,
     /// Solver name (`lcp::Method::name`, or "custom" for `step_with`).
     pub method: &'static str,
 }
@@ -52,7 +52,7 @@ impl CapturedLcp<'_> {
             z: self.z.to_vec(),
             w: self.w.to_vec(),
             status: self.status,
-            iterations: self.iterations,
+            pivots: self.pivots,
             method: self.method,
         }
     }
@@ -72,7 +72,7 @@ pub struct OwnedLcp {
     pub z: Vec<f64>,
     pub w: Vec<f64>,
     pub status: Status,
-    pub iterations: usize,
+    pub pivots: usize,
     pub method: &'static str,
 }
 
