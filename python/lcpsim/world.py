@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
-from ._json import jsonable
+from ._json import fields_dict, jsonable
 from .lcp import STATUSES, _new_object, _set_attribute
 from .scale import parse_cone_scale
 from .stabilization import Stabilization, as_stabilization
@@ -215,17 +215,7 @@ class LcpStats:
     max_contacts: int
 
     def to_dict(self) -> dict[str, Any]:
-        return {
-            "steps": self.steps,
-            "lcps": self.lcps,
-            "failures": self.failures,
-            "by_status": dict(self.by_status),
-            "max_residual": self.max_residual,
-            "pivots_median": self.pivots_median,
-            "pivots_max": self.pivots_max,
-            "max_lcp_size": self.max_lcp_size,
-            "max_contacts": self.max_contacts,
-        }
+        return fields_dict(self)
 
     @property
     def count(self) -> int:
@@ -545,11 +535,7 @@ class World:
         else:
             he = half_extents
         v, wv = _velocities(velocity, angular_velocity)
-        return int(
-            self._core.add_box(
-                he, mass, position, orientation, v, wv, mu, is_static=bool(static), inertia=inertia
-            )
-        )
+        return int(self._core.add_body("box", he, mass, position, orientation, v, wv, mu, bool(static), inertia))
 
     def add_sphere(
         self,
@@ -566,11 +552,7 @@ class World:
     ) -> int:
         """Adds a solid sphere and returns its index (``velocity`` may hold ``[v; ω]``)."""
         v, wv = _velocities(velocity, angular_velocity)
-        return int(
-            self._core.add_sphere(
-                radius, mass, position, orientation, v, wv, mu, is_static=bool(static), inertia=inertia
-            )
-        )
+        return int(self._core.add_body("sphere", radius, mass, position, orientation, v, wv, mu, bool(static), inertia))
 
     def add_plane(
         self, normal: Vec = (0.0, 0.0, 1.0), offset: float = 0.0, mu: float = 0.5, *, tangent: Vec | None = None
