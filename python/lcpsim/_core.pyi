@@ -128,6 +128,7 @@ class World:
         erp: float | None = None,
         slop: float | None = None,
         speculative: bool = True,
+        gap_floor: float | None = None,
         restitution: float | None = None,
         restitution_threshold: float | None = None,
         mu_combine: str = "min",

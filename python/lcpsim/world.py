@@ -35,7 +35,7 @@ from . import _core
 from ._json import jsonable
 from .lcp import _new_object, _set_attribute
 from .scale import parse_cone_scale
-from .stabilization import Stabilization, as_stabilization
+from .stabilization import FIELDS as STABILIZATION_FIELDS, Stabilization, as_stabilization
 from .trajectory import NO_CONTACT, ContactLog, LcpStats, Trajectory, quat_angle
 
 if TYPE_CHECKING:
@@ -214,9 +214,10 @@ class World:
     velocity_margin:
         Widen each pair's margin by how far it can close in one step.
     stabilization:
-        :class:`Stabilization` (default ERP 0.2, no slop, speculative gaps),
-        a mapping of its fields, or ``"none"``; its fields ``erp``, ``slop``,
-        ``speculative`` may also be given as keywords.
+        :class:`Stabilization` (default ERP 0.2, no slop, speculative gaps,
+        gaps within ±1e-12 m taken as touching), a mapping of its fields, or
+        ``"none"``; its fields (``erp``, ``slop``, ``speculative``,
+        ``gap_floor``) may also be given as keywords.
     restitution, restitution_threshold:
         Newton restitution coefficient e in [0, 1] (default 0) and the
         approach speed below which there is no bounce (m/s).
@@ -251,7 +252,7 @@ class World:
         # the cone scale's spellings (the one parser of lcpsim.scale).
         stab = as_stabilization(stabilization)
         direct: dict[str, Any] = {
-            k: solver_options.pop(k) for k in ("erp", "slop", "speculative") if k in solver_options
+            k: solver_options.pop(k) for k in STABILIZATION_FIELDS if k in solver_options
         }
         if direct:
             stab = Stabilization(**{**stab.__dict__, **direct})
@@ -266,6 +267,7 @@ class World:
             erp=stab.erp,
             slop=stab.slop,
             speculative=bool(stab.speculative),
+            gap_floor=stab.gap_floor,
             restitution=restitution,
             restitution_threshold=restitution_threshold,
             mu_combine=mu_combine,

@@ -268,12 +268,15 @@ fn factor(op: &dyn LcpOperator, ws: &mut SupportWorkspace) -> Option<usize> {
             ws.rows.swap(k, pr);
         }
         let p = a[k * m + k];
-        for r in k + 1..m {
-            let l = a[r * m + k] / p;
-            a[r * m + k] = l;
+        // Rows below k minus multiples of row k (slices, so the update vectorizes).
+        let (top, below) = a.split_at_mut((k + 1) * m);
+        let pivot_row = &top[k * m + k + 1..(k + 1) * m];
+        for row in below.chunks_exact_mut(m) {
+            let l = row[k] / p;
+            row[k] = l;
             if l != 0.0 {
-                for c in k + 1..m {
-                    a[r * m + c] -= l * a[k * m + c];
+                for (x, &u) in row[k + 1..].iter_mut().zip(pivot_row) {
+                    *x -= l * u;
                 }
             }
         }

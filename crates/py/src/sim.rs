@@ -232,7 +232,7 @@ impl World {
     #[new]
     #[pyo3(signature = (
         dt = None, gravity = None, friction_dirs = None, cone_scale = None, method = "lemke",
-        margin = None, velocity_margin = true, erp = None, slop = None, speculative = true,
+        margin = None, velocity_margin = true, erp = None, slop = None, speculative = true, gap_floor = None,
         restitution = None, restitution_threshold = None, mu_combine = "min", mu_override = None,
         threads = None, **options
     ))]
@@ -248,6 +248,7 @@ impl World {
         erp: Option<&Bound<'_, PyAny>>,
         slop: Option<&Bound<'_, PyAny>>,
         speculative: bool,
+        gap_floor: Option<&Bound<'_, PyAny>>,
         restitution: Option<&Bound<'_, PyAny>>,
         restitution_threshold: Option<&Bound<'_, PyAny>>,
         mu_combine: &str,
@@ -272,6 +273,7 @@ impl World {
                 erp: or(erp, "erp", d.stabilization.erp)?,
                 slop: or(slop, "slop", d.stabilization.slop)?,
                 speculative,
+                gap_floor: or(gap_floor, "gap_floor", d.stabilization.gap_floor)?,
             },
             restitution: Restitution {
                 coefficient: or(restitution, "restitution", d.restitution.coefficient)?,
@@ -299,6 +301,7 @@ impl World {
         d.set_item("erp", p.stabilization.erp)?;
         d.set_item("slop", p.stabilization.slop)?;
         d.set_item("speculative", p.stabilization.speculative)?;
+        d.set_item("gap_floor", p.stabilization.gap_floor)?;
         d.set_item("restitution", p.restitution.coefficient)?;
         d.set_item("restitution_threshold", p.restitution.threshold)?;
         d.set_item("mu_combine", mu_combine_name(p.mu_combine))?;
