@@ -713,6 +713,7 @@ class World:
         steps: int,
         capture: CaptureTarget = None,
         *,
+        fclib: "str | os.PathLike[str] | None" = None,
         chunk_steps: int = 10_000,
         chunk_bytes: int = 64 << 20,
     ) -> Trajectory:
@@ -723,13 +724,14 @@ class World:
         from Rust every ``chunk_steps`` steps or ``chunk_bytes`` of captured
         data and flushed, so memory stays bounded and an interrupted run
         leaves a readable file. A path is created (overwritten) with this
-        world's :meth:`config` as metadata and closed at the end."""
+        world's :meth:`config` as metadata and closed at the end. ``fclib``: a
+        directory receiving each LCP as an FCLib local problem (:mod:`lcpsim.fclib`)."""
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 0:
             raise ValueError(f"steps must be a non-negative integer, got {steps!r}")
         if isinstance(chunk_steps, bool) or not isinstance(chunk_steps, (int, np.integer)) or chunk_steps < 1:
             raise ValueError(f"chunk_steps must be a positive integer, got {chunk_steps!r}")
         initial: Mapping[str, Any] = self._core.state()
-        if capture is None:
+        if capture is None and fclib is None:
             parts = []
             done = 0
             while True:
@@ -739,10 +741,9 @@ class World:
                 if done >= steps:
                     break
             return Trajectory._from_parts(self.dt, parts, initial)
-        from .io.capture import CaptureWriter
+        from .io.sinks import RunSinks
 
-        own = not isinstance(capture, CaptureWriter)
-        writer = capture if isinstance(capture, CaptureWriter) else CaptureWriter(capture, metadata=self.config())
+        writer = RunSinks(capture, fclib, self.config())
         try:
             writer.begin_run(self.config())
             self._core.start_capture()
@@ -762,8 +763,7 @@ class World:
                 writer.append(self._core.drain_capture())
                 writer.flush()
         finally:
-            if own:
-                writer.close()
+            writer.close()
         return Trajectory._from_parts(self.dt, parts, initial)
 
     def copy(self) -> "World":
