@@ -223,6 +223,8 @@ def from_contact_lcp(
             f"M is not a Stewart–Trinkle contact LCP with nc = {nc}, k = {k} and the friction basis "
             f"d_j = cos(2πj/k) t1 + sin(2πj/k) t2 (rebuilt from its W it differs by {max(err, qerr):.3e})"
         )
+    # Entries that are zero in exact arithmetic come back as ±1e-17 from the basis change: keep W sparse.
+    W[np.abs(W) <= 1e-14 * np.abs(W).max(initial=0.0)] = 0.0
     prob = FclibLocal(W=as_sparse(_fclib_order(W, nc)), q=_fclib_vec(np.concatenate([q[fn], qt]), nc), mu=mu, **info)
     if z is not None:
         zz = lay.unscale_z(np.asarray(z, dtype=np.float64), scale)

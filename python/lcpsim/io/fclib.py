@@ -66,7 +66,7 @@ class FclibSolution:
 
 @dataclass
 class FclibLocal:
-    """An FCLib local problem. ``W`` is a ``scipy.sparse`` matrix (3·nc square),
+    """An FCLib local problem. ``W`` is a ``scipy.sparse`` CSC matrix (3·nc square; given dense, converted),
     ``q`` (3·nc) and ``mu`` (nc) arrays, contacts ordered normal, tangent 1, tangent 2."""
 
     W: Any
@@ -83,6 +83,12 @@ class FclibLocal:
     spacedim: int = 3
     storage: str = "csc"
     path: Path | None = None
+
+    def __post_init__(self) -> None:
+        # Any matrix-like W (dense or scipy.sparse) and array-like vectors.
+        self.W = as_sparse(self.W)
+        self.q = np.asarray(self.q, dtype=np.float64).reshape(-1)
+        self.mu = np.asarray(self.mu, dtype=np.float64).reshape(-1)
 
     @property
     def nc(self) -> int:
@@ -362,9 +368,6 @@ def write_fclib(path: str | os.PathLike[str], problem: FclibLocal, *, storage: s
     """Writes ``problem`` as an FCLib local problem (overwrites ``path``); W, V,
     R in ``storage`` (``"csc"`` — the one libfclib's merit function reads —,
     ``"csr"`` or ``"triplet"``; default the problem's own)."""
-    problem.W = as_sparse(problem.W)
-    problem.q = np.asarray(problem.q, dtype=np.float64).reshape(-1)
-    problem.mu = np.asarray(problem.mu, dtype=np.float64).reshape(-1)
     problem.validate(str(path))
     storage = storage or problem.storage
     p = Path(path)
