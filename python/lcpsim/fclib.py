@@ -7,7 +7,7 @@ LCP, and the exact-cone error of a faceted answer.
     from lcpsim import fclib
     p = fclib.read_fclib("BoxesStack1-i100-5.hdf5")     # W (3nc × 3nc), q, mu
     ans = fclib.solve_fclib(p, k=8)                      # faceted LCP, Lemke
-    ans.lcp.status, ans.lcp_residual, ans.exact_residual # the faceting error as a number
+    ans.lcp.status, ans.residual, ans.exact_residual     # the faceting error as a number
     fclib.exact_cone_residual(p.W, p.q, p.mu, ans.r)     # any r: natural map / ‖q‖
 
     s.world.run(500, fclib="out/")                       # every LCP the run solves, one file each
@@ -296,7 +296,7 @@ def fclib_merit(W: Any, q: ArrayLike, mu: ArrayLike, r: ArrayLike) -> float:
 @dataclass(frozen=True)
 class FclibAnswer:
     """The faceted LCP's answer to an FCLib problem. ``lcp``: the solver's
-    result on the scaled LCP; ``lcp_residual``: ‖min(z, Mz+q)‖∞ of the
+    result on the scaled LCP; ``residual``: ‖min(z, Mz+q)‖∞ of the
     physical z on the unscaled LCP; ``r``, ``u``: FCLib impulse and velocity;
     ``exact_residual``: :func:`exact_cone_residual` of ``r``."""
 
@@ -304,7 +304,7 @@ class FclibAnswer:
     faceted: FacetedLcp
     r: NDArray[np.float64]
     u: NDArray[np.float64]
-    lcp_residual: float
+    residual: float
     exact_residual: float
 
     @property
@@ -320,7 +320,7 @@ class FclibAnswer:
             "scale": self.faceted.scale,
             "contacts": self.faceted.nc,
             "lcp_size": int(self.faceted.q.shape[0]),
-            "lcp_residual": self.lcp_residual,
+            "residual": self.residual,
             "exact_residual": self.exact_residual,
             "r": self.r.tolist(),
             "u": self.u.tolist(),
@@ -340,7 +340,7 @@ def solve_fclib(problem: FclibLocal, k: int = 8, scale: float | None = None, **o
         faceted=lcp,
         r=r,
         u=u,
-        lcp_residual=float(lcp_residual(lcp.unscaled_M, lcp.unscaled_q, z)),
+        residual=float(lcp_residual(lcp.unscaled_M, lcp.unscaled_q, z)),
         exact_residual=exact_cone_residual(problem.W, problem.q, problem.mu, r),
     )
 

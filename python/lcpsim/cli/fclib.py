@@ -39,7 +39,7 @@ def run_fclib_solve(args: argparse.Namespace) -> int:
             f"method:    {ans.lcp.method}",
             f"status:    {ans.lcp.status}" + ("" if ans.ok else "   (not solved)"),
             f"pivots:    {ans.lcp.pivots}",
-            f"LCP residual:        {ans.lcp_residual:.3e}   ‖min(z, Mz+q)‖∞ of the faceted LCP (s = 1)",
+            f"LCP residual:        {ans.residual:.3e}   ‖min(z, Mz+q)‖∞ of the faceted LCP (s = 1)",
             f"exact-cone residual: {ans.exact_residual:.3e}   ‖natural map‖₂ / ‖q‖₂ on the Coulomb cone",
         ]
         print("\n".join(lines))
