@@ -14,6 +14,7 @@ from lcpsim import fclib, scenes
 from lcpsim.cli import main
 from lcpsim.fclib import FclibError, FclibLocal, FclibSolution
 from lcpsim.io import fclib as io_fclib
+from lcpsim.io.capture import load_record
 
 
 def _random_problem(nc: int = 3, seed: int = 0) -> FclibLocal:
@@ -98,23 +99,16 @@ def test_faceted_answer_on_a_slip_between_facets_is_off_by_the_faceting_error():
 # ---------------------------------------------------------------- LCP ↔ FCLib
 
 
-def _first_lcp(world):
-    core = world._core
-    core.start_capture()
-    try:
-        core.run(1)
-        cap = core.drain_capture()
-    finally:
-        core.stop_capture()
-    n = int(cap["n"][0])
-    return (np.asarray(cap["M"][: n * n]).reshape(n, n), np.asarray(cap["q"][:n]), int(cap["contacts"][0]),
-            int(cap["friction_dirs"][0]), float(cap["scale"][0]), np.asarray(cap["z"][:n]))
+def _first_lcp(world, tmp_path):
+    world.run(1, capture=tmp_path / "first.h5")
+    rec = load_record(tmp_path / "first.h5", 0)
+    return rec.M, rec.q, rec.contacts, rec.friction_dirs, rec.scale, rec.z
 
 
 @pytest.mark.parametrize("k,scale", [(4, None), (8, 1e-3), (6, 0.5)])
-def test_simulator_lcp_round_trips_through_fclib(k, scale):
+def test_simulator_lcp_round_trips_through_fclib(k, scale, tmp_path):
     s = scenes.cube_on_slope(25.0, 0.6, friction_dirs=k, cone_scale=scale)
-    M, q, nc, kk, sc, z = _first_lcp(s.world)
+    M, q, nc, kk, sc, z = _first_lcp(s.world, tmp_path)
     assert kk == k
     p = fclib.from_contact_lcp(M, q, nc, k, sc, z=z)
     back = fclib.to_lcp(p, k, sc)
@@ -130,16 +124,16 @@ def test_simulator_lcp_round_trips_through_fclib(k, scale):
     np.testing.assert_allclose(g.r, back.impulse(back.layout.unscale_z(z, sc)), atol=1e-15)
 
 
-def test_k2_cannot_be_exported():
+def test_k2_cannot_be_exported(tmp_path):
     s = scenes.cube_on_slope(10.0, 0.6, friction_dirs=2)
-    M, q, nc, k, sc, _ = _first_lcp(s.world)
+    M, q, nc, k, sc, _ = _first_lcp(s.world, tmp_path)
     with pytest.raises(FclibError, match="k ≥ 3"):
         fclib.from_contact_lcp(M, q, nc, k, sc)
 
 
-def test_non_stewart_trinkle_matrix_is_refused():
+def test_non_stewart_trinkle_matrix_is_refused(tmp_path):
     s = scenes.cube_on_slope(10.0, 0.6)
-    M, q, nc, k, sc, _ = _first_lcp(s.world)
+    M, q, nc, k, sc, _ = _first_lcp(s.world, tmp_path)
     M = M.copy()
     M[0, nc + 1] += 0.1 * np.abs(M).max()  # A01 no longer of the form W_nt Gᵀ
     with pytest.raises(FclibError, match="not a Stewart–Trinkle"):

@@ -34,6 +34,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .lcp_file import _HDF5_MAGIC
+
 __all__ = [
     "FclibError",
     "FclibSolution",
@@ -147,7 +149,7 @@ def fclib_kind(path: str | os.PathLike[str]) -> str | None:
     if not p.is_file():
         return None
     with open(p, "rb") as fh:
-        if fh.read(8) != b"\x89HDF\r\n\x1a\n":
+        if fh.read(8) != _HDF5_MAGIC:
             return None
     try:
         with _h5py().File(p, "r") as f:
