@@ -212,9 +212,9 @@ def _w_5x5(f):
     io_fclib._write_matrix(f["fclib_local"].create_group("W"), sp.identity(5, format="csc"), "csc")
 
 
-def _write_raw(path, mutate):
+def _write_raw(path, mutate, storage="csr"):
     p = _random_problem(2)
-    fclib.write_fclib(path, p, storage="csr")
+    fclib.write_fclib(path, p, storage=storage)
     with h5py.File(path, "r+") as f:
         mutate(f)
     return path
@@ -246,6 +246,21 @@ def test_bad_input_names_the_dataset_and_exits_2(tmp_path, capsys, name, mutate,
     assert main(["solve", str(path)]) == 2
     err = capsys.readouterr().err
     assert needle in err and err.count("\n") == 1
+
+
+@pytest.mark.parametrize(
+    "storage,mutate,needle",
+    [
+        ("triplet", lambda f: f["fclib_local/W/p"].__setitem__(0, 6), "/fclib_local/W/p[0] = 6 is out of range: row indices"),
+        ("triplet", lambda f: f["fclib_local/W/i"].__setitem__(1, -1), "/fclib_local/W/i[1] = -1 is out of range: column"),
+        ("csc", lambda f: f["fclib_local/W/p"].__setitem__(1, 1000), "/fclib_local/W/p is not a pointer array"),
+        ("csc", lambda f: f["fclib_local/W/nz"].__setitem__(0, -3), "/fclib_local/W/nz = -3"),
+    ],
+)
+def test_bad_sparse_storage(tmp_path, capsys, storage, mutate, needle):
+    path = _write_raw(tmp_path / "bad.hdf5", mutate, storage)
+    assert main(["solve", str(path)]) == 2
+    assert needle in capsys.readouterr().err
 
 
 def test_not_fclib_file_through_cli_is_exit_2(tmp_path, capsys):
