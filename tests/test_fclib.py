@@ -203,6 +203,11 @@ def test_cli_solve_export_and_simulate(tmp_path, capsys):
     assert main(["solve", str(f)]) == 0
     text = capsys.readouterr().out
     assert "exact-cone residual" in text and "LCP residual" in text
+    assert main(["solve", str(f), "--friction-dirs", "1"]) == 2
+    assert main(["solve", str(f), "--scale", "-1"]) == 2
+    np.savez(tmp_path / "plain.npz", M=np.eye(2), q=-np.ones(2))
+    assert main(["solve", str(tmp_path / "plain.npz"), "--friction-dirs", "4"]) == 2
+    assert "FCLib files only" in capsys.readouterr().err
 
 
 def _w_5x5(f):

@@ -20,15 +20,16 @@ def run_fclib_solve(args: argparse.Namespace) -> int:
         raise CliError(f"{args.file}: an FCLib file holds one problem; --index does not apply")
     if args.dump or args.certify:
         raise CliError(f"{args.file}: --dump and --certify apply to plain LCP files, not to FCLib problems")
-    if args.friction_dirs < 2:
-        raise CliError(f"--friction-dirs must be at least 2, got {args.friction_dirs}")
+    k = 8 if args.friction_dirs is None else args.friction_dirs
+    if k < 2:
+        raise CliError(f"--friction-dirs must be at least 2, got {k}")
     prob = read_fclib(args.file)
     opts = {k: v for k, v in {
         "pivoting": args.pivoting, "piv_tol": args.piv_tol, "zero_tol": args.zero_tol, "max_pivots": args.max_pivots,
     }.items() if v is not None}
     if (args.method or "lemke") != "lemke":
         opts = {}
-    ans = solve_fclib(prob, k=args.friction_dirs, scale=args.scale, method=args.method or "lemke", **opts)
+    ans = solve_fclib(prob, k=k, scale=args.scale, method=args.method or "lemke", **opts)
     if args.json:
         print(json.dumps({"file": args.file, "format": "fclib", "title": prob.title, "method": ans.lcp.method, **ans.to_dict()}))
     else:

@@ -38,7 +38,7 @@ def _configure_solve(p: argparse.ArgumentParser) -> None:
     p.add_argument("--certify", action="store_true", help="check the final basis exactly (rational arithmetic)")
     p.add_argument("--dump", metavar="DIR", default=None, help="if not solved, write a failure dump into DIR")
     p.add_argument("--json", action="store_true", help="print the result as JSON (status, ok, pivots, residual, z, w)")
-    p.add_argument("--friction-dirs", type=int, default=8, metavar="K", help="FCLib file: facets of the friction cone (default: 8)")
+    p.add_argument("--friction-dirs", type=int, default=None, metavar="K", help="FCLib file: facets of the friction cone (default: 8)")
     p.add_argument("--scale", type=float, default=None, metavar="S", help="FCLib file: friction-cone scale s (default: 1)")
 
 
@@ -132,6 +132,8 @@ def _run_solve(args: argparse.Namespace) -> int:
         from .fclib import run_fclib_solve
 
         return run_fclib_solve(args)
+    if args.friction_dirs is not None or args.scale is not None:
+        raise CliError(f"{args.file}: --friction-dirs and --scale apply to FCLib files only")
     index = getattr(args, "index", None)
     M, q = load_lcp(args.file, index)
     method = args.method or "lemke"
