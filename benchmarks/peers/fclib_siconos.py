@@ -12,7 +12,8 @@ solved by
     (``lcpsim.fclib.solve_fclib``); a failure is an LCP not solved;
   - Siconos (Debian's python3-siconos, run by /usr/bin/python3 in a child
     process): NSGS and the Alart–Curnier nonsmooth Newton (NSN_AC), tolerance
-    1e-10, at most 10,000 iterations; a failure is info ≠ 0;
+    ``--tol`` (default 1e-10) on Siconos' own error measure, at most 10,000
+    iterations; a failure is info ≠ 0 (tolerance not reached);
 
 and every answer r is judged by the same exact-cone residual
 (``lcpsim.fclib.exact_cone_residual``: natural map over ‖q‖). Time is per
@@ -60,7 +61,7 @@ for f in spec["files"]:
             fcp = sn.FrictionContactProblem(3, nc, W, q, mu)
             so = sn.SolverOptions(sid)
             so.iparam[sn.SICONOS_IPARAM_MAX_ITER] = 10000
-            so.dparam[sn.SICONOS_DPARAM_TOL] = 1e-10
+            so.dparam[sn.SICONOS_DPARAM_TOL] = spec["tol"]
             rr, uu = np.zeros(3 * nc), np.zeros(3 * nc)
             t = time.perf_counter()
             info = sn.fc3d_driver(fcp, rr, uu, so)
@@ -114,13 +115,13 @@ def lcpsim_solve(p: fclib.FclibLocal, k: int, repeat: int) -> dict:
     return {"ok": res.ok, "time": best, "exact": fclib.exact_cone_residual(p.W, p.q, p.mu, r), "n": int(lcp.q.size)}
 
 
-def siconos_solve(problems: list[fclib.FclibLocal], tmp: Path, repeat: int) -> tuple[str | None, list[dict]]:
+def siconos_solve(problems: list[fclib.FclibLocal], tmp: Path, repeat: int, tol: float) -> tuple[str | None, list[dict]]:
     files = []
     for j, p in enumerate(problems):
         f = tmp / f"p{j}.npz"
         np.savez(f, W=p.dense_W(), q=p.q, mu=p.mu)
         files.append(str(f))
-    out = subprocess.run([SICONOS_PYTHON, "-c", SICONOS_CHILD], input=json.dumps({"files": files, "repeat": repeat}),
+    out = subprocess.run([SICONOS_PYTHON, "-c", SICONOS_CHILD], input=json.dumps({"files": files, "repeat": repeat, "tol": tol}),
                          capture_output=True, text=True)
     if out.returncode != 0:
         raise SystemExit(f"Siconos child failed ({SICONOS_PYTHON}): {out.stderr[-2000:]}")
@@ -153,6 +154,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=None, help="write the results as JSON here")
     ap.add_argument("--repeat", type=int, default=3, help="time each solve as the best of N (default 3)")
+    ap.add_argument("--tol", type=float, default=1e-10, help="Siconos' tolerance (its own error measure; default 1e-10)")
     args = ap.parse_args()
     rows = []
     with tempfile.TemporaryDirectory() as td:
@@ -164,13 +166,13 @@ def main() -> None:
             res: dict[str, list[dict]] = {}
             for k in KS:
                 res[f"lcpsim k={k}"] = [lcpsim_solve(p, k, args.repeat) for p in problems]
-            version, sic = siconos_solve(problems, tmp, args.repeat)
+            version, sic = siconos_solve(problems, tmp, args.repeat, args.tol)
             for name in ("NSGS", "NSN_AC"):
                 res[f"Siconos {name}"] = [dict(r[name], ok=r[name]["info"] == 0) for r in sic]
             ncs = sorted({p.nc for p in problems})
             rows.append({"scene": scene, "contacts": f"{ncs[0]}–{ncs[-1]}" if len(ncs) > 1 else str(ncs[0]), "results": res})
             print(f"{scene}: {len(problems)} problems", file=sys.stderr)
-    print(f"lcpsim {lcpsim.__version__}, Siconos {version or '(python3-siconos)'}; exact-cone residual = "
+    print(f"lcpsim {lcpsim.__version__}, Siconos {version or '(python3-siconos)'} (tol {args.tol:g}); exact-cone residual = "
           "‖natural map‖₂/‖q‖₂; failed = LCP not solved (lcpsim) or info ≠ 0 (Siconos)\n")
     print(table(rows))
     if args.out:
