@@ -20,9 +20,10 @@ and every answer r is judged by the same exact-cone residual
 solve (the solver call only: lcpsim's ``solve_lcp`` on the assembled LCP,
 Siconos' ``fc3d_driver``), best of ``--repeat`` (once if it takes over 1 s).
 
-    PYTHONPATH=python python3 benchmarks/peers/fclib_siconos.py [--out FILE.json] [--repeat 3]
+    PYTHONPATH=python python3 benchmarks/peers/fclib_siconos.py [--write] [--out FILE.json] [--repeat 3] [--tol 1e-10]
 
-Not part of the test suite; prints the Markdown table recorded in RESULTS.md.
+Not part of the test suite; prints the Markdown table; ``--write`` puts it into
+benchmarks/RESULTS.md as its own section (kept by run.py and many_bodies.py).
 """
 
 from __future__ import annotations
@@ -150,12 +151,53 @@ def table(rows: list[dict]) -> str:
     return "\n".join(lines)
 
 
+RESULTS_MD = Path(__file__).resolve().parents[1] / "RESULTS.md"
+#: This benchmark's section of RESULTS.md: from this heading to the next top-level one (or the end).
+HEADING = "## FCLib problems on the exact cone: lcpsim's faceted Lemke beside Siconos"
+
+
+def section(body: str, args: argparse.Namespace, version: str | None, wall: float) -> list[str]:
+    import platform
+    import subprocess as sp
+
+    rev = sp.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, cwd=RESULTS_MD.parent).stdout.strip()
+    cmd = "PYTHONPATH=python python3 benchmarks/peers/fclib_siconos.py" + (f" --tol {args.tol:g}" if args.tol != 1e-10 else "")
+    return [
+        HEADING,
+        "",
+        f"Written by `{cmd} --write` (lcpsim {lcpsim.__version__} at {rev}, Siconos {version or '4.4 (Debian python3-siconos)'}, "
+        f"Python {platform.python_version()}; {wall / 60:.1f} min; load average {' '.join(f'{x:.1f}' for x in os.getloadavg())} "
+        "on 2 shared cores, so times are rough). Problems exported by lcpsim's simulator (k = 8) with "
+        "`World.run(..., fclib=DIR)`; each solved by lcpsim's faceted Lemke at k = 4, 8, 16, 32 "
+        "(`lcpsim.fclib.solve_fclib`; failed = LCP not solved) and by Siconos' `fc3d_driver` with NSGS and the "
+        f"Alart–Curnier nonsmooth Newton (NSN_AC), tolerance {args.tol:g} on Siconos' own error, at most 10,000 "
+        "iterations (failed = info ≠ 0: that tolerance not reached). Every answer r is judged by the same "
+        "exact-cone residual, ‖natural map‖₂ / ‖q‖₂ (`lcpsim.fclib.exact_cone_residual`, Acary et al. 2018). "
+        f"Time: the solve call only, best of {args.repeat} (once if over 1 s). The faceted answers' residual is "
+        "the faceting error where the friction must point between facets (the pushed stack, the slope between "
+        "facets) and rounding where it need not.",
+        "",
+        body,
+        "",
+    ]
+
+
+def write_section(lines: list[str]) -> None:
+    md = RESULTS_MD.read_text()
+    head, _, rest = md.partition("\n" + HEADING)
+    later = rest.split("\n## ", 1)
+    keep = "\n## " + later[1].rstrip("\n") + "\n" if len(later) == 2 else ""
+    RESULTS_MD.write_text(head.rstrip("\n") + "\n\n" + "\n".join(lines).rstrip("\n") + "\n" + keep)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=None, help="write the results as JSON here")
     ap.add_argument("--repeat", type=int, default=3, help="time each solve as the best of N (default 3)")
     ap.add_argument("--tol", type=float, default=1e-10, help="Siconos' tolerance (its own error measure; default 1e-10)")
+    ap.add_argument("--write", action="store_true", help=f"put the table into {RESULTS_MD.name} (its own section)")
     args = ap.parse_args()
+    t0 = time.perf_counter()
     rows = []
     with tempfile.TemporaryDirectory() as td:
         tmp = Path(td)
@@ -175,6 +217,8 @@ def main() -> None:
     print(f"lcpsim {lcpsim.__version__}, Siconos {version or '(python3-siconos)'} (tol {args.tol:g}); exact-cone residual = "
           "‖natural map‖₂/‖q‖₂; failed = LCP not solved (lcpsim) or info ≠ 0 (Siconos)\n")
     print(table(rows))
+    if args.write:
+        write_section(section(table(rows), args, version, time.perf_counter() - t0))
     if args.out:
         Path(args.out).write_text(json.dumps(rows, indent=1, default=float))
 
