@@ -186,6 +186,18 @@ def test_capture_export_matches_direct_export(tmp_path):
         np.testing.assert_array_equal(a.guesses[0].r, b.guesses[0].r)
 
 
+def test_format_1_capture_exports_too(tmp_path):
+    s = scenes.box_stack(2)
+    s.world.run(2, capture=tmp_path / "c.h5")
+    with h5py.File(tmp_path / "c.h5", "r+") as f:
+        del f["index/island"]
+        f.attrs["format_version"] = 1
+    paths = fclib.export_capture(tmp_path / "c.h5", tmp_path / "out")
+    assert [p.name for p in paths] == ["step0000000-island000.hdf5", "step0000001-island000.hdf5"]
+    p = fclib.read_fclib(paths[-1])
+    assert p.nc == 8 and fclib.solve_fclib(p).ok
+
+
 # ---------------------------------------------------------------- CLI
 
 
