@@ -156,11 +156,13 @@ RESULTS_MD = Path(__file__).resolve().parents[1] / "RESULTS.md"
 HEADING = "## FCLib problems on the exact cone: lcpsim's faceted Lemke beside Siconos"
 
 
-def section(body: str, args: argparse.Namespace, version: str | None, wall: float) -> list[str]:
-    import platform
-    import subprocess as sp
+def git_rev() -> str:
+    return subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, cwd=RESULTS_MD.parent).stdout.strip()
 
-    rev = sp.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, cwd=RESULTS_MD.parent).stdout.strip()
+
+def section(body: str, args: argparse.Namespace, version: str | None, wall: float, rev: str) -> list[str]:
+    import platform
+
     cmd = "PYTHONPATH=python python3 benchmarks/peers/fclib_siconos.py" + (f" --tol {args.tol:g}" if args.tol != 1e-10 else "")
     return [
         HEADING,
@@ -197,7 +199,7 @@ def main() -> None:
     ap.add_argument("--tol", type=float, default=1e-10, help="Siconos' tolerance (its own error measure; default 1e-10)")
     ap.add_argument("--write", action="store_true", help=f"put the table into {RESULTS_MD.name} (its own section)")
     args = ap.parse_args()
-    t0 = time.perf_counter()
+    t0, rev = time.perf_counter(), git_rev()  # the commit the run starts from
     rows = []
     with tempfile.TemporaryDirectory() as td:
         tmp = Path(td)
@@ -218,7 +220,7 @@ def main() -> None:
           "‖natural map‖₂/‖q‖₂; failed = LCP not solved (lcpsim) or info ≠ 0 (Siconos)\n")
     print(table(rows))
     if args.write:
-        write_section(section(table(rows), args, version, time.perf_counter() - t0))
+        write_section(section(table(rows), args, version, time.perf_counter() - t0, rev))
     if args.out:
         Path(args.out).write_text(json.dumps(rows, indent=1, default=float))
 
