@@ -37,7 +37,7 @@ from .lcp import (
     solve_lcp_batch,
 )
 from .certification import Certificate, certify
-from .world import NO_CONTACT, BodyState, LcpStats, Stabilization, StepRecord, Trajectory, World
+from .world import NO_CONTACT, BodyState, ContactLog, LcpStats, Stabilization, StepRecord, Trajectory, World
 from . import scenes
 from .scenes import Scene
 from .io.capture import Capture, CaptureRecord, CaptureWriter, open_capture
@@ -63,6 +63,7 @@ __all__ = [
     "BodyState",
     "Stabilization",
     "LcpStats",
+    "ContactLog",
     "NO_CONTACT",
     "scenes",
     "Scene",

@@ -26,7 +26,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from ..scenes import pushed_cube
+from ..scenes import Scene, pushed_cube
 from ._common import G, downsample, envelope, merge_config, parse_scale, scale_label, scale_value
 from .presets import parse_solver
 from .slope import CUBE_DEFAULTS, classify
@@ -49,6 +49,15 @@ SEED_VALUES: dict[str, Any] = {
 }
 
 
+def make_scene(config: Mapping[str, Any]) -> Scene:
+    """The pushed cube, ready to run, as a push config (``DEFAULTS`` merged) describes it."""
+    return pushed_cube(
+        float(config["force"]), float(config["mu"]), size=float(config["size"]), mass=float(config["mass"]),
+        dt=float(config["dt"]), friction_dirs=int(config["friction_dirs"]), cone_scale=parse_scale(config["scale"]),
+        **parse_solver(config["solver"]).world_kwargs(),
+    )
+
+
 def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """Runs the push; returns ``{"outcome", "friction_force_N", "lambda_max", …}``."""
     t0 = time.perf_counter()
@@ -60,10 +69,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     if steps < 1:
         raise ValueError(f"push: seconds must be at least one time step, got {cfg['seconds']}")
     F, mu, m = float(cfg["force"]), float(cfg["mu"]), float(cfg["mass"])
-    scene = pushed_cube(
-        F, mu, size=float(cfg["size"]), mass=m, dt=dt, friction_dirs=int(cfg["friction_dirs"]),
-        cone_scale=scale, **solver.world_kwargs(),
-    )
+    scene = make_scene(cfg)
     traj = scene.world.run(steps)
     b = scene.body
     assert scene.direction is not None

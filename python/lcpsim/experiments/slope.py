@@ -43,7 +43,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from ..scenes import cube_on_slope
+from ..scenes import Scene, cube_on_slope
 from ._common import G, body_energy, downsample, envelope, merge_config, parse_scale, scale_label, scale_value
 from .presets import parse_solver
 from .document import Doc
@@ -94,6 +94,20 @@ def classify(slide_m: float, expected_m: float, max_tilt_deg: float) -> str:
     return "slide" if slide_m > 1e-6 else "rest"
 
 
+def make_scene(config: Mapping[str, Any]) -> Scene:
+    """The cube on its slope, ready to run, as a slope config (``DEFAULTS`` merged) describes it."""
+    return cube_on_slope(
+        float(config["angle_deg"]),
+        float(config["mu"]),
+        size=float(config["size"]),
+        mass=float(config["mass"]),
+        dt=float(config["dt"]),
+        friction_dirs=int(config["friction_dirs"]),
+        cone_scale=parse_scale(config["scale"]),
+        **parse_solver(config["solver"]).world_kwargs(),
+    )
+
+
 def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """Runs one slope test; returns ``{"outcome", "slide_distance_m", "expected_slide_m", "tilt_deg", "lcp_failures", …}``."""
     t0 = time.perf_counter()
@@ -105,16 +119,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     steps = int(round(seconds / dt))
     if steps < 1:
         raise ValueError(f"slope: seconds must be at least one time step, got {seconds}")
-    scene = cube_on_slope(
-        float(cfg["angle_deg"]),
-        float(cfg["mu"]),
-        size=float(cfg["size"]),
-        mass=float(cfg["mass"]),
-        dt=dt,
-        friction_dirs=int(cfg["friction_dirs"]),
-        cone_scale=scale,
-        **solver.world_kwargs(),
-    )
+    scene = make_scene(cfg)
     angle, mu = float(cfg["angle_deg"]), float(cfg["mu"])
     horizon = float(cfg["horizon_s"])
     if not (math.isfinite(horizon) and horizon >= 0):
