@@ -187,7 +187,9 @@ def from_contact_lcp(
     *,
     z: ArrayLike | None = None,
     tol: float = 1e-9,
-    **info: str | None,
+    title: str | None = None,
+    description: str | None = None,
+    math_info: str | None = None,
 ) -> FclibLocal:
     """The FCLib local problem of a simulator contact LCP (``M``, ``q`` at cone
     scale ``scale``, as captured): ``W`` and ``q`` in the contact frames, ``μ``.
@@ -195,29 +197,29 @@ def from_contact_lcp(
     friction basis (relative tolerance ``tol``). With ``z`` (the solver's
     answer) the faceted answer ``(u, r)`` is stored as guess 1 — not as the
     solution: it solves the faceted problem, not necessarily the Coulomb one.
-    ``info``: ``title``, ``description``, ``math_info``."""
+    ``title``, ``description``, ``math_info``: the file's info strings."""
     if k < 3:
         raise FclibError(f"an LCP with k = {k} friction directions spans one tangent only; FCLib needs both (k ≥ 3)")
     lay = ContactLayout(nc, k)
-    M = np.asarray(M, dtype=np.float64)
-    q = np.asarray(q, dtype=np.float64)
-    if M.shape != (lay.n, lay.n) or q.shape != (lay.n,):
-        raise FclibError(f"M is {M.shape} and q {q.shape}; nc = {nc}, k = {k} needs n = {lay.n}")
+    Ms = np.asarray(M, dtype=np.float64)
+    qs = np.asarray(q, dtype=np.float64)
+    if Ms.shape != (lay.n, lay.n) or qs.shape != (lay.n,):
+        raise FclibError(f"M is {Ms.shape} and q {qs.shape}; nc = {nc}, k = {k} needs n = {lay.n}")
     d = 1.0 / lay.cone_diagonal(scale)
-    M, q = d[:, None] * M * d[None, :], d * q
+    M1, q1 = d[:, None] * Ms * d[None, :], d * qs  # the physical (s = 1) LCP
     fn, fd, lam = lay.fn, lay.fd, lay.lam
     C = friction_basis(k)
     Cp = np.linalg.pinv(C)  # (2/k) Cᵀ for k ≥ 3
-    Wnt = (M[fn, fd].reshape(nc, nc, k) @ Cp.T).reshape(nc, 2 * nc)
-    Wtn = np.einsum("aj,cji->cai", Cp, M[fd, fn].reshape(nc, k, nc)).reshape(2 * nc, nc)
-    Wtt4 = np.einsum("ai,cidj,bj->cadb", Cp, M[fd, fd].reshape(nc, k, nc, k), Cp, optimize=True)
-    qt = (q[fd].reshape(nc, k) @ Cp.T).reshape(-1)
-    mu = np.diag(M[lam, fn]).copy()
-    W = np.block([[M[fn, fn], Wnt], [Wtn, Wtt4.reshape(2 * nc, 2 * nc)]])
-    back = to_lcp(FclibLocal(W=as_sparse(_fclib_order(W, nc)), q=_fclib_vec(np.concatenate([q[fn], qt]), nc), mu=np.abs(mu)), k)
-    err = np.abs(back.unscaled_M - M).max(initial=0.0)
-    size = np.abs(M).max(initial=0.0) + np.abs(q).max(initial=0.0)
-    qerr = np.abs(back.unscaled_q - q).max(initial=0.0)
+    Wnt = (M1[fn, fd].reshape(nc, nc, k) @ Cp.T).reshape(nc, 2 * nc)
+    Wtn = np.einsum("aj,cji->cai", Cp, M1[fd, fn].reshape(nc, k, nc)).reshape(2 * nc, nc)
+    Wtt4 = np.einsum("ai,cidj,bj->cadb", Cp, M1[fd, fd].reshape(nc, k, nc, k), Cp, optimize=True)
+    qt = (q1[fd].reshape(nc, k) @ Cp.T).reshape(-1)
+    mu = np.diag(M1[lam, fn]).copy()
+    W = np.block([[M1[fn, fn], Wnt], [Wtn, Wtt4.reshape(2 * nc, 2 * nc)]])
+    back = to_lcp(FclibLocal(W=as_sparse(_fclib_order(W, nc)), q=_fclib_vec(np.concatenate([q1[fn], qt]), nc), mu=np.abs(mu)), k)
+    err = np.abs(back.unscaled_M - M1).max(initial=0.0)
+    size = np.abs(M1).max(initial=0.0) + np.abs(q1).max(initial=0.0)
+    qerr = np.abs(back.unscaled_q - q1).max(initial=0.0)
     if np.any(mu < 0) or max(err, qerr) > tol * max(size, 1e-300):
         raise FclibError(
             f"M is not a Stewart–Trinkle contact LCP with nc = {nc}, k = {k} and the friction basis "
@@ -225,7 +227,10 @@ def from_contact_lcp(
         )
     # Entries that are zero in exact arithmetic come back as ±1e-17 from the basis change: keep W sparse.
     W[np.abs(W) <= 1e-14 * np.abs(W).max(initial=0.0)] = 0.0
-    prob = FclibLocal(W=as_sparse(_fclib_order(W, nc)), q=_fclib_vec(np.concatenate([q[fn], qt]), nc), mu=mu, **info)
+    prob = FclibLocal(
+        W=as_sparse(_fclib_order(W, nc)), q=_fclib_vec(np.concatenate([q1[fn], qt]), nc), mu=mu,
+        title=title, description=description, math_info=math_info,
+    )
     if z is not None:
         zz = lay.unscale_z(np.asarray(z, dtype=np.float64), scale)
         if np.all(np.isfinite(zz)):

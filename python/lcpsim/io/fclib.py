@@ -138,7 +138,7 @@ def _check_vec(x: NDArray[np.float64], n: int, name: str, expect: str) -> None:
 
 
 def _h5py() -> Any:
-    import h5py
+    import h5py  # type: ignore[import-untyped]
 
     return h5py
 
@@ -207,7 +207,7 @@ def _string(g: Any, name: str) -> str | None:
 
 def _read_matrix(g: Any, where: str) -> tuple[Any, str]:
     """A sparse matrix group → (scipy CSC matrix, storage name)."""
-    import scipy.sparse as sp
+    import scipy.sparse as sp  # type: ignore[import-untyped]
 
     gn = g.name
     m, n, nz, nzmax = (_int(g, k, where) for k in ("m", "n", "nz", "nzmax"))
@@ -330,7 +330,7 @@ def _write_string(g: Any, name: str, text: str) -> None:
 
 
 def _write_matrix(g: Any, mat: Any, storage: str) -> None:
-    import scipy.sparse as sp
+    import scipy.sparse as sp  # type: ignore[import-untyped]
 
     if storage not in STORAGES:
         raise ValueError(f"storage must be one of {', '.join(STORAGES)}, got {storage!r}")
@@ -342,7 +342,7 @@ def _write_matrix(g: Any, mat: Any, storage: str) -> None:
     else:
         c = sp.csc_matrix(mat) if storage == "csc" else sp.csr_matrix(mat)
         c.sum_duplicates()
-        p, i, x, nz, nzmax = c.indptr, c.indices, c.data, STORAGES[storage], int(c.nnz)
+        p, i, x, nz, nzmax = c.indptr, c.indices, c.data, -1 if storage == "csc" else -2, int(c.nnz)
     for k, v in (("nzmax", nzmax), ("m", m), ("n", n), ("nz", nz)):
         _write_int(g, k, int(v))
     g.create_dataset("p", data=np.asarray(p, dtype=np.int32))
@@ -359,7 +359,7 @@ def _write_solution(g: Any, sol: FclibSolution) -> None:
 
 def as_sparse(W: ArrayLike | Any) -> Any:
     """``W`` as a scipy CSC matrix (dense arrays keep their exact zeros out)."""
-    import scipy.sparse as sp
+    import scipy.sparse as sp  # type: ignore[import-untyped]
 
     if sp.issparse(W):
         return sp.csc_matrix(W, dtype=np.float64)
