@@ -124,14 +124,16 @@ class FacetedLcp:
     def impulse(self, z: ArrayLike) -> NDArray[np.float64]:
         """FCLib's ``r`` (normal, t1, t2 per contact) of an LCP answer ``z``
         (fn and fd do not depend on the scale)."""
-        z = np.asarray(z, dtype=np.float64)
-        lay = self.layout
-        C = friction_basis(self.k)
-        r = np.empty(3 * self.nc)
-        r[0::3] = z[lay.fn]
-        rt = z[lay.fd].reshape(self.nc, self.k) @ C
-        r[1::3], r[2::3] = rt[:, 0], rt[:, 1]
-        return r
+        return _impulse(np.asarray(z, dtype=np.float64), self.nc, self.k)
+
+
+def _impulse(z: NDArray[np.float64], nc: int, k: int) -> NDArray[np.float64]:
+    lay = ContactLayout(nc, k)
+    r = np.empty(3 * nc)
+    r[0::3] = z[lay.fn]
+    rt = z[lay.fd].reshape(nc, k) @ friction_basis(k)
+    r[1::3], r[2::3] = rt[:, 0], rt[:, 1]
+    return r
 
 
 def to_lcp(problem: FclibLocal, k: int = 8, scale: float | None = None) -> FacetedLcp:
@@ -141,9 +143,18 @@ def to_lcp(problem: FclibLocal, k: int = 8, scale: float | None = None) -> Facet
         raise FclibError("local problems with equality constraints (V, R) are not supported by the faceted LCP")
     s = _scale(scale)
     nc = problem.nc
+    o = _split_order(nc)
+    M, q = _assemble(problem.dense_W()[np.ix_(o, o)], np.asarray(problem.q)[o], problem.mu, k)
+    Ms, qs = ContactLayout(nc, k).scale_lcp(M, q, s)
+    return FacetedLcp(M=Ms, q=qs, unscaled_M=M, unscaled_q=q, nc=nc, k=k, scale=s)
+
+
+def _assemble(
+    W: NDArray[np.float64], qq: NDArray[np.float64], mu: NDArray[np.float64], k: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The unscaled LCP ``(M, q)`` of ``W``, ``q`` split as ``[normals; tangents]`` (:func:`_split_order`)."""
+    nc = mu.shape[0]
     C = friction_basis(k)
-    W = problem.dense_W()[np.ix_(_split_order(nc), _split_order(nc))]
-    qq = np.asarray(problem.q, dtype=np.float64)[_split_order(nc)]
     n_, t_ = slice(0, nc), slice(nc, 3 * nc)
     lay = ContactLayout(nc, k)
     M = np.zeros((lay.n, lay.n))
@@ -156,12 +167,11 @@ def to_lcp(problem: FclibLocal, k: int = 8, scale: float | None = None) -> Facet
     E = np.kron(np.eye(nc), np.ones((k, 1)))
     M[fd, lam] = E
     M[lam, fd] = -E.T
-    M[lam, fn] = np.diag(np.asarray(problem.mu, dtype=np.float64))
+    M[lam, fn] = np.diag(mu)
     q = np.zeros(lay.n)
     q[fn] = qq[n_]
     q[fd] = (qq[t_].reshape(nc, 2) @ C.T).reshape(-1)
-    Ms, qs = lay.scale_lcp(M, q, s)
-    return FacetedLcp(M=Ms, q=qs, unscaled_M=M, unscaled_q=q, nc=nc, k=k, scale=s)
+    return M, q
 
 
 def _scale(scale: Any) -> float:
@@ -216,25 +226,25 @@ def from_contact_lcp(
     qt = (q1[fd].reshape(nc, k) @ Cp.T).reshape(-1)
     mu = np.diag(M1[lam, fn]).copy()
     W = np.block([[M1[fn, fn], Wnt], [Wtn, Wtt4.reshape(2 * nc, 2 * nc)]])
-    back = to_lcp(FclibLocal(W=as_sparse(_fclib_order(W, nc)), q=_fclib_vec(np.concatenate([q1[fn], qt]), nc), mu=np.abs(mu)), k)
-    err = np.abs(back.unscaled_M - M1).max(initial=0.0)
+    qsplit = np.concatenate([q1[fn], qt])
+    Mb, qb = _assemble(W, qsplit, np.abs(mu), k)
+    err = max(np.abs(Mb - M1).max(initial=0.0), np.abs(qb - q1).max(initial=0.0))
     size = np.abs(M1).max(initial=0.0) + np.abs(q1).max(initial=0.0)
-    qerr = np.abs(back.unscaled_q - q1).max(initial=0.0)
-    if np.any(mu < 0) or max(err, qerr) > tol * max(size, 1e-300):
+    if np.any(mu < 0) or err > tol * max(size, 1e-300):
         raise FclibError(
             f"M is not a Stewart–Trinkle contact LCP with nc = {nc}, k = {k} and the friction basis "
-            f"d_j = cos(2πj/k) t1 + sin(2πj/k) t2 (rebuilt from its W it differs by {max(err, qerr):.3e})"
+            f"d_j = cos(2πj/k) t1 + sin(2πj/k) t2 (rebuilt from its W it differs by {err:.3e})"
         )
     # Entries that are zero in exact arithmetic come back as ±1e-17 from the basis change: keep W sparse.
     W[np.abs(W) <= 1e-14 * np.abs(W).max(initial=0.0)] = 0.0
     prob = FclibLocal(
-        W=as_sparse(_fclib_order(W, nc)), q=_fclib_vec(np.concatenate([q1[fn], qt]), nc), mu=mu,
+        W=_fclib_order(W, nc), q=_fclib_vec(qsplit, nc), mu=mu,
         title=title, description=description, math_info=math_info,
     )
     if z is not None:
         zz = lay.unscale_z(np.asarray(z, dtype=np.float64), scale)
         if np.all(np.isfinite(zz)):
-            r = back.impulse(zz)
+            r = _impulse(zz, nc, k)
             prob.guesses.append(FclibSolution(u=prob.W @ r + prob.q, r=r))
     return prob
 
