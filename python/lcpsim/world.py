@@ -540,6 +540,7 @@ class World:
         steps: int,
         capture: CaptureTarget = None,
         *,
+        fclib: "str | os.PathLike[str] | None" = None,
         chunk_steps: int = 10_000,
         chunk_bytes: int = 64 << 20,
         record_contacts: bool = False,
@@ -551,7 +552,8 @@ class World:
         from Rust every ``chunk_steps`` steps or ``chunk_bytes`` of captured
         data and flushed, so memory stays bounded and an interrupted run
         leaves a readable file. A path is created (overwritten) with this
-        world's :meth:`config` as metadata and closed at the end.
+        world's :meth:`config` as metadata and closed at the end. ``fclib``: a
+        directory receiving each LCP as an FCLib local problem (:mod:`lcpsim.fclib`).
 
         ``record_contacts=True`` also records every step's contacts (points, normals,
         impulses: :class:`ContactLog`, ``Trajectory.contact_log``) for the viewer
@@ -564,14 +566,14 @@ class World:
         initial: Mapping[str, Any] = self._core.state()
         config = self.config()
         if record_contacts:
-            if capture is not None:
+            if capture is not None or fclib is not None:
                 raise ValueError("run: record_contacts=True steps one at a time and cannot capture; give one of the two")
             parts, records = [self._core.run(0)], []
             for _ in range(int(steps)):
                 parts.append(self._core.run(1))
                 records.append(self._core.last_record())
             return Trajectory._from_parts(self.dt, parts, initial, config, ContactLog.from_records(records))
-        if capture is None:
+        if capture is None and fclib is None:
             parts = []
             done = 0
             while True:
@@ -581,12 +583,11 @@ class World:
                 if done >= steps:
                     break
             return Trajectory._from_parts(self.dt, parts, initial, config)
-        from .io.capture import CaptureWriter
+        from .io.sinks import RunSinks
 
-        own = not isinstance(capture, CaptureWriter)
-        writer = capture if isinstance(capture, CaptureWriter) else CaptureWriter(capture, metadata=self.config())
+        writer = RunSinks(capture, fclib, config)
         try:
-            writer.begin_run(self.config())
+            writer.begin_run(config)
             self._core.start_capture()
             parts = []
             done = 0
@@ -604,8 +605,7 @@ class World:
                 writer.append(self._core.drain_capture())
                 writer.flush()
         finally:
-            if own:
-                writer.close()
+            writer.close()
         return Trajectory._from_parts(self.dt, parts, initial, config)
 
     def copy(self) -> "World":

@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -46,6 +47,7 @@ def _configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("scene", choices=list(SCENES), metavar="SCENE", help=f"one of: {', '.join(SCENES)}")
     add_run_arguments(p)
     p.add_argument("--capture", metavar="FILE", default=None, help="stream every LCP solved to this HDF5 capture")
+    p.add_argument("--fclib", metavar="DIR", default=None, help="write every LCP solved as an FCLib local problem into DIR")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
 
 
@@ -209,6 +211,8 @@ def _text(s: dict[str, Any]) -> str:
     lines.append(f"wall time:     {s['wall_time']:.3f} s" + (f" ({sps:,.0f} steps/s)" if sps else ""))
     if s.get("capture"):
         lines.append(f"capture:       {s['capture']} ({s['captured']} LCPs)")
+    if s.get("fclib"):
+        lines.append(f"fclib:         {s['fclib']} ({s['fclib_files']} FCLib files)")
     return "\n".join(lines)
 
 
@@ -232,7 +236,7 @@ def build_scene(args: argparse.Namespace) -> Scene:
 def _run(args: argparse.Namespace) -> int:
     scene = build_scene(args)
     t0 = time.perf_counter()
-    traj = scene.world.run(args.steps, capture=args.capture)
+    traj = scene.world.run(args.steps, capture=args.capture, fclib=args.fclib)
     wall = time.perf_counter() - t0
     summary = simulate_summary(scene, traj, wall)
     summary["capture"] = args.capture
@@ -243,6 +247,8 @@ def _run(args: argparse.Namespace) -> int:
             summary["captured"] = len(c)
     else:
         summary["captured"] = 0
+    if args.fclib:
+        summary["fclib"], summary["fclib_files"] = args.fclib, len(list(Path(args.fclib).glob("*.hdf5")))
     if args.json:
         print(json.dumps(summary))
     else:
