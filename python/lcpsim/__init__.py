@@ -14,7 +14,8 @@ Public API (the compiled module ``lcpsim._core`` is private)::
     traj = s.world.run(1000, capture="lcps.h5")
     with open_capture("lcps.h5") as c: ...   # every LCP the run solved
 
-Sub-packages: :mod:`lcpsim.io` (LCP files, captures, failure dumps),
+Sub-packages: :mod:`lcpsim.io` (LCP files, captures, failure dumps, FCLib files),
+:mod:`lcpsim.fclib` (FCLib problems in and out, the exact-cone residual),
 :mod:`lcpsim.experiments` (the seed note's experiments, their registry, the
 report), :mod:`lcpsim.cli` (the ``lcpsim`` command). Names that moved keep
 working with a DeprecationWarning (:mod:`lcpsim._deprecated`).
@@ -40,6 +41,7 @@ from .world import NO_CONTACT, BodyState, ContactLog, LcpStats, Stabilization, S
 from . import scenes
 from .scenes import Scene
 from .io.capture import Capture, CaptureRecord, CaptureWriter, open_capture
+from . import fclib
 
 __all__ = [
     "__version__",
@@ -69,6 +71,7 @@ __all__ = [
     "CaptureRecord",
     "CaptureWriter",
     "open_capture",
+    "fclib",
 ]
 
 _deprecated.install()

@@ -18,6 +18,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._json import fields_dict
 from .lcp import STATUSES
 
 __all__ = ["Trajectory", "LcpStats", "ContactLog", "NO_CONTACT", "STATUS_NAMES", "quat_angle"]
@@ -113,17 +114,7 @@ class LcpStats:
     max_contacts: int
 
     def to_dict(self) -> dict[str, Any]:
-        return {
-            "steps": self.steps,
-            "lcps": self.lcps,
-            "failures": self.failures,
-            "by_status": dict(self.by_status),
-            "max_residual": self.max_residual,
-            "pivots_median": self.pivots_median,
-            "pivots_max": self.pivots_max,
-            "max_lcp_size": self.max_lcp_size,
-            "max_contacts": self.max_contacts,
-        }
+        return fields_dict(self)
 
     @property
     def count(self) -> int:
@@ -269,7 +260,7 @@ class Trajectory:
             orientations=cat("orientation"),
             velocities=np.concatenate([cat("velocity"), cat("angular_velocity")], axis=2),
             status=STATUS_NAMES[cat("status").astype(np.int64) + 1],
-            pivots=cat("iterations"),
+            pivots=cat("pivots"),
             residual=cat("residual"),
             solver_residual=cat("solver_residual"),
             lcp_size=cat("lcp_size"),

@@ -35,7 +35,7 @@ from . import _core
 from ._json import jsonable
 from .lcp import _new_object, _set_attribute
 from .scale import parse_cone_scale
-from .stabilization import Stabilization, as_stabilization
+from .stabilization import FIELDS as STABILIZATION_FIELDS, Stabilization, as_stabilization
 from .trajectory import NO_CONTACT, ContactLog, LcpStats, Trajectory, quat_angle
 
 if TYPE_CHECKING:
@@ -214,9 +214,10 @@ class World:
     velocity_margin:
         Widen each pair's margin by how far it can close in one step.
     stabilization:
-        :class:`Stabilization` (default ERP 0.2, no slop, speculative gaps),
-        a mapping of its fields, or ``"none"``; its fields ``erp``, ``slop``,
-        ``speculative`` may also be given as keywords.
+        :class:`Stabilization` (default ERP 0.2, no slop, speculative gaps,
+        gaps within ±1e-12 m taken as touching), a mapping of its fields, or
+        ``"none"``; its fields (``erp``, ``slop``, ``speculative``,
+        ``gap_floor``) may also be given as keywords.
     restitution, restitution_threshold:
         Newton restitution coefficient e in [0, 1] (default 0) and the
         approach speed below which there is no bounce (m/s).
@@ -251,7 +252,7 @@ class World:
         # the cone scale's spellings (the one parser of lcpsim.scale).
         stab = as_stabilization(stabilization)
         direct: dict[str, Any] = {
-            k: solver_options.pop(k) for k in ("erp", "slop", "speculative") if k in solver_options
+            k: solver_options.pop(k) for k in STABILIZATION_FIELDS if k in solver_options
         }
         if direct:
             stab = Stabilization(**{**stab.__dict__, **direct})
@@ -266,6 +267,7 @@ class World:
             erp=stab.erp,
             slop=stab.slop,
             speculative=bool(stab.speculative),
+            gap_floor=stab.gap_floor,
             restitution=restitution,
             restitution_threshold=restitution_threshold,
             mu_combine=mu_combine,
@@ -378,11 +380,7 @@ class World:
         else:
             he = half_extents
         v, wv = _velocities(velocity, angular_velocity)
-        return int(
-            self._core.add_box(
-                he, mass, position, orientation, v, wv, mu, is_static=bool(static), inertia=inertia
-            )
-        )
+        return int(self._core.add_body("box", he, mass, position, orientation, v, wv, mu, bool(static), inertia))
 
     def add_sphere(
         self,
@@ -399,11 +397,7 @@ class World:
     ) -> int:
         """Adds a solid sphere and returns its index (``velocity`` may hold ``[v; ω]``)."""
         v, wv = _velocities(velocity, angular_velocity)
-        return int(
-            self._core.add_sphere(
-                radius, mass, position, orientation, v, wv, mu, is_static=bool(static), inertia=inertia
-            )
-        )
+        return int(self._core.add_body("sphere", radius, mass, position, orientation, v, wv, mu, bool(static), inertia))
 
     def add_plane(
         self, normal: Vec = (0.0, 0.0, 1.0), offset: float = 0.0, mu: float = 0.5, *, tangent: Vec | None = None
@@ -546,6 +540,7 @@ class World:
         steps: int,
         capture: CaptureTarget = None,
         *,
+        fclib: "str | os.PathLike[str] | None" = None,
         chunk_steps: int = 10_000,
         chunk_bytes: int = 64 << 20,
         record_contacts: bool = False,
@@ -560,6 +555,8 @@ class World:
         exists (unless ``overwrite``), written as ``PATH.partial`` with this
         world's :meth:`config` as metadata and renamed onto ``PATH`` at the end;
         an interrupted run leaves the readable ``PATH.partial``.
+        ``fclib``: a directory receiving each LCP as an FCLib local problem
+        (:mod:`lcpsim.fclib`).
 
         ``record_contacts=True`` also records every step's contacts (points, normals,
         impulses: :class:`ContactLog`, ``Trajectory.contact_log``) for the viewer
@@ -572,14 +569,14 @@ class World:
         initial: Mapping[str, Any] = self._core.state()
         config = self.config()
         if record_contacts:
-            if capture is not None:
+            if capture is not None or fclib is not None:
                 raise ValueError("run: record_contacts=True steps one at a time and cannot capture; give one of the two")
             parts, records = [self._core.run(0)], []
             for _ in range(int(steps)):
                 parts.append(self._core.run(1))
                 records.append(self._core.last_record())
             return Trajectory._from_parts(self.dt, parts, initial, config, ContactLog.from_records(records))
-        if capture is None:
+        if capture is None and fclib is None:
             parts = []
             done = 0
             while True:
@@ -589,9 +586,31 @@ class World:
                 if done >= steps:
                     break
             return Trajectory._from_parts(self.dt, parts, initial, config)
-        from .io.capture import run_captured
+        from .io.sinks import RunSinks
 
-        parts = run_captured(self, int(steps), capture, int(chunk_steps), int(chunk_bytes), overwrite=overwrite)
+        writer = RunSinks(capture, fclib, config, overwrite=overwrite)
+        complete = False
+        try:
+            writer.begin_run(config)
+            self._core.start_capture()
+            parts = []
+            done = 0
+            try:
+                while True:
+                    part = self._core.run(min(int(steps) - done, chunk_steps), max_capture_bytes=int(chunk_bytes))
+                    parts.append(part)
+                    done += len(part["time"])
+                    writer.append(self._core.drain_capture())
+                    writer.flush()
+                    if done >= steps:
+                        break
+            finally:
+                self._core.stop_capture()
+                writer.append(self._core.drain_capture())
+                writer.flush()
+            complete = True
+        finally:
+            writer.close(complete=complete)
         return Trajectory._from_parts(self.dt, parts, initial, config)
 
     def copy(self) -> "World":

@@ -58,7 +58,7 @@ impl Status {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Residuals {
     /// Natural residual `‖min(z, w)‖∞`: the one measure shared by all solvers.
-    pub natural: f64,
+    pub residual: f64,
     /// `min_i z_i` (negative means infeasible).
     pub min_z: f64,
     /// `min_i w_i` (negative means infeasible).
@@ -72,9 +72,9 @@ impl Residuals {
     /// `z_i` or `w_i` makes the natural residual and the complementarity
     /// infinite (`f64::max` would skip a NaN), so that no rule accepts it.
     pub fn of(z: &[f64], w: &[f64]) -> Self {
-        let mut r = Residuals { natural: 0.0, min_z: f64::INFINITY, min_w: f64::INFINITY, max_complementarity: 0.0 };
+        let mut r = Residuals { residual: 0.0, min_z: f64::INFINITY, min_w: f64::INFINITY, max_complementarity: 0.0 };
         for (&zi, &wi) in z.iter().zip(w) {
-            r.natural = r.natural.max(zi.min(wi).abs());
+            r.residual = r.residual.max(zi.min(wi).abs());
             r.min_z = r.min_z.min(zi);
             r.min_w = r.min_w.min(wi);
             r.max_complementarity = r.max_complementarity.max((zi * wi).abs());
@@ -107,7 +107,7 @@ pub struct Solution {
     pub w: Vec<f64>,
     pub status: Status,
     /// Pivots (Lemke) or iterations (PGS sweeps, Newton steps).
-    pub iterations: usize,
+    pub pivots: usize,
     /// Residuals of `(z, w)` for the problem as given.
     pub residuals: Residuals,
     /// Lemke only: which `z_j` were basic at the end (the complementary basis),
@@ -117,9 +117,9 @@ pub struct Solution {
 
 impl Solution {
     /// Wraps a final `z`, recomputing `w` and the residuals from the problem.
-    pub fn from_z(lcp: &Lcp, z: Vec<f64>, status: Status, iterations: usize) -> Self {
+    pub fn from_z(lcp: &Lcp, z: Vec<f64>, status: Status, pivots: usize) -> Self {
         let (w, residuals) = Residuals::compute(lcp, &z);
-        Solution { z, w, status, iterations, residuals, basis: None }
+        Solution { z, w, status, pivots, residuals, basis: None }
     }
 
     /// `true` only for `Status::Solved`.

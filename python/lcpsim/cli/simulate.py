@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -47,6 +48,7 @@ def _configure(p: argparse.ArgumentParser) -> None:
     add_run_arguments(p)
     p.add_argument("--capture", metavar="FILE", default=None, help="stream every LCP solved to this HDF5 capture")
     p.add_argument("--overwrite", action="store_true", help="replace an existing capture FILE (default: refuse it)")
+    p.add_argument("--fclib", metavar="DIR", default=None, help="write every LCP solved as an FCLib local problem into DIR")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
 
 
@@ -206,6 +208,8 @@ def _text(s: dict[str, Any]) -> str:
     lines.append(f"wall time:     {s['wall_time']:.3f} s" + (f" ({sps:,.0f} steps/s)" if sps else ""))
     if s.get("capture"):
         lines.append(f"capture:       {s['capture']} ({s['captured']} LCPs)")
+    if s.get("fclib"):
+        lines.append(f"fclib:         {s['fclib']} ({s['fclib_files']} FCLib files)")
     return "\n".join(lines)
 
 
@@ -231,7 +235,7 @@ def _run(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     if args.overwrite and not args.capture:
         raise CliError("--overwrite applies only with --capture FILE")
-    traj = scene.world.run(args.steps, capture=args.capture, overwrite=args.overwrite)
+    traj = scene.world.run(args.steps, capture=args.capture, fclib=args.fclib, overwrite=args.overwrite)
     wall = time.perf_counter() - t0
     summary = simulate_summary(scene, traj, wall)
     summary["capture"] = args.capture
@@ -242,6 +246,8 @@ def _run(args: argparse.Namespace) -> int:
             summary["captured"] = len(c)
     else:
         summary["captured"] = 0
+    if args.fclib:
+        summary["fclib"], summary["fclib_files"] = args.fclib, len(list(Path(args.fclib).glob("*.hdf5")))
     if args.json:
         print(json.dumps(summary))
     else:

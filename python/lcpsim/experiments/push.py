@@ -34,7 +34,7 @@ from .document import Doc
 from .experiment import (
     Experiment, ReportContext, add_common_arguments, add_simulation_arguments, base_config, header, scale_argument,
 )
-from .figure import pyplot, save, solver_label
+from .figure import label_axes, pyplot, save, solver_label, traced
 
 __all__ = ["DEFAULTS", "run", "SEED_VALUES"]
 
@@ -162,21 +162,13 @@ def plot_push(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str]
     """Displacement and friction force against time for push runs with a trace."""
     plt = pyplot()
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
-    for i, r in enumerate(results):
-        tr = r.get("trace")
-        if not tr:
-            continue
+    for i, r, tr in traced(results):
         lab = f"F = {r['config']['force']} N, {solver_label(r)}, s = {r['scale']} → {r['outcome']}"
         ax1.plot(tr["time"], tr["displacement_m"], color=f"C{i}", label=lab)
         ax2.plot(tr["time"], tr["friction_N"], color=f"C{i}", label=lab)
     ax1.set_yscale("symlog", linthresh=1e-9)
-    ax1.set_xlabel("time (s)")
-    ax1.set_ylabel("displacement along the push (m)")
-    ax1.grid(alpha=0.3)
-    ax1.legend(fontsize=7)
-    ax2.set_xlabel("time (s)")
-    ax2.set_ylabel("friction force (N)")
-    ax2.grid(alpha=0.3)
+    label_axes(ax1, "time (s)", "displacement along the push (m)", legend=7)
+    label_axes(ax2, "time (s)", "friction force (N)")
     return save(fig, path)
 
 
@@ -197,14 +189,9 @@ def plot_push_sweep(results: Sequence[Mapping[str, Any]], path: str | os.PathLik
         ax1.plot(F, [min(f, 9.81) for f in F], "k--", lw=1, label="exact: min(F, μmg)")
     ax1.axvline(9.81, color="grey", ls=":", lw=1)
     ax2.axvline(9.81, color="grey", ls=":", lw=1)
-    ax1.set_xlabel("push F (N)")
-    ax1.set_ylabel("friction force, last step (N)")
-    ax1.legend(fontsize=7)
-    ax1.grid(alpha=0.3)
+    label_axes(ax1, "push F (N)", "friction force, last step (N)", legend=7)
     ax2.set_yscale("log")
-    ax2.set_xlabel("push F (N)")
-    ax2.set_ylabel("displacement after the run (m)")
-    ax2.grid(alpha=0.3)
+    label_axes(ax2, "push F (N)", "displacement after the run (m)")
     fig.suptitle("Pushed 1 kg cube, μ = 1 (μmg = 9.81 N)")
     return save(fig, path)
 

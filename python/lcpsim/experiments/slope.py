@@ -50,7 +50,7 @@ from .document import Doc
 from .experiment import (
     Experiment, ReportContext, add_common_arguments, add_simulation_arguments, base_config, header, scale_argument,
 )
-from .figure import pyplot, save, solver_label
+from .figure import label_axes, pyplot, save, solver_label, traced
 from .onset import OnsetOptions, cone_excess, observe, precise_tilt
 
 __all__ = ["DEFAULTS", "run", "classify", "expected_slide", "TIP_DEG"]
@@ -248,10 +248,7 @@ def plot_slope(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str
     plt = pyplot()
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4.2))
     plotted_expected: set[tuple[float, float]] = set()
-    for i, r in enumerate(results):
-        tr = r.get("trace")
-        if not tr:
-            continue
+    for i, r, tr in traced(results):
         cfg = r["config"]
         lab = f"{solver_label(r)}, s = {r['scale']}, {cfg['angle_deg']}° → {r['outcome']}"
         ax1.plot(tr["time"], tr["slide_m"], color=f"C{i % 10}", label=lab)
@@ -267,18 +264,12 @@ def plot_slope(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str
     ax1.set_yscale("symlog", linthresh=1e-6)
     ax1.set_ylim(-10.0, 10.0)
     ax1.yaxis.set_major_locator(SymmetricalLogLocator(base=100, linthresh=1e-6))
-    ax1.set_xlabel("time (s)")
-    ax1.set_ylabel("down-slope displacement (m, clipped at ±10)")
-    ax1.set_title("Slope test: displacement")
-    ax1.grid(alpha=0.3)
-    ax1.legend(fontsize=7)
+    label_axes(ax1, "time (s)", "down-slope displacement (m, clipped at ±10)", title="Slope test: displacement",
+               legend=7)
     ax2.set_yscale("log")
     ax2.set_ylim(1e-14, 400)
     ax2.axhline(math.degrees(OnsetOptions.tilt_tol_rad), color="k", lw=0.8, ls=":", label="round-off limit of tilt")
-    ax2.set_xlabel("time (s)")
-    ax2.set_ylabel("rotation (deg, floor 1e-14)")
-    ax2.set_title("Slope test: rotation (dotted: onset of tipping)")
-    ax2.grid(alpha=0.3)
+    label_axes(ax2, "time (s)", "rotation (deg, floor 1e-14)", title="Slope test: rotation (dotted: onset of tipping)")
     return save(fig, path)
 
 

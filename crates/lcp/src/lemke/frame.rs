@@ -67,7 +67,7 @@ impl Frame {
             let (zw, ww) = (qs * s.z[i] / sc.col[i], qs * sc.row[i] * s.w[i]);
             a.max(zw.min(ww).abs())
         });
-        s.residuals.natural <= self.tol && work_residual <= self.tol_work
+        s.residuals.residual <= self.tol && work_residual <= self.tol_work
     }
 }
 

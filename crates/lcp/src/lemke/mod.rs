@@ -239,17 +239,17 @@ fn solve_lexicographic(
         }
         let left = limit.saturating_sub(pivots);
         let mut sol = solve_attempt(lcp, o, &attempt, left, start, trace.as_deref_mut(), rung, ws);
-        pivots += sol.iterations;
-        sol.iterations = pivots;
+        pivots += sol.pivots;
+        sol.pivots = pivots;
         if sol.ok() {
             ws.alpha = alpha;
             return sol;
         }
         if let Some(b) = sol.basis.clone().filter(|b| !ends.iter().any(|(_, e)| e == b)) {
-            ends.push((sol.residuals.natural, b));
+            ends.push((sol.residuals.residual, b));
         }
         // Keep the first failure's status unless a later rung gets closer.
-        if best.as_ref().is_none_or(|b| sol.residuals.natural < b.residuals.natural) {
+        if best.as_ref().is_none_or(|b| sol.residuals.residual < b.residuals.residual) {
             best = Some(sol);
         }
     }
@@ -281,8 +281,8 @@ fn solve_lexicographic(
             let mut sol =
                 solve_attempt(lcp, o, &rungs[0], limit - pivots, Some(&alpha), trace.as_deref_mut(), rung, ws);
             rung += 1;
-            pivots += sol.iterations;
-            sol.iterations = pivots;
+            pivots += sol.pivots;
+            sol.pivots = pivots;
             if sol.ok() {
                 return sol;
             }
@@ -292,7 +292,7 @@ fn solve_lexicographic(
         }
     }
     let mut sol = best.expect("the ladder has at least one rung");
-    sol.iterations = pivots;
+    sol.pivots = pivots;
     // (Not when the pivot budget ran out: that limit is the caller's to set.)
     if o.fallback && sol.status != Status::MaxPivots {
         // Last rung: Newton–Fischer–Burmeister polish from the closest answer.
@@ -303,9 +303,9 @@ fn solve_lexicographic(
         frame.reset(lcp, rungs[0].equilibrate, o.accept_tol);
         let opts = NewtonFbOptions { tol: frame.tol, ..Default::default() };
         let polished = crate::newton_fb::solve_from(lcp, &sol.z, &opts);
-        if frame.accept(&polished) && polished.residuals.natural < sol.residuals.natural {
+        if frame.accept(&polished) && polished.residuals.residual < sol.residuals.residual {
             let basis = polished.z.iter().zip(&polished.w).map(|(z, w)| z > w).collect();
-            sol = Solution { status: Status::Solved, iterations: pivots, basis: Some(basis), ..polished };
+            sol = Solution { status: Status::Solved, pivots, basis: Some(basis), ..polished };
         }
     }
     sol
@@ -374,7 +374,7 @@ fn solve_attempt(
         let alpha: Vec<usize> = (0..n).filter(|&j| mask[j]).collect();
         if let Some(z_work) = refine::resolve_basis(work, &alpha) {
             let fresh = Solution::from_z(lcp, frame.unscale(&z_work), Status::Solved, r.pivots);
-            if fresh.residuals.natural < sol.residuals.natural {
+            if fresh.residuals.residual < sol.residuals.residual {
                 sol = fresh;
             }
         }
