@@ -3,7 +3,7 @@
 
 The readers — ``lcpsim.io.load_lcp`` (``.npz``, HDF5, capture, dump),
 ``open_capture`` (and reading every record), ``load_dump``,
-``load_trajectory`` (the viewer's files) — are given
+``load_trajectory`` (the viewer's files), ``read_fclib`` (FCLib files) — are given
 mutations (bit flips, overwritten runs, truncations, spliced bytes) of small
 valid files of each kind. A reader must return or raise a clean error (a
 ``ValueError`` such as ``LcpFileError``/``CaptureError``, or an ``OSError``)
@@ -16,8 +16,8 @@ or a hang, so HDF5's C library cannot take the fuzzer down with it.
 
     python3 scripts/fuzz_readers.py --seconds 180 [--out fuzz/artifacts/readers]
 
-A reader added later (e.g. an FCLib reader) joins by one entry in
-``READERS`` (name → function of a path) and one seed file in ``_seeds``.
+A reader added later joins by one entry in ``_readers`` (name → function
+of a path) and one seed file in ``_seeds``.
 """
 
 from __future__ import annotations
@@ -57,12 +57,9 @@ def _readers() -> dict[str, Callable[[str], Any]]:
         "load_dump": load_dump,
         "load_trajectory": load_trajectory,
     }
-    try:  # the FCLib reader (issue 17), once it has landed
-        from lcpsim.io import fclib  # type: ignore[attr-defined]
+    from lcpsim.io.fclib import read_fclib
 
-        readers["fclib"] = fclib.read_problem  # type: ignore[attr-defined]
-    except (ImportError, AttributeError):
-        pass
+    readers["read_fclib"] = read_fclib
     return readers
 
 
@@ -87,6 +84,9 @@ def _seeds(directory: Path) -> list[Path]:
 
     traj = scenes.resting_cube().world.run(3, record_contacts=True)
     seeds.append(Path(traj.save(directory / "t.h5")))
+    s = scenes.resting_cube(friction_dirs=4)
+    s.world.run(2, fclib=directory / "fclib")
+    seeds.extend(sorted((directory / "fclib").glob("*.hdf5"))[:1])
     return seeds
 
 

@@ -79,7 +79,7 @@ impl Residuals {
             r.min_w = r.min_w.min(wi);
             r.max_complementarity = r.max_complementarity.max((zi * wi).abs());
             if !(zi.is_finite() && wi.is_finite()) {
-                r.natural = f64::INFINITY;
+                r.residual = f64::INFINITY;
                 r.max_complementarity = f64::INFINITY;
             }
         }

@@ -407,6 +407,18 @@ class CaptureWriter:
         self.close(complete=exc_type is None)
 
 
+def _column(key: str, dtype: Any, doc: str | None = None) -> Any:
+    """A :class:`Capture` property: the index column ``key`` as an array of ``dtype``."""
+    return property(lambda self: np.asarray(self._idx[key], dtype=dtype), doc=doc)
+
+
+def _decode(names: list[str], codes: Any) -> Any:
+    """Names of stored codes (array or scalar); ``"unknown"`` for a code outside ``names``."""
+    table = np.array(list(names) + ["unknown"])
+    c = np.asarray(codes, dtype=np.int64)
+    return table[np.where((c >= 0) & (c < len(names)), c, len(names))]
+
+
 @dataclass(frozen=True)
 class CaptureRecord:
     """One LCP of a capture: exactly what the solver saw (the scaled LCP) and returned."""

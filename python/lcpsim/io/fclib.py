@@ -151,13 +151,15 @@ def fclib_kind(path: str | os.PathLike[str]) -> str | None:
     with open(p, "rb") as fh:
         if fh.read(8) != _HDF5_MAGIC:
             return None
+    from .lcp_file import HDF5_ERRORS, open_hdf5
+
     try:
-        with _h5py().File(p, "r") as f:
+        with open_hdf5(p) as f:
             if "fclib_local" in f:
                 return "local"
             if "fclib_global" in f:
                 return "global"
-    except OSError:
+    except (TypeError, *HDF5_ERRORS):  # damaged: not an FCLib file we can read
         return None
     return None
 
@@ -278,7 +280,16 @@ def read_fclib(path: str | os.PathLike[str]) -> FclibLocal:
             f"{where}: /fclib_global: global problems (M, H, G, w, b) are not supported; "
             "lcpsim reads FCLib local problems (/fclib_local: W, q, mu)"
         )
-    with _h5py().File(p, "r") as f:
+    try:
+        return _read_local(p, where)
+    except (KeyError, RuntimeError, TypeError, OSError) as e:  # h5py on a damaged file
+        raise FclibError(f"{where}: damaged FCLib file ({type(e).__name__}: {e})") from None
+
+
+def _read_local(p: Path, where: str) -> FclibLocal:
+    from .lcp_file import open_hdf5
+
+    with open_hdf5(p, FclibError) as f:
         g = f["fclib_local"]
         spacedim = _int(g, "spacedim", where)
         if "W" not in g:

@@ -115,7 +115,7 @@ pub fn documented_rule(lcp: &Lcp, method: &Method, z: &[f64]) -> Result<(), Stri
     let (ok, rule) = match method {
         Method::Lemke(o) if o.pivoting == Pivoting::Lexicographic => {
             let bound = o.accept_tol * (1.0 + q_norm);
-            (r.natural <= bound + slack, format!("‖min(z, w)‖∞ ≤ {bound:e}"))
+            (r.residual <= bound + slack, format!("‖min(z, w)‖∞ ≤ {bound:e}"))
         }
         Method::Lemke(o) => (
             r.min_z >= -o.zero_tol - slack
@@ -124,7 +124,7 @@ pub fn documented_rule(lcp: &Lcp, method: &Method, z: &[f64]) -> Result<(), Stri
             format!("z, w ≥ −{0:e}, |z_i w_i| < {0:e}", o.zero_tol),
         ),
         Method::Pgs(PgsOptions { tol, .. }) | Method::NewtonFb(NewtonFbOptions { tol, .. }) => {
-            (r.natural <= tol + slack, format!("‖min(z, w)‖∞ ≤ {tol:e}"))
+            (r.residual <= tol + slack, format!("‖min(z, w)‖∞ ≤ {tol:e}"))
         }
     };
     if ok {
@@ -154,10 +154,10 @@ pub fn check_solution(lcp: &Lcp, method: &Method, sol: &Solution) -> Result<(), 
             return Err(format!("basis of length {} for n = {n}", b.len()));
         }
     }
-    if sol.iterations > budget(method, n) {
+    if sol.pivots > budget(method, n) {
         return Err(format!(
             "{} pivots/iterations beyond the budget {} ({:?})",
-            sol.iterations,
+            sol.pivots,
             budget(method, n),
             sol.status
         ));

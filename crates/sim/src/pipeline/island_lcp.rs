@@ -113,7 +113,7 @@ impl IslandLcp {
         }
         self.residuals = Residuals::of(&self.z, &self.w);
         // A physical w that overflows cannot be checked: not solved either.
-        if sol.status == Status::Solved && !self.residuals.natural.is_finite() {
+        if sol.status == Status::Solved && !self.residuals.residual.is_finite() {
             sol.status = Status::Numerical;
         }
         self.z_apply.clear();

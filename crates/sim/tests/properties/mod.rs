@@ -54,6 +54,7 @@ pub fn decode_params(b: &mut Bytes<'_>) -> WorldParams {
             erp: b.pick(&[0.2, 0.0, 1.0]),
             slop: b.pick(&[0.0, 1e-3]),
             speculative: b.u8() % 2 == 0,
+            ..d.stabilization
         },
         restitution: Restitution { coefficient: b.pick(&[0.0, 0.5, 1.0]), threshold: 1e-2 },
         method,
@@ -128,7 +129,7 @@ pub fn check(data: &[u8]) -> Result<Stats, String> {
             return Err(format!("islands cover {covered} of {nc} contacts"));
         }
         if rec.status == Some(Status::Solved) {
-            let finite = rec.z.iter().all(|v| v.is_finite()) && rec.residuals.natural.is_finite();
+            let finite = rec.z.iter().all(|v| v.is_finite()) && rec.residuals.residual.is_finite();
             if !finite {
                 return Err(format!("a solved step with non-finite z or residual: {:?}", rec.residuals));
             }
