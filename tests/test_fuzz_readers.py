@@ -22,6 +22,7 @@ from hypothesis import strategies as st
 from lcpsim import open_capture, scenes, solve_lcp
 from lcpsim.io import load_dump, load_lcp, save_lcp
 from lcpsim.io.capture import CaptureWriter
+from lcpsim.io.fclib import read_fclib
 from lcpsim.io.trajectory_file import load_trajectory
 
 FOUND = Path(__file__).parent / "data" / "fuzz"
@@ -30,7 +31,7 @@ CLEAN = (ValueError, OSError)
 
 def _read_all(path: Path) -> None:
     """Every reader on ``path``; only clean errors may escape each."""
-    for read in (load_lcp, lambda p: load_lcp(p, 0), load_dump, _capture_records, load_trajectory):
+    for read in (load_lcp, lambda p: load_lcp(p, 0), load_dump, _capture_records, load_trajectory, read_fclib):
         try:
             read(path)
         except CLEAN:
