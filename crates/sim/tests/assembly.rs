@@ -249,6 +249,7 @@ fn a_failed_solve_is_recorded_and_the_step_goes_on() {
         iterations: 3,
         residuals: Default::default(),
         basis: None,
+        accepted: false,
     };
     let r = s.world.step_with(&mut nan).unwrap().clone();
     assert_eq!(r.status, Some(Status::Numerical));
@@ -282,6 +283,7 @@ fn a_failed_solve_is_recorded_and_the_step_goes_on() {
         iterations: 0,
         residuals: Default::default(),
         basis: None,
+        accepted: false,
     };
     assert!(s.world.step_with(&mut short).unwrap().zeroed);
     let _ = lcp::Method::default();

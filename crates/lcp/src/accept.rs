@@ -1,0 +1,205 @@
+//! The acceptance rule: when an answer `z` counts as a solution of the LCP.
+//!
+//! One rule for every solver, judged row by row on each row's own scale, so
+//! that no row is judged against the largest `|q_i|`. For `z` and
+//! `w = M z + q` (as computed), row `i` has the *scale*
+//!
+//! ```text
+//! s_i = |q_i| + Σ_j |M_ij| z_j        (the size of the terms summed into w_i)
+//! ```
+//!
+//! and the *violation* `|w_i|` if `z_i > 0` (complementarity wants `w_i = 0`),
+//! else `max(−w_i, 0)` (feasibility wants `w_i ≥ 0`). Its componentwise
+//! backward error is `η_i = violation_i / s_i` (0 when the violation is 0,
+//! infinite when only the scale is), and
+//!
+//! ```text
+//! η(z) = max_i η_i,   infinite if some z_i < 0 or is not finite.
+//! ```
+//!
+//! `z` is **accepted** iff `η(z) ≤ tol` (default [`DEFAULT_TOL`] = 1e-9).
+//! This is the Oettli–Prager bound in floating point: an accepted `z` solves
+//! exactly an LCP whose every row of `(M, q)` differs from the one given by a
+//! relative `η` (up to the round-off of computing `w`, about `n·ε` of `s_i`),
+//! the measure [`crate::certify::Certificate::backward_error`] evaluates
+//! exactly. It is invariant under positive diagonal row and column scaling of
+//! the problem (equilibration, the friction-cone scale `s`), so a scaled and
+//! an unscaled solve of one LCP get one verdict.
+//!
+//! `Solution::accepted` records the verdict at the solver's tolerance and
+//! `Solution::ok()` needs it: no method (Lemke robust or classic, PGS,
+//! Newton–FB) reports `ok` for an answer outside this rule.
+
+use crate::problem::Lcp;
+
+/// Default tolerance of the rule (Lemke's `accept_tol`; PGS and Newton–FB use it too).
+pub const DEFAULT_TOL: f64 = 1e-9;
+
+/// The violation of row `i`: `|w_i|` where `z_i > 0`, else `max(−w_i, 0)`.
+#[inline]
+fn violation(zi: f64, wi: f64) -> f64 {
+    if zi > 0.0 {
+        wi.abs()
+    } else {
+        (-wi).max(0.0)
+    }
+}
+
+/// The scale `s_i = |q_i| + Σ_j |M_ij| z_j` of row `i` (over the support of `z`).
+fn row_scale(lcp: &Lcp, i: usize, z: &[f64]) -> f64 {
+    let row = lcp.row(i);
+    z.iter().zip(row).filter(|(&zj, _)| zj != 0.0).map(|(&zj, m)| m.abs() * zj).sum::<f64>() + lcp.q()[i].abs()
+}
+
+/// `violation / scale` with 0/0 = 0.
+#[inline]
+fn ratio(violation: f64, scale: f64) -> f64 {
+    if violation == 0.0 {
+        0.0
+    } else if scale > 0.0 {
+        violation / scale
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The componentwise backward error `η(z)` of the module docs, for `w = M z + q`.
+///
+/// # Panics
+/// If `z` or `w` do not have `lcp.n()` entries.
+pub fn backward_error(lcp: &Lcp, z: &[f64], w: &[f64]) -> f64 {
+    check_lengths(lcp, z, w);
+    if !z.iter().all(|&v| v >= 0.0 && v.is_finite()) {
+        return f64::INFINITY;
+    }
+    (0..lcp.n()).fold(0.0f64, |eta, i| {
+        let v = violation(z[i], w[i]);
+        if v == 0.0 {
+            eta
+        } else {
+            eta.max(ratio(v, row_scale(lcp, i, z))).max(if w[i].is_nan() { f64::INFINITY } else { 0.0 })
+        }
+    })
+}
+
+/// Whether `z` is accepted: `η(z) ≤ tol` (see the module docs). Cheaper than
+/// [`backward_error`]: a row whose violation is within `tol·|q_i|` passes
+/// without its scale being summed.
+///
+/// # Panics
+/// If `z` or `w` do not have `lcp.n()` entries.
+pub fn accepts(lcp: &Lcp, z: &[f64], w: &[f64], tol: f64) -> bool {
+    check_lengths(lcp, z, w);
+    if !z.iter().all(|&v| v >= 0.0 && v.is_finite()) {
+        return false;
+    }
+    let q = lcp.q();
+    (0..lcp.n()).all(|i| {
+        let v = violation(z[i], w[i]);
+        // `!(v > …)` so that a NaN w_i fails below, not here.
+        !(v > tol * q[i].abs()) || (v.is_finite() && ratio(v, row_scale(lcp, i, z)) <= tol)
+    })
+}
+
+fn check_lengths(lcp: &Lcp, z: &[f64], w: &[f64]) {
+    assert!(
+        z.len() == lcp.n() && w.len() == lcp.n(),
+        "accept: z and w have {} and {} entries for an LCP of size {}",
+        z.len(),
+        w.len(),
+        lcp.n()
+    );
+}
+
+/// Relative thresholds (of the largest weighted entry) below which [`snap`]
+/// sets an entry of `z` to 0.
+const SNAP_LEVELS: [f64; 3] = [1e-15, 1e-12, 1e-9];
+
+/// A candidate repair of an answer the rule rejects because of entries that
+/// are round-off, not values: an iterative method's `z_i ≈ 1e-14` beside
+/// `w_i ≈ 1` (a zero it has not reached), or a pivoting method's basic
+/// `z_j ≈ 1e-33` at a degenerate contact that leaves a row made of nothing
+/// but such noise. The first of `z` (clipped at 0) and its variants with the
+/// entries `z_j·c_j ≤ τ·max_k z_k c_k` set to 0 (τ = 1e-15, 1e-12, 1e-9;
+/// `c = weights`, all ones by default — a solver passes the column scaling
+/// it worked in) that the rule accepts at `tol`, with its `w`; `None` when
+/// none is. The rule, not the threshold, decides: a variant that drops a real
+/// value fails it.
+pub fn snap(lcp: &Lcp, z: &[f64], weights: Option<&[f64]>, tol: f64) -> Option<(Vec<f64>, Vec<f64>)> {
+    let clipped: Vec<f64> = z.iter().map(|v| v.max(0.0)).collect();
+    let w = lcp.w_of(&clipped);
+    if accepts(lcp, &clipped, &w, tol) {
+        return Some((clipped, w));
+    }
+    let weight = |j: usize| weights.map_or(1.0, |c| c[j]);
+    let top = (0..z.len()).fold(0.0f64, |a, j| a.max(clipped[j] * weight(j)));
+    let mut last = clipped.clone();
+    for tau in SNAP_LEVELS {
+        let cand: Vec<f64> =
+            (0..z.len()).map(|j| if clipped[j] * weight(j) <= tau * top { 0.0 } else { clipped[j] }).collect();
+        if cand == last {
+            continue;
+        }
+        let wc = lcp.w_of(&cand);
+        if accepts(lcp, &cand, &wc, tol) {
+            return Some((cand, wc));
+        }
+        last = cand;
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lcp(m: Vec<f64>, q: Vec<f64>) -> Lcp {
+        Lcp::new(m, q).unwrap()
+    }
+
+    #[test]
+    fn each_row_is_judged_on_its_own_scale() {
+        // Row 0 is tiny, row 1 huge: w_0 = −1e-6 is a 100 % violation of row 0
+        // although it is 3e-14 of ‖q‖∞ (issue 15, item 5).
+        let p = lcp(vec![1.0, 0.0, 0.0, 1.0], vec![1e-6, -3e7]);
+        let z = [0.0, 3e7];
+        let w = [1e-6 - 2e-6, 0.0];
+        assert!(!accepts(&p, &z, &w, 1e-9));
+        assert_eq!(backward_error(&p, &z, &w), 1.0);
+        let w = p.w_of(&z);
+        assert!(accepts(&p, &z, &w, 1e-9));
+        assert_eq!(backward_error(&p, &z, &w), 0.0);
+    }
+
+    #[test]
+    fn complementarity_and_sign_are_part_of_the_rule() {
+        let p = lcp(vec![2.0, 0.0, 0.0, 2.0], vec![-2.0, 1.0]);
+        // z_1 > 0 while w_1 = 1 + 2 z_1 > 0: complementarity broken.
+        let z = [1.0, 1e-3];
+        let w = p.w_of(&z);
+        assert!(!accepts(&p, &z, &w, 1e-9));
+        assert!(backward_error(&p, &z, &w) > 0.9);
+        // A negative z is never accepted.
+        let z = [1.0, -1e-300];
+        assert!(!accepts(&p, &z, &p.w_of(&z), 1.0));
+        // Snapping the unreached zero repairs it.
+        let (zs, _) = snap(&p, &[1.0, 1e-16], None, 1e-9).unwrap();
+        assert_eq!(zs, vec![1.0, 0.0]);
+    }
+
+    #[test]
+    fn the_rule_ignores_diagonal_scaling() {
+        let m = vec![4.0, 1.0, 1.0, 3.0];
+        let q = vec![-1.0, -1.0 + 1e-7];
+        let z = [2.0 / 11.0, 3.0 / 11.0];
+        let p = lcp(m.clone(), q.clone());
+        let eta = backward_error(&p, &z, &p.w_of(&z));
+        // Rows by 2^10 and 2^-20, columns by 2^3 and 2^-7 (z by their inverses).
+        let (r, c) = ([1024.0, 2f64.powi(-20)], [8.0, 2f64.powi(-7)]);
+        let ms: Vec<f64> = (0..4).map(|k| r[k / 2] * m[k] * c[k % 2]).collect();
+        let ps = lcp(ms, vec![r[0] * q[0], r[1] * q[1]]);
+        let zs = [z[0] / c[0], z[1] / c[1]];
+        assert_eq!(backward_error(&ps, &zs, &ps.w_of(&zs)), eta);
+        assert!(eta > 1e-9 && eta < 1e-6);
+    }
+}
