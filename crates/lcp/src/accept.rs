@@ -5,13 +5,14 @@
 //! `w = M z + q` (as computed), row `i` has the *scale*
 //!
 //! ```text
-//! s_i = |q_i| + Σ_j |M_ij| z_j        (the size of the terms summed into w_i)
+//! s_i = |q_i| + Σ_j (|M_ij| + δ·‖M_i·‖∞) z_j        δ = 1e-6 (ENTRY_FLOOR)
 //! ```
 //!
-//! and the *violation* `|w_i|` if `z_i > 0` (complementarity wants `w_i = 0`),
-//! else `max(−w_i, 0)` (feasibility wants `w_i ≥ 0`). Its componentwise
-//! backward error is `η_i = violation_i / s_i` (0 when the violation is 0,
-//! infinite when only the scale is), and
+//! (the size of the terms summed into `w_i`; `δ` trusts an entry to 1e-6 of
+//! its row's largest, see below) and the *violation* `|w_i|` if `z_i > 0`
+//! (complementarity wants `w_i = 0`), else `max(−w_i, 0)` (feasibility wants
+//! `w_i ≥ 0`). Its backward error is `η_i = violation_i / s_i` (0 when the
+//! violation is 0, infinite when only the scale is), and
 //!
 //! ```text
 //! η(z) = max_i η_i,   infinite if some z_i < 0 or is not finite.
@@ -19,12 +20,16 @@
 //!
 //! `z` is **accepted** iff `η(z) ≤ tol` (default [`DEFAULT_TOL`] = 1e-9).
 //! This is the Oettli–Prager bound in floating point: an accepted `z` solves
-//! exactly an LCP whose every row of `(M, q)` differs from the one given by a
-//! relative `η` (up to the round-off of computing `w`, about `n·ε` of `s_i`),
-//! the measure [`crate::certify::Certificate::backward_error`] evaluates
-//! exactly. It is invariant under positive diagonal row and column scaling of
-//! the problem (equilibration, the friction-cone scale `s`), so a scaled and
-//! an unscaled solve of one LCP get one verdict.
+//! exactly an LCP whose rows differ from the ones given by
+//! `|ΔM_ij| ≤ η·(|M_ij| + δ‖M_i·‖∞)`, `|Δq_i| ≤ η|q_i|` (up to the round-off
+//! of computing `w`, about `n·ε` of `s_i`). With `δ = 0` this is the
+//! componentwise measure [`crate::certify::Certificate::backward_error`]
+//! evaluates exactly; `δ` admits the round-off of *assembling* `M`: a contact
+//! LCP's `J M_b⁻¹ Jᵀ` has entries that are 0 for the exact data and ±1e-16 of
+//! their row as computed, and with a heavy body on a light one a row can be
+//! made of nothing else. At `η ≤ 1e-9` such an entry moves by at most 1e-15 of
+//! its row's largest. The rule is invariant under positive diagonal row
+//! scaling; answers are judged in the units given.
 //!
 //! `Solution::accepted` records the verdict at the solver's tolerance and
 //! `Solution::ok()` needs it: no method (Lemke robust or classic, PGS,
@@ -34,6 +39,9 @@ use crate::problem::Lcp;
 
 /// Default tolerance of the rule (Lemke's `accept_tol`; PGS and Newton–FB use it too).
 pub const DEFAULT_TOL: f64 = 1e-9;
+
+/// `δ` of the module docs: an entry of `M` is trusted to this fraction of its row's largest.
+pub const ENTRY_FLOOR: f64 = 1e-6;
 
 /// The violation of row `i`: `|w_i|` where `z_i > 0`, else `max(−w_i, 0)`.
 #[inline]
@@ -45,10 +53,18 @@ fn violation(zi: f64, wi: f64) -> f64 {
     }
 }
 
-/// The scale `s_i = |q_i| + Σ_j |M_ij| z_j` of row `i` (over the support of `z`).
+/// The scale `s_i = |q_i| + Σ_j (|M_ij| + δ‖M_i·‖∞) z_j` of row `i`.
 fn row_scale(lcp: &Lcp, i: usize, z: &[f64]) -> f64 {
     let row = lcp.row(i);
-    z.iter().zip(row).filter(|(&zj, _)| zj != 0.0).map(|(&zj, m)| m.abs() * zj).sum::<f64>() + lcp.q()[i].abs()
+    let (mut terms, mut zsum, mut rmax) = (0.0, 0.0, 0.0f64);
+    for (&zj, m) in z.iter().zip(row) {
+        rmax = rmax.max(m.abs());
+        if zj != 0.0 {
+            terms += m.abs() * zj;
+            zsum += zj;
+        }
+    }
+    terms + ENTRY_FLOOR * rmax * zsum + lcp.q()[i].abs()
 }
 
 /// `violation / scale` with 0/0 = 0.
@@ -165,7 +181,8 @@ mod tests {
         let z = [0.0, 3e7];
         let w = [1e-6 - 2e-6, 0.0];
         assert!(!accepts(&p, &z, &w, 1e-9));
-        assert_eq!(backward_error(&p, &z, &w), 1.0);
+        // 1e-6 over |q_0| + δ·1·3e7: the entry floor does not rescue it.
+        assert!((backward_error(&p, &z, &w) - 1e-6 / (1e-6 + 30.0)).abs() < 1e-20);
         let w = p.w_of(&z);
         assert!(accepts(&p, &z, &w, 1e-9));
         assert_eq!(backward_error(&p, &z, &w), 0.0);
@@ -188,18 +205,27 @@ mod tests {
     }
 
     #[test]
-    fn the_rule_ignores_diagonal_scaling() {
+    fn the_rule_ignores_row_scaling() {
         let m = vec![4.0, 1.0, 1.0, 3.0];
         let q = vec![-1.0, -1.0 + 1e-7];
         let z = [2.0 / 11.0, 3.0 / 11.0];
         let p = lcp(m.clone(), q.clone());
         let eta = backward_error(&p, &z, &p.w_of(&z));
-        // Rows by 2^10 and 2^-20, columns by 2^3 and 2^-7 (z by their inverses).
-        let (r, c) = ([1024.0, 2f64.powi(-20)], [8.0, 2f64.powi(-7)]);
-        let ms: Vec<f64> = (0..4).map(|k| r[k / 2] * m[k] * c[k % 2]).collect();
-        let ps = lcp(ms, vec![r[0] * q[0], r[1] * q[1]]);
-        let zs = [z[0] / c[0], z[1] / c[1]];
-        assert_eq!(backward_error(&ps, &zs, &ps.w_of(&zs)), eta);
+        // Rows by 2^10 and 2^-20.
+        let r = [1024.0, 2f64.powi(-20)];
+        let ps = lcp((0..4).map(|k| r[k / 2] * m[k]).collect(), vec![r[0] * q[0], r[1] * q[1]]);
+        assert_eq!(backward_error(&ps, &z, &ps.w_of(&z)), eta);
         assert!(eta > 1e-9 && eta < 1e-6);
+    }
+
+    #[test]
+    fn round_off_entries_do_not_set_a_row_scale() {
+        // Row 0 couples to z_1 only through a 1e-16 entry (0 for the exact
+        // data): w_0 = −1e-12 is 100 % of Σ|M_0j| z_j, but 1e-18 of the row's
+        // own size, which the entry floor admits.
+        let p = lcp(vec![1.0, 1e-16, 1e-16, 1.0], vec![-1e-12 - 1e-16 * 1e4, -1e4]);
+        let z = [0.0, 1e4];
+        let w = p.w_of(&z);
+        assert!(w[0] < 0.0 && backward_error(&p, &z, &w) < 1e-9);
     }
 }
