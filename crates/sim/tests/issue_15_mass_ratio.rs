@@ -1,12 +1,17 @@
-//! Issue 15, item 3: a heavy body resting or sliding on a light one (mass
-//! ratios 1e6–1e8, box–box and sphere–box): every contact LCP solved, and
-//! energy never grows.
+//! Issue 15, item 3: a heavy body resting or sliding on a light one (box–box
+//! and sphere–box), and the energy audit of every step. At 1e6 kg on 1 kg
+//! every contact LCP is solved; at 1e7–1e8 the robust Lemke still fails on
+//! box–box steps (see `mass_ratio_failures`, ignored, which prints them), and
+//! the failed-solve policy keeps those steps from adding energy.
 
+mod common;
+use common::G;
 use sim::math::Vec3;
 use sim::{World, WorldParams};
 
-/// A 1 m box (or a sphere of radius 0.5 m) of `heavy` kg on a 0.1 m, 1 kg box on the ground.
-fn scene(heavy: f64, sphere: bool, slide: f64) -> World {
+/// A 1 m box (or a sphere of radius 0.5 m) of `heavy` kg on a 0.1 m, 1 kg box
+/// on the ground (μ = 0.5 everywhere), the heavy body moving at `slide` m/s along x.
+fn heavy_on_light(heavy: f64, sphere: bool, slide: f64) -> World {
     let mut w = World::new(WorldParams::default()).unwrap();
     w.add_ground(0.5).unwrap();
     w.add_box(Vec3::new(0.05, 0.05, 0.05), 1.0, Vec3::new(0.0, 0.0, 0.05), 0.5).unwrap();
@@ -19,50 +24,93 @@ fn scene(heavy: f64, sphere: bool, slide: f64) -> World {
     w
 }
 
+/// Runs `steps` steps; returns (failed steps, largest rise of E above its start ÷ |E₀|,
+/// largest energy one step created ÷ |E₀|).
+fn run(w: &mut World, steps: usize) -> (usize, f64, f64) {
+    let e0 = w.energy();
+    let (mut failed, mut rise, mut created) = (0, 0.0f64, 0.0f64);
+    for _ in 0..steps {
+        let r = w.step().unwrap();
+        failed += usize::from(!r.ok());
+        let audit = r.energy;
+        // The audit is the world's energy bookkeeping, step by step.
+        assert!((audit.after - w.energy()).abs() <= 1e-12 * e0.abs());
+        created = created.max(audit.created() / e0.abs());
+        rise = rise.max((w.energy() - e0) / e0.abs());
+    }
+    (failed, rise, created)
+}
+
 #[test]
-#[ignore]
-fn probe() {
-    for heavy in [1e6, 1e7, 1e8] {
+fn issue_15_heavy_on_light_1e6_every_lcp_is_solved() {
+    for sphere in [false, true] {
+        for slide in [0.0, 0.5] {
+            let mut w = heavy_on_light(1e6, sphere, slide);
+            let (failed, rise, _) = run(&mut w, 2000);
+            assert_eq!(failed, 0, "sphere {sphere}, slide {slide}");
+            // Measured: at most 1.3e-8 of E₀ (7.6e-2 J of 5.9 MJ: the stabilization
+            // of 1e-8 m penetrations under 1e7 N).
+            assert!(rise <= 5e-8, "sphere {sphere}, slide {slide}: energy rose by {rise:e} of E₀");
+        }
+    }
+}
+
+#[test]
+fn issue_15_failed_steps_add_no_energy_at_mass_ratios_1e7_1e8() {
+    // Before the failed-solve policy a failed step applied no impulse: the
+    // heavy body sank into the light one and a later solve threw it up
+    // (5.9 MJ → 14 MJ at 1e6; 1.2 GJ gained at 1e8 sphere–box). Now a failed
+    // step never has more energy than the step with no contact impulse, which
+    // loses ½ m h² g²: it creates none. (Measured over 2,000 steps: the whole
+    // scene's energy rises by at most 1.1e-6 of E₀ at 1e7 and 2.9e-5 at 1e8
+    // box–box — solved steps pushing out what failed steps let sink.)
+    for heavy in [1e7, 1e8] {
         for sphere in [false, true] {
-            for slide in [0.0, 0.5] {
-                let mut w = scene(heavy, sphere, slide);
-                let mut fails = std::collections::BTreeMap::new();
-                let e0 = w.energy();
-                let mut emax = e0;
-                for _ in 0..2000 {
-                    let r = w.step().unwrap();
-                    if !r.ok() {
-                        *fails.entry(format!("{:?}", r.status)).or_insert(0) += 1;
-                    }
-                    emax = emax.max(w.energy());
+            let mut w = heavy_on_light(heavy, sphere, 0.0);
+            let e0 = w.energy().abs();
+            let mut failed = 0;
+            for _ in 0..300 {
+                let r = w.step().unwrap();
+                if !r.ok() {
+                    failed += 1;
+                    let c = r.energy.created();
+                    assert!(c <= 1e-12 * e0, "{heavy:e} kg, sphere {sphere}, step {}: a failed step created {c:e} J", r.step);
                 }
-                println!("heavy {heavy:e} sphere {sphere} slide {slide}: fails {fails:?} e0 {e0:e} emax-e0 {:e} end {:e}", emax - e0, w.energy() - e0);
             }
+            assert!(sphere || failed > 0, "{heavy:e} kg box–box: no failed step left to test the policy on");
+        }
+    }
+}
+
+#[test]
+fn issue_15_energy_never_grows_resting_and_sliding() {
+    // A cube resting, a cube sliding to rest on the ground, a cube sliding down a 40° slope.
+    let p = WorldParams::default;
+    let mut rest = sim::scenes::BoxStack::new(1).build(p()).unwrap().world;
+    let mut slide = sim::scenes::BoxStack::new(1).build(p()).unwrap().world;
+    slide.set_velocity(sim::BodyId(1), Vec3::new(1.0, 0.0, 0.0)).unwrap();
+    let mut slope = sim::scenes::CubeOnSlope::new(40.0, 0.5).build(p()).unwrap().world;
+    for (name, w) in [("resting", &mut rest), ("sliding", &mut slide), ("slope", &mut slope)] {
+        let scale = w.energy().abs().max(G);
+        for _ in 0..2000 {
+            let r = w.step().unwrap().clone();
+            assert!(r.ok(), "{name}");
+            assert!(r.energy.created() <= 1e-12 * scale, "{name} step {}: created {:e} J", r.step, r.energy.created());
         }
     }
 }
 
 #[test]
 #[ignore]
-fn dump_failing() {
-    let mut w = scene(1e6, true, 0.0);
-    let mut k = 0;
-    for _ in 0..2000 {
-        let mut bad = None;
-        let r = w.step_with(&mut |l: &lcp::Lcp| {
-            let s = lcp::solve(l, &lcp::Method::default());
-            if !s.ok() && bad.is_none() {
-                bad = Some((l.clone(), s.clone()));
+fn mass_ratio_failures() {
+    // cargo test --release -p lcpsim-sim --test issue_15_mass_ratio -- --ignored --nocapture
+    for heavy in [1e6, 1e7, 1e8] {
+        for sphere in [false, true] {
+            for slide in [0.0, 0.5] {
+                let mut w = heavy_on_light(heavy, sphere, slide);
+                let (failed, rise, created) = run(&mut w, 2000);
+                println!("{heavy:e} kg sphere {sphere} slide {slide}: failed {failed}/2000, rise {rise:e}·E₀, max created {created:e}·E₀");
             }
-            s
-        }).unwrap();
-        let _ = r;
-        if let Some((l, s)) = bad {
-            println!("step {} n {} status {:?} nat {:e} piv {}", w.steps(), l.n(), s.status, s.residuals.natural, s.iterations);
-            let txt: String = l.m().iter().chain(l.q()).map(|v| format!("{v:e}\n")).collect();
-            std::fs::write(format!("/tmp/num_fail_{k}.txt"), format!("{}\n{txt}", l.n())).unwrap();
-            k += 1;
-            if k == 3 { break; }
         }
     }
 }
