@@ -51,6 +51,7 @@ class BatchDict(TypedDict):
     z: NDArray[np.float64]  # (b, n)
     w: NDArray[np.float64]  # (b, n)
     status: list[str]
+    ok: NDArray[np.bool_]
     iterations: NDArray[np.int64]
     natural: NDArray[np.float64]
     min_z: NDArray[np.float64]
@@ -104,6 +105,9 @@ class StepDict(TypedDict):
     max_complementarity: float
     solver_residual: float  # as the solver saw it (scaled LCP)
     zeroed: bool
+    energy_before: float
+    energy_after: float
+    external_work: float
     fn: NDArray[np.float64]  # (nc,)
     fd: NDArray[np.float64]  # (nc, k)
     lam: NDArray[np.float64]  # (nc,), physical units

@@ -40,17 +40,8 @@ from .stabilization import Stabilization, as_stabilization
 if TYPE_CHECKING:
     from .io.capture import CaptureWriter
 
-__all__ = [
-    "World",
-    "StepRecord",
-    "Trajectory",
-    "BodyState",
-    "Stabilization",
-    "LcpStats",
-    "NO_CONTACT",
-    "MU_COMBINE",
-    "quat_angle",
-]
+__all__ = ["World", "StepRecord", "Trajectory", "BodyState", "Stabilization", "LcpStats", "NO_CONTACT", "MU_COMBINE"]
+__all__ += ["quat_angle"]
 
 #: Status of a step without contacts (no LCP was solved).
 NO_CONTACT = "no_contact"
@@ -122,6 +113,8 @@ class StepRecord:
     (one LCP each): ``island_of_contact`` (nc,), per island ``island_bodies``,
     ``island_lcp_size``/``pivots``/``residual``/``status``; ``status`` is "solved" iff every island
     was, else the first unsolved one's; ``pivots`` total, ``residual`` max.
+    ``zeroed``: failed solve; its admissible part (z ≥ 0, friction in the cone) was applied, scaled
+    to add no energy. Energy (J): ``energy_before``/``_after`` (kinetic + potential), ``external_work``.
     """
 
     step: int
@@ -139,6 +132,9 @@ class StepRecord:
     min_w: float
     max_complementarity: float
     zeroed: bool
+    energy_before: float
+    energy_after: float
+    external_work: float
     fn: NDArray[np.float64]
     fd: NDArray[np.float64]
     lam: NDArray[np.float64]
@@ -166,6 +162,8 @@ class StepRecord:
     def ok(self) -> bool:
         """True when there was no LCP or it was solved."""
         return self.status in ("solved", NO_CONTACT)
+
+    energy_created = property(lambda self: self.energy_after - self.energy_before - self.external_work)
 
     @property
     def total_normal_impulse(self) -> float:
