@@ -342,6 +342,20 @@ def test_report_quick(tmp_path, capsys):
         p = out / fig
         assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", fig
         assert fig in md and fig in html
+    # Viewer pages (issue 16): every slope test, the pushed cube, a stack and a heap, each linked
+    # from its section of both documents.
+    views = summary["views"]
+    assert sum(v.startswith("view_slope_") for v in views) == len(slope.REPORT_SCALES) * len(slope.REPORT_ANGLES) * 2
+    assert any(v.startswith("view_push_") for v in views) and {"view_stack.html", "view_heap.html"} <= set(views)
+    for v in views:
+        page = (out / v).read_text()
+        assert page.startswith("<!DOCTYPE html>") and 'id="lcpsim-data"' in page and len(page) < 2_000_000
+        assert f'href="{v}"' in html and f"]({v})" in md
+    sections = html.split("<h2>")
+    for v in views:
+        head = next(s for s in sections if f'href="{v}"' in s).split("</h2>")[0]
+        want = "Slope test" if "slope" in v else "Pushed cube" if "push" in v else "Many bodies"
+        assert head.startswith(want), (v, head)
     results = json.loads((out / "results.json").read_text())
     assert results["lcpsim_version"] == lcpsim.__version__ and results["seed"] == 0
     assert os.path.getsize(out / "results.json") > 1000

@@ -59,13 +59,17 @@ def psd_feasible_lcp(draw, max_n: int = 8):
 # ---------------------------------------------------------------- properties
 
 
-@given(p_matrix_lcp())
-def test_p_matrix_solved_and_verified(data):
-    M, q = data
+def assert_solved_and_verified(M, q, kind: str) -> None:
+    """Lemke solves the LCP and its z passes the independent check."""
     res = solve_lcp(M, q)
     note(f"status={res.status} pivots={res.pivots} z={res.z}")
-    assert res.ok, f"P-matrix LCP not solved: {res.status}"
+    assert res.ok, f"{kind} not solved: {res.status}"
     check_solution(M, q, res.z)
+
+
+@given(p_matrix_lcp())
+def test_p_matrix_solved_and_verified(data):
+    assert_solved_and_verified(*data, "P-matrix LCP")
 
 
 @given(p_matrix_lcp(max_n=8))
@@ -80,11 +84,7 @@ def test_p_matrix_matches_enumeration(data):
 
 @given(psd_feasible_lcp())
 def test_degenerate_psd_feasible_solved(data):
-    M, q = data
-    res = solve_lcp(M, q)
-    note(f"status={res.status} pivots={res.pivots} z={res.z}")
-    assert res.ok, f"solvable copositive-plus LCP not solved: {res.status}"
-    check_solution(M, q, res.z)
+    assert_solved_and_verified(*data, "solvable copositive-plus LCP")
 
 
 @given(st.integers(1, 6).flatmap(lambda n: st.tuples(

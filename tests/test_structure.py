@@ -160,7 +160,7 @@ def test_cli_and_report_are_built_from_the_registry():
     from lcpsim.experiments.experiment import Experiment
 
     names = [c.name for c in commands()]
-    assert names == ["solve", "demo", "simulate", *REGISTRY, "report", "sweep"]
+    assert names == ["solve", "demo", "simulate", "view", *REGISTRY, "report", "sweep", "export-fclib"]
     assert list(EXPERIMENTS) == list(DEFAULTS) == list(REGISTRY)
     for name, e in REGISTRY.items():
         assert isinstance(e, Experiment) and e.name == name

@@ -194,7 +194,7 @@ def versions() -> dict[str, str]:
 
 
 def machine() -> str:
-    from run import machine as peers_machine
+    from machine import machine as peers_machine
 
     m = peers_machine()
     return f"{m['cpu']}, {m['cores']} cores, {m['memory']}, {m['os']}"

@@ -168,9 +168,12 @@ def render_broadphase(bp: dict[str, Any]) -> list[str]:
 
 
 def splice(md: str, section: list[str]) -> str:
-    """``md`` with its "Many bodies" section (from :data:`MARKER` to the end) replaced by ``section``."""
-    head = md.split("\n" + MARKER, 1)[0].rstrip("\n")
-    return head + "\n\n" + "\n".join(section).rstrip("\n") + "\n"
+    """``md`` with its "Many bodies" section (from :data:`MARKER` to the next top-level
+    heading, such as fclib_siconos.py's, or the end) replaced by ``section``."""
+    head, _, rest = md.partition("\n" + MARKER)
+    later = rest.split("\n## ", 1)
+    keep = "\n## " + later[1].rstrip("\n") + "\n" if len(later) == 2 else ""
+    return head.rstrip("\n") + "\n\n" + "\n".join(section).rstrip("\n") + "\n" + keep
 
 
 def tail(md: str) -> str:

@@ -14,7 +14,8 @@ Public API (the compiled module ``lcpsim._core`` is private)::
     traj = s.world.run(1000, capture="lcps.h5")
     with open_capture("lcps.h5") as c: ...   # every LCP the run solved
 
-Sub-packages: :mod:`lcpsim.io` (LCP files, captures, failure dumps),
+Sub-packages: :mod:`lcpsim.io` (LCP files, captures, failure dumps, FCLib files),
+:mod:`lcpsim.fclib` (FCLib problems in and out, the exact-cone residual),
 :mod:`lcpsim.experiments` (the seed note's experiments, their registry, the
 report), :mod:`lcpsim.cli` (the ``lcpsim`` command). Names that moved keep
 working with a DeprecationWarning (:mod:`lcpsim._deprecated`).
@@ -36,10 +37,11 @@ from .lcp import (
     solve_lcp_batch,
 )
 from .certification import Certificate, certify
-from .world import NO_CONTACT, BodyState, LcpStats, Stabilization, StepRecord, Trajectory, World
+from .world import NO_CONTACT, BodyState, ContactLog, LcpStats, Stabilization, StepRecord, Trajectory, World
 from . import scenes
 from .scenes import Scene
 from .io.capture import Capture, CaptureRecord, CaptureWriter, open_capture
+from . import fclib
 
 __all__ = [
     "__version__",
@@ -61,6 +63,7 @@ __all__ = [
     "BodyState",
     "Stabilization",
     "LcpStats",
+    "ContactLog",
     "NO_CONTACT",
     "scenes",
     "Scene",
@@ -68,6 +71,7 @@ __all__ = [
     "CaptureRecord",
     "CaptureWriter",
     "open_capture",
+    "fclib",
 ]
 
 _deprecated.install()

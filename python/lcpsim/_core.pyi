@@ -31,38 +31,17 @@ METHOD_OPTIONS: dict[str, list[str]]
 #: Lemke's default options by name (``LemkeOptions::default()``).
 LEMKE_DEFAULTS: dict[str, Any]
 
-class SolutionDict(TypedDict):
-    """Keyed by the fields of ``lcpsim.LcpResult`` that a solve determines
-    (the wrapper makes it the result's ``__dict__``)."""
+#: Keyed by exactly the fields of ``lcpsim.LcpResult`` that a solve determines
+#: (the wrapper makes it the result's ``__dict__``; tests/test_api.py checks the keys).
+SolutionDict = dict[str, Any]
 
-    z: NDArray[np.float64]
-    w: NDArray[np.float64]
-    status: str
-    ok: bool
-    pivots: int
-    residual: float
-    min_z: float
-    min_w: float
-    max_complementarity: float
-    method: str
-    basis: NDArray[np.bool_] | None
-
-class BatchDict(TypedDict):
-    z: NDArray[np.float64]  # (b, n)
-    w: NDArray[np.float64]  # (b, n)
-    status: list[str]
-    ok: NDArray[np.bool_]
-    iterations: NDArray[np.int64]
-    natural: NDArray[np.float64]
-    min_z: NDArray[np.float64]
-    min_w: NDArray[np.float64]
-    max_complementarity: NDArray[np.float64]
-    basis: NDArray[np.bool_] | None  # (b, n) when every solve returned one
-    method: str
+#: Keyed by the fields of ``lcpsim.LcpBatchResult`` (``status`` a list):
+#: ``z``, ``w`` of shape (b, n), ``basis`` (b, n) or None, the rest (b,).
+BatchDict = dict[str, Any]
 
 class ResidualsDict(TypedDict):
     w: NDArray[np.float64]
-    natural: float
+    residual: float
     min_z: float
     min_w: float
     max_complementarity: float
@@ -88,48 +67,9 @@ SCENES: dict[str, list[str]]
 #: ["min", "max", "product", "geometric_mean", "average"]
 MU_COMBINE: list[str]
 
-class StepDict(TypedDict):
-    # Exactly the fields of lcpsim.world.StepRecord (it becomes the record's __dict__).
-    step: int
-    time: float
-    dt: float
-    contacts: int
-    friction_dirs: int
-    lcp_size: int
-    scale: float
-    status: str  # "no_contact" without contacts
-    pivots: int
-    residual: float  # physical units (unscaled LCP)
-    min_z: float
-    min_w: float
-    max_complementarity: float
-    solver_residual: float  # as the solver saw it (scaled LCP)
-    zeroed: bool
-    energy_before: float
-    energy_after: float
-    external_work: float
-    fn: NDArray[np.float64]  # (nc,)
-    fd: NDArray[np.float64]  # (nc, k)
-    lam: NDArray[np.float64]  # (nc,), physical units
-    z: NDArray[np.float64]  # (nc (k + 2),), physical units
-    w: NDArray[np.float64]
-    points: NDArray[np.float64]  # (nc, 3)
-    normals: NDArray[np.float64]  # (nc, 3)
-    tangents: NDArray[np.float64]  # (nc, 3)
-    friction: NDArray[np.float64]  # (nc, 3)
-    directions: NDArray[np.float64]  # (nc, k, 3)
-    gaps: NDArray[np.float64]
-    mu: NDArray[np.float64]
-    body_a: NDArray[np.int64]
-    body_b: NDArray[np.int64]
-    basis: NDArray[np.bool_] | None
-    islands: int  # contact islands, one LCP each
-    island_of_contact: NDArray[np.int64]  # (nc,)
-    island_bodies: tuple[NDArray[np.int64], ...]  # dynamic bodies per island
-    island_lcp_size: NDArray[np.int64]  # (islands,)
-    island_pivots: NDArray[np.int64]
-    island_residual: NDArray[np.float64]  # physical units
-    island_status: tuple[str, ...]
+#: Keyed by exactly the fields of ``lcpsim.world.StepRecord`` (it becomes the
+#: record's ``__dict__``; tests/test_world.py checks the keys and types).
+StepDict = dict[str, Any]
 
 class RunDict(TypedDict):
     time: NDArray[np.float64]  # (T,)
@@ -140,7 +80,7 @@ class RunDict(TypedDict):
     contacts: NDArray[np.int64]
     lcp_size: NDArray[np.int64]
     status: NDArray[np.int8]  # -1 no contact, else an index into STATUSES
-    iterations: NDArray[np.int64]
+    pivots: NDArray[np.int64]
     residual: NDArray[np.float64]
     solver_residual: NDArray[np.float64]
     normal_impulse: NDArray[np.float64]
@@ -162,7 +102,7 @@ class CaptureDict(TypedDict):
     friction_dirs: NDArray[np.int64]
     scale: NDArray[np.float64]
     status: NDArray[np.int8]  # index into STATUSES
-    iterations: NDArray[np.int64]
+    pivots: NDArray[np.int64]
     method: list[str]
 
 class StateDict(TypedDict):
@@ -188,6 +128,7 @@ class World:
         erp: float | None = None,
         slop: float | None = None,
         speculative: bool = True,
+        gap_floor: float | None = None,
         restitution: float | None = None,
         restitution_threshold: float | None = None,
         mu_combine: str = "min",
@@ -208,9 +149,10 @@ class World:
     def set_cone_scale(self, scale: float | str | None = None) -> None: ...
     def copy(self) -> World: ...
     def energy(self) -> float: ...
-    def add_box(
+    def add_body(
         self,
-        half_extents: ArrayLike,
+        shape: str,
+        size: Any,
         mass: float | None = None,
         position: ArrayLike | None = None,
         orientation: ArrayLike | None = None,
@@ -219,19 +161,8 @@ class World:
         mu: float | None = None,
         is_static: bool = False,
         inertia: ArrayLike | None = None,
-    ) -> int: ...
-    def add_sphere(
-        self,
-        radius: float,
-        mass: float | None = None,
-        position: ArrayLike | None = None,
-        orientation: ArrayLike | None = None,
-        velocity: ArrayLike | None = None,
-        angular_velocity: ArrayLike | None = None,
-        mu: float | None = None,
-        is_static: bool = False,
-        inertia: ArrayLike | None = None,
-    ) -> int: ...
+    ) -> int:
+        """shape "box" (size: half extents) or "sphere" (size: radius)."""
     def add_plane(
         self, normal: ArrayLike, offset: float | None = None, mu: float | None = None, tangent: ArrayLike | None = None
     ) -> int: ...

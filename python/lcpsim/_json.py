@@ -3,12 +3,13 @@ metadata and config lcpsim writes."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any, Mapping
 
 import numpy as np
 
-__all__ = ["jsonable"]
+__all__ = ["jsonable", "fields_dict"]
 
 
 def jsonable(x: Any) -> Any:
@@ -35,3 +36,14 @@ def jsonable(x: Any) -> Any:
     if isinstance(x, (list, tuple, set, frozenset)) or (hasattr(x, "__iter__") and not isinstance(x, bytes)):
         return [jsonable(v) for v in x]
     return str(x)
+
+
+def fields_dict(record: Any) -> dict[str, Any]:
+    """A dataclass of plain values as a dict, field by field in declaration
+    order: tuples become lists and mappings are copied; everything else is
+    kept as it is (unlike :func:`jsonable`, floats stay floats)."""
+
+    def plain(v: Any) -> Any:
+        return list(v) if isinstance(v, tuple) else dict(v) if isinstance(v, Mapping) else v
+
+    return {f.name: plain(getattr(record, f.name)) for f in dataclasses.fields(record)}

@@ -344,21 +344,9 @@ def solve_lcp_batch(
         raise ValueError(
             f"Ms and qs hold different numbers of problems: Ms has shape {Ms_.shape}, qs has shape {qs_.shape}"
         )
+    # The batch dict is keyed by the result's fields (`ok`: solved and accepted by the rule).
     d = _core.solve_lcp_batch(Ms_, qs_, method, int(threads), **opts)
-    status = tuple(d["status"])
-    return LcpBatchResult(
-        z=d["z"],
-        w=d["w"],
-        status=status,
-        ok=np.asarray(d["ok"], dtype=bool),
-        pivots=d["iterations"],
-        residual=d["natural"],
-        min_z=d["min_z"],
-        min_w=d["min_w"],
-        max_complementarity=d["max_complementarity"],
-        method=d["method"],
-        basis=d["basis"],
-    )
+    return LcpBatchResult(**{**d, "status": tuple(d["status"])})
 
 
 def lcp_residual(M: ArrayLike, q: ArrayLike, z: ArrayLike) -> float:
@@ -372,5 +360,5 @@ def lcp_residuals(M: ArrayLike, q: ArrayLike, z: ArrayLike) -> dict[str, Any]:
     :func:`lcp_residual`), ``min_z``, ``min_w``, ``max_complementarity``.
     ``natural`` is the old key of ``residual`` (deprecated, kept)."""
     d = dict(_core.lcp_residuals(_as_real_array(M, "M", 2), _as_real_array(q, "q", 1), _as_real_array(z, "z", 1)))
-    d["residual"] = d["natural"]
+    d["natural"] = d["residual"]
     return d

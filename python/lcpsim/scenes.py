@@ -106,8 +106,12 @@ class Scene:
         return None
 
 
-def _build(name: str, params: dict[str, Any], world: dict[str, Any]) -> Scene:
-    template = World(**world)
+def _build(name: str, arguments: dict[str, Any]) -> Scene:
+    """Scene ``name`` built by ``sim::scenes`` from a scene function's own
+    arguments (its ``locals()`` on entry): the scene's parameters, and
+    ``world`` with the :class:`World` arguments."""
+    params = {k: v for k, v in arguments.items() if k != "world"}
+    template = World(**arguments["world"])
     core, ids = _core.build_scene(name, {k: v for k, v in params.items() if v is not None}, template._core)
     w = World._wrap(core, template.method, template.solver_options)
     w.scene = name
@@ -152,14 +156,7 @@ def cube_on_slope(
     down the slope (m/s); ``tangent_angle`` turns the friction directions
     about the normal (π/k puts the slope on a bisector). ``direction`` is the
     downhill direction (+x on level ground)."""
-    s = _build(
-        "cube_on_slope",
-        dict(
-            angle_deg=angle_deg, mu=mu, size=size, mass=mass, downhill=downhill, speed=speed,
-            tangent_angle=tangent_angle,
-        ),
-        world,
-    )
+    s = _build("cube_on_slope", locals())
     s.direction = _slope_direction(s)
     if angle_deg == 0.0:
         s.direction = np.array([1.0, 0.0, 0.0]) if downhill != "-x" else np.array([-1.0, 0.0, 0.0])
@@ -187,7 +184,7 @@ def pushed_cube(
 
     Stays iff F ≤ μmg with friction = F exactly; else slides with
     a = (F − μmg)/m. ``direction`` is +x."""
-    s = _build("pushed_cube", dict(force=force, mu=mu, size=size, mass=mass, height=height), world)
+    s = _build("pushed_cube", locals())
     s.direction = np.array([1.0, 0.0, 0.0])
     return s
 
@@ -203,9 +200,7 @@ def cube_drop(
 ) -> Scene:
     """A cube dropped flat from ``height`` (gap between its bottom face and the
     ground, m); ``restitution`` overrides the world's coefficient."""
-    return _build(
-        "cube_drop", dict(height=height, size=size, mass=mass, mu=mu, restitution=restitution), world
-    )
+    return _build("cube_drop", locals())
 
 
 def ball_drop(
@@ -219,9 +214,7 @@ def ball_drop(
 ) -> Scene:
     """A ball dropped from ``height`` (gap below it, m): impact at √(2H/g)
     within 2h; with restitution e it leaves at e times the impact speed."""
-    return _build(
-        "ball_drop", dict(height=height, radius=radius, mass=mass, mu=mu, restitution=restitution), world
-    )
+    return _build("ball_drop", locals())
 
 
 def box_stack(
@@ -234,7 +227,7 @@ def box_stack(
 ) -> Scene:
     """A tower of ``n`` cubes on level ground: the force at interface j (from
     the ground, j = 0) is (n − j)·m·g; ``bodies`` bottom to top, ``body`` the top box."""
-    return _build("box_stack", dict(n=n, size=size, mass=mass, mu=mu), world)
+    return _build("box_stack", locals())
 
 
 def ball_on_incline(
@@ -249,9 +242,7 @@ def ball_on_incline(
     """A solid ball at rest on a slope: rolls iff μ ≥ (2/7) tan θ with
     a = (5/7) g sin θ, else slips with a = g(sin θ − μ cos θ).
     ``direction`` is the downhill direction."""
-    s = _build(
-        "ball_on_incline", dict(angle_deg=angle_deg, mu=mu, radius=radius, mass=mass, downhill=downhill), world
-    )
+    s = _build("ball_on_incline", locals())
     s.direction = _slope_direction(s)
     return s
 
@@ -272,11 +263,7 @@ def box_pile(
     """``nx × ny`` towers of ``nz`` cubes on a grid (``spacing`` × size between
     tower axes), each cube turned about the vertical by a seeded random angle
     in [−yaw, yaw] (rad)."""
-    return _build(
-        "box_pile",
-        dict(nx=nx, ny=ny, nz=nz, size=size, mass=mass, mu=mu, spacing=spacing, yaw=yaw, seed=seed),
-        world,
-    )
+    return _build("box_pile", locals())
 
 
 def cube_heap(
@@ -296,11 +283,7 @@ def cube_heap(
     × size between neighbours), each turned (rad) and shifted (× size) by
     seeded random amounts up to ``jitter`` and starting a little above its
     resting place; ``walls`` adds four static boxes around the base."""
-    return _build(
-        "cube_heap",
-        dict(n=n, seed=seed, walls=walls, size=size, mass=mass, mu=mu, spacing=spacing, jitter=jitter),
-        world,
-    )
+    return _build("cube_heap", locals())
 
 
 #: Every scene by name.

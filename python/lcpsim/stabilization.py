@@ -4,7 +4,7 @@ given in."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any, Mapping
 
 __all__ = ["Stabilization", "as_stabilization"]
@@ -16,7 +16,10 @@ class Stabilization:
 
     A contact with gap φ > 0 inside the margin adds ``φ/h`` when ``speculative``
     (it may close within the step, not overshoot); a penetrating one adds
-    ``erp·min(0, φ + slop)/h``. A body resting at φ = 0 gets no term.
+    ``erp·min(0, φ + slop)/h``. A body resting at φ = 0 gets no term, and
+    gaps with ``|φ| ≤ gap_floor`` count as φ = 0: they are the round-off of the
+    contact geometry (about 1e-14–1e-13 m), which divided by h would move a
+    resting stack's LCP every step.
     """
 
     #: Fraction of the penetration removed per step, in [0, 1].
@@ -25,11 +28,17 @@ class Stabilization:
     slop: float = 0.0
     #: Use the positive gap of contacts inside the margin.
     speculative: bool = True
+    #: Gaps within ±gap_floor (m) get no term; 0 turns the floor off.
+    gap_floor: float = 1e-12
 
     @classmethod
     def none(cls) -> "Stabilization":
         """No correction at all: ``b0 = J_n v*``."""
-        return cls(erp=0.0, slop=0.0, speculative=False)
+        return cls(erp=0.0, slop=0.0, speculative=False, gap_floor=0.0)
+
+
+#: The fields of :class:`Stabilization`, which ``World`` also takes as keywords.
+FIELDS = tuple(f.name for f in fields(Stabilization))
 
 
 def as_stabilization(s: Stabilization | Mapping[str, Any] | str | None) -> Stabilization:
@@ -46,8 +55,8 @@ def as_stabilization(s: Stabilization | Mapping[str, Any] | str | None) -> Stabi
             return Stabilization()
         raise ValueError(f"stabilization must be None, 'none', 'default', a Stabilization or a mapping, got {s!r}")
     if isinstance(s, Mapping):
-        unknown = set(s) - {"erp", "slop", "speculative"}
+        unknown = set(s) - set(FIELDS)
         if unknown:
-            raise ValueError(f"unknown stabilization field(s) {sorted(unknown)} (valid: erp, slop, speculative)")
+            raise ValueError(f"unknown stabilization field(s) {sorted(unknown)} (valid: {', '.join(FIELDS)})")
         return Stabilization(**s)
     raise ValueError(f"stabilization must be None, 'none', a Stabilization or a mapping, got {s!r}")

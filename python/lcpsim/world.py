@@ -33,23 +33,29 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import _core
 from ._json import jsonable
-from .lcp import STATUSES, _new_object, _set_attribute
+from .lcp import _new_object, _set_attribute
 from .scale import parse_cone_scale
-from .stabilization import Stabilization, as_stabilization
+from .stabilization import FIELDS as STABILIZATION_FIELDS, Stabilization, as_stabilization
+from .trajectory import NO_CONTACT, ContactLog, LcpStats, Trajectory, quat_angle
 
 if TYPE_CHECKING:
     from .io.capture import CaptureWriter
 
-__all__ = ["World", "StepRecord", "Trajectory", "BodyState", "Stabilization", "LcpStats", "NO_CONTACT", "MU_COMBINE"]
-__all__ += ["quat_angle"]
+__all__ = [
+    "World",
+    "StepRecord",
+    "Trajectory",
+    "BodyState",
+    "Stabilization",
+    "LcpStats",
+    "NO_CONTACT",
+    "ContactLog",
+    "MU_COMBINE",
+    "quat_angle",
+]
 
-#: Status of a step without contacts (no LCP was solved).
-NO_CONTACT = "no_contact"
 #: Rules for combining two bodies' μ into the contact's μ.
 MU_COMBINE: tuple[str, ...] = tuple(_core.MU_COMBINE)
-
-# Trajectory status codes from the compiled module: -1 = no contact, else an index into STATUSES.
-_STATUS_NAMES = np.array([NO_CONTACT, *STATUSES])
 
 Vec = Union[Sequence[float], NDArray[np.float64]]
 CaptureTarget = Union[str, "os.PathLike[str]", "CaptureWriter", None]
@@ -66,14 +72,6 @@ def _vec(x: Any, name: str, n: int = 3) -> tuple[float, ...]:
     if not np.all(np.isfinite(a)):
         raise ValueError(f"{name} must be finite, got {x!r}")
     return tuple(float(v) for v in a)
-
-
-def quat_angle(q0: ArrayLike, q1: ArrayLike) -> NDArray[np.float64] | float:
-    """Rotation angle (rad) between unit quaternions ``q0`` and ``q1`` (w, x, y, z);
-    broadcasts over leading dimensions."""
-    d = np.abs(np.sum(np.asarray(q0, dtype=float) * np.asarray(q1, dtype=float), axis=-1))
-    a = 2.0 * np.arccos(np.clip(d, -1.0, 1.0))
-    return float(a) if np.ndim(a) == 0 else a
 
 
 @dataclass(frozen=True)
@@ -113,8 +111,13 @@ class StepRecord:
     (one LCP each): ``island_of_contact`` (nc,), per island ``island_bodies``,
     ``island_lcp_size``/``pivots``/``residual``/``status``; ``status`` is "solved" iff every island
     was, else the first unsolved one's; ``pivots`` total, ``residual`` max.
-    ``zeroed``: failed solve; its admissible part (z ≥ 0, friction in the cone) was applied, scaled
-    to add no energy. Energy (J): ``energy_before``/``_after`` (kinetic + potential), ``external_work``.
+    ``zeroed``: the solve failed and its answer was not applied as it stood:
+    the island applied its admissible part (impulses clipped at 0, friction
+    scaled into the cone) times the factor in [0, 1] that minimizes the energy
+    after the step, so a failed step adds no energy. Energy audit (J):
+    ``energy_before``/``energy_after`` (kinetic + gravitational potential of
+    the dynamic bodies), ``external_work`` (applied forces and torques;
+    gravity is in the energies), ``energy_created = after − before − work``.
     """
 
     step: int
@@ -163,7 +166,10 @@ class StepRecord:
         """True when there was no LCP or it was solved."""
         return self.status in ("solved", NO_CONTACT)
 
-    energy_created = property(lambda self: self.energy_after - self.energy_before - self.external_work)
+    @property
+    def energy_created(self) -> float:
+        """Energy the step added (J): ``energy_after − energy_before − external_work``."""
+        return self.energy_after - self.energy_before - self.external_work
 
     @property
     def total_normal_impulse(self) -> float:
@@ -198,162 +204,6 @@ class StepRecord:
         return rec
 
 
-@dataclass(frozen=True)
-class LcpStats:
-    """LCP statistics of a run: how many LCPs were solved and how they ended."""
-
-    steps: int
-    lcps: int  # steps with an LCP
-    failures: int  # LCPs not solved
-    by_status: dict[str, int]  # every status that occurred (LCP steps only)
-    max_residual: float  # physical units; 0 without LCPs
-    pivots_median: float
-    pivots_max: int
-    max_lcp_size: int
-    max_contacts: int
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "steps": self.steps,
-            "lcps": self.lcps,
-            "failures": self.failures,
-            "by_status": dict(self.by_status),
-            "max_residual": self.max_residual,
-            "pivots_median": self.pivots_median,
-            "pivots_max": self.pivots_max,
-            "max_lcp_size": self.max_lcp_size,
-            "max_contacts": self.max_contacts,
-        }
-
-    @property
-    def count(self) -> int:
-        """Deprecated name of :attr:`lcps`."""
-        from ._deprecated import warn
-
-        warn("LcpStats.count", "LcpStats.lcps")
-        return self.lcps
-
-
-@dataclass(frozen=True)
-class Trajectory:
-    """The state after every step of a run, and each step's LCP outcome.
-
-    ``T`` steps, ``B`` bodies (static ones included, in body order): ``time`` (T,) the time after
-    each step; ``positions`` (T, B, 3); ``orientations`` (T, B, 4) as (w, x, y, z); ``velocities``
-    (T, B, 6) as ``[v; ω]``. Per step: ``status`` (T,) strings (``"no_contact"`` without an LCP),
-    ``pivots``, ``residual`` (physical units), ``solver_residual``, ``lcp_size``, ``contacts``,
-    ``normal_impulse`` (Σ fn, N·s), ``friction_impulse`` (T, 3) (Σ over contacts of the friction
-    impulse on body A), ``max_lambda`` (largest physical λ, m/s), ``islands`` and
-    ``max_island_size`` (largest island LCP). ``initial_*`` hold the state before the first step.
-    """
-
-    dt: float
-    time: NDArray[np.float64]
-    positions: NDArray[np.float64]
-    orientations: NDArray[np.float64]
-    velocities: NDArray[np.float64]
-    status: NDArray[np.str_]
-    pivots: NDArray[np.int64]
-    residual: NDArray[np.float64]
-    solver_residual: NDArray[np.float64]
-    lcp_size: NDArray[np.int64]
-    contacts: NDArray[np.int64]
-    normal_impulse: NDArray[np.float64]
-    friction_impulse: NDArray[np.float64]
-    max_lambda: NDArray[np.float64]
-    islands: NDArray[np.int64]
-    max_island_size: NDArray[np.int64]
-    initial_positions: NDArray[np.float64]
-    initial_orientations: NDArray[np.float64]
-    initial_velocities: NDArray[np.float64]
-
-    def __len__(self) -> int:
-        return int(self.time.shape[0])
-
-    @property
-    def steps(self) -> int:
-        return len(self)
-
-    @property
-    def bodies(self) -> int:
-        return int(self.initial_positions.shape[0])
-
-    @property
-    def linear_velocities(self) -> NDArray[np.float64]:
-        """(T, B, 3)."""
-        return self.velocities[:, :, :3]
-
-    @property
-    def angular_velocities(self) -> NDArray[np.float64]:
-        """(T, B, 3)."""
-        return self.velocities[:, :, 3:]
-
-    @property
-    def ok(self) -> NDArray[np.bool_]:
-        """(T,) True where there was no LCP or it was solved."""
-        return np.isin(self.status, ("solved", NO_CONTACT))
-
-    @property
-    def failures(self) -> int:
-        """Steps whose LCP was not solved."""
-        return int((~self.ok).sum())
-
-    def displacement(self, body: int) -> NDArray[np.float64]:
-        """Final minus initial position of ``body`` (m)."""
-        if len(self) == 0:
-            return np.zeros(3)
-        return np.asarray(self.positions[-1, body] - self.initial_positions[body])
-
-    def tilt(self, body: int) -> NDArray[np.float64]:
-        """(T,) rotation angle of ``body`` from its initial orientation (rad)."""
-        return np.asarray(quat_angle(self.orientations[:, body], self.initial_orientations[body]), dtype=float)
-
-    def lcp_stats(self) -> LcpStats:
-        """Counts, failures by status, max residual and pivot statistics over the LCP steps."""
-        has = self.status != NO_CONTACT
-        statuses, counts = np.unique(self.status[has], return_counts=True)
-        piv = self.pivots[has]
-        return LcpStats(
-            steps=len(self),
-            lcps=int(has.sum()),
-            failures=self.failures,
-            by_status={str(s): int(c) for s, c in zip(statuses, counts)},
-            max_residual=float(self.residual[has].max(initial=0.0)),
-            pivots_median=float(np.median(piv)) if piv.size else 0.0,
-            pivots_max=int(piv.max(initial=0)),
-            max_lcp_size=int(self.lcp_size.max(initial=0)),
-            max_contacts=int(self.contacts.max(initial=0)),
-        )
-
-    @classmethod
-    def _from_parts(
-        cls, dt: float, parts: Sequence[Mapping[str, Any]], initial: Mapping[str, Any]
-    ) -> "Trajectory":
-        def cat(key: str) -> NDArray[Any]:
-            return parts[0][key] if len(parts) == 1 else np.concatenate([p[key] for p in parts])
-
-        return cls(
-            dt=dt,
-            time=cat("time"),
-            positions=cat("position"),
-            orientations=cat("orientation"),
-            velocities=np.concatenate([cat("velocity"), cat("angular_velocity")], axis=2),
-            status=_STATUS_NAMES[cat("status").astype(np.int64) + 1],
-            pivots=cat("iterations"),
-            residual=cat("residual"),
-            solver_residual=cat("solver_residual"),
-            lcp_size=cat("lcp_size"),
-            contacts=cat("contacts"),
-            normal_impulse=cat("normal_impulse"),
-            friction_impulse=cat("friction_impulse"),
-            max_lambda=cat("max_lambda"),
-            islands=cat("islands"),
-            max_island_size=cat("max_island_size"),
-            initial_positions=initial["position"],
-            initial_orientations=initial["orientation"],
-            initial_velocities=np.concatenate([initial["velocity"], initial["angular_velocity"]], axis=1),
-        )
-
 
 class World:
     """A rigid-body world stepped with the Stewart–Trinkle contact LCP.
@@ -379,9 +229,10 @@ class World:
     velocity_margin:
         Widen each pair's margin by how far it can close in one step.
     stabilization:
-        :class:`Stabilization` (default ERP 0.2, no slop, speculative gaps),
-        a mapping of its fields, or ``"none"``; its fields ``erp``, ``slop``,
-        ``speculative`` may also be given as keywords.
+        :class:`Stabilization` (default ERP 0.2, no slop, speculative gaps,
+        gaps within ±1e-12 m taken as touching), a mapping of its fields, or
+        ``"none"``; its fields (``erp``, ``slop``, ``speculative``,
+        ``gap_floor``) may also be given as keywords.
     restitution, restitution_threshold:
         Newton restitution coefficient e in [0, 1] (default 0) and the
         approach speed below which there is no bounce (m/s).
@@ -416,7 +267,7 @@ class World:
         # the cone scale's spellings (the one parser of lcpsim.scale).
         stab = as_stabilization(stabilization)
         direct: dict[str, Any] = {
-            k: solver_options.pop(k) for k in ("erp", "slop", "speculative") if k in solver_options
+            k: solver_options.pop(k) for k in STABILIZATION_FIELDS if k in solver_options
         }
         if direct:
             stab = Stabilization(**{**stab.__dict__, **direct})
@@ -431,6 +282,7 @@ class World:
             erp=stab.erp,
             slop=stab.slop,
             speculative=bool(stab.speculative),
+            gap_floor=stab.gap_floor,
             restitution=restitution,
             restitution_threshold=restitution_threshold,
             mu_combine=mu_combine,
@@ -543,11 +395,7 @@ class World:
         else:
             he = half_extents
         v, wv = _velocities(velocity, angular_velocity)
-        return int(
-            self._core.add_box(
-                he, mass, position, orientation, v, wv, mu, is_static=bool(static), inertia=inertia
-            )
-        )
+        return int(self._core.add_body("box", he, mass, position, orientation, v, wv, mu, bool(static), inertia))
 
     def add_sphere(
         self,
@@ -564,11 +412,7 @@ class World:
     ) -> int:
         """Adds a solid sphere and returns its index (``velocity`` may hold ``[v; ω]``)."""
         v, wv = _velocities(velocity, angular_velocity)
-        return int(
-            self._core.add_sphere(
-                radius, mass, position, orientation, v, wv, mu, is_static=bool(static), inertia=inertia
-            )
-        )
+        return int(self._core.add_body("sphere", radius, mass, position, orientation, v, wv, mu, bool(static), inertia))
 
     def add_plane(
         self, normal: Vec = (0.0, 0.0, 1.0), offset: float = 0.0, mu: float = 0.5, *, tangent: Vec | None = None
@@ -711,8 +555,10 @@ class World:
         steps: int,
         capture: CaptureTarget = None,
         *,
+        fclib: "str | os.PathLike[str] | None" = None,
         chunk_steps: int = 10_000,
         chunk_bytes: int = 64 << 20,
+        record_contacts: bool = False,
     ) -> Trajectory:
         """Runs ``steps`` steps (the loop in Rust, GIL released) and returns the :class:`Trajectory`.
 
@@ -721,13 +567,28 @@ class World:
         from Rust every ``chunk_steps`` steps or ``chunk_bytes`` of captured
         data and flushed, so memory stays bounded and an interrupted run
         leaves a readable file. A path is created (overwritten) with this
-        world's :meth:`config` as metadata and closed at the end."""
+        world's :meth:`config` as metadata and closed at the end. ``fclib``: a
+        directory receiving each LCP as an FCLib local problem (:mod:`lcpsim.fclib`).
+
+        ``record_contacts=True`` also records every step's contacts (points, normals,
+        impulses: :class:`ContactLog`, ``Trajectory.contact_log``) for the viewer
+        and ``Trajectory.save``; the steps are then taken one at a time (same
+        results, a few µs more per step) and ``capture`` is not available."""
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 0:
             raise ValueError(f"steps must be a non-negative integer, got {steps!r}")
         if isinstance(chunk_steps, bool) or not isinstance(chunk_steps, (int, np.integer)) or chunk_steps < 1:
             raise ValueError(f"chunk_steps must be a positive integer, got {chunk_steps!r}")
         initial: Mapping[str, Any] = self._core.state()
-        if capture is None:
+        config = self.config()
+        if record_contacts:
+            if capture is not None or fclib is not None:
+                raise ValueError("run: record_contacts=True steps one at a time and cannot capture; give one of the two")
+            parts, records = [self._core.run(0)], []
+            for _ in range(int(steps)):
+                parts.append(self._core.run(1))
+                records.append(self._core.last_record())
+            return Trajectory._from_parts(self.dt, parts, initial, config, ContactLog.from_records(records))
+        if capture is None and fclib is None:
             parts = []
             done = 0
             while True:
@@ -736,13 +597,12 @@ class World:
                 done += len(part["time"])
                 if done >= steps:
                     break
-            return Trajectory._from_parts(self.dt, parts, initial)
-        from .io.capture import CaptureWriter
+            return Trajectory._from_parts(self.dt, parts, initial, config)
+        from .io.sinks import RunSinks
 
-        own = not isinstance(capture, CaptureWriter)
-        writer = capture if isinstance(capture, CaptureWriter) else CaptureWriter(capture, metadata=self.config())
+        writer = RunSinks(capture, fclib, config)
         try:
-            writer.begin_run(self.config())
+            writer.begin_run(config)
             self._core.start_capture()
             parts = []
             done = 0
@@ -760,9 +620,8 @@ class World:
                 writer.append(self._core.drain_capture())
                 writer.flush()
         finally:
-            if own:
-                writer.close()
-        return Trajectory._from_parts(self.dt, parts, initial)
+            writer.close()
+        return Trajectory._from_parts(self.dt, parts, initial, config)
 
     def copy(self) -> "World":
         """An independent copy of the state, parameters and forces (no capture)."""

@@ -7,7 +7,7 @@ use std::hash::{DefaultHasher, Hash, Hasher};
 
 fn feed(h: &mut DefaultHasher, s: &Solution) {
     s.z.iter().chain(&s.w).for_each(|v| v.to_bits().hash(h));
-    (s.iterations, s.status, &s.basis).hash(h);
+    (s.pivots, s.status, &s.basis).hash(h);
 }
 
 fn main() {

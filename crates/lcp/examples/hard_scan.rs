@@ -6,7 +6,7 @@ use lcp::{lemke, Lcp, LemkeOptions, Solution, Status};
 
 /// Issue 5's criterion: solved, natural residual ≤ 1e-9·(1 + ‖q‖∞).
 fn solved(p: &Lcp, sol: &Solution) -> bool {
-    sol.status == Status::Solved && sol.residuals.natural <= 1e-9 * (1.0 + p.q_norm_inf())
+    sol.status == Status::Solved && sol.residuals.residual <= 1e-9 * (1.0 + p.q_norm_inf())
 }
 
 fn main() {
@@ -55,8 +55,8 @@ fn main() {
                     kind.as_str(),
                     p.n(),
                     sol.status,
-                    sol.residuals.natural,
-                    sol.iterations
+                    sol.residuals.residual,
+                    sol.pivots
                 );
             }
         }

@@ -12,7 +12,7 @@ fn main() {
     let mut ws = lemke::Workspace::new();
     for _ in 0..reps {
         for lcp in &set {
-            pivots += lemke::solve_in(lcp, &LemkeOptions::default(), None, &mut ws).iterations;
+            pivots += lemke::solve_in(lcp, &LemkeOptions::default(), None, &mut ws).pivots;
         }
     }
     println!("{} solves, {} pivots", reps * set.len(), pivots);

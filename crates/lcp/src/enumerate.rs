@@ -65,7 +65,7 @@ pub fn is_solution(lcp: &Lcp, z: &[f64], tol: f64) -> bool {
         return false;
     }
     let (_, r) = Residuals::compute(lcp, z);
-    r.natural <= tol
+    r.residual <= tol
 }
 
 fn same(a: &[f64], b: &[f64], tol: f64) -> bool {

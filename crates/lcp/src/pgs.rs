@@ -34,7 +34,7 @@ impl Default for PgsOptions {
 /// Solves `lcp` by projected Gauss–Seidel from `z = 0`. Never panics; `z` is always finite.
 ///
 /// Status: `Solved` when the natural residual is ≤ `o.tol` (checked before the
-/// first sweep and after each one; `iterations` counts sweeps) and the
+/// first sweep and after each one; `pivots` counts sweeps) and the
 /// iterate passes the acceptance rule ([`crate::accept`]; sweeps go on
 /// until both hold); `Numerical` when a sweep produced a non-finite value (divergence, or a non-finite ω) —
 /// `z` is then the last finite iterate; otherwise `MaxIterations`.

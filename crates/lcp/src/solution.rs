@@ -62,7 +62,7 @@ impl Status {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Residuals {
     /// Natural residual `‖min(z, w)‖∞`: the one measure shared by all solvers.
-    pub natural: f64,
+    pub residual: f64,
     /// `min_i z_i` (negative means infeasible).
     pub min_z: f64,
     /// `min_i w_i` (negative means infeasible).
@@ -74,9 +74,9 @@ pub struct Residuals {
 impl Residuals {
     /// Residuals of `z` and `w` (which should be `M z + q`).
     pub fn of(z: &[f64], w: &[f64]) -> Self {
-        let mut r = Residuals { natural: 0.0, min_z: f64::INFINITY, min_w: f64::INFINITY, max_complementarity: 0.0 };
+        let mut r = Residuals { residual: 0.0, min_z: f64::INFINITY, min_w: f64::INFINITY, max_complementarity: 0.0 };
         for (&zi, &wi) in z.iter().zip(w) {
-            r.natural = r.natural.max(zi.min(wi).abs());
+            r.residual = r.residual.max(zi.min(wi).abs());
             r.min_z = r.min_z.min(zi);
             r.min_w = r.min_w.min(wi);
             r.max_complementarity = r.max_complementarity.max((zi * wi).abs());
@@ -105,7 +105,7 @@ pub struct Solution {
     pub w: Vec<f64>,
     pub status: Status,
     /// Pivots (Lemke) or iterations (PGS sweeps, Newton steps).
-    pub iterations: usize,
+    pub pivots: usize,
     /// Residuals of `(z, w)` for the problem as given.
     pub residuals: Residuals,
     /// Lemke only: which `z_j` were basic at the end (the complementary basis),
@@ -119,15 +119,15 @@ pub struct Solution {
 impl Solution {
     /// Wraps a final `z`, recomputing `w` and the residuals from the problem,
     /// judged by the acceptance rule at [`crate::accept::DEFAULT_TOL`].
-    pub fn from_z(lcp: &Lcp, z: Vec<f64>, status: Status, iterations: usize) -> Self {
-        Self::from_z_tol(lcp, z, status, iterations, crate::accept::DEFAULT_TOL)
+    pub fn from_z(lcp: &Lcp, z: Vec<f64>, status: Status, pivots: usize) -> Self {
+        Self::from_z_tol(lcp, z, status, pivots, crate::accept::DEFAULT_TOL)
     }
 
     /// As [`Solution::from_z`], judged at `tol`.
-    pub fn from_z_tol(lcp: &Lcp, z: Vec<f64>, status: Status, iterations: usize, tol: f64) -> Self {
+    pub fn from_z_tol(lcp: &Lcp, z: Vec<f64>, status: Status, pivots: usize, tol: f64) -> Self {
         let (w, residuals) = Residuals::compute(lcp, &z);
         let accepted = crate::accept::accepts(lcp, &z, &w, tol);
-        Solution { z, w, status, iterations, residuals, basis: None, accepted }
+        Solution { z, w, status, pivots, residuals, basis: None, accepted }
     }
 
     /// `true` only for `Status::Solved` with an answer the acceptance rule accepts.

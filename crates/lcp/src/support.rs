@@ -141,8 +141,8 @@ pub fn solve_on_basis(
         ws.z.iter_mut().for_each(|v| *v = v.max(0.0));
         op.w_of(&ws.z, &mut ws.w);
         let residuals = Residuals::of(&ws.z, &ws.w);
-        let closer = best.as_ref().is_none_or(|b| residuals.natural < b.solution.residuals.natural);
-        if residuals.natural <= tol && closer && accepted_by(also, &ws.z, accept_tol) {
+        let closer = best.as_ref().is_none_or(|b| residuals.residual < b.solution.residuals.residual);
+        if residuals.residual <= tol && closer && accepted_by(also, &ws.z, accept_tol) {
             let mut used = vec![false; n];
             for &c in &ws.cols[..rank] {
                 used[ws.support[c]] = true;
@@ -151,7 +151,7 @@ pub fn solve_on_basis(
                 z: ws.z.clone(),
                 w: ws.w.clone(),
                 status: Status::Solved,
-                iterations: 0,
+                pivots: 0,
                 residuals,
                 basis: Some(used),
                 // By the bound above (normwise: `M` is not formed here, so the
@@ -217,7 +217,7 @@ fn accepted_by(also: Option<(&dyn LcpOperator, &dyn Fn(&[f64], &mut Vec<f64>))>,
     map(z, &mut z2);
     let mut w2 = vec![0.0; z.len()];
     other.w_of(&z2, &mut w2);
-    Residuals::of(&z2, &w2).natural <= accept_tol * (1.0 + norm_inf(other.q()))
+    Residuals::of(&z2, &w2).residual <= accept_tol * (1.0 + norm_inf(other.q()))
 }
 
 fn norm_inf(v: &[f64]) -> f64 {
@@ -271,12 +271,15 @@ fn factor(op: &dyn LcpOperator, ws: &mut SupportWorkspace) -> Option<usize> {
             ws.rows.swap(k, pr);
         }
         let p = a[k * m + k];
-        for r in k + 1..m {
-            let l = a[r * m + k] / p;
-            a[r * m + k] = l;
+        // Rows below k minus multiples of row k (slices, so the update vectorizes).
+        let (top, below) = a.split_at_mut((k + 1) * m);
+        let pivot_row = &top[k * m + k + 1..(k + 1) * m];
+        for row in below.chunks_exact_mut(m) {
+            let l = row[k] / p;
+            row[k] = l;
             if l != 0.0 {
-                for c in k + 1..m {
-                    a[r * m + c] -= l * a[k * m + c];
+                for (x, &u) in row[k + 1..].iter_mut().zip(pivot_row) {
+                    *x -= l * u;
                 }
             }
         }

@@ -77,7 +77,7 @@ fn murty_is_exponential_for_plain_lemke() {
             let o = LemkeOptions { pivoting, equilibrate: false, max_pivots: Some(10_000), ..LemkeOptions::default() };
             let s = lemke::solve(&lcp, &o);
             assert_eq!(s.status, Status::Solved, "{pivoting:?} n = {n}");
-            assert_eq!(s.iterations, 1 << n, "{pivoting:?} n = {n}");
+            assert_eq!(s.pivots, 1 << n, "{pivoting:?} n = {n}");
         }
     }
 }

@@ -20,7 +20,7 @@ fn q_nonnegative_is_solved_by_zero_without_pivots() {
     let lcp = Lcp::new(vec![2.0, 1.0, 1.0, 2.0], vec![1.0, 0.0]).unwrap();
     let s = lemke(&lcp);
     assert_eq!(s.status, Status::Solved);
-    assert_eq!(s.iterations, 0);
+    assert_eq!(s.pivots, 0);
     assert_eq!(s.z, vec![0.0, 0.0]);
 }
 
@@ -150,7 +150,7 @@ fn pivot_limit_is_reported() {
     let o = LemkeOptions { max_pivots: Some(3), fallback: false, ..lex() };
     let s = lcp::lemke::solve(&lcp, &o);
     assert_eq!(s.status, Status::MaxPivots);
-    assert_eq!(s.iterations, 3);
+    assert_eq!(s.pivots, 3);
     assert_eq!((s.z.len(), s.w.len()), (40, 40));
 }
 
@@ -161,7 +161,7 @@ fn pivot_budget_spans_the_ladder_and_tiny_q_is_fine() {
     for limit in [0usize, 1, 2, 5] {
         let s = lcp::lemke::solve(&lcp, &LemkeOptions { max_pivots: Some(limit), ..lex() });
         assert_eq!(s.status, Status::MaxPivots);
-        assert!(s.iterations <= limit.max(1), "limit {limit}: {} pivots", s.iterations);
+        assert!(s.pivots <= limit.max(1), "limit {limit}: {} pivots", s.pivots);
     }
     for q in [2.2e-313, 5e-324, -5e-324, -2.2e-313] {
         for m in [0.0, 1.0] {
@@ -174,7 +174,7 @@ fn pivot_budget_spans_the_ladder_and_tiny_q_is_fine() {
                 // Infeasible by a subnormal: within round-off of feasible, and
                 // the residual check (not the pivoting) decides. It must say so
                 // honestly: the residual is that subnormal.
-                assert!(s.residuals.natural <= q.abs(), "m {m} q {q:e}: {:?}", s.residuals);
+                assert!(s.residuals.residual <= q.abs(), "m {m} q {q:e}: {:?}", s.residuals);
             } else {
                 assert_eq!(s.status, Status::RayTermination);
             }
@@ -199,7 +199,7 @@ fn warm_start_saves_pivots_and_never_hurts() {
         let basis = first.basis.clone().unwrap();
         let again = lcp::lemke::solve_warm(&lcp, &lex(), Some(&basis));
         assert_eq!(again.status, Status::Solved);
-        assert_eq!(again.iterations, 0, "seed {seed}");
+        assert_eq!(again.pivots, 0, "seed {seed}");
         assert_solves(&lcp, &again.z, 1e-9);
         // The next time step: same structure, q moved a little.
         let (m, q) = lcp.clone().into_parts();
@@ -210,8 +210,8 @@ fn warm_start_saves_pivots_and_never_hurts() {
         let w = lcp::lemke::solve_warm(&next, &lex(), Some(&basis));
         assert_eq!((c.status, w.status), (Status::Solved, Status::Solved), "seed {seed}");
         assert_solves(&next, &w.z, 1e-9);
-        cold += c.iterations;
-        warm += w.iterations;
+        cold += c.pivots;
+        warm += w.pivots;
         // A basis of nonsense still ends in a checked solution.
         let wrong: Vec<bool> = (0..lcp.n()).map(|j| (j + seed as usize) % 3 == 0).collect();
         let s = lcp::lemke::solve_warm(&lcp, &lex(), Some(&wrong));
@@ -231,7 +231,7 @@ fn pivot_trace_matches_the_pivot_count() {
         for o in [lex(), LemkeOptions::classic()] {
             let (s, trace) = lcp::lemke::solve_traced(&lcp, &o, None);
             assert_eq!(s, lcp::lemke::solve(&lcp, &o), "tracing must not change the answer");
-            assert_eq!(trace.len(), s.iterations, "seed {seed}");
+            assert_eq!(trace.len(), s.pivots, "seed {seed}");
             if let Some(first) = trace.first() {
                 assert_eq!(first.entering, 2 * n, "z0 enters first");
             }

@@ -18,7 +18,7 @@ fn assert_contract(lcp: &Lcp, s: &Solution) {
     assert!(s.z.iter().chain(&s.w).all(|v| v.is_finite()), "non-finite output: {s:?}");
     assert_eq!(s.w, lcp.w_of(&s.z));
     if s.status == Status::Solved {
-        assert!(s.residuals.natural.is_finite());
+        assert!(s.residuals.residual.is_finite());
     }
 }
 
@@ -38,7 +38,7 @@ proptest! {
         let s = pgs::solve(&lcp, &PgsOptions::default());
         assert_contract(&lcp, &s);
         prop_assert_eq!(s.status, Status::Solved);
-        prop_assert!(s.residuals.natural <= 1e-10);
+        prop_assert!(s.residuals.residual <= 1e-10);
         // Natural residual 1e-10 and cond(M) ≤ ~40 bound the error by ~1e-8.
         prop_assert!(max_diff(&s.z, &unique_solution(&lcp)) < 1e-7);
     }
@@ -58,7 +58,7 @@ proptest! {
         let s = newton_fb::solve(&lcp, &NewtonFbOptions::default());
         assert_contract(&lcp, &s);
         prop_assert_eq!(s.status, Status::Solved, "{:?}", s);
-        prop_assert!(s.residuals.natural <= 1e-12);
+        prop_assert!(s.residuals.residual <= 1e-12);
         prop_assert!(max_diff(&s.z, &unique_solution(&lcp)) < 1e-9);
     }
 
@@ -115,7 +115,7 @@ proptest! {
         let lcp = sc.apply(&base);
         let s = newton_fb::solve(&lcp, &NewtonFbOptions { tol: 1e-9, ..NewtonFbOptions::default() });
         prop_assert_eq!(s.status, Status::Solved);
-        prop_assert!(s.residuals.natural <= 1e-9);
+        prop_assert!(s.residuals.residual <= 1e-9);
         // z* = D_c z'; a residual of 1e-9 in scaled units is at most 1e-9·2^10 in original ones.
         let z = sc.z_back(&s.z);
         prop_assert!(max_diff(&z, &unique_solution(&base)) < 1e-4);
@@ -127,14 +127,14 @@ fn newton_warm_start() {
     let lcp = p_matrix_lcp(10, 4);
     let o = NewtonFbOptions::default();
     let cold = newton_fb::solve(&lcp, &o);
-    assert!(cold.ok() && cold.iterations > 1);
+    assert!(cold.ok() && cold.pivots > 1);
     // From the solution: nothing to do.
     let warm = newton_fb::solve_from(&lcp, &cold.z, &o);
-    assert_eq!((warm.status, warm.iterations), (Status::Solved, 0));
+    assert_eq!((warm.status, warm.pivots), (Status::Solved, 0));
     // From a perturbed solution: fewer steps than cold.
     let near: Vec<f64> = cold.z.iter().map(|z| z + 1e-4).collect();
     let warm = newton_fb::solve_from(&lcp, &near, &o);
-    assert!(warm.ok() && warm.iterations < cold.iterations, "{} vs {}", warm.iterations, cold.iterations);
+    assert!(warm.ok() && warm.pivots < cold.pivots, "{} vs {}", warm.pivots, cold.pivots);
     // Unusable starts are ignored.
     assert_eq!(newton_fb::solve_from(&lcp, &[1.0], &o), cold);
     assert_eq!(newton_fb::solve_from(&lcp, &[f64::NAN; 10], &o), cold);
@@ -163,7 +163,7 @@ fn larger_problems_converge() {
         let lcp = spd_lcp(60, seed);
         let n = newton_fb::solve(&lcp, &NewtonFbOptions::default());
         assert_eq!(n.status, Status::Solved, "seed {seed}");
-        assert!(n.iterations < 30, "Newton took {} steps", n.iterations);
+        assert!(n.pivots < 30, "Newton took {} steps", n.pivots);
         let p = pgs::solve(&lcp, &PgsOptions::default());
         assert_eq!(p.status, Status::Solved, "seed {seed}");
         assert!(max_diff(&n.z, &p.z) < 1e-7);
@@ -179,7 +179,7 @@ fn trivial_q_nonnegative_is_solved_at_zero_without_iterating() {
     let lcp = Lcp::new(vec![2.0, 1.0, 1.0, 2.0], vec![0.5, 0.0]).unwrap();
     for s in [pgs::solve(&lcp, &PgsOptions::default()), newton_fb::solve(&lcp, &NewtonFbOptions::default())] {
         assert_eq!(s.status, Status::Solved);
-        assert_eq!(s.iterations, 0);
+        assert_eq!(s.pivots, 0);
         assert_eq!(s.z, vec![0.0, 0.0]);
     }
 }
@@ -189,7 +189,7 @@ fn pgs_solves_1x1_in_one_sweep() {
     // z = −q/M exactly.
     let lcp = Lcp::new(vec![4.0], vec![-2.0]).unwrap();
     let s = pgs::solve(&lcp, &PgsOptions::default());
-    assert_eq!((s.status, s.iterations), (Status::Solved, 1));
+    assert_eq!((s.status, s.pivots), (Status::Solved, 1));
     assert_eq!(s.z, vec![0.5]);
 }
 
@@ -201,7 +201,7 @@ fn pgs_skips_zero_and_negative_diagonal_rows() {
     assert_contract(&lcp, &s);
     assert_eq!(s.status, Status::MaxIterations);
     assert_eq!(s.z[0], 0.0);
-    assert_eq!(s.iterations, 50);
+    assert_eq!(s.pivots, 50);
 
     // Negative diagonal: skipped as well; the LCP M=[-1], q=[-1] has no solution anyway.
     let lcp = Lcp::new(vec![-1.0], vec![-1.0]).unwrap();

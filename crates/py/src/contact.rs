@@ -83,31 +83,27 @@ impl PyContactLayout {
     /// Slice of `fn` in `z`.
     #[getter(r#fn)]
     fn fn_slice<'py>(&self, py: Python<'py>) -> Bound<'py, PySlice> {
-        let r = self.0.fn_range();
-        PySlice::new(py, r.start as isize, r.end as isize, 1)
+        slice(py, self.0.fn_range())
     }
     /// Slice of `fd` in `z` (reshape to `(nc, k)`: contact-major).
     #[getter]
     fn fd<'py>(&self, py: Python<'py>) -> Bound<'py, PySlice> {
-        let r = self.0.fd_range();
-        PySlice::new(py, r.start as isize, r.end as isize, 1)
+        slice(py, self.0.fd_range())
     }
     /// Slice of `λ` in `z`.
     #[getter]
     fn lam<'py>(&self, py: Python<'py>) -> Bound<'py, PySlice> {
-        let r = self.0.lambda_range();
-        PySlice::new(py, r.start as isize, r.end as isize, 1)
+        slice(py, self.0.lambda_range())
     }
     /// Slice of the `[fn; fd]` part.
     #[getter]
     fn force<'py>(&self, py: Python<'py>) -> Bound<'py, PySlice> {
-        PySlice::new(py, 0, self.0.impulses() as isize, 1)
+        slice(py, 0..self.0.impulses())
     }
     /// Slice of contact `c`'s `fd`.
     fn fd_of<'py>(&self, py: Python<'py>, c: usize) -> PyResult<Bound<'py, PySlice>> {
         self.check_contact(c)?;
-        let r = self.0.fd_of(c);
-        Ok(PySlice::new(py, r.start as isize, r.end as isize, 1))
+        Ok(slice(py, self.0.fd_of(c)))
     }
     /// Index of `fd` along direction `j` at contact `c`.
     fn fd_index(&self, c: usize, j: usize) -> PyResult<usize> {
@@ -242,4 +238,9 @@ impl PyContactLayout {
             Err(value_error(format!("contact c = {c} out of range for nc = {}", self.0.nc)))
         }
     }
+}
+
+/// A Python `slice` of `r`.
+fn slice(py: Python<'_>, r: std::ops::Range<usize>) -> Bound<'_, PySlice> {
+    PySlice::new(py, r.start as isize, r.end as isize, 1)
 }

@@ -71,20 +71,28 @@ pub fn contact_lcp(py: Python<'_>, nc: usize, k: usize, scale: f64, seed: u64) -
 #[pyfunction]
 #[pyo3(signature = (n, seed = 0))]
 pub fn spd_lcp(py: Python<'_>, n: usize, seed: u64) -> PyResult<PlainTuple<'_>> {
-    check_positive(n, "n")?;
-    let lcp = py.detach(|| generate::spd_lcp(n, seed));
-    let (m, q) = to_numpy(py, lcp)?;
-    Ok((m, q, format!("spd/n{n}/seed{seed}")))
+    matrix_lcp(py, "spd", n, seed, generate::spd_lcp)
 }
 
 /// A random LCP with a nonsymmetric positive definite (P) `M` (`generate::p_matrix_lcp`).
 #[pyfunction]
 #[pyo3(signature = (n, seed = 0))]
 pub fn p_matrix_lcp(py: Python<'_>, n: usize, seed: u64) -> PyResult<PlainTuple<'_>> {
+    matrix_lcp(py, "p_matrix", n, seed, generate::p_matrix_lcp)
+}
+
+/// A seeded matrix generator's LCP of size `n`, labelled `family/nN/seedS`.
+fn matrix_lcp<'py>(
+    py: Python<'py>,
+    family: &str,
+    n: usize,
+    seed: u64,
+    make: fn(usize, u64) -> Lcp,
+) -> PyResult<PlainTuple<'py>> {
     check_positive(n, "n")?;
-    let lcp = py.detach(|| generate::p_matrix_lcp(n, seed));
+    let lcp = py.detach(|| make(n, seed));
     let (m, q) = to_numpy(py, lcp)?;
-    Ok((m, q, format!("p_matrix/n{n}/seed{seed}")))
+    Ok((m, q, format!("{family}/n{n}/seed{seed}")))
 }
 
 /// A hard contact LCP of family `kind` (`sim::generate::hard_contact_lcp_k`); the

@@ -128,10 +128,10 @@ pub fn solve_lcp_batch<'py>(
 pub fn lcp_residual(m: &Bound<'_, PyAny>, q: &Bound<'_, PyAny>, z: &Bound<'_, PyAny>) -> PyResult<f64> {
     let lcp = lcp_from_py(m, q)?;
     let z = vector_of_len(z, "z", lcp.n())?;
-    Ok(Residuals::compute(&lcp, &z).1.natural)
+    Ok(Residuals::compute(&lcp, &z).1.residual)
 }
 
-/// All residuals of `z` for `(M, q)`: a dict with `w`, `natural`, `min_z`,
+/// All residuals of `z` for `(M, q)`: a dict with `w`, `residual`, `min_z`,
 /// `min_w` and `max_complementarity`.
 #[pyfunction]
 #[pyo3(signature = (m, q, z))]

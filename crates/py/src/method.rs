@@ -73,13 +73,25 @@ fn unknown_option(method: &str, name: &str, valid: &[&str]) -> PyErr {
     value_error(format!("unknown option {name:?} for method {method:?} (valid options: {})", valid.join(", ")))
 }
 
-fn lemke_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<LemkeOptions> {
-    let mut o = LemkeOptions::default();
+/// Calls `set(name, value)` for each option given; `None` values are skipped
+/// (they mean "the default") except for the options in `nullable`.
+fn each_option(
+    options: Option<&Bound<'_, PyDict>>,
+    nullable: &[&str],
+    mut set: impl FnMut(&str, Bound<'_, PyAny>) -> PyResult<()>,
+) -> PyResult<()> {
     for (key, value) in options.into_iter().flat_map(|d| d.iter()) {
         let name: &str = key.extract()?;
-        if value.is_none() && name != "max_pivots" {
-            continue; // `None` means "the default".
+        if !value.is_none() || nullable.contains(&name) {
+            set(name, value)?;
         }
+    }
+    Ok(())
+}
+
+fn lemke_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<LemkeOptions> {
+    let mut o = LemkeOptions::default();
+    each_option(options, &["max_pivots"], |name, value| {
         match name {
             "pivoting" => {
                 let s: &str = value
@@ -100,34 +112,28 @@ fn lemke_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<LemkeOptions> 
             "warm_start" => o.warm_start = boolean(name, &value)?,
             _ => return Err(unknown_option("lemke", name, &LEMKE_OPTIONS)),
         }
-    }
+        Ok(())
+    })?;
     Ok(o)
 }
 
 fn pgs_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<PgsOptions> {
     let mut o = PgsOptions::default();
-    for (key, value) in options.into_iter().flat_map(|d| d.iter()) {
-        let name: &str = key.extract()?;
-        if value.is_none() {
-            continue;
-        }
+    each_option(options, &[], |name, value| {
         match name {
             "omega" => o.omega = open_interval(name, &value, 0.0, 2.0)?,
             "max_iterations" => o.max_iterations = count(name, &value)?,
             "tol" => o.tol = tolerance(name, &value)?,
             _ => return Err(unknown_option("pgs", name, &PGS_OPTIONS)),
         }
-    }
+        Ok(())
+    })?;
     Ok(o)
 }
 
 fn newton_fb_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<NewtonFbOptions> {
     let mut o = NewtonFbOptions::default();
-    for (key, value) in options.into_iter().flat_map(|d| d.iter()) {
-        let name: &str = key.extract()?;
-        if value.is_none() {
-            continue;
-        }
+    each_option(options, &[], |name, value| {
         match name {
             "max_iterations" => o.max_iterations = count(name, &value)?,
             "tol" => o.tol = tolerance(name, &value)?,
@@ -143,7 +149,8 @@ fn newton_fb_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<NewtonFbOp
             }
             _ => return Err(unknown_option("newton_fb", name, &NEWTON_FB_OPTIONS)),
         }
-    }
+        Ok(())
+    })?;
     Ok(o)
 }
 

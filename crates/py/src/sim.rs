@@ -14,7 +14,7 @@ pub use scenes::{build_scene, SCENES};
 use crate::errors::{panic_error, value_error};
 use crate::method::method_from_py;
 use capture::{status_code, CaptureBuffer};
-use convert::{cone_scale, cone_scale_to_py, mat3, mu_combine_name, opt_vec3, quat, real, sim_error, vec3};
+use convert::{cone_scale, cone_scale_to_py, mat3, mu_combine_name, opt_vec3, or_default, quat, real, sim_error, vec3};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::intern;
 use pyo3::prelude::*;
@@ -63,37 +63,21 @@ impl World {
         self.shared().params().clone()
     }
 
+    /// `set(world, body, value)`: one of the world's per-body setters, guarded.
+    fn on_body<T>(
+        &mut self,
+        body: usize,
+        value: T,
+        set: fn(&mut sim::World, BodyId, T) -> Result<(), sim::SimError>,
+    ) -> PyResult<()> {
+        let w = self.inner();
+        guarded(|| set(w, BodyId(body), value))
+    }
+
     fn add(&mut self, desc: BodyDesc) -> PyResult<usize> {
         let w = self.inner();
         guarded(|| w.add_body(desc)).map(|id| id.0)
     }
-}
-
-/// Fills a body description's common fields from Python arguments.
-#[allow(clippy::too_many_arguments)]
-fn describe(
-    mut d: BodyDesc,
-    mass: &Bound<'_, PyAny>,
-    position: &Bound<'_, PyAny>,
-    orientation: &Bound<'_, PyAny>,
-    velocity: &Bound<'_, PyAny>,
-    angular_velocity: &Bound<'_, PyAny>,
-    mu: &Bound<'_, PyAny>,
-    is_static: bool,
-    inertia: Option<&Bound<'_, PyAny>>,
-) -> PyResult<BodyDesc> {
-    d = d
-        .mass(real(mass, "mass")?)
-        .position(vec3(position, "position")?)
-        .orientation(quat(orientation, "orientation")?)
-        .velocity(vec3(velocity, "velocity")?)
-        .angular_velocity(vec3(angular_velocity, "angular_velocity")?)
-        .mu(real(mu, "mu")?)
-        .fixed(is_static);
-    if let Some(i) = inertia.filter(|i| !i.is_none()) {
-        d = d.inertia(mat3(i, "inertia")?);
-    }
-    Ok(d)
 }
 
 fn arr3<'py>(py: Python<'py>, v: Vec3) -> Bound<'py, PyArray1<f64>> {
@@ -137,12 +121,12 @@ fn record_to_dict<'py>(py: Python<'py>, r: &StepRecord) -> PyResult<Bound<'py, P
     d.set_item(intern!(py, "lcp_size"), r.lcp_size)?;
     d.set_item(intern!(py, "scale"), r.scale)?;
     d.set_item(intern!(py, "status"), r.status.map_or(NO_CONTACT, |s| s.as_str()))?;
-    d.set_item(intern!(py, "pivots"), r.iterations)?;
-    d.set_item(intern!(py, "residual"), r.residuals.natural)?;
+    d.set_item(intern!(py, "pivots"), r.pivots)?;
+    d.set_item(intern!(py, "residual"), r.residuals.residual)?;
     d.set_item(intern!(py, "min_z"), r.residuals.min_z)?;
     d.set_item(intern!(py, "min_w"), r.residuals.min_w)?;
     d.set_item(intern!(py, "max_complementarity"), r.residuals.max_complementarity)?;
-    d.set_item(intern!(py, "solver_residual"), r.solver_residuals.natural)?;
+    d.set_item(intern!(py, "solver_residual"), r.solver_residuals.residual)?;
     d.set_item(intern!(py, "zeroed"), r.zeroed)?;
     d.set_item(intern!(py, "energy_before"), r.energy.before)?;
     d.set_item(intern!(py, "energy_after"), r.energy.after)?;
@@ -214,7 +198,7 @@ fn islands_to_dict(py: Python<'_>, r: &StepRecord, d: &Bound<'_, PyDict>) -> PyR
     d.set_item(intern!(py, "island_of_contact"), copied(py, &of_contact, &[r.nc()]))?;
     d.set_item(intern!(py, "island_bodies"), pyo3::types::PyTuple::new(py, bodies)?)?;
     d.set_item(intern!(py, "island_lcp_size"), copied(py, &each(|i| i.lcp_size as i64), &[count]))?;
-    d.set_item(intern!(py, "island_pivots"), copied(py, &each(|i| i.iterations as i64), &[count]))?;
+    d.set_item(intern!(py, "island_pivots"), copied(py, &each(|i| i.pivots as i64), &[count]))?;
     let res: Vec<f64> = r.islands.iter().map(|i| i.residual).collect();
     d.set_item(intern!(py, "island_residual"), copied(py, &res, &[count]))?;
     let status = r.islands.iter().map(|i| i.status.as_str());
@@ -229,7 +213,7 @@ fn trajectory_to_dict(py: Python<'_>, t: Trajectory) -> PyResult<Bound<'_, PyDic
     let d = PyDict::new(py);
     d.set_item("contacts", ints(&t.contacts))?;
     d.set_item("lcp_size", ints(&t.lcp_size))?;
-    d.set_item("iterations", ints(&t.iterations))?;
+    d.set_item("pivots", ints(&t.pivots))?;
     d.set_item("islands", ints(&t.islands))?;
     d.set_item("max_island_size", ints(&t.max_island_size))?;
     d.set_item("status", PyArray1::from_vec(py, status))?;
@@ -251,7 +235,7 @@ impl World {
     #[new]
     #[pyo3(signature = (
         dt = None, gravity = None, friction_dirs = None, cone_scale = None, method = "lemke",
-        margin = None, velocity_margin = true, erp = None, slop = None, speculative = true,
+        margin = None, velocity_margin = true, erp = None, slop = None, speculative = true, gap_floor = None,
         restitution = None, restitution_threshold = None, mu_combine = "min", mu_override = None,
         threads = None, **options
     ))]
@@ -267,6 +251,7 @@ impl World {
         erp: Option<&Bound<'_, PyAny>>,
         slop: Option<&Bound<'_, PyAny>>,
         speculative: bool,
+        gap_floor: Option<&Bound<'_, PyAny>>,
         restitution: Option<&Bound<'_, PyAny>>,
         restitution_threshold: Option<&Bound<'_, PyAny>>,
         mu_combine: &str,
@@ -291,6 +276,7 @@ impl World {
                 erp: or(erp, "erp", d.stabilization.erp)?,
                 slop: or(slop, "slop", d.stabilization.slop)?,
                 speculative,
+                gap_floor: or(gap_floor, "gap_floor", d.stabilization.gap_floor)?,
             },
             restitution: Restitution {
                 coefficient: or(restitution, "restitution", d.restitution.coefficient)?,
@@ -318,6 +304,7 @@ impl World {
         d.set_item("erp", p.stabilization.erp)?;
         d.set_item("slop", p.stabilization.slop)?;
         d.set_item("speculative", p.stabilization.speculative)?;
+        d.set_item("gap_floor", p.stabilization.gap_floor)?;
         d.set_item("restitution", p.restitution.coefficient)?;
         d.set_item("restitution_threshold", p.restitution.threshold)?;
         d.set_item("mu_combine", mu_combine_name(p.mu_combine))?;
@@ -372,13 +359,17 @@ impl World {
 
     // ----- bodies -----
 
-    #[pyo3(signature = (half_extents, mass = None, position = None, orientation = None, velocity = None,
+    /// A box (`shape` "box", `size` its half extents) or a solid sphere
+    /// ("sphere", `size` its radius). Values not given (or None) keep
+    /// `sim::BodyDesc`'s defaults: mass 1, at the origin, upright, at rest,
+    /// μ 0.5, dynamic, the solid's inertia.
+    #[pyo3(signature = (shape, size, mass = None, position = None, orientation = None, velocity = None,
                         angular_velocity = None, mu = None, is_static = false, inertia = None))]
     #[allow(clippy::too_many_arguments)]
-    fn add_box(
+    fn add_body(
         &mut self,
-        py: Python<'_>,
-        half_extents: &Bound<'_, PyAny>,
+        shape: &str,
+        size: &Bound<'_, PyAny>,
         mass: Option<&Bound<'_, PyAny>>,
         position: Option<&Bound<'_, PyAny>>,
         orientation: Option<&Bound<'_, PyAny>>,
@@ -388,52 +379,19 @@ impl World {
         is_static: bool,
         inertia: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
-        let he = vec3(half_extents, "half_extents")?;
-        let d = body_args(
-            py,
-            BodyDesc::cuboid(he),
-            mass,
-            position,
-            orientation,
-            velocity,
-            angular_velocity,
-            mu,
-            is_static,
-            inertia,
-        )?;
-        self.add(d)
-    }
-
-    #[pyo3(signature = (radius, mass = None, position = None, orientation = None, velocity = None,
-                        angular_velocity = None, mu = None, is_static = false, inertia = None))]
-    #[allow(clippy::too_many_arguments)]
-    fn add_sphere(
-        &mut self,
-        py: Python<'_>,
-        radius: &Bound<'_, PyAny>,
-        mass: Option<&Bound<'_, PyAny>>,
-        position: Option<&Bound<'_, PyAny>>,
-        orientation: Option<&Bound<'_, PyAny>>,
-        velocity: Option<&Bound<'_, PyAny>>,
-        angular_velocity: Option<&Bound<'_, PyAny>>,
-        mu: Option<&Bound<'_, PyAny>>,
-        is_static: bool,
-        inertia: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<usize> {
-        let r = real(radius, "radius")?;
-        let d = body_args(
-            py,
-            BodyDesc::sphere(r),
-            mass,
-            position,
-            orientation,
-            velocity,
-            angular_velocity,
-            mu,
-            is_static,
-            inertia,
-        )?;
-        self.add(d)
+        let mut d = match shape {
+            "box" => BodyDesc::cuboid(vec3(size, "half_extents")?),
+            "sphere" => BodyDesc::sphere(real(size, "radius")?),
+            _ => return Err(value_error(format!("shape must be \"box\" or \"sphere\", got {shape:?}"))),
+        };
+        d.mass = or_default(mass, "mass", real, d.mass)?;
+        d.position = or_default(position, "position", vec3, d.position)?;
+        d.orientation = or_default(orientation, "orientation", quat, d.orientation)?;
+        d.velocity = or_default(velocity, "velocity", vec3, d.velocity)?;
+        d.angular_velocity = or_default(angular_velocity, "angular_velocity", vec3, d.angular_velocity)?;
+        d.mu = or_default(mu, "mu", real, d.mu)?;
+        d.inertia = or_default(inertia, "inertia", |v, f| mat3(v, f).map(Some), d.inertia)?;
+        self.add(d.fixed(is_static))
     }
 
     /// A static plane `normal·x = offset` (normal normalized; the solid is below it).
@@ -543,33 +501,23 @@ impl World {
     }
 
     fn set_position(&mut self, body: usize, position: &Bound<'_, PyAny>) -> PyResult<()> {
-        let p = vec3(position, "position")?;
-        let w = self.inner();
-        guarded(|| w.set_position(BodyId(body), p))
+        self.on_body(body, vec3(position, "position")?, sim::World::set_position)
     }
 
     fn set_orientation(&mut self, body: usize, orientation: &Bound<'_, PyAny>) -> PyResult<()> {
-        let q = quat(orientation, "orientation")?;
-        let w = self.inner();
-        guarded(|| w.set_orientation(BodyId(body), q))
+        self.on_body(body, quat(orientation, "orientation")?, sim::World::set_orientation)
     }
 
     fn set_velocity(&mut self, body: usize, velocity: &Bound<'_, PyAny>) -> PyResult<()> {
-        let v = vec3(velocity, "velocity")?;
-        let w = self.inner();
-        guarded(|| w.set_velocity(BodyId(body), v))
+        self.on_body(body, vec3(velocity, "velocity")?, sim::World::set_velocity)
     }
 
     fn set_angular_velocity(&mut self, body: usize, angular_velocity: &Bound<'_, PyAny>) -> PyResult<()> {
-        let v = vec3(angular_velocity, "angular_velocity")?;
-        let w = self.inner();
-        guarded(|| w.set_angular_velocity(BodyId(body), v))
+        self.on_body(body, vec3(angular_velocity, "angular_velocity")?, sim::World::set_angular_velocity)
     }
 
     fn set_mu(&mut self, body: usize, mu: &Bound<'_, PyAny>) -> PyResult<()> {
-        let m = real(mu, "mu")?;
-        let w = self.inner();
-        guarded(|| w.set_mu(BodyId(body), m))
+        self.on_body(body, real(mu, "mu")?, sim::World::set_mu)
     }
 
     // ----- forces -----
@@ -586,9 +534,7 @@ impl World {
 
     /// A constant torque (world frame, N·m).
     fn apply_torque(&mut self, body: usize, torque: &Bound<'_, PyAny>) -> PyResult<()> {
-        let t = vec3(torque, "torque")?;
-        let w = self.inner();
-        guarded(|| w.apply_torque(BodyId(body), t))
+        self.on_body(body, vec3(torque, "torque")?, sim::World::apply_torque)
     }
 
     fn clear_forces(&mut self) {
@@ -661,7 +607,7 @@ impl World {
     /// Takes the captured LCPs: a dict with flat `M`, `q`, `z`, `w` (problems
     /// concatenated) and per-problem `n`, `step`, `island`, `time`, `contacts`,
     /// `friction_dirs`, `scale`, `status` (index into STATUSES),
-    /// `iterations`, `method`.
+    /// `pivots`, `method`.
     fn drain_capture<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let buf = self.capture.clone().unwrap_or_default();
         buf.drain(py)
@@ -671,39 +617,4 @@ impl World {
         let w = self.shared();
         format!("World(bodies={}, steps={}, time={})", w.body_count(), w.steps(), w.time())
     }
-}
-
-#[allow(clippy::too_many_arguments)]
-fn body_args(
-    py: Python<'_>,
-    d: BodyDesc,
-    mass: Option<&Bound<'_, PyAny>>,
-    position: Option<&Bound<'_, PyAny>>,
-    orientation: Option<&Bound<'_, PyAny>>,
-    velocity: Option<&Bound<'_, PyAny>>,
-    angular_velocity: Option<&Bound<'_, PyAny>>,
-    mu: Option<&Bound<'_, PyAny>>,
-    is_static: bool,
-    inertia: Option<&Bound<'_, PyAny>>,
-) -> PyResult<BodyDesc> {
-    let one = 1.0f64.into_pyobject(py)?.into_any();
-    let half = 0.5f64.into_pyobject(py)?.into_any();
-    let zero3 = (0.0f64, 0.0f64, 0.0f64).into_pyobject(py)?.into_any();
-    let ident = (1.0f64, 0.0f64, 0.0f64, 0.0f64).into_pyobject(py)?.into_any();
-    describe(
-        d,
-        &pick(mass, &one),
-        &pick(position, &zero3),
-        &pick(orientation, &ident),
-        &pick(velocity, &zero3),
-        &pick(angular_velocity, &zero3),
-        &pick(mu, &half),
-        is_static,
-        inertia,
-    )
-}
-
-/// `o` unless it is missing or None, else `default`.
-fn pick<'py>(o: Option<&Bound<'py, PyAny>>, default: &Bound<'py, PyAny>) -> Bound<'py, PyAny> {
-    o.filter(|v| !v.is_none()).cloned().unwrap_or_else(|| default.clone())
 }

@@ -21,8 +21,8 @@ pub fn solution_to_dict<'py>(py: Python<'py>, s: Solution, method: &str) -> PyRe
     d.set_item(intern!(py, "w"), PyArray1::from_slice(py, &s.w))?;
     d.set_item(intern!(py, "status"), s.status.as_str())?;
     d.set_item(intern!(py, "ok"), s.ok())?;
-    d.set_item(intern!(py, "pivots"), s.iterations)?;
-    d.set_item(intern!(py, "residual"), r.natural)?;
+    d.set_item(intern!(py, "pivots"), s.pivots)?;
+    d.set_item(intern!(py, "residual"), r.residual)?;
     d.set_item(intern!(py, "min_z"), r.min_z)?;
     d.set_item(intern!(py, "min_w"), r.min_w)?;
     d.set_item(intern!(py, "max_complementarity"), r.max_complementarity)?;
@@ -37,7 +37,7 @@ pub fn solution_to_dict<'py>(py: Python<'py>, s: Solution, method: &str) -> PyRe
 /// The residual fields of a dict.
 pub fn residuals_into(d: &Bound<'_, PyDict>, r: &Residuals) -> PyResult<()> {
     let py = d.py();
-    d.set_item(intern!(py, "natural"), r.natural)?;
+    d.set_item(intern!(py, "residual"), r.residual)?;
     d.set_item(intern!(py, "min_z"), r.min_z)?;
     d.set_item(intern!(py, "min_w"), r.min_w)?;
     d.set_item(intern!(py, "max_complementarity"), r.max_complementarity)?;
@@ -45,7 +45,7 @@ pub fn residuals_into(d: &Bound<'_, PyDict>, r: &Residuals) -> PyResult<()> {
 }
 
 /// A batch of `b` solutions of size `n`, stacked: `z`, `w` of shape (b, n);
-/// `status` a list of str; `ok` (solved and accepted by `lcp::accept`), `iterations`, residuals of shape (b,); `basis` a
+/// `status` a list of str; `ok` (solved and accepted by `lcp::accept`); `pivots`, residuals of shape (b,); `basis` a
 /// (b, n) bool array when every solution has one, else None.
 pub fn batch_to_dict<'py>(
     py: Python<'py>,
@@ -56,8 +56,8 @@ pub fn batch_to_dict<'py>(
     let b = sols.len();
     let mut z = Vec::with_capacity(b * n);
     let mut w = Vec::with_capacity(b * n);
-    let mut iterations = Vec::with_capacity(b);
-    let (mut natural, mut min_z, mut min_w, mut max_c) =
+    let mut pivots = Vec::with_capacity(b);
+    let (mut residual, mut min_z, mut min_w, mut max_c) =
         (Vec::with_capacity(b), Vec::with_capacity(b), Vec::with_capacity(b), Vec::with_capacity(b));
     let all_basis = b > 0 && sols.iter().all(|s| s.basis.is_some());
     let mut basis = Vec::with_capacity(if all_basis { b * n } else { 0 });
@@ -67,8 +67,8 @@ pub fn batch_to_dict<'py>(
         ok.push(s.ok());
         z.extend_from_slice(&s.z);
         w.extend_from_slice(&s.w);
-        iterations.push(s.iterations as i64);
-        natural.push(s.residuals.natural);
+        pivots.push(s.pivots as i64);
+        residual.push(s.residuals.residual);
         min_z.push(s.residuals.min_z);
         min_w.push(s.residuals.min_w);
         max_c.push(s.residuals.max_complementarity);
@@ -82,8 +82,8 @@ pub fn batch_to_dict<'py>(
     d.set_item("w", PyArray1::from_vec(py, w).reshape([b, n])?)?;
     d.set_item("status", status)?;
     d.set_item("ok", PyArray1::from_vec(py, ok))?;
-    d.set_item("iterations", PyArray1::from_vec(py, iterations))?;
-    d.set_item("natural", PyArray1::from_vec(py, natural))?;
+    d.set_item("pivots", PyArray1::from_vec(py, pivots))?;
+    d.set_item("residual", PyArray1::from_vec(py, residual))?;
     d.set_item("min_z", PyArray1::from_vec(py, min_z))?;
     d.set_item("min_w", PyArray1::from_vec(py, min_w))?;
     d.set_item("max_complementarity", PyArray1::from_vec(py, max_c))?;

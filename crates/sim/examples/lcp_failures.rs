@@ -36,7 +36,7 @@ fn run(name: &str, mut scene: Scene, steps: usize, dir: &str) {
                 let prev_res = match &prev {
                     Some(p) if p.q.len() == c.q.len() => {
                         let l = sim::lcp::Lcp::new(c.m.clone(), c.q.clone()).unwrap();
-                        sim::lcp::Residuals::compute(&l, &p.z).1.natural
+                        sim::lcp::Residuals::compute(&l, &p.z).1.residual
                     }
                     _ => f64::NAN,
                 };

@@ -26,18 +26,18 @@ fn run(name: &str, build: impl Fn(WorldParams) -> Scene, steps: usize, threads: 
                 r.step,
                 ts.elapsed().as_secs_f64(),
                 r.islands.len(),
-                r.iterations
+                r.pivots
             );
         }
         for i in r.islands.iter().filter(|i| i.status != lcp::Status::Solved) {
             failures += 1;
             eprintln!(
                 "  step {}: island of LCP size {} ended {:?} after {} pivots",
-                r.step, i.lcp_size, i.status, i.iterations
+                r.step, i.lcp_size, i.status, i.pivots
             );
         }
-        pivots += r.iterations;
-        max_pivots = max_pivots.max(r.iterations);
+        pivots += r.pivots;
+        max_pivots = max_pivots.max(r.pivots);
         islands += r.islands.len();
         max_n = max_n.max(r.islands.iter().map(|i| i.lcp_size).max().unwrap_or(0));
         pen = r.contacts.iter().fold(pen, |p, c| p.max(-c.gap));

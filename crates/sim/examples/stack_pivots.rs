@@ -24,7 +24,7 @@ fn main() {
         for _ in 0..steps {
             let r = s.world.step().unwrap();
             failures += usize::from(!r.ok());
-            pivots.push(r.iterations);
+            pivots.push(r.pivots);
         }
         let dt = t0.elapsed().as_secs_f64();
         let drift = (s.world.body(s.body).unwrap().position() - top).norm();

@@ -20,8 +20,8 @@ fn main() {
         let t = Instant::now();
         for _ in 0..steps {
             let r = s.world.step().expect("finite state");
-            pivoting += (r.iterations > 0) as usize;
-            pivots += r.iterations;
+            pivoting += (r.pivots > 0) as usize;
+            pivots += r.pivots;
             failures += (!r.ok()) as usize;
         }
         let rate = steps as f64 / t.elapsed().as_secs_f64();

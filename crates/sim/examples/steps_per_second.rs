@@ -16,7 +16,7 @@ fn time(name: &str, mut scene: sim::scenes::Scene, steps: usize) {
     for _ in 0..steps {
         let r = scene.world.step().unwrap();
         failures += usize::from(!r.ok());
-        pivots += r.iterations;
+        pivots += r.pivots;
         size = size.max(r.lcp_size);
     }
     let dt = t0.elapsed().as_secs_f64();

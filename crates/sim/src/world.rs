@@ -195,25 +195,26 @@ impl World {
         Ok(b)
     }
 
-    /// Moves a body (static boxes and spheres too; planes cannot move).
-    pub fn set_position(&mut self, id: BodyId, p: Vec3) -> Result<(), SimError> {
-        finite_vec("position", p)?;
+    /// A body that can be placed: any but a plane (static boxes and spheres too).
+    fn placeable_mut(&mut self, id: BodyId) -> Result<&mut Body, SimError> {
         let b = self.body_mut(id)?;
         if matches!(b.shape, Shape::Plane(_)) {
             return Err(SimError::StaticBody { index: id.0 });
         }
-        b.position = p;
+        Ok(b)
+    }
+
+    /// Moves a body (static boxes and spheres too; planes cannot move).
+    pub fn set_position(&mut self, id: BodyId, p: Vec3) -> Result<(), SimError> {
+        finite_vec("position", p)?;
+        self.placeable_mut(id)?.position = p;
         Ok(())
     }
 
     /// Sets the orientation (normalized; a zero quaternion is an error).
     pub fn set_orientation(&mut self, id: BodyId, q: Quat) -> Result<(), SimError> {
         let q = crate::dynamics::body::normalize_quat(q)?;
-        let b = self.body_mut(id)?;
-        if matches!(b.shape, Shape::Plane(_)) {
-            return Err(SimError::StaticBody { index: id.0 });
-        }
-        b.orientation = q;
+        self.placeable_mut(id)?.orientation = q;
         Ok(())
     }
 

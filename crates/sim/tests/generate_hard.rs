@@ -296,14 +296,14 @@ fn lemke_on_the_hard_corpus() {
             let sol = lemke::solve(p, &opts);
             lemke_time += t_lemke.elapsed().as_secs_f64();
             let qn = p.q().iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            let ok = sol.status == Status::Solved && sol.residuals.natural <= 1e-9 * (1.0 + qn);
+            let ok = sol.status == Status::Solved && sol.residuals.residual <= 1e-9 * (1.0 + qn);
             *by_status.entry(if ok { "solved" } else { sol.status.as_str() }).or_insert(0) += 1;
             if !ok {
                 total_failures += 1;
                 let kind = label.split('/').next().unwrap().to_string();
                 *fails.entry(kind).or_insert(0) += 1;
                 if first_fails.len() < 10 {
-                    first_fails.push(format!("{label}: {:?} natural {:.2e}", sol.status, sol.residuals.natural));
+                    first_fails.push(format!("{label}: {:?} natural {:.2e}", sol.status, sol.residuals.residual));
                 }
             }
             if let (true, Some(basis)) = (p.n() <= cert_max_n, sol.basis.as_ref()) {

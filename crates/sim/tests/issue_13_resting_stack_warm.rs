@@ -25,7 +25,7 @@ fn resting_five_box_stack_takes_no_pivots_once_settled() {
             assert!(rel(f, expect) < 1e-6, "step {step}: interface {j} carries {f:e}, expected {expect:e}");
         }
         if step >= 50 {
-            pivots.push(r.iterations);
+            pivots.push(r.pivots);
         }
     }
     pivots.sort_unstable();

@@ -19,7 +19,7 @@ fn pivots(build: &dyn Fn(WorldParams) -> Scene, warm: bool, steps: usize) -> Vec
         .filter_map(|i| {
             let r = s.world.step().unwrap();
             assert_eq!(r.status, Some(Status::Solved), "step {i}");
-            (i > 0).then_some(r.iterations)
+            (i > 0).then_some(r.pivots)
         })
         .collect()
 }

@@ -13,7 +13,9 @@ from .. import __version__
 # Each registers its subcommands, in the order `lcpsim --help` lists them.
 from . import solve  # noqa: F401
 from . import simulate  # noqa: F401
+from . import view  # noqa: F401
 from . import experiments  # noqa: F401
+from . import fclib  # noqa: F401
 from .command import EXIT_NOT_SOLVED, EXIT_OK, EXIT_USAGE, CliError, Command, commands, register_command
 
 __all__ = [

@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -26,7 +27,7 @@ from ..scale import cone_scale_argument
 from ..scenes import SCENES, Scene, scene_parameters
 from ..world import Trajectory
 
-__all__ = ["simulate_summary"]
+__all__ = ["simulate_summary", "add_run_arguments", "build_scene"]
 
 # Scene parameters as options: the union over all scenes; type from the default.
 _INT_PARAMS = {"n", "nx", "ny", "nz", "seed"}
@@ -44,6 +45,14 @@ def _all_scene_params() -> dict[str, set[str]]:
 
 def _configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("scene", choices=list(SCENES), metavar="SCENE", help=f"one of: {', '.join(SCENES)}")
+    add_run_arguments(p)
+    p.add_argument("--capture", metavar="FILE", default=None, help="stream every LCP solved to this HDF5 capture")
+    p.add_argument("--fclib", metavar="DIR", default=None, help="write every LCP solved as an FCLib local problem into DIR")
+    p.add_argument("--json", action="store_true", help="print the summary as JSON")
+
+
+def add_run_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of a scene run (steps, world, solver, scene parameters); ``lcpsim view`` shares them."""
     p.add_argument("--steps", type=int, default=2000, help="time steps to run (default: 2000)")
     p.add_argument("--dt", type=float, default=1e-3, help="time step h in s (default: 1e-3)")
     p.add_argument(
@@ -56,8 +65,6 @@ def _configure(p: argparse.ArgumentParser) -> None:
     p.add_argument("--piv-tol", type=float, default=None, help="Lemke: smallest pivot")
     p.add_argument("--zero-tol", type=float, default=None, help="Lemke: the user zero")
     p.add_argument("--max-pivots", type=int, default=None, help="Lemke: pivot limit")
-    p.add_argument("--capture", metavar="FILE", default=None, help="stream every LCP solved to this HDF5 capture")
-    p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.add_argument(
         "--set", action="append", default=[], metavar="NAME=VALUE",
         help="any other World argument, e.g. --set erp=0.1 --set restitution=0.5 (repeatable)",
@@ -204,10 +211,13 @@ def _text(s: dict[str, Any]) -> str:
     lines.append(f"wall time:     {s['wall_time']:.3f} s" + (f" ({sps:,.0f} steps/s)" if sps else ""))
     if s.get("capture"):
         lines.append(f"capture:       {s['capture']} ({s['captured']} LCPs)")
+    if s.get("fclib"):
+        lines.append(f"fclib:         {s['fclib']} ({s['fclib_files']} FCLib files)")
     return "\n".join(lines)
 
 
-def _run(args: argparse.Namespace) -> int:
+def build_scene(args: argparse.Namespace) -> Scene:
+    """The scene ``args`` (from :func:`add_run_arguments`, ``args.scene`` its name) describe."""
     from ..scenes import make_scene
 
     if args.steps < 0:
@@ -218,11 +228,15 @@ def _run(args: argparse.Namespace) -> int:
     if overlap:
         raise CliError(f"{', '.join(sorted(overlap))} given both as a scene parameter and with --set")
     try:
-        scene = make_scene(args.scene, **scene_kw, **world_kw)
+        return make_scene(args.scene, **scene_kw, **world_kw)
     except TypeError as e:  # an unknown --set name
         raise CliError(str(e)) from None
+
+
+def _run(args: argparse.Namespace) -> int:
+    scene = build_scene(args)
     t0 = time.perf_counter()
-    traj = scene.world.run(args.steps, capture=args.capture)
+    traj = scene.world.run(args.steps, capture=args.capture, fclib=args.fclib)
     wall = time.perf_counter() - t0
     summary = simulate_summary(scene, traj, wall)
     summary["capture"] = args.capture
@@ -233,6 +247,8 @@ def _run(args: argparse.Namespace) -> int:
             summary["captured"] = len(c)
     else:
         summary["captured"] = 0
+    if args.fclib:
+        summary["fclib"], summary["fclib_files"] = args.fclib, len(list(Path(args.fclib).glob("*.hdf5")))
     if args.json:
         print(json.dumps(summary))
     else:

@@ -23,7 +23,8 @@ def _configure_solve(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "file",
         help="LCP file: .npz with arrays M, q, HDF5 (.h5) with datasets /M, /q, a capture (with --index), "
-        "or a failure dump (solve_lcp(..., dump=DIR)): replayed with its method and options unless overridden",
+        "a failure dump (solve_lcp(..., dump=DIR)): replayed with its method and options unless overridden, "
+        "or an FCLib local problem (solved as the faceted LCP; see --friction-dirs, --scale)",
     )
     p.add_argument("--index", type=int, default=None, metavar="K", help="problem K of a capture (lcpsim simulate --capture)")
     # Defaults are None here so that a dump's options apply unless given on the command line.
@@ -37,6 +38,8 @@ def _configure_solve(p: argparse.ArgumentParser) -> None:
     p.add_argument("--certify", action="store_true", help="check the final basis exactly (rational arithmetic)")
     p.add_argument("--dump", metavar="DIR", default=None, help="if not solved, write a failure dump into DIR")
     p.add_argument("--json", action="store_true", help="print the result as JSON (status, ok, pivots, residual, z, w)")
+    p.add_argument("--friction-dirs", type=int, default=None, metavar="K", help="FCLib file: facets of the friction cone (default: 8)")
+    p.add_argument("--scale", type=float, default=None, metavar="S", help="FCLib file: friction-cone scale s (default: 1)")
 
 
 def _format_vector(x: np.ndarray) -> str:
@@ -120,10 +123,17 @@ def _run_replay(args: argparse.Namespace) -> int:
 
 
 def _run_solve(args: argparse.Namespace) -> int:
+    from ..io.fclib import fclib_kind
     from ..io.lcp_file import is_dump, load_lcp
 
     if is_dump(args.file):
         return _run_replay(args)
+    if fclib_kind(args.file):
+        from .fclib import run_fclib_solve
+
+        return run_fclib_solve(args)
+    if args.friction_dirs is not None or args.scale is not None:
+        raise CliError(f"{args.file}: --friction-dirs and --scale apply to FCLib files only")
     index = getattr(args, "index", None)
     M, q = load_lcp(args.file, index)
     method = args.method or "lemke"

@@ -222,10 +222,6 @@ def report_run(ctx: ReportContext) -> dict[str, Any]:
     return {"critical_scale": ctx.step("critical scales", runs)}
 
 
-def report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
-    return {"critical_scale": plot_critical_scale(res["critical_scale"], ctx.path("critical_scale.png"))}
-
-
 def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
     d.h(2, "Critical scale")
     d.p(

@@ -83,10 +83,11 @@ class Doc:
 
 
 def _inline(text: str) -> str:
-    """Escapes, then renders `code` and **bold**."""
+    """Escapes, then renders `code`, **bold** and [links](relative/path.html)."""
     t = html.escape(text)
     t = re.sub(r"`([^`]+)`", r"<code>\1</code>", t)
     t = re.sub(r"\*\*([^*]+)\*\*", r"<b>\1</b>", t)
+    t = re.sub(r"\[([^\]]+)\]\(([^)\s]+)\)", r'<a href="\2">\1</a>', t)
     return t
 
 

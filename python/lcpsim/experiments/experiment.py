@@ -117,12 +117,24 @@ class Experiment:
     ) -> "Experiment":
         """The experiment an experiment module defines by these names: ``DEFAULTS``,
         ``run``, ``cli_arguments``, ``cli_config``, ``summary`` and, for the report,
-        ``report_run``, ``report_figures``, ``report_section``."""
+        ``report_run``, ``report_figures``, ``report_section``. Without
+        ``report_figures`` the report has one figure: ``plot`` of the results
+        under the module's own name, in ``NAME.png``."""
         m = sys.modules[module]
+        figures = getattr(m, "report_figures", None) or _one_figure(module.rsplit(".", 1)[-1], plot)
         return cls(
             name=name, help=help, defaults=m.DEFAULTS, run=m.run, arguments=m.cli_arguments, config=m.cli_config,
-            summary=m.summary, plot=plot, report=ReportPart(m.report_run, m.report_figures, m.report_section),
+            summary=m.summary, plot=plot, report=ReportPart(m.report_run, figures, m.report_section),
         )
+
+
+def _one_figure(
+    key: str, plot: Callable[[Sequence[Mapping[str, Any]], str | os.PathLike[str]], str]
+) -> Callable[[Result, ReportContext], dict[str, str]]:
+    def figures(res: Result, ctx: ReportContext) -> dict[str, str]:
+        return {key: plot(res[key], ctx.path(f"{key}.png"))}
+
+    return figures
 
 
 def scale_pair_runs(ctx: ReportContext, title: str, run: Callable[[Mapping[str, Any]], Result]) -> list[Result]:

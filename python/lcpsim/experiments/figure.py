@@ -4,9 +4,9 @@ saving to PNG, solver labels and outcome colours."""
 from __future__ import annotations
 
 import os
-from typing import Any, Mapping
+from typing import Any, Iterator, Mapping, Sequence
 
-__all__ = ["OUTCOME_COLORS", "pyplot", "save", "solver_label"]
+__all__ = ["OUTCOME_COLORS", "pyplot", "save", "solver_label", "label_axes", "traced"]
 
 OUTCOME_COLORS = {"slide": "tab:green", "rest": "tab:blue", "tip": "tab:red"}
 
@@ -31,6 +31,29 @@ def save(fig: Any, path: str | os.PathLike[str]) -> str:
     return p
 
 
+def label_axes(
+    ax: Any, xlabel: str, ylabel: str | None = None, *, title: str | None = None, legend: int | None = None
+) -> None:
+    """The figures' axis conventions: labels, an optional title, a light grid,
+    and a legend in font size ``legend`` when given."""
+    ax.set_xlabel(xlabel)
+    if ylabel is not None:
+        ax.set_ylabel(ylabel)
+    if title is not None:
+        ax.set_title(title)
+    ax.grid(alpha=0.3)
+    if legend is not None:
+        ax.legend(fontsize=legend)
+
+
 def solver_label(r: Mapping[str, Any]) -> str:
     s = r.get("solver") or {}
     return str(s.get("name", "?")) if isinstance(s, Mapping) else str(s)
+
+
+def traced(results: Sequence[Mapping[str, Any]]) -> Iterator[tuple[int, Mapping[str, Any], Mapping[str, Any]]]:
+    """``(i, result, trace)`` for each result that carries a trace (``i`` its
+    place among all results, which picks its colour)."""
+    for i, r in enumerate(results):
+        if r.get("trace"):
+            yield i, r, r["trace"]

@@ -36,27 +36,17 @@ import numpy as np
 
 from .._core import ContactLayout
 from ._common import envelope, merge_config, scale_label
-from .seed_corpus import scaled_case, solve_scaled
+from .seed_corpus import SCALED_CASE_DEFAULTS, scaled_case, solve_scaled
 from .document import Doc
 from .experiment import (
     Experiment, ReportContext, add_common_arguments, add_corpus_arguments, base_config, corpus_config, header,
     scale_argument, scale_pair_runs,
 )
-from .figure import pyplot, save, solver_label
+from .figure import label_axes, pyplot, save, solver_label
 
 __all__ = ["DEFAULTS", "run"]
 
-DEFAULTS: dict[str, Any] = {
-    "seed": 0,
-    "scale": 1e-3,
-    "solver": "robust",
-    "corpus": {},
-    "max_lcps": None,
-    "valid_tol": 1e-10,
-    "threads": 0,
-    "examples": True,
-    "max_listed": 20,
-}
+DEFAULTS: dict[str, Any] = {**SCALED_CASE_DEFAULTS, "valid_tol": 1e-10, "examples": True, "max_listed": 20}
 
 #: The seed's figure: agreement of fn, fd to about 1e-16 (printed with 20 digits).
 SEED_VALUE = 1e-16
@@ -246,20 +236,13 @@ def plot_invariance(results: Sequence[Mapping[str, Any]], path: str | os.PathLik
     ax.axvline(-12, color="k", ls=":", lw=1, label="1e-12")
     ax.axvline(-16, color="grey", ls="--", lw=1, label="seed: ~1e-16")
     ax.set_yscale("log")
-    ax.set_xlabel("log10 relative change of (fn, fd) by scaling (same Lemke basis)")
-    ax.set_ylabel("LCPs")
-    ax.set_title("Scaling invariance over the seed corpus")
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
+    label_axes(ax, "log10 relative change of (fn, fd) by scaling (same Lemke basis)", "LCPs",
+               title="Scaling invariance over the seed corpus", legend=8)
     return save(fig, path)
 
 
 def report_run(ctx: ReportContext) -> dict[str, Any]:
     return {"invariance": scale_pair_runs(ctx, "invariance", run)}
-
-
-def report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
-    return {"invariance": plot_invariance(res["invariance"], ctx.path("invariance.png"))}
 
 
 def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:

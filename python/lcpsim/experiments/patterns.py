@@ -40,7 +40,7 @@ from numpy.typing import NDArray
 
 from .._core import ContactLayout
 from ._common import envelope, merge_config, scale_label
-from .seed_corpus import Group, ScaledSolve, scaled_case, solve_scaled
+from .seed_corpus import SCALED_CASE_DEFAULTS, Group, ScaledSolve, scaled_case, solve_scaled
 from .document import Doc
 from .experiment import (
     Experiment, ReportContext, add_common_arguments, add_corpus_arguments, base_config, corpus_config, header,
@@ -65,16 +65,7 @@ MEANING: dict[str, str] = {
     "+++": "sliding",
 }
 
-DEFAULTS: dict[str, Any] = {
-    "seed": 0,
-    "scale": 1e-3,
-    "solver": "robust",
-    "corpus": {},
-    "max_lcps": None,
-    "zero_rel": 1e-9,
-    "threads": 0,
-    "max_listed": 50,
-}
+DEFAULTS: dict[str, Any] = {**SCALED_CASE_DEFAULTS, "zero_rel": 1e-9, "max_listed": 50}
 
 
 def contact_patterns(g: Group, r: ScaledSolve, zero_rel: float) -> NDArray[np.int64]:

@@ -26,7 +26,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from ..scenes import pushed_cube
+from ..scenes import Scene, pushed_cube
 from ._common import G, downsample, envelope, merge_config, parse_scale, scale_label, scale_value
 from .presets import parse_solver
 from .slope import CUBE_DEFAULTS, classify
@@ -34,7 +34,7 @@ from .document import Doc
 from .experiment import (
     Experiment, ReportContext, add_common_arguments, add_simulation_arguments, base_config, header, scale_argument,
 )
-from .figure import pyplot, save, solver_label
+from .figure import label_axes, pyplot, save, solver_label, traced
 
 __all__ = ["DEFAULTS", "run", "SEED_VALUES"]
 
@@ -49,6 +49,15 @@ SEED_VALUES: dict[str, Any] = {
 }
 
 
+def make_scene(config: Mapping[str, Any]) -> Scene:
+    """The pushed cube, ready to run, as a push config (``DEFAULTS`` merged) describes it."""
+    return pushed_cube(
+        float(config["force"]), float(config["mu"]), size=float(config["size"]), mass=float(config["mass"]),
+        dt=float(config["dt"]), friction_dirs=int(config["friction_dirs"]), cone_scale=parse_scale(config["scale"]),
+        **parse_solver(config["solver"]).world_kwargs(),
+    )
+
+
 def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """Runs the push; returns ``{"outcome", "friction_force_N", "lambda_max", …}``."""
     t0 = time.perf_counter()
@@ -60,10 +69,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     if steps < 1:
         raise ValueError(f"push: seconds must be at least one time step, got {cfg['seconds']}")
     F, mu, m = float(cfg["force"]), float(cfg["mu"]), float(cfg["mass"])
-    scene = pushed_cube(
-        F, mu, size=float(cfg["size"]), mass=m, dt=dt, friction_dirs=int(cfg["friction_dirs"]),
-        cone_scale=scale, **solver.world_kwargs(),
-    )
+    scene = make_scene(cfg)
     traj = scene.world.run(steps)
     b = scene.body
     assert scene.direction is not None
@@ -156,21 +162,13 @@ def plot_push(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str]
     """Displacement and friction force against time for push runs with a trace."""
     plt = pyplot()
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
-    for i, r in enumerate(results):
-        tr = r.get("trace")
-        if not tr:
-            continue
+    for i, r, tr in traced(results):
         lab = f"F = {r['config']['force']} N, {solver_label(r)}, s = {r['scale']} → {r['outcome']}"
         ax1.plot(tr["time"], tr["displacement_m"], color=f"C{i}", label=lab)
         ax2.plot(tr["time"], tr["friction_N"], color=f"C{i}", label=lab)
     ax1.set_yscale("symlog", linthresh=1e-9)
-    ax1.set_xlabel("time (s)")
-    ax1.set_ylabel("displacement along the push (m)")
-    ax1.grid(alpha=0.3)
-    ax1.legend(fontsize=7)
-    ax2.set_xlabel("time (s)")
-    ax2.set_ylabel("friction force (N)")
-    ax2.grid(alpha=0.3)
+    label_axes(ax1, "time (s)", "displacement along the push (m)", legend=7)
+    label_axes(ax2, "time (s)", "friction force (N)")
     return save(fig, path)
 
 
@@ -191,14 +189,9 @@ def plot_push_sweep(results: Sequence[Mapping[str, Any]], path: str | os.PathLik
         ax1.plot(F, [min(f, 9.81) for f in F], "k--", lw=1, label="exact: min(F, μmg)")
     ax1.axvline(9.81, color="grey", ls=":", lw=1)
     ax2.axvline(9.81, color="grey", ls=":", lw=1)
-    ax1.set_xlabel("push F (N)")
-    ax1.set_ylabel("friction force, last step (N)")
-    ax1.legend(fontsize=7)
-    ax1.grid(alpha=0.3)
+    label_axes(ax1, "push F (N)", "friction force, last step (N)", legend=7)
     ax2.set_yscale("log")
-    ax2.set_xlabel("push F (N)")
-    ax2.set_ylabel("displacement after the run (m)")
-    ax2.grid(alpha=0.3)
+    label_axes(ax2, "push F (N)", "displacement after the run (m)")
     fig.suptitle("Pushed 1 kg cube, μ = 1 (μmg = 9.81 N)")
     return save(fig, path)
 

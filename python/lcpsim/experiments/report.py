@@ -1,7 +1,8 @@
 """``lcpsim report``: every experiment at its default size, one page.
 
 Writes to the output directory ``index.html`` and ``report.md`` (the same
-content), the figures as PNG, and ``results.json`` with every result (each
+content), the figures as PNG, the 3-D viewer pages (``view_*.html``, see
+:mod:`.views`), and ``results.json`` with every result (each
 carrying its config, seed and lcpsim version). For each claim of the seed
 note the page puts the seed's number beside ours — with the
 ``seed`` preset (the seed's solver setting) and with ``robust`` (lcpsim's
@@ -30,6 +31,7 @@ from .registry import REGISTRY
 from .seed_corpus import DEFAULTS as CORPUS_DEFAULTS
 from .seed_corpus import generate, simulations
 from .slope import REPORT_SCALES as SLOPE_SCALES
+from .views import View, add_links, add_many_body_section, make_views
 
 __all__ = ["make_report", "Doc", "SCALES", "SLOPE_SCALES", "PUSH_FORCES", "COMPARE_SOLVERS", "COMPARE_SCALES"]
 
@@ -63,8 +65,9 @@ def make_report(
     figs: dict[str, str] = {}
     for part in parts:
         figs.update(part.figures(results, ctx))
+    views = make_views(results, ctx)
 
-    doc = _document(results, figs, ctx, time.perf_counter() - ctx.started)
+    doc = _document(results, figs, views, ctx, time.perf_counter() - ctx.started)
     from .. import __version__
 
     results_path = os.path.join(out, "results.json")
@@ -81,6 +84,7 @@ def make_report(
         "report_md": md_path,
         "results_json": results_path,
         "figures": {k: os.path.relpath(v, out) for k, v in figs.items()},
+        "views": [v.path for v in views],
         "wall_time_s": time.perf_counter() - ctx.started,
     }
 
@@ -91,7 +95,7 @@ def _corpus_results(ctx: ReportContext) -> dict[str, Any]:
     return {"config": cc, **corp.summary(), "simulations_spec": [s.to_dict() for s in simulations(cc)]}
 
 
-def _document(res: dict[str, Any], figs: dict[str, str], ctx: ReportContext, wall: float) -> Doc:
+def _document(res: dict[str, Any], figs: dict[str, str], views: list[View], ctx: ReportContext, wall: float) -> Doc:
     from .. import __version__
 
     d = Doc()
@@ -116,6 +120,8 @@ def _document(res: dict[str, Any], figs: dict[str, str], ctx: ReportContext, wal
     for e in REGISTRY.values():
         if e.report is not None:
             e.report.section(d, res, figs, ctx)
+            add_links(d, e.name, views)
+    add_many_body_section(d, views, ctx)
     return d
 
 

@@ -48,6 +48,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._core import ContactLayout, quat_from_axis_angle, quat_from_matrix, quat_mul, quat_to_matrix
+from .._json import fields_dict
 from ..world import World
 from ._common import merge_config
 from ..scale import parse_cone_scale, scale_value
@@ -93,17 +94,7 @@ class SimSpec:
     steps: int = 1000
 
     def to_dict(self) -> dict[str, Any]:
-        return {
-            "name": self.name,
-            "angle_deg": self.angle_deg,
-            "mu": self.mu,
-            "height": self.height,
-            "orientation": list(self.orientation),
-            "velocity": list(self.velocity),
-            "angular_velocity": list(self.angular_velocity),
-            "force": self.force,
-            "steps": self.steps,
-        }
+        return fields_dict(self)
 
 
 def simulations(config: Mapping[str, Any] | None = None) -> list[SimSpec]:
@@ -394,6 +385,17 @@ def experiment_corpus(cfg: Mapping[str, Any]) -> dict[str, Any]:
     if unknown:
         raise ValueError(f"corpus: unknown key(s) {sorted(unknown)} (valid: {', '.join(sorted(DEFAULTS))})")
     return c
+
+
+#: Config keys (and defaults) of an experiment that starts from :func:`scaled_case`.
+SCALED_CASE_DEFAULTS: dict[str, Any] = {
+    "seed": 0,
+    "scale": 1e-3,
+    "solver": "robust",
+    "corpus": {},
+    "max_lcps": None,
+    "threads": 0,
+}
 
 
 def scaled_case(cfg: Mapping[str, Any]) -> tuple[Solver, float | str | None, float, SeedCorpus]:

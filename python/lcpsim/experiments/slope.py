@@ -43,14 +43,14 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from ..scenes import cube_on_slope
+from ..scenes import Scene, cube_on_slope
 from ._common import G, body_energy, downsample, envelope, merge_config, parse_scale, scale_label, scale_value
 from .presets import parse_solver
 from .document import Doc
 from .experiment import (
     Experiment, ReportContext, add_common_arguments, add_simulation_arguments, base_config, header, scale_argument,
 )
-from .figure import pyplot, save, solver_label
+from .figure import label_axes, pyplot, save, solver_label, traced
 from .onset import OnsetOptions, cone_excess, observe, precise_tilt
 
 __all__ = ["DEFAULTS", "run", "classify", "expected_slide", "TIP_DEG"]
@@ -94,6 +94,20 @@ def classify(slide_m: float, expected_m: float, max_tilt_deg: float) -> str:
     return "slide" if slide_m > 1e-6 else "rest"
 
 
+def make_scene(config: Mapping[str, Any]) -> Scene:
+    """The cube on its slope, ready to run, as a slope config (``DEFAULTS`` merged) describes it."""
+    return cube_on_slope(
+        float(config["angle_deg"]),
+        float(config["mu"]),
+        size=float(config["size"]),
+        mass=float(config["mass"]),
+        dt=float(config["dt"]),
+        friction_dirs=int(config["friction_dirs"]),
+        cone_scale=parse_scale(config["scale"]),
+        **parse_solver(config["solver"]).world_kwargs(),
+    )
+
+
 def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """Runs one slope test; returns ``{"outcome", "slide_distance_m", "expected_slide_m", "tilt_deg", "lcp_failures", …}``."""
     t0 = time.perf_counter()
@@ -105,16 +119,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     steps = int(round(seconds / dt))
     if steps < 1:
         raise ValueError(f"slope: seconds must be at least one time step, got {seconds}")
-    scene = cube_on_slope(
-        float(cfg["angle_deg"]),
-        float(cfg["mu"]),
-        size=float(cfg["size"]),
-        mass=float(cfg["mass"]),
-        dt=dt,
-        friction_dirs=int(cfg["friction_dirs"]),
-        cone_scale=scale,
-        **solver.world_kwargs(),
-    )
+    scene = make_scene(cfg)
     angle, mu = float(cfg["angle_deg"]), float(cfg["mu"])
     horizon = float(cfg["horizon_s"])
     if not (math.isfinite(horizon) and horizon >= 0):
@@ -243,10 +248,7 @@ def plot_slope(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str
     plt = pyplot()
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4.2))
     plotted_expected: set[tuple[float, float]] = set()
-    for i, r in enumerate(results):
-        tr = r.get("trace")
-        if not tr:
-            continue
+    for i, r, tr in traced(results):
         cfg = r["config"]
         lab = f"{solver_label(r)}, s = {r['scale']}, {cfg['angle_deg']}° → {r['outcome']}"
         ax1.plot(tr["time"], tr["slide_m"], color=f"C{i % 10}", label=lab)
@@ -262,18 +264,12 @@ def plot_slope(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str
     ax1.set_yscale("symlog", linthresh=1e-6)
     ax1.set_ylim(-10.0, 10.0)
     ax1.yaxis.set_major_locator(SymmetricalLogLocator(base=100, linthresh=1e-6))
-    ax1.set_xlabel("time (s)")
-    ax1.set_ylabel("down-slope displacement (m, clipped at ±10)")
-    ax1.set_title("Slope test: displacement")
-    ax1.grid(alpha=0.3)
-    ax1.legend(fontsize=7)
+    label_axes(ax1, "time (s)", "down-slope displacement (m, clipped at ±10)", title="Slope test: displacement",
+               legend=7)
     ax2.set_yscale("log")
     ax2.set_ylim(1e-14, 400)
     ax2.axhline(math.degrees(OnsetOptions.tilt_tol_rad), color="k", lw=0.8, ls=":", label="round-off limit of tilt")
-    ax2.set_xlabel("time (s)")
-    ax2.set_ylabel("rotation (deg, floor 1e-14)")
-    ax2.set_title("Slope test: rotation (dotted: onset of tipping)")
-    ax2.grid(alpha=0.3)
+    label_axes(ax2, "time (s)", "rotation (deg, floor 1e-14)", title="Slope test: rotation (dotted: onset of tipping)")
     return save(fig, path)
 
 

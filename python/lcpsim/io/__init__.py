@@ -6,6 +6,7 @@
 :mod:`.capture`     the HDF5 stream of every LCP a simulation solved
                     (``World.run(capture=...)``)
 :mod:`.forensics`   failure dumps (``solve_lcp(..., dump=DIR)``) and replay
+:mod:`.fclib`       FCLib local problems (the math around them: :mod:`lcpsim.fclib`)
 ==================  ==========================================================
 """
 

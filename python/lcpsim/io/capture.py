@@ -57,23 +57,13 @@ FORMAT_VERSION = 2
 #: Solver names, indexed by ``/index/method``.
 METHOD_NAMES: tuple[str, ...] = (*_core.METHODS, "custom")
 
-# name → (dtype, chunk length) of the per-LCP index datasets; `n` is written
-# last and its length is the number of complete records.
-_INDEX: dict[str, tuple[str, int]] = {
-    "m_offset": ("i8", 4096),
-    "v_offset": ("i8", 4096),
-    "step": ("i8", 4096),
-    "island": ("i4", 4096),
-    "time": ("f8", 4096),
-    "contacts": ("i4", 4096),
-    "friction_dirs": ("i4", 4096),
-    "scale": ("f8", 4096),
-    "status": ("i1", 4096),
-    "pivots": ("i8", 4096),
-    "method": ("i1", 4096),
-    "run": ("i4", 4096),
-    "n": ("i4", 4096),
+# name → dtype of the per-LCP index datasets (chunks of _INDEX_CHUNK rows);
+# `n` is written last and its length is the number of complete records.
+_INDEX: dict[str, str] = {
+    "m_offset": "i8", "v_offset": "i8", "step": "i8", "island": "i4", "time": "f8", "contacts": "i4",
+    "friction_dirs": "i4", "scale": "f8", "status": "i1", "pivots": "i8", "method": "i1", "run": "i4", "n": "i4",
 }
+_INDEX_CHUNK = 4096
 # Index datasets a version-1 file lacks, and the value its records take.
 _ADDED_IN_V2 = {"island": 0}
 _DATA = {"M": 1 << 16, "q": 1 << 12, "z": 1 << 12, "w": 1 << 12}
@@ -109,6 +99,13 @@ def _append(ds: Any, values: NDArray[Any]) -> None:
     n0 = ds.shape[0]
     ds.resize((n0 + values.shape[0],))
     ds[n0:] = values
+
+
+def _pivots(captured: Mapping[str, Any], b: int) -> Any:
+    """A batch's pivots (``iterations`` in batches drained by an older lcpsim)."""
+    if "pivots" in captured:
+        return captured["pivots"]
+    return captured.get("iterations", np.zeros(b))
 
 
 class CaptureWriter:
@@ -149,8 +146,8 @@ class CaptureWriter:
         }
         index = f.create_group("index")
         self._index = {
-            k: index.create_dataset(k, shape=(0,), maxshape=(None,), chunks=(c,), dtype=t)
-            for k, (t, c) in _INDEX.items()
+            k: index.create_dataset(k, shape=(0,), maxshape=(None,), chunks=(_INDEX_CHUNK,), dtype=t)
+            for k, t in _INDEX.items()
         }
         runs = f.create_group("runs")
         self._runs = {
@@ -190,8 +187,10 @@ class CaptureWriter:
         """Appends a batch of LCPs in the compiled module's capture layout:
         flat ``M``, ``q``, ``z``, ``w`` (problems concatenated) and per-problem
         ``n``, ``step``, ``island``, ``time``, ``contacts``, ``friction_dirs``, ``scale``,
-        ``status`` (index into :data:`lcpsim.STATUSES`), ``iterations``,
-        ``method`` (names). Returns the number appended."""
+        ``status`` (index into :data:`lcpsim.STATUSES`), ``pivots``,
+        ``method`` (names). Returns the number appended. A batch drained by
+        an older lcpsim (``iterations`` instead of ``pivots``) is still
+        accepted."""
         self._check_open()
         n = np.asarray(captured["n"], dtype=np.int64)
         b = int(n.size)
@@ -231,7 +230,7 @@ class CaptureWriter:
             "friction_dirs": np.asarray(captured.get("friction_dirs", np.zeros(b)), dtype=np.int32),
             "scale": np.asarray(captured.get("scale", np.ones(b)), dtype=np.float64),
             "status": np.asarray(captured["status"], dtype=np.int8),
-            "pivots": np.asarray(captured.get("iterations", np.zeros(b)), dtype=np.int64),
+            "pivots": np.asarray(_pivots(captured, b), dtype=np.int64),
             "method": codes,
             "run": np.full(b, self._run, dtype=np.int32),
             "n": n.astype(np.int32),
@@ -286,7 +285,7 @@ class CaptureWriter:
                 "friction_dirs": [friction_dirs],
                 "scale": [scale],
                 "status": [_core.STATUSES.index(status)],
-                "iterations": [pivots],
+                "pivots": [pivots],
                 "method": [method],
             }
         )
@@ -311,6 +310,18 @@ class CaptureWriter:
 
     def __exit__(self, *exc: Any) -> None:
         self.close()
+
+
+def _column(key: str, dtype: Any, doc: str | None = None) -> Any:
+    """A :class:`Capture` property: the index column ``key`` as an array of ``dtype``."""
+    return property(lambda self: np.asarray(self._idx[key], dtype=dtype), doc=doc)
+
+
+def _decode(names: list[str], codes: Any) -> Any:
+    """Names of stored codes (array or scalar); ``"unknown"`` for a code outside ``names``."""
+    table = np.array(list(names) + ["unknown"])
+    c = np.asarray(codes, dtype=np.int64)
+    return table[np.where((c >= 0) & (c < len(names)), c, len(names))]
 
 
 @dataclass(frozen=True)
@@ -401,7 +412,7 @@ class Capture:
             count = min(v.shape[0] for v in idx.values())
             idx = {k: v[:count] for k, v in idx.items()}
             for k, value in _ADDED_IN_V2.items():
-                idx.setdefault(k, np.full(count, value, dtype=_INDEX[k][0]))
+                idx.setdefault(k, np.full(count, value, dtype=_INDEX[k]))
             n = idx["n"].astype(np.int64)
             m_end = idx["m_offset"] + n * n
             v_end = idx["v_offset"] + n
@@ -430,54 +441,23 @@ class Capture:
         return int(self._idx["n"].shape[0])
 
     # Index arrays.
-    @property
-    def n(self) -> NDArray[np.int64]:
-        return np.asarray(self._idx["n"], dtype=np.int64)
-
-    @property
-    def step(self) -> NDArray[np.int64]:
-        return np.asarray(self._idx["step"], dtype=np.int64)
-
-    @property
-    def island(self) -> NDArray[np.int64]:
-        """Island of its step per LCP (0 in version-1 files)."""
-        return np.asarray(self._idx["island"], dtype=np.int64)
-
-    @property
-    def time(self) -> NDArray[np.float64]:
-        return np.asarray(self._idx["time"], dtype=np.float64)
-
-    @property
-    def contacts(self) -> NDArray[np.int64]:
-        return np.asarray(self._idx["contacts"], dtype=np.int64)
-
-    @property
-    def friction_dirs(self) -> NDArray[np.int64]:
-        return np.asarray(self._idx["friction_dirs"], dtype=np.int64)
-
-    @property
-    def scale(self) -> NDArray[np.float64]:
-        return np.asarray(self._idx["scale"], dtype=np.float64)
+    n = _column("n", np.int64)
+    step = _column("step", np.int64)
+    island = _column("island", np.int64, "Island of its step per LCP (0 in version-1 files).")
+    time = _column("time", np.float64)
+    contacts = _column("contacts", np.int64)
+    friction_dirs = _column("friction_dirs", np.int64)
+    scale = _column("scale", np.float64)
+    pivots = _column("pivots", np.int64)
+    run = _column("run", np.int64)
 
     @property
     def status(self) -> NDArray[np.str_]:
-        names = np.array(self.status_names + ["unknown"])
-        codes = self._idx["status"].astype(np.int64)
-        return np.asarray(names[np.where((codes >= 0) & (codes < len(self.status_names)), codes, len(self.status_names))])
-
-    @property
-    def pivots(self) -> NDArray[np.int64]:
-        return np.asarray(self._idx["pivots"], dtype=np.int64)
+        return _decode(self.status_names, self._idx["status"])
 
     @property
     def method(self) -> NDArray[np.str_]:
-        names = np.array(self.method_names + ["unknown"])
-        codes = self._idx["method"].astype(np.int64)
-        return np.asarray(names[np.where((codes >= 0) & (codes < len(self.method_names)), codes, len(self.method_names))])
-
-    @property
-    def run(self) -> NDArray[np.int64]:
-        return np.asarray(self._idx["run"], dtype=np.int64)
+        return _decode(self.method_names, self._idx["method"])
 
     def _check(self, index: Any) -> int:
         if isinstance(index, bool) or not isinstance(index, (int, np.integer)):
@@ -493,22 +473,20 @@ class Capture:
     def _record(self, i: int, M: NDArray[np.float64], q: Any, z: Any, w: Any) -> CaptureRecord:
         ix = self._idx
         n = int(ix["n"][i])
-        st = int(ix["status"][i])
-        me = int(ix["method"][i])
         return CaptureRecord(
             index=i,
             M=M.reshape(n, n),
             q=q,
             z=z,
             w=w,
-            status=self.status_names[st] if 0 <= st < len(self.status_names) else "unknown",
+            status=str(_decode(self.status_names, ix["status"][i])),
             scale=float(ix["scale"][i]),
             step=int(ix["step"][i]),
             time=float(ix["time"][i]),
             contacts=int(ix["contacts"][i]),
             friction_dirs=int(ix["friction_dirs"][i]),
             pivots=int(ix["pivots"][i]),
-            method=self.method_names[me] if 0 <= me < len(self.method_names) else "unknown",
+            method=str(_decode(self.method_names, ix["method"][i])),
             run=int(ix["run"][i]),
             island=int(ix["island"][i]),
         )

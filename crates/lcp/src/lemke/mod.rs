@@ -225,7 +225,7 @@ fn solve_lexicographic(
     // impulses 3e-9 off, which a later rung improves on); the first answer
     // that passes the rule alone is returned if none does both.
     let bound = o.accept_tol * (1.0 + lcp.q_norm_inf());
-    let tight = |s: &Solution| s.ok() && s.residuals.natural <= bound;
+    let tight = |s: &Solution| s.ok() && s.residuals.residual <= bound;
     let mut within: Option<Solution> = None;
     // Final bases of the failed rungs, with their natural residuals.
     let mut ends: Vec<(f64, Vec<bool>)> = Vec::new();
@@ -249,8 +249,8 @@ fn solve_lexicographic(
         }
         let left = limit.saturating_sub(pivots);
         let mut sol = solve_attempt(lcp, o, &attempt, left, start, trace.as_deref_mut(), rung, ws);
-        pivots += sol.iterations;
-        sol.iterations = pivots;
+        pivots += sol.pivots;
+        sol.pivots = pivots;
         if tight(&sol) {
             ws.alpha = alpha;
             return sol;
@@ -259,10 +259,10 @@ fn solve_lexicographic(
             within = Some(sol.clone());
         }
         if let Some(b) = sol.basis.clone().filter(|b| !ends.iter().any(|(_, e)| e == b)) {
-            ends.push((sol.residuals.natural, b));
+            ends.push((sol.residuals.residual, b));
         }
         // Keep the first failure's status unless a later rung gets closer.
-        if best.as_ref().is_none_or(|b| sol.residuals.natural < b.residuals.natural) {
+        if best.as_ref().is_none_or(|b| sol.residuals.residual < b.residuals.residual) {
             best = Some(sol);
         }
     }
@@ -294,8 +294,8 @@ fn solve_lexicographic(
             let mut sol =
                 solve_attempt(lcp, o, &rungs[0], limit - pivots, Some(&alpha), trace.as_deref_mut(), rung, ws);
             rung += 1;
-            pivots += sol.iterations;
-            sol.iterations = pivots;
+            pivots += sol.pivots;
+            sol.pivots = pivots;
             if tight(&sol) {
                 return sol;
             }
@@ -308,7 +308,7 @@ fn solve_lexicographic(
         }
     }
     let mut sol = best.expect("the ladder has at least one rung");
-    sol.iterations = pivots;
+    sol.pivots = pivots;
     // (Not when the pivot budget ran out: that limit is the caller's to set.)
     if o.fallback && sol.status != Status::MaxPivots && !tight(&sol) {
         // Last rung: Newton–Fischer–Burmeister polish from the closest answer.
@@ -319,16 +319,16 @@ fn solve_lexicographic(
         let opts = NewtonFbOptions { tol: frame.tol, ..Default::default() };
         let polished = crate::newton_fb::solve_from(lcp, &sol.z, &opts);
         let accepted = crate::accept::accepts(lcp, &polished.z, &polished.w, o.accept_tol);
-        if accepted && polished.residuals.natural < sol.residuals.natural {
+        if accepted && polished.residuals.residual < sol.residuals.residual {
             let basis = polished.z.iter().zip(&polished.w).map(|(z, w)| z > w).collect();
-            sol = Solution { status: Status::Solved, iterations: pivots, basis: Some(basis), accepted, ..polished };
+            sol = Solution { status: Status::Solved, pivots, basis: Some(basis), accepted, ..polished };
         }
     }
     if o.fallback && !tight(&sol) && sol.status != Status::MaxPivots && lcp.n() <= exact::MAX_N {
         sol = solve_exact(lcp, o, sol, limit.saturating_sub(pivots));
     }
     match within {
-        Some(w) if !sol.ok() => Solution { iterations: sol.iterations, ..w },
+        Some(w) if !sol.ok() => Solution { pivots: sol.pivots, ..w },
         _ => sol,
     }
 }
@@ -340,11 +340,11 @@ fn solve_lexicographic(
 /// stands in the way: the ray is the problem's, for the covering vector used).
 fn solve_exact(lcp: &Lcp, o: &LemkeOptions, mut best: Solution, budget: usize) -> Solution {
     let (end, taken) = exact::solve(lcp, budget);
-    let pivots = best.iterations + taken;
+    let pivots = best.pivots + taken;
     match end {
         exact::ExactEnd::Solved(z, mask) => {
             let sol = Solution::from_z_tol(lcp, z, Status::Solved, pivots, o.accept_tol);
-            if sol.accepted && (!best.ok() || sol.residuals.natural < best.residuals.natural) {
+            if sol.accepted && (!best.ok() || sol.residuals.residual < best.residuals.residual) {
                 return Solution { basis: Some(mask), ..sol };
             }
         }
@@ -352,7 +352,7 @@ fn solve_exact(lcp: &Lcp, o: &LemkeOptions, mut best: Solution, budget: usize) -
         exact::ExactEnd::Ray => {}
         exact::ExactEnd::Limit => {}
     }
-    best.iterations = pivots;
+    best.pivots = pivots;
     best
 }
 
@@ -419,7 +419,7 @@ fn solve_attempt(
         let alpha: Vec<usize> = (0..n).filter(|&j| mask[j]).collect();
         if let Some(z_work) = refine::resolve_basis(work, &alpha) {
             let fresh = frame.solution(lcp, &z_work, Status::Solved, r.pivots);
-            if fresh.accepted || fresh.residuals.natural < sol.residuals.natural {
+            if fresh.accepted || fresh.residuals.residual < sol.residuals.residual {
                 sol = fresh;
             }
         }

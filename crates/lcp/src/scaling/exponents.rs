@@ -46,38 +46,42 @@ pub(super) fn of_row(src: &[f64], dst: &mut [i16]) {
     }
 }
 
-/// For the `n × stride` exponent matrix `ex` (row-major, `n = row_exp.len()`):
+/// What one Ruiz round reads: the `n × stride` exponent matrix `ex`
+/// (row-major), the row exponents `r` (`n = row_exp.len()`), the column
+/// exponents `c` (`stride = col_exp.len()`) and `floor`, the maximum of nothing.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Round<'a> {
+    pub ex: &'a [i16],
+    pub row_exp: &'a [i16],
+    pub col_exp: &'a [i16],
+    pub floor: i16,
+}
+
 /// `row_max[i] = r_i + max_j (e_ij + c_j)` and
-/// `col_max[j] = max_i (e_ij + c_j + r_i)` for every padded column `j`, with
-/// `floor` as the maximum of nothing. The sums must fit in i16.
-pub(super) fn maxima(
-    ex: &[i16],
-    row_exp: &[i16],
-    col_exp: &[i16],
-    floor: i16,
-    row_max: &mut [i16],
-    col_max: &mut [i16],
-) {
-    let (n, stride) = (row_exp.len(), col_exp.len());
-    assert!(stride % LANES == 0 && ex.len() == n * stride && row_max.len() == n && col_max.len() == stride);
+/// `col_max[j] = max_i (e_ij + c_j + r_i)` for every padded column `j` of the
+/// round `rd`. The sums must fit in i16.
+pub(super) fn maxima(rd: Round<'_>, row_max: &mut [i16], col_max: &mut [i16]) {
+    let (n, stride) = (rd.row_exp.len(), rd.col_exp.len());
+    assert!(stride % LANES == 0 && rd.ex.len() == n * stride && row_max.len() == n && col_max.len() == stride);
     #[cfg(target_arch = "x86_64")]
     if is_x86_feature_detected!("avx2") {
         // SAFETY: AVX2 is present; the asserts above bound every access.
         unsafe {
             match stride / LANES {
-                1 => avx2::held::<1>(ex, row_exp, col_exp, floor, row_max, col_max),
-                2 => avx2::held::<2>(ex, row_exp, col_exp, floor, row_max, col_max),
-                3 => avx2::held::<3>(ex, row_exp, col_exp, floor, row_max, col_max),
-                4 => avx2::held::<4>(ex, row_exp, col_exp, floor, row_max, col_max),
-                _ => avx2::any(ex, row_exp, col_exp, floor, row_max, col_max),
+                1 => avx2::held::<1>(rd, row_max, col_max),
+                2 => avx2::held::<2>(rd, row_max, col_max),
+                3 => avx2::held::<3>(rd, row_max, col_max),
+                4 => avx2::held::<4>(rd, row_max, col_max),
+                _ => avx2::any(rd, row_max, col_max),
             }
         }
         return;
     }
-    portable(ex, row_exp, col_exp, floor, row_max, col_max);
+    portable(rd, row_max, col_max);
 }
 
-fn portable(ex: &[i16], row_exp: &[i16], col_exp: &[i16], floor: i16, row_max: &mut [i16], col_max: &mut [i16]) {
+fn portable(rd: Round<'_>, row_max: &mut [i16], col_max: &mut [i16]) {
+    let Round { ex, row_exp, col_exp, floor } = rd;
     col_max.fill(floor);
     for ((row, &ri), rmax_out) in ex.chunks_exact(col_exp.len()).zip(row_exp).zip(row_max.iter_mut()) {
         let mut rmax = floor;
@@ -92,7 +96,7 @@ fn portable(ex: &[i16], row_exp: &[i16], col_exp: &[i16], floor: i16, row_max: &
 
 #[cfg(target_arch = "x86_64")]
 mod avx2 {
-    use super::{LANES, ZERO_EXPONENT};
+    use super::{Round, LANES, ZERO_EXPONENT};
     use std::arch::x86_64::*;
 
     /// Converts the leading multiple of 8 entries (see `super::exponent`);
@@ -140,14 +144,8 @@ mod avx2 {
     /// # Safety
     /// AVX2 must be available and the slices sized as `maxima` asserts.
     #[target_feature(enable = "avx2")]
-    pub(super) unsafe fn held<const B: usize>(
-        ex: &[i16],
-        row_exp: &[i16],
-        col_exp: &[i16],
-        floor: i16,
-        row_max: &mut [i16],
-        col_max: &mut [i16],
-    ) {
+    pub(super) unsafe fn held<const B: usize>(rd: Round<'_>, row_max: &mut [i16], col_max: &mut [i16]) {
+        let Round { ex, row_exp, col_exp, floor } = rd;
         let lowest = _mm256_set1_epi16(floor);
         let c: [__m256i; B] = std::array::from_fn(|b| _mm256_loadu_si256(col_exp.as_ptr().add(LANES * b).cast()));
         let mut cmax = [lowest; B];
@@ -171,14 +169,8 @@ mod avx2 {
     /// # Safety
     /// As [`held`].
     #[target_feature(enable = "avx2")]
-    pub(super) unsafe fn any(
-        ex: &[i16],
-        row_exp: &[i16],
-        col_exp: &[i16],
-        floor: i16,
-        row_max: &mut [i16],
-        col_max: &mut [i16],
-    ) {
+    pub(super) unsafe fn any(rd: Round<'_>, row_max: &mut [i16], col_max: &mut [i16]) {
+        let Round { ex, row_exp, col_exp, floor } = rd;
         let lowest = _mm256_set1_epi16(floor);
         col_max.fill(floor);
         for ((row, &ri), rmax_out) in ex.chunks_exact(col_exp.len()).zip(row_exp).zip(row_max.iter_mut()) {
@@ -259,8 +251,9 @@ mod tests {
             let col_exp: Vec<i16> = (0..stride).map(|j| if j < n { next(2001) - 1000 } else { 0 }).collect();
             let (mut r1, mut c1) = (vec![0; n], vec![0; stride]);
             let (mut r2, mut c2) = (vec![0; n], vec![0; stride]);
-            portable(&ex, &row_exp, &col_exp, floor, &mut r1, &mut c1);
-            maxima(&ex, &row_exp, &col_exp, floor, &mut r2, &mut c2);
+            let rd = Round { ex: &ex, row_exp: &row_exp, col_exp: &col_exp, floor };
+            portable(rd, &mut r1, &mut c1);
+            maxima(rd, &mut r2, &mut c2);
             assert_eq!((&r1, &c1), (&r2, &c2), "n = {n}");
             // And against the definition.
             for i in 0..n {

@@ -16,7 +16,7 @@
 
 mod exponents;
 
-use exponents::ZERO_EXPONENT;
+use exponents::{Round, ZERO_EXPONENT};
 
 use crate::problem::{Lcp, LcpError};
 
@@ -89,7 +89,7 @@ impl Scaling {
         let (col_exp, col_max) = rest.split_at_mut(stride);
         for _ in 0..iterations {
             // Largest exponent of every row and column of the current D_r M D_c.
-            exponents::maxima(ex, row_exp, col_exp, ZERO_EXPONENT, row_max, col_max);
+            exponents::maxima(Round { ex, row_exp, col_exp, floor: ZERO_EXPONENT }, row_max, col_max);
             let rows_moved = step_toward_one(row_exp, row_max);
             if !(step_toward_one(&mut col_exp[..n], &col_max[..n]) | rows_moved) {
                 break;

@@ -17,6 +17,20 @@ pub fn sim_error(e: &SimError) -> PyErr {
     value_error(e.to_string())
 }
 
+/// `value` read by `read` unless it is missing or None, else `default` (the
+/// Rust side's own default: the glue declares none).
+pub fn or_default<'py, T>(
+    value: Option<&Bound<'py, PyAny>>,
+    field: &str,
+    read: impl Fn(&Bound<'py, PyAny>, &str) -> PyResult<T>,
+    default: T,
+) -> PyResult<T> {
+    match value.filter(|v| !v.is_none()) {
+        Some(v) => read(v, field),
+        None => Ok(default),
+    }
+}
+
 /// A real number (bools and strings are refused). Finiteness is left to the
 /// core, which names the field in its own message.
 pub fn real(value: &Bound<'_, PyAny>, field: &str) -> PyResult<f64> {

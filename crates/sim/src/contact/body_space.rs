@@ -26,6 +26,14 @@ enum Var {
     Lambda(usize),
 }
 
+/// One index of `z` for [`LcpOperator::block`]: its kind and, per dynamic
+/// side, `(body, J row, M_b⁻¹ Jᵀ row)` (none for a λ).
+#[derive(Clone, Copy)]
+struct IndexRows {
+    var: Var,
+    sides: [Option<(usize, Row6, Row6)>; 2],
+}
+
 /// A [`ContactLcp`]'s rows seen as an LCP operator at cone scale `s`
 /// (`s = 1`: the unscaled, physical LCP).
 pub struct BodySpaceLcp<'a> {
@@ -33,6 +41,8 @@ pub struct BodySpaceLcp<'a> {
     s: f64,
     /// Per-body velocity change `Δv`, `Δω` of a product.
     dv: RefCell<(Vec<Vec3>, Vec<Vec3>)>,
+    /// Rows and columns of a block, by index (reused across calls).
+    sides: RefCell<(Vec<IndexRows>, Vec<IndexRows>)>,
 }
 
 impl<'a> BodySpaceLcp<'a> {
@@ -44,7 +54,12 @@ impl<'a> BodySpaceLcp<'a> {
     /// The same rows at cone scale `s`.
     pub fn at_scale(lcp: &'a ContactLcp, s: f64) -> Self {
         let nb = lcp.body_count();
-        BodySpaceLcp { lcp, s, dv: RefCell::new((vec![Vec3::ZERO; nb], vec![Vec3::ZERO; nb])) }
+        BodySpaceLcp {
+            lcp,
+            s,
+            dv: RefCell::new((vec![Vec3::ZERO; nb], vec![Vec3::ZERO; nb])),
+            sides: RefCell::default(),
+        }
     }
 
     fn var(&self, i: usize) -> Var {
@@ -77,6 +92,21 @@ impl<'a> BodySpaceLcp<'a> {
     }
 }
 
+impl BodySpaceLcp<'_> {
+    /// [`IndexRows`] of every index in `idx`, into `out`.
+    fn index_rows(&self, idx: &[usize], out: &mut Vec<IndexRows>) {
+        out.clear();
+        out.extend(idx.iter().map(|&i| {
+            let var = self.var(i);
+            let sides = match var {
+                Var::Lambda(_) => [None, None],
+                _ => std::array::from_fn(|side| self.side_rows(contact(var), var, side)),
+            };
+            IndexRows { var, sides }
+        }));
+    }
+}
+
 fn contact(v: Var) -> usize {
     match v {
         Var::Normal(c) | Var::Dir(c, _) | Var::Lambda(c) => c,
@@ -94,31 +124,25 @@ impl LcpOperator for BodySpaceLcp<'_> {
     }
 
     fn block(&self, rows: &[usize], cols: &[usize], out: &mut [f64]) {
-        // Each index's rows per side, computed once: an entry is then one or
-        // two 6-term dots (bodies shared by the two contacts).
-        let sides = |idx: &[usize]| -> Vec<[Option<(usize, Row6, Row6)>; 2]> {
-            idx.iter()
-                .map(|&i| {
-                    let v = self.var(i);
-                    if matches!(v, Var::Lambda(_)) {
-                        return [None, None];
-                    }
-                    std::array::from_fn(|side| self.side_rows(contact(v), v, side))
-                })
-                .collect()
-        };
-        let (rs, cs) = (sides(rows), sides(cols));
-        for (r, &i) in rows.iter().enumerate() {
-            for (c, &j) in cols.iter().enumerate() {
-                out[r * cols.len() + c] = match (self.var(i), self.var(j)) {
+        // Each index's kind and rows per side, computed once: an entry is then
+        // one or two 6-term dots (bodies shared by the two contacts).
+        let mut guard = self.sides.borrow_mut();
+        let (rs, cs) = &mut *guard;
+        self.index_rows(rows, rs);
+        self.index_rows(cols, cs);
+        let width = cols.len();
+        for (r, ri) in rs.iter().enumerate() {
+            let line = &mut out[r * width..(r + 1) * width];
+            for (o, ci) in line.iter_mut().zip(cs.iter()) {
+                *o = match (ri.var, ci.var) {
                     (Var::Lambda(a), Var::Normal(b)) if a == b => self.s * self.lcp.mu()[a],
                     (Var::Lambda(a), Var::Dir(b, _)) if a == b => -self.s,
                     (Var::Dir(a, _), Var::Lambda(b)) if a == b => self.s,
                     (Var::Lambda(_), _) | (_, Var::Lambda(_)) => 0.0,
                     _ => {
                         let mut sum = 0.0;
-                        for (bi, jrow, _) in rs[r].iter().flatten() {
-                            for (bj, _, mrow) in cs[c].iter().flatten() {
+                        for (bi, jrow, _) in ri.sides.iter().flatten() {
+                            for (bj, _, mrow) in ci.sides.iter().flatten() {
                                 if bi == bj {
                                     sum += dot6(jrow, mrow);
                                 }

@@ -50,6 +50,18 @@ pub struct BodyDesc {
     pub is_static: bool,
 }
 
+/// Builder methods `field(self, value) -> Self`, one per field named.
+macro_rules! setters {
+    ($($field:ident: $t:ty),* $(,)?) => {
+        $(
+            pub fn $field(mut self, $field: $t) -> Self {
+                self.$field = $field;
+                self
+            }
+        )*
+    };
+}
+
 impl BodyDesc {
     /// A dynamic body of the given shape with the defaults above.
     pub fn new(shape: Shape) -> Self {
@@ -81,32 +93,10 @@ impl BodyDesc {
         BodyDesc::new(Shape::Plane(plane))
     }
 
-    pub fn mass(mut self, mass: f64) -> Self {
-        self.mass = mass;
-        self
-    }
+    setters!(mass: f64, position: Vec3, orientation: Quat, velocity: Vec3, angular_velocity: Vec3, mu: f64);
+
     pub fn inertia(mut self, inertia: Mat3) -> Self {
         self.inertia = Some(inertia);
-        self
-    }
-    pub fn position(mut self, p: Vec3) -> Self {
-        self.position = p;
-        self
-    }
-    pub fn orientation(mut self, q: Quat) -> Self {
-        self.orientation = q;
-        self
-    }
-    pub fn velocity(mut self, v: Vec3) -> Self {
-        self.velocity = v;
-        self
-    }
-    pub fn angular_velocity(mut self, w: Vec3) -> Self {
-        self.angular_velocity = w;
-        self
-    }
-    pub fn mu(mut self, mu: f64) -> Self {
-        self.mu = mu;
         self
     }
     pub fn fixed(mut self, is_static: bool) -> Self {

@@ -229,6 +229,15 @@ impl Draw {
         HardContact { point, normal: self.normal, a, b: None, mu, gap: self.gap(rng) }
     }
 
+    /// `count` ground contacts on the bottom face of block 0, `b`: its corners
+    /// first, then random points (see [`face_uv`]).
+    fn bottom_contacts(&self, rng: &mut ChaCha8Rng, b: &Block, count: usize, contacts: &mut Vec<HardContact>) {
+        for c in 0..count {
+            let (u, v) = face_uv(rng, c);
+            contacts.push(self.ground(rng, b.face_point(u, v, -1.0), 0));
+        }
+    }
+
     fn random_box(&self, rng: &mut ChaCha8Rng) -> Block {
         let half = Vec3::new(rng.random_range(0.1..=1.0), rng.random_range(0.1..=1.0), rng.random_range(0.1..=1.0));
         let mass = 10f64.powf(rng.random_range(-1.0..=1.0));
@@ -237,26 +246,19 @@ impl Draw {
 
     /// The blocks and contacts of family `kind`.
     fn family(&self, kind: HardKind, rng: &mut ChaCha8Rng) -> (Vec<Block>, Vec<HardContact>) {
-        let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
         let mut blocks = Vec::new();
         let mut contacts: Vec<HardContact> = Vec::new();
         match kind {
             HardKind::ManyContacts => {
                 let b = self.random_box(rng);
                 let nc = rng.random_range(5..=HARD_MAX_CONTACTS);
-                for c in 0..nc {
-                    let (u, v) = face_uv(rng, c);
-                    contacts.push(self.ground(rng, b.face_point(u, v, -1.0), 0));
-                }
+                self.bottom_contacts(rng, &b, nc, &mut contacts);
                 blocks.push(b);
             }
             HardKind::Duplicate => {
                 let b = self.random_box(rng);
                 let base = rng.random_range(1..=8usize);
-                for c in 0..base {
-                    let (u, v) = face_uv(rng, c);
-                    contacts.push(self.ground(rng, b.face_point(u, v, -1.0), 0));
-                }
+                self.bottom_contacts(rng, &b, base, &mut contacts);
                 let copies = rng.random_range(1..=HARD_MAX_CONTACTS - base);
                 for _ in 0..copies {
                     let c = contacts[rng.random_range(0..contacts.len())];
@@ -267,10 +269,7 @@ impl Draw {
             HardKind::NearlyParallel => {
                 let b = self.random_box(rng);
                 let base = rng.random_range(2..=8usize);
-                for c in 0..base {
-                    let (u, v) = face_uv(rng, c);
-                    contacts.push(self.ground(rng, b.face_point(u, v, -1.0), 0));
-                }
+                self.bottom_contacts(rng, &b, base, &mut contacts);
                 for c in 0..base {
                     let m = self.mu(rng);
                     let twin = twin_of(rng, contacts[c], self.t1, self.t2, m);
@@ -297,10 +296,10 @@ impl Draw {
                 let lower = Block::cuboid(Vec3::ZERO, self.axes, half_l, lower_mass);
                 let top = lower.face_point(rng.random_range(-0.5..=0.5), rng.random_range(-0.5..=0.5), 1.0);
                 let upper = Block::cuboid(top, self.axes, half_u, upper_mass);
-                for (u, v) in corners {
+                for (u, v) in CORNERS {
                     contacts.push(HardContact { b: Some(0), ..self.ground(rng, upper.face_point(u, v, -1.0), 1) });
                 }
-                for (u, v) in corners {
+                for (u, v) in CORNERS {
                     contacts.push(self.ground(rng, lower.face_point(u, v, -1.0), 0));
                 }
                 blocks.push(lower);
@@ -330,10 +329,10 @@ impl Draw {
                 let top = board.face_point(rng.random_range(-0.5..=0.5), rng.random_range(-0.5..=0.5), 1.0);
                 let half_u = Vec3::new(rng.random_range(0.05..=0.5), rng.random_range(0.05..=0.5), rng.random_range(0.05..=0.5));
                 let upper = Block::cuboid(top, self.axes, half_u, upper_mass);
-                for (u, v) in corners {
+                for (u, v) in CORNERS {
                     contacts.push(HardContact { b: Some(0), ..self.ground(rng, upper.face_point(u, v, -1.0), 1) });
                 }
-                for (u, v) in corners {
+                for (u, v) in CORNERS {
                     contacts.push(self.ground(rng, board.face_point(u, v, -1.0), 0));
                 }
                 // Fill up to 16 with duplicates and near-parallel twins of random contacts.
@@ -351,9 +350,11 @@ impl Draw {
     }
 }
 
+/// A face's corners in its `(u, v)` coordinates, in contact order.
+const CORNERS: [(f64, f64); 4] = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+
 /// Bottom-face coordinates of the `c`-th contact: the 4 corners first, then random points.
 fn face_uv(rng: &mut ChaCha8Rng, c: usize) -> (f64, f64) {
-    const CORNERS: [(f64, f64); 4] = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
     match CORNERS.get(c) {
         Some(&uv) => uv,
         None => (rng.random_range(-1.0..=1.0), rng.random_range(-1.0..=1.0)),

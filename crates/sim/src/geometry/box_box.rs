@@ -43,22 +43,15 @@ pub fn box_box(a: &BoxShape, pa: &Placement, b: &BoxShape, pb: &Placement, margi
     // Face axes: A's first, then B's only if clearly better (deterministic ties).
     let face_tol = 1e-9 * scale;
     let mut best = (f64::NEG_INFINITY, Vec3::Z, Axis::FaceA(0));
-    for (i, &u) in axes_a.iter().enumerate() {
+    let faces_a = axes_a.iter().enumerate().map(|(i, &u)| (u, Axis::FaceA(i)));
+    let faces_b = axes_b.iter().enumerate().map(|(j, &u)| (u, Axis::FaceB(j)));
+    for (u, axis) in faces_a.chain(faces_b) {
         let (s, n) = separation(u);
         if s > margin {
             return;
         }
         if s > best.0 + face_tol {
-            best = (s, n, Axis::FaceA(i));
-        }
-    }
-    for (j, &u) in axes_b.iter().enumerate() {
-        let (s, n) = separation(u);
-        if s > margin {
-            return;
-        }
-        if s > best.0 + face_tol {
-            best = (s, n, Axis::FaceB(j));
+            best = (s, n, axis);
         }
     }
     // Edge axes: must beat the best face by a margin (ODE uses a similar fudge).

@@ -4,12 +4,13 @@
 use lcp::Status;
 use std::sync::{Arc, Mutex};
 
-/// One solved LCP, borrowed for the duration of the `capture` call.
-/// `m`, `q`, `z`, `w` are exactly what the solver saw and returned — the
-/// *scaled* problem (`D M D, D q` with `D = diag(I, I, s·I)`); the physical
-/// answer is in the step record.
-#[derive(Clone, Copy, Debug)]
-pub struct CapturedLcp<'a> {
+/// One solved LCP with its arrays of type `D`: borrowed slices in
+/// [`CapturedLcp`] (for the duration of the `capture` call), owned vectors in
+/// [`OwnedLcp`]. `m`, `q`, `z`, `w` are exactly what the solver saw and
+/// returned — the *scaled* problem (`D M D, D q` with `D = diag(I, I, s·I)`);
+/// the physical answer is in the step record.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Captured<D> {
     /// Step index and time at its start (s).
     pub step: u64,
     pub time: f64,
@@ -21,59 +22,53 @@ pub struct CapturedLcp<'a> {
     /// Friction-cone scale `s`.
     pub scale: f64,
     /// Row-major `M` (n·n) and `q` (n).
-    pub m: &'a [f64],
-    pub q: &'a [f64],
+    pub m: D,
+    pub q: D,
     /// The solver's `z` and `w` (length n).
-    pub z: &'a [f64],
-    pub w: &'a [f64],
+    pub z: D,
+    pub w: D,
     pub status: Status,
-    pub iterations: usize,
+    pub pivots: usize,
     /// Solver name (`lcp::Method::name`, or "custom" for `step_with`).
     pub method: &'static str,
 }
 
-impl CapturedLcp<'_> {
+/// A solved LCP as the sink sees it (arrays borrowed).
+pub type CapturedLcp<'a> = Captured<&'a [f64]>;
+/// An owned [`CapturedLcp`].
+pub type OwnedLcp = Captured<Vec<f64>>;
+
+impl<D: AsRef<[f64]>> Captured<D> {
     /// Problem size.
     pub fn n(&self) -> usize {
-        self.q.len()
+        self.q.as_ref().len()
     }
 
-    /// An owned copy.
-    pub fn to_owned(&self) -> OwnedLcp {
-        OwnedLcp {
+    /// The same record with each array mapped by `f` (e.g. `to_vec`).
+    pub fn map<E>(&self, f: impl Fn(&[f64]) -> E) -> Captured<E> {
+        Captured {
             step: self.step,
             time: self.time,
             island: self.island,
             contacts: self.contacts,
             friction_dirs: self.friction_dirs,
             scale: self.scale,
-            m: self.m.to_vec(),
-            q: self.q.to_vec(),
-            z: self.z.to_vec(),
-            w: self.w.to_vec(),
+            m: f(self.m.as_ref()),
+            q: f(self.q.as_ref()),
+            z: f(self.z.as_ref()),
+            w: f(self.w.as_ref()),
             status: self.status,
-            iterations: self.iterations,
+            pivots: self.pivots,
             method: self.method,
         }
     }
 }
 
-/// An owned [`CapturedLcp`].
-#[derive(Clone, Debug, PartialEq)]
-pub struct OwnedLcp {
-    pub step: u64,
-    pub time: f64,
-    pub island: usize,
-    pub contacts: usize,
-    pub friction_dirs: usize,
-    pub scale: f64,
-    pub m: Vec<f64>,
-    pub q: Vec<f64>,
-    pub z: Vec<f64>,
-    pub w: Vec<f64>,
-    pub status: Status,
-    pub iterations: usize,
-    pub method: &'static str,
+impl CapturedLcp<'_> {
+    /// An owned copy.
+    pub fn to_owned(&self) -> OwnedLcp {
+        self.map(<[f64]>::to_vec)
+    }
 }
 
 /// Receives every LCP the world solves. `Send` so a world can move between threads.

@@ -155,5 +155,7 @@ fn try_previous_basis(lcp: &ContactLcp, basis: &[bool], accept_tol: f64, ws: &mu
     let scaled = BodySpaceLcp::new(lcp);
     let physical = BodySpaceLcp::at_scale(lcp, 1.0);
     let to_physical = |z: &[f64], out: &mut Vec<f64>| lcp.unscale_z(z, out);
-    lcp::support::solve_on_basis(&scaled, basis, accept_tol, Some((&physical, &to_physical)), ws).map(|a| a.solution)
+    // At scale 1 the physical LCP is the one solved: one check does.
+    let also = (lcp.scale() != 1.0).then_some((&physical as &dyn LcpOperator, &to_physical as &dyn Fn(&[f64], &mut Vec<f64>)));
+    lcp::support::solve_on_basis(&scaled, basis, accept_tol, also, ws).map(|a| a.solution)
 }

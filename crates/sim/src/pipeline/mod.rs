@@ -22,7 +22,7 @@ mod solve;
 mod trajectory;
 pub(crate) mod warm;
 
-pub use capture::{CapturedLcp, LcpBuffer, LcpSink, OwnedLcp};
+pub use capture::{Captured, CapturedLcp, LcpBuffer, LcpSink, OwnedLcp};
 pub use energy::EnergyAudit;
 pub use record::{IslandRecord, StepRecord};
 pub use trajectory::Trajectory;

@@ -28,7 +28,7 @@ pub struct StepRecord {
     /// How the solve ended; `None` when there was no contact (nothing solved).
     pub status: Option<Status>,
     /// Pivots (Lemke) or iterations (iterative solvers).
-    pub iterations: usize,
+    pub pivots: usize,
     /// Residuals of the physical `z` on the unscaled (`s = 1`) LCP.
     pub residuals: Residuals,
     /// Residuals as the solver reported them (scaled LCP).
@@ -49,7 +49,7 @@ pub struct StepRecord {
     /// layout), when the solver reported one for every island.
     pub basis: Option<Vec<bool>>,
     /// The contact islands, each solved as its own LCP, in the order of their
-    /// first contact (how `status`, `iterations` and the residuals summarise
+    /// first contact (how `status`, `pivots` and the residuals summarise
     /// them: `pipeline::solve`).
     pub islands: Vec<IslandRecord>,
     /// Dynamic bodies of every island, island after island (see [`IslandRecord::bodies`]).
@@ -70,7 +70,7 @@ pub struct IslandRecord {
     pub lcp_size: usize,
     pub status: Status,
     /// Pivots (Lemke) or iterations.
-    pub iterations: usize,
+    pub pivots: usize,
     /// Natural residual of its physical `z` on its unscaled LCP.
     pub residual: f64,
     /// Natural residual as the solver reported it (scaled LCP).

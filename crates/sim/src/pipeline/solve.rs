@@ -6,7 +6,7 @@
 //!
 //! The step's summary of its islands: `status` is `Solved` iff every island
 //! was solved, else the status of the first island (in island order) that
-//! was not; `iterations` is the total over the islands; `residuals` are those
+//! was not; `pivots` is the total over the islands; `residuals` are those
 //! of the whole physical `z` (so the largest natural residual of any island);
 //! `solver_residuals` the worst of each measure over the islands; `zeroed` is
 //! set when any island applied no impulse; `basis` is the islands' bases in
@@ -98,7 +98,7 @@ impl World {
         rec.lcp_size = lcp::contact::ContactLayout::new(nc, self.params.friction_dirs).n();
         rec.zeroed = false;
         rec.status = None;
-        rec.iterations = 0;
+        rec.pivots = 0;
         rec.residuals = Residuals::default();
         rec.solver_residuals = Residuals::default();
         rec.z.clear();
@@ -126,7 +126,7 @@ impl World {
                 z: &sol.z,
                 w: &sol.w,
                 status: sol.status,
-                iterations: sol.iterations,
+                pivots: sol.pivots,
                 method,
             });
         }
@@ -160,7 +160,7 @@ impl World {
             if rec.status.is_none() || (rec.status == Some(Status::Solved) && sol.status != Status::Solved) {
                 rec.status = Some(sol.status);
             }
-            rec.iterations += sol.iterations;
+            rec.pivots += sol.pivots;
             rec.zeroed |= isl.zeroed;
             solver_res = Some(solver_res.map_or(sol.residuals, |r| worst(r, sol.residuals)));
             rec.islands.push(IslandRecord {
@@ -168,9 +168,9 @@ impl World {
                 contacts: ws.islands.contact_range(i),
                 lcp_size: isl.lcp.n(),
                 status: sol.status,
-                iterations: sol.iterations,
-                residual: isl.residuals.natural,
-                solver_residual: sol.residuals.natural,
+                pivots: sol.pivots,
+                residual: isl.residuals.residual,
+                solver_residual: sol.residuals.residual,
                 zeroed: isl.zeroed,
                 warm: isl.warmed,
             });
@@ -184,7 +184,7 @@ impl World {
 /// The worse of two residual reports, measure by measure.
 fn worst(a: Residuals, b: Residuals) -> Residuals {
     Residuals {
-        natural: a.natural.max(b.natural),
+        residual: a.residual.max(b.residual),
         min_z: a.min_z.min(b.min_z),
         min_w: a.min_w.min(b.min_w),
         max_complementarity: a.max_complementarity.max(b.max_complementarity),

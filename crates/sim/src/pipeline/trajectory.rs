@@ -29,8 +29,8 @@ pub struct Trajectory {
     pub lcp_size: Vec<usize>,
     /// Solver status per step (`None` without contacts).
     pub status: Vec<Option<Status>>,
-    /// Pivots / iterations per step.
-    pub iterations: Vec<usize>,
+    /// Pivots (Lemke) or iterations (iterative solvers) per step.
+    pub pivots: Vec<usize>,
     /// Natural residual `‖min(z, w)‖∞` in physical units per step.
     pub residual: Vec<f64>,
     /// Natural residual as the solver reported it (scaled LCP; worst island) per step.
@@ -62,7 +62,7 @@ impl Trajectory {
             contacts: Vec::with_capacity(steps),
             lcp_size: Vec::with_capacity(steps),
             status: Vec::with_capacity(steps),
-            iterations: Vec::with_capacity(steps),
+            pivots: Vec::with_capacity(steps),
             residual: Vec::with_capacity(steps),
             solver_residual: Vec::with_capacity(steps),
             normal_impulse: Vec::with_capacity(steps),
@@ -87,9 +87,9 @@ impl Trajectory {
         self.contacts.push(r.nc());
         self.lcp_size.push(r.lcp_size);
         self.status.push(r.status);
-        self.iterations.push(r.iterations);
-        self.residual.push(r.residuals.natural);
-        self.solver_residual.push(r.solver_residuals.natural);
+        self.pivots.push(r.pivots);
+        self.residual.push(r.residuals.residual);
+        self.solver_residual.push(r.solver_residuals.residual);
         self.islands.push(r.islands.len());
         self.max_island_size.push(r.islands.iter().map(|i| i.lcp_size).max().unwrap_or(0));
         self.push_impulses(r);

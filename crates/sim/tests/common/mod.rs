@@ -15,7 +15,7 @@ pub fn rel(a: f64, b: f64) -> f64 {
 /// Steps once and insists the LCP (if any) was solved.
 pub fn step_ok(world: &mut World) -> StepRecord {
     let r = world.step().expect("step").clone();
-    assert!(r.ok(), "step {} status {:?} residual {:e}", r.step, r.status, r.residuals.natural);
+    assert!(r.ok(), "step {} status {:?} residual {:e}", r.step, r.status, r.residuals.residual);
     r
 }
 

@@ -1,0 +1,278 @@
+"""Trajectories: the state after every step of a run and each step's LCP
+outcome (:class:`Trajectory`), their LCP statistics (:class:`LcpStats`) and,
+when the run recorded them, every step's contacts (:class:`ContactLog`).
+
+``World.run`` returns a :class:`Trajectory`; ``World.run(steps, record_contacts=True)``
+also keeps each step's contact points, normals and impulses. A trajectory
+saves to HDF5 and loads back (:meth:`Trajectory.save`, :meth:`Trajectory.load`,
+format in :mod:`lcpsim.io.trajectory_file`) and draws itself as one
+self-contained 3-D page (:meth:`Trajectory.to_html`, :mod:`lcpsim.viewer`).
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ._json import fields_dict
+from .lcp import STATUSES
+
+__all__ = ["Trajectory", "LcpStats", "ContactLog", "NO_CONTACT", "STATUS_NAMES", "quat_angle"]
+
+#: Status of a step without contacts (no LCP was solved).
+NO_CONTACT = "no_contact"
+#: Trajectory status codes from the compiled module: -1 = no contact, else an index into STATUSES;
+#: ``STATUS_NAMES[code + 1]`` is the name.
+STATUS_NAMES = np.array([NO_CONTACT, *STATUSES])
+
+
+def quat_angle(q0: ArrayLike, q1: ArrayLike) -> NDArray[np.float64] | float:
+    """Rotation angle (rad) between unit quaternions ``q0`` and ``q1`` (w, x, y, z);
+    broadcasts over leading dimensions."""
+    d = np.abs(np.sum(np.asarray(q0, dtype=float) * np.asarray(q1, dtype=float), axis=-1))
+    a = 2.0 * np.arccos(np.clip(d, -1.0, 1.0))
+    return float(a) if np.ndim(a) == 0 else a
+
+
+@dataclass(frozen=True)
+class ContactLog:
+    """Every step's contacts, concatenated over the run: step ``t`` owns rows
+    ``offsets[t]:offsets[t + 1]``.
+
+    ``points`` (N, 3) in m, ``normals`` (N, 3) unit, pointing from body B to
+    body A; ``fn`` (N,) normal impulses (N·s); ``friction`` (N, 3) the friction
+    impulse vector ``Σ_j fd_j d_j`` on body A (N·s); ``lam`` (N,) λ (m/s), all
+    in physical units; ``body_a``, ``body_b`` (N,) body indices. A step whose
+    LCP failed keeps the impulses the solver returned (the simulator applied none).
+    """
+
+    offsets: NDArray[np.int64]
+    points: NDArray[np.float64]
+    normals: NDArray[np.float64]
+    fn: NDArray[np.float64]
+    friction: NDArray[np.float64]
+    lam: NDArray[np.float64]
+    body_a: NDArray[np.int64]
+    body_b: NDArray[np.int64]
+
+    #: The per-contact fields, in file order.
+    FIELDS = ("points", "normals", "fn", "friction", "lam", "body_a", "body_b")
+
+    def __len__(self) -> int:
+        return int(self.offsets.shape[0]) - 1
+
+    @property
+    def counts(self) -> NDArray[np.int64]:
+        """(T,) contacts per step."""
+        return np.diff(self.offsets)
+
+    def at(self, step: int) -> dict[str, NDArray[Any]]:
+        """Step ``step``'s contacts: field name → array (rows of that step only)."""
+        if not 0 <= step < len(self):
+            raise IndexError(f"step {step} out of range (the log holds {len(self)} steps)")
+        a, b = int(self.offsets[step]), int(self.offsets[step + 1])
+        return {f: getattr(self, f)[a:b] for f in self.FIELDS}
+
+    @classmethod
+    def from_records(cls, records: Sequence[Mapping[str, Any]]) -> "ContactLog":
+        """The log of step records (``StepRecord`` or the compiled step's dicts), in step order."""
+        counts = np.array([int(r["contacts"]) if isinstance(r, Mapping) else r.contacts for r in records], dtype=np.int64)
+        get = (lambda r, f: r[f]) if records and isinstance(records[0], Mapping) else getattr
+
+        def cat(f: str, tail: tuple[int, ...], dtype: Any) -> NDArray[Any]:
+            parts = [np.asarray(get(r, f), dtype=dtype).reshape(-1, *tail) for r in records]
+            return np.concatenate(parts) if parts else np.zeros((0, *tail), dtype=dtype)
+
+        return cls(
+            offsets=np.concatenate([[0], np.cumsum(counts)]).astype(np.int64),
+            points=cat("points", (3,), np.float64),
+            normals=cat("normals", (3,), np.float64),
+            fn=cat("fn", (), np.float64),
+            friction=cat("friction", (3,), np.float64),
+            lam=cat("lam", (), np.float64),
+            body_a=cat("body_a", (), np.int64),
+            body_b=cat("body_b", (), np.int64),
+        )
+
+
+@dataclass(frozen=True)
+class LcpStats:
+    """LCP statistics of a run: how many LCPs were solved and how they ended."""
+
+    steps: int
+    lcps: int  # steps with an LCP
+    failures: int  # LCPs not solved
+    by_status: dict[str, int]  # every status that occurred (LCP steps only)
+    max_residual: float  # physical units; 0 without LCPs
+    pivots_median: float
+    pivots_max: int
+    max_lcp_size: int
+    max_contacts: int
+
+    def to_dict(self) -> dict[str, Any]:
+        return fields_dict(self)
+
+    @property
+    def count(self) -> int:
+        """Deprecated name of :attr:`lcps`."""
+        from ._deprecated import warn
+
+        warn("LcpStats.count", "LcpStats.lcps")
+        return self.lcps
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """The state after every step of a run, and each step's LCP outcome.
+
+    ``T`` steps, ``B`` bodies (static ones included, in body order): ``time`` (T,) the time after
+    each step; ``positions`` (T, B, 3); ``orientations`` (T, B, 4) as (w, x, y, z); ``velocities``
+    (T, B, 6) as ``[v; ω]``. Per step: ``status`` (T,) strings (``"no_contact"`` without an LCP),
+    ``pivots``, ``residual`` (physical units), ``solver_residual``, ``lcp_size``, ``contacts``,
+    ``normal_impulse`` (Σ fn, N·s), ``friction_impulse`` (T, 3) (Σ over contacts of the friction
+    impulse on body A), ``max_lambda`` (largest physical λ, m/s), ``islands`` and
+    ``max_island_size`` (largest island LCP). ``initial_*`` hold the state before the first step.
+    ``config`` is the world's :meth:`World.config` when the run started (its bodies' shapes, the
+    parameters, the scene); ``contact_log`` every step's contacts when the run recorded them
+    (``World.run(..., record_contacts=True)``), else None.
+    """
+
+    dt: float
+    time: NDArray[np.float64]
+    positions: NDArray[np.float64]
+    orientations: NDArray[np.float64]
+    velocities: NDArray[np.float64]
+    status: NDArray[np.str_]
+    pivots: NDArray[np.int64]
+    residual: NDArray[np.float64]
+    solver_residual: NDArray[np.float64]
+    lcp_size: NDArray[np.int64]
+    contacts: NDArray[np.int64]
+    normal_impulse: NDArray[np.float64]
+    friction_impulse: NDArray[np.float64]
+    max_lambda: NDArray[np.float64]
+    islands: NDArray[np.int64]
+    max_island_size: NDArray[np.int64]
+    initial_positions: NDArray[np.float64]
+    initial_orientations: NDArray[np.float64]
+    initial_velocities: NDArray[np.float64]
+    config: Mapping[str, Any] | None = None
+    contact_log: ContactLog | None = None
+
+    def __len__(self) -> int:
+        return int(self.time.shape[0])
+
+    @property
+    def steps(self) -> int:
+        return len(self)
+
+    @property
+    def bodies(self) -> int:
+        return int(self.initial_positions.shape[0])
+
+    @property
+    def linear_velocities(self) -> NDArray[np.float64]:
+        """(T, B, 3)."""
+        return self.velocities[:, :, :3]
+
+    @property
+    def angular_velocities(self) -> NDArray[np.float64]:
+        """(T, B, 3)."""
+        return self.velocities[:, :, 3:]
+
+    @property
+    def ok(self) -> NDArray[np.bool_]:
+        """(T,) True where there was no LCP or it was solved."""
+        return np.isin(self.status, ("solved", NO_CONTACT))
+
+    @property
+    def failures(self) -> int:
+        """Steps whose LCP was not solved."""
+        return int((~self.ok).sum())
+
+    def displacement(self, body: int) -> NDArray[np.float64]:
+        """Final minus initial position of ``body`` (m)."""
+        if len(self) == 0:
+            return np.zeros(3)
+        return np.asarray(self.positions[-1, body] - self.initial_positions[body])
+
+    def tilt(self, body: int) -> NDArray[np.float64]:
+        """(T,) rotation angle of ``body`` from its initial orientation (rad)."""
+        return np.asarray(quat_angle(self.orientations[:, body], self.initial_orientations[body]), dtype=float)
+
+    def lcp_stats(self) -> LcpStats:
+        """Counts, failures by status, max residual and pivot statistics over the LCP steps."""
+        has = self.status != NO_CONTACT
+        statuses, counts = np.unique(self.status[has], return_counts=True)
+        piv = self.pivots[has]
+        return LcpStats(
+            steps=len(self),
+            lcps=int(has.sum()),
+            failures=self.failures,
+            by_status={str(s): int(c) for s, c in zip(statuses, counts)},
+            max_residual=float(self.residual[has].max(initial=0.0)),
+            pivots_median=float(np.median(piv)) if piv.size else 0.0,
+            pivots_max=int(piv.max(initial=0)),
+            max_lcp_size=int(self.lcp_size.max(initial=0)),
+            max_contacts=int(self.contacts.max(initial=0)),
+        )
+
+    def save(self, path: str | os.PathLike[str]) -> str:
+        """Writes this trajectory to an HDF5 file (:mod:`lcpsim.io.trajectory_file`); returns the path."""
+        from .io.trajectory_file import save_trajectory
+
+        return save_trajectory(path, self)
+
+    @classmethod
+    def load(cls, path: str | os.PathLike[str]) -> "Trajectory":
+        """Reads a trajectory written by :meth:`save` (a ``TrajectoryFileError`` if it is not one)."""
+        from .io.trajectory_file import load_trajectory
+
+        return load_trajectory(path)
+
+    def to_html(self, path: str | os.PathLike[str], **options: Any) -> str:
+        """Writes the self-contained 3-D viewer page of this run (:func:`lcpsim.viewer.write_html`:
+        ``title``, ``body``, ``direction``, ``max_bytes``); returns the path."""
+        from .viewer import write_html
+
+        return write_html(self, path, **options)
+
+    @classmethod
+    def _from_parts(
+        cls,
+        dt: float,
+        parts: Sequence[Mapping[str, Any]],
+        initial: Mapping[str, Any],
+        config: Mapping[str, Any] | None = None,
+        contact_log: ContactLog | None = None,
+    ) -> "Trajectory":
+        def cat(key: str) -> NDArray[Any]:
+            return parts[0][key] if len(parts) == 1 else np.concatenate([p[key] for p in parts])
+
+        return cls(
+            dt=dt,
+            time=cat("time"),
+            positions=cat("position"),
+            orientations=cat("orientation"),
+            velocities=np.concatenate([cat("velocity"), cat("angular_velocity")], axis=2),
+            status=STATUS_NAMES[cat("status").astype(np.int64) + 1],
+            pivots=cat("pivots"),
+            residual=cat("residual"),
+            solver_residual=cat("solver_residual"),
+            lcp_size=cat("lcp_size"),
+            contacts=cat("contacts"),
+            normal_impulse=cat("normal_impulse"),
+            friction_impulse=cat("friction_impulse"),
+            max_lambda=cat("max_lambda"),
+            islands=cat("islands"),
+            max_island_size=cat("max_island_size"),
+            initial_positions=initial["position"],
+            initial_orientations=initial["orientation"],
+            initial_velocities=np.concatenate([initial["velocity"], initial["angular_velocity"]], axis=1),
+            config=config,
+            contact_log=contact_log,
+        )

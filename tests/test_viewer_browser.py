@@ -1,0 +1,215 @@
+"""Issue 16 in a real browser: the viewer page in headless Chromium (Debian's
+/usr/bin/chromium driven by Playwright for Python; `.ci/run` installs both).
+
+Each page loads from file:// with no console error and no request beyond the
+page itself and the blob: URLs it makes of its inlined three.js; the 3-D
+canvas is not blank; the cube's pixels move between the first and the last
+frame of a sliding run and stay put for a resting one; the slider changes the
+frame drawn; a failed LCP has its marker on the timeline, at its step.
+"""
+
+from __future__ import annotations
+
+import base64
+import io
+import math
+import os
+import shutil
+
+import numpy as np
+import pytest
+
+from lcpsim import scenes
+from lcpsim.cli import main
+
+CHROMIUM = os.environ.get("LCPSIM_CHROMIUM", "/usr/bin/chromium")
+# Headless Chromium has no GPU here: WebGL through SwiftShader (software).
+CHROMIUM_ARGS = ["--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist"]
+SEED = {"pivoting": "classic", "piv_tol": 1e-12, "zero_tol": 1e-6}
+
+sync_api = pytest.importorskip(
+    "playwright.sync_api", reason="Playwright for Python is not installed (pip install playwright): browser tests skipped"
+)
+if not (os.path.exists(CHROMIUM) or shutil.which(CHROMIUM)):
+    pytest.skip(f"no Chromium at {CHROMIUM} (apt-get install chromium): browser tests skipped", allow_module_level=True)
+
+
+@pytest.fixture(scope="module")
+def browser():
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        yield b
+        b.close()
+
+
+@pytest.fixture(scope="module")
+def pages(tmp_path_factory):
+    """The pages under test: a sliding cube (the issue's bar, through `lcpsim view`), a resting
+    one, a run with failed LCPs and an empty run."""
+    d = tmp_path_factory.mktemp("viewer")
+    out = {"slide": d / "slide.html"}
+    assert main(["view", "cube_on_slope", "--angle-deg", "45.2", "--mu", "1", "--out", str(out["slide"])]) == 0
+    rest = scenes.cube_on_slope(30.0, 1.0)
+    out["rest"] = rest.world.run(1000, record_contacts=True).to_html(d / "rest.html")
+    fail = scenes.cube_on_slope(45.0001, 1.0, **SEED)
+    traj = fail.world.run(300, record_contacts=True)
+    out["fail"] = traj.to_html(d / "fail.html")
+    out["failed_steps"] = [int(s) + 1 for s in np.nonzero(~traj.ok)[0]]
+    out["empty"] = scenes.resting_cube().world.run(0).to_html(d / "empty.html")
+    return out
+
+
+class Page:
+    """A loaded viewer page, with what it logged and requested."""
+
+    def __init__(self, browser, path) -> None:
+        self.page = browser.new_page(viewport={"width": 1100, "height": 760})
+        self.errors: list[str] = []
+        self.requests: list[str] = []
+        self.page.on("console", lambda m: self.errors.append(m.text) if m.type in ("error", "warning") else None)
+        self.page.on("pageerror", lambda e: self.errors.append(str(e)))
+        self.page.on("request", lambda r: self.requests.append(r.url))
+        self.url = "file://" + os.fspath(path)
+        self.page.goto(self.url)
+        self.page.wait_for_selector("body[data-ready]", state="attached", timeout=60_000)
+        assert self.page.evaluate("document.body.dataset.ready") == "1", self.errors
+
+    def eval(self, js: str):
+        return self.page.evaluate(js)
+
+    def canvas(self) -> np.ndarray:
+        """The 3-D canvas's pixels (H, W, 3)."""
+        from PIL import Image
+
+        url = self.eval("document.getElementById('scene').toDataURL('image/png')")
+        img = Image.open(io.BytesIO(base64.b64decode(url.split(",", 1)[1]))).convert("RGB")
+        return np.asarray(img).astype(int)
+
+    def frame(self, f: int) -> np.ndarray:
+        self.eval(f"lcpsimViewer.setFrame({f})")
+        return self.canvas()
+
+    def hide_contacts(self) -> None:
+        for box in ("#show-points", "#show-normal", "#show-friction"):
+            self.page.uncheck(box)
+
+    def close(self) -> None:
+        self.page.close()
+
+
+@pytest.fixture
+def open_page(browser):
+    opened: list[Page] = []
+
+    def _open(path) -> Page:
+        opened.append(Page(browser, path))
+        return opened[-1]
+
+    yield _open
+    for p in opened:
+        p.close()
+
+
+def cube_mask(img: np.ndarray) -> np.ndarray:
+    """Pixels of the selected body's orange (0xe8702a, shaded): red well above green and blue."""
+    r, g, b = img[..., 0], img[..., 1], img[..., 2]
+    return (r > g + 40) & (r > b + 70)
+
+
+def centroid(mask: np.ndarray) -> np.ndarray:
+    ys, xs = np.nonzero(mask)
+    return np.array([xs.mean(), ys.mean()])
+
+
+@pytest.mark.parametrize("name", ["slide", "rest", "fail", "empty"])
+def test_loads_offline_without_errors(open_page, pages, name):
+    p = open_page(pages[name])
+    assert p.errors == []
+    foreign = [u for u in p.requests if u != p.url and not u.startswith("blob:")]
+    assert foreign == [], f"the page requested {foreign}"
+    assert p.eval("lcpsimViewer.webgl") is True
+    img = p.canvas()
+    # Not blank: the ground, the cube and its edges give many colours, the cube a large patch.
+    assert len(np.unique(img.reshape(-1, 3), axis=0)) > 50
+    assert cube_mask(img).sum() > 2000
+    if name == "empty":
+        assert p.page.is_visible("#empty-notice")
+        assert p.eval("lcpsimViewer.frames") == 1
+
+
+def test_sliding_cube_moves_down_the_slope_and_resting_cube_does_not(open_page, pages):
+    slide = open_page(pages["slide"])
+    slide.hide_contacts()
+    last = slide.eval("lcpsimViewer.frames") - 1
+    a, b = slide.frame(0), slide.frame(last)
+    shift = centroid(cube_mask(b)) - centroid(cube_mask(a))
+    # 0.097 m down a 45° slope that descends to the right of the screen: right and down.
+    assert shift[0] > 3 and shift[1] > 3, shift
+    assert (np.abs(a - b).sum(axis=2) > 30).sum() > 500
+    assert "step 2000 / 2000" in slide.page.inner_text("#step-readout")
+    assert float(slide.page.inner_text("#body-readout").split("down-slope distance:")[1].split()[0]) > 0.09
+    # λ, the sliding speed the LCP chose, is g (sin θ − μ cos θ) t at t = 2 s.
+    lam = float(slide.page.inner_text("#contact-readout").split("max λ =")[1].split()[0])
+    th = math.radians(45.2)
+    assert lam == pytest.approx(9.81 * (math.sin(th) - math.cos(th)) * 2.0, rel=0.02)
+
+    rest = open_page(pages["rest"])
+    rest.hide_contacts()
+    last = rest.eval("lcpsimViewer.frames") - 1
+    a, b = rest.frame(0), rest.frame(last)
+    assert np.abs(a - b).max() <= 2, "a resting cube's pixels changed"
+    assert np.allclose(centroid(cube_mask(a)), centroid(cube_mask(b)), atol=0.05)
+
+
+def test_slider_changes_the_frame(open_page, pages):
+    p = open_page(pages["slide"])
+    p.hide_contacts()
+    before = p.frame(0)
+    assert "initial state" in p.page.inner_text("#step-readout")
+    p.page.fill("#slider", "1500")
+    assert p.eval("lcpsimViewer.frame") == 1500
+    assert "step 1500 / 2000" in p.page.inner_text("#step-readout")
+    assert (np.abs(p.canvas() - before).sum(axis=2) > 30).sum() > 200
+    # Contacts on again: their points and arrows add pixels.
+    bare = p.canvas()
+    p.page.check("#show-points")
+    p.page.check("#show-normal")
+    assert (np.abs(p.canvas() - bare).sum(axis=2) > 30).sum() > 20
+    # Play at 0.25× real time: frames advance by themselves; pause stops them.
+    p.page.select_option("#speed", "0.25")
+    p.eval("lcpsimViewer.setFrame(0)")
+    p.page.click("#play")
+    p.page.wait_for_timeout(400)
+    p.page.click("#play")
+    stopped = p.eval("lcpsimViewer.frame")
+    assert stopped > 0 and p.eval("lcpsimViewer.playing") is False
+    p.page.wait_for_timeout(200)
+    assert p.eval("lcpsimViewer.frame") == stopped
+
+
+def test_failed_steps_have_markers_that_jump_there(open_page, pages):
+    p = open_page(pages["fail"])
+    failed = pages["failed_steps"]
+    assert failed, "the failing scene did not fail"
+    markers = p.page.locator(".fail-marker")
+    marked = sorted(int(markers.nth(i).get_attribute("data-step")) for i in range(markers.count()))
+    assert marked == failed  # steps 2, 7, 11, 16: none adjacent, one marker each
+    # The strip is red at a failed step's column and not at a solved one's.
+    px = p.eval(
+        """(() => { const c = document.getElementById('strip'), g = c.getContext('2d');
+            const at = (s) => Array.from(g.getImageData(Math.floor((s - 0.5) / lcpsimViewer.steps * c.width),
+                                                         c.height - 2, 1, 1).data);
+            return [at(%d), at(250)]; })()""" % failed[0]
+    )
+    (r, g, b, _), solved = px
+    assert r > 150 and g < 80 and b < 80, px
+    assert solved[1] > solved[0], px  # green
+    strip = p.page.locator("#strip")
+    box = strip.bounding_box()
+    strip.click(position={"x": box["width"] * 249.5 / 300, "y": box["height"] / 2})
+    assert abs(p.eval("lcpsimViewer.step") - 250) <= 2
+    markers.nth(1).click()
+    assert p.eval("lcpsimViewer.step") == failed[1]
+    lcp = p.page.inner_text("#lcp-readout")
+    assert "cycling" in lcp or "numerical" in lcp or "max_pivots" in lcp, lcp
+    assert "no impulse was applied" in p.page.inner_text("#contact-readout")
