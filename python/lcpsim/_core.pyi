@@ -35,7 +35,7 @@ LEMKE_DEFAULTS: dict[str, Any]
 #: (the wrapper makes it the result's ``__dict__``; tests/test_api.py checks the keys).
 SolutionDict = dict[str, Any]
 
-#: Keyed by the fields of ``lcpsim.LcpBatchResult`` but ``ok`` (``status`` a list):
+#: Keyed by the fields of ``lcpsim.LcpBatchResult`` (``status`` a list):
 #: ``z``, ``w`` of shape (b, n), ``basis`` (b, n) or None, the rest (b,).
 BatchDict = dict[str, Any]
 

@@ -38,7 +38,7 @@ __all__ = [
 METHODS: tuple[str, ...] = tuple(_core.METHODS)
 #: Lemke pivoting rules accepted by ``pivoting=``.
 PIVOTINGS: tuple[str, ...] = tuple(_core.PIVOTINGS)
-#: Every status a solve can end with; only ``"solved"`` means ``z`` solves the LCP.
+#: Every status a solve can end with; ``ok`` (solved and accepted by the rule) means ``z`` solves the LCP.
 STATUSES: tuple[str, ...] = tuple(_core.STATUSES)
 
 # Lemke's option defaults, declared once in Rust (crates/lcp's LemkeOptions);
@@ -54,8 +54,10 @@ _REAL_KINDS = frozenset("biuf")
 class LcpResult:
     """The outcome of one LCP solve.
 
-    ``status`` is one of :data:`STATUSES`; ``ok`` is true only for ``"solved"``.
-    ``z`` and ``w = M z + q`` always have length n (the last iterate when not
+    ``status`` is one of :data:`STATUSES`; ``ok`` is true only for
+    ``"solved"`` with an answer inside the acceptance rule (each row judged on
+    its own scale, see the README); classic pivoting's ``"solved"`` is its
+    own absolute check, so there ``ok`` can be False. ``z`` and ``w = M z + q`` always have length n (the last iterate when not
     solved). ``residual`` is the natural residual ``‖min(z, w)‖∞`` in the units
     of the problem as given; ``min_z``, ``min_w`` (negative means infeasible)
     and ``max_complementarity = max |z_i w_i|`` complete the picture.
@@ -344,10 +346,9 @@ def solve_lcp_batch(
         raise ValueError(
             f"Ms and qs hold different numbers of problems: Ms has shape {Ms_.shape}, qs has shape {qs_.shape}"
         )
-    # The batch dict is keyed by the result's fields, but for `ok`.
+    # The batch dict is keyed by the result's fields (`ok`: solved and accepted by the rule).
     d = _core.solve_lcp_batch(Ms_, qs_, method, int(threads), **opts)
-    status = tuple(d["status"])
-    return LcpBatchResult(**{**d, "status": status, "ok": np.array([s == "solved" for s in status], dtype=bool)})
+    return LcpBatchResult(**{**d, "status": tuple(d["status"])})
 
 
 def lcp_residual(M: ArrayLike, q: ArrayLike, z: ArrayLike) -> float:

@@ -111,6 +111,13 @@ class StepRecord:
     (one LCP each): ``island_of_contact`` (nc,), per island ``island_bodies``,
     ``island_lcp_size``/``pivots``/``residual``/``status``; ``status`` is "solved" iff every island
     was, else the first unsolved one's; ``pivots`` total, ``residual`` max.
+    ``zeroed``: the solve failed and its answer was not applied as it stood:
+    the island applied its admissible part (impulses clipped at 0, friction
+    scaled into the cone) times the factor in [0, 1] that minimizes the energy
+    after the step, so a failed step adds no energy. Energy audit (J):
+    ``energy_before``/``energy_after`` (kinetic + gravitational potential of
+    the dynamic bodies), ``external_work`` (applied forces and torques;
+    gravity is in the energies), ``energy_created = after − before − work``.
     """
 
     step: int
@@ -128,6 +135,9 @@ class StepRecord:
     min_w: float
     max_complementarity: float
     zeroed: bool
+    energy_before: float
+    energy_after: float
+    external_work: float
     fn: NDArray[np.float64]
     fd: NDArray[np.float64]
     lam: NDArray[np.float64]
@@ -155,6 +165,11 @@ class StepRecord:
     def ok(self) -> bool:
         """True when there was no LCP or it was solved."""
         return self.status in ("solved", NO_CONTACT)
+
+    @property
+    def energy_created(self) -> float:
+        """Energy the step added (J): ``energy_after − energy_before − external_work``."""
+        return self.energy_after - self.energy_before - self.external_work
 
     @property
     def total_normal_impulse(self) -> float:

@@ -182,13 +182,13 @@ pub fn certify_z(lcp: &Lcp, z: &[f64]) -> Certificate {
 
 /// A finite `f64` as `m·2^e` with `m` odd (or 0).
 #[derive(Clone, Copy, Debug)]
-struct Dyadic {
-    m: i64,
-    e: i64,
+pub(crate) struct Dyadic {
+    pub(crate) m: i64,
+    pub(crate) e: i64,
 }
 
 impl Dyadic {
-    fn of(x: f64) -> Dyadic {
+    pub(crate) fn of(x: f64) -> Dyadic {
         let bits = x.to_bits();
         let field = ((bits >> 52) & 0x7ff) as i64;
         let frac = (bits & ((1u64 << 52) - 1)) as i64;
@@ -202,7 +202,7 @@ impl Dyadic {
         Dyadic { m: if x < 0.0 { -m } else { m }, e: e + tz }
     }
 
-    fn is_zero(self) -> bool {
+    pub(crate) fn is_zero(self) -> bool {
         self.m == 0
     }
 
@@ -434,7 +434,7 @@ fn sign(v: &BigInt) -> Ordering {
 
 /// `num · 2^exp2 / den` (`den > 0`) rounded to the nearest `f64`, ties to even,
 /// subnormals and overflow included.
-fn ratio_to_f64(num: &BigInt, den: &BigInt, exp2: i64) -> f64 {
+pub(crate) fn ratio_to_f64(num: &BigInt, den: &BigInt, exp2: i64) -> f64 {
     if num.is_zero() {
         return 0.0;
     }

@@ -4,6 +4,7 @@
 //! simulator (`sim::generate`): this crate never sees a body.
 //!
 //! - [`p_matrix_lcp`], [`spd_lcp`]: random LCPs with a unique solution.
+//! - [`permuted_triangular_lcp`]: ill-conditioned P-matrix LCPs (cond up to 1e20).
 //! - [`murty`]: Murty's (1978) example, on which Lemke's method takes 2ⁿ pivots;
 //!   [`murty_unit`]: the same matrix with `q = −1`.
 //! - [`infeasible_lcp`], [`infeasible_examples`]: LCPs without a solution.
@@ -62,6 +63,49 @@ pub fn p_matrix_lcp(n: usize, seed: u64) -> Lcp {
         }
     }
     build(m, q, "p_matrix_lcp")
+}
+
+/// A random ill-conditioned P-matrix LCP: `M = P T Pᵀ` with `T` upper
+/// triangular — diagonal uniform in [0.05, 1], each entry above it nonzero
+/// with probability ½ and then uniform in [−100, 100] — and `P` a random
+/// permutation; `q` uniform in [−1e-3, 1e-3]. Every principal submatrix of
+/// `T` is triangular with a positive diagonal, so `M` is a P-matrix (unique
+/// solution), while the off-diagonal growth makes cond(M) 1e10–1e20 for
+/// n ≈ 12–20 (the issue-15 family, where floating-point Lemke meets false
+/// rays). `(M, cond∞(M))` with cond∞ = ‖M‖∞‖M⁻¹‖∞ evaluated in floating point.
+///
+/// # Panics
+/// If `n == 0`.
+pub fn permuted_triangular_lcp(n: usize, seed: u64) -> (Lcp, f64) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut t = vec![0.0; n * n];
+    for i in 0..n {
+        t[i * n + i] = rng.random_range(0.05..=1.0);
+        for j in i + 1..n {
+            if rng.random_bool(0.5) {
+                t[i * n + j] = rng.random_range(-100.0..=100.0);
+            }
+        }
+    }
+    let mut perm: Vec<usize> = (0..n).collect();
+    for i in (1..n).rev() {
+        perm.swap(i, rng.random_range(0..=i));
+    }
+    let q: Vec<f64> = (0..n).map(|_| rng.random_range(-1e-3..=1e-3)).collect();
+    // ‖T⁻¹‖∞ by back substitution, column by column.
+    let mut inv_norm = vec![0.0f64; n];
+    for c in 0..n {
+        let mut x = vec![0.0; n];
+        for i in (0..=c).rev() {
+            let s: f64 = (i + 1..=c).map(|j| t[i * n + j] * x[j]).sum();
+            x[i] = (if i == c { 1.0 } else { 0.0 } - s) / t[i * n + i];
+        }
+        (0..n).for_each(|i| inv_norm[i] += x[i].abs());
+    }
+    let norm = (0..n).map(|i| t[i * n..(i + 1) * n].iter().map(|v| v.abs()).sum::<f64>()).fold(0.0, f64::max);
+    let cond = norm * inv_norm.iter().fold(0.0f64, |a, &v| a.max(v));
+    let m = (0..n * n).map(|k| t[perm[k / n] * n + perm[k % n]]).collect();
+    (build(m, q, "permuted_triangular_lcp"), cond)
 }
 
 /// A random LCP with an exactly symmetric positive definite matrix:

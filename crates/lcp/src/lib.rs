@@ -15,6 +15,7 @@
 //! - [`newton_fb`]: damped semismooth Newton on the Fischer–Burmeister function.
 //! - [`scaling`]: diagonal scaling `D_r M D_c, D_r q` and the map back.
 //! - [`contact`]: the layout of a contact LCP's `z = [fn; fd; λ]`, its cone scaling and sign patterns.
+//! - [`accept`]: the one acceptance rule (componentwise backward error, each row on its own scale).
 //! - [`certify`]: exact (rational) check that a complementary basis solves the LCP of the floats given.
 //! - [`support`]: solving on a guessed complementary basis through an operator
 //!   (`M` never formed): the zero-pivot step of a simulator.
@@ -23,6 +24,7 @@
 //! - [`generate`]: seeded generators of test LCPs (P-matrix, SPD, Murty, infeasible); contact
 //!   LCPs are generated from bodies by `sim::generate`.
 
+pub mod accept;
 pub mod certify;
 pub mod contact;
 pub mod enumerate;

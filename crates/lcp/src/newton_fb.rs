@@ -135,7 +135,9 @@ pub(crate) fn lu_solve(a: &[f64], n: usize, b: &[f64]) -> Option<Vec<f64>> {
 /// Solves `lcp` from `z = 0`. Never panics; `z` is always finite.
 ///
 /// Status: `Solved` when the natural residual of the problem as given is
-/// ≤ `o.tol`; `Numerical` when the merit function of the current iterate is
+/// ≤ `o.tol` and the iterate (round-off negatives clipped, unreached zeros
+/// snapped: [`crate::accept::snap`]) passes the acceptance rule at [`crate::accept::DEFAULT_TOL`] (the iteration goes on
+/// until both hold); `Numerical` when the merit function of the current iterate is
 /// not finite (overflow); otherwise `MaxIterations` (also when the line search
 /// stalls before the limit, at a stationary point of `Ψ` that is no solution).
 pub fn solve(lcp: &Lcp, o: &NewtonFbOptions) -> Solution {
@@ -200,9 +202,14 @@ fn iterate(lcp: &Lcp, s: &Scaling, mut z: Vec<f64>, o: &NewtonFbOptions) -> (Vec
     let mut kink = vec![false; n];
 
     for it in 0..=o.max_iterations {
-        // Converged?
+        // Converged, and inside the acceptance rule (scale invariant, so
+        // judged here on the working problem), round-off negatives clipped
+        // and unreached zeros snapped (`accept::snap`)?
         if natural_residual(&z, &w, s) <= o.tol {
-            return (z, Status::Solved, it);
+            match crate::accept::snap(lcp, &z, None, crate::accept::DEFAULT_TOL) {
+                Some((zs, ws)) if natural_residual(&zs, &ws, s) <= o.tol => return (zs, Status::Solved, it),
+                _ => {}
+            }
         }
         if !psi.is_finite() {
             return (z, Status::Numerical, it);

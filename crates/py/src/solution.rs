@@ -45,7 +45,7 @@ pub fn residuals_into(d: &Bound<'_, PyDict>, r: &Residuals) -> PyResult<()> {
 }
 
 /// A batch of `b` solutions of size `n`, stacked: `z`, `w` of shape (b, n);
-/// `status` a list of str; `pivots`, residuals of shape (b,); `basis` a
+/// `status` a list of str; `ok` (solved and accepted by `lcp::accept`); `pivots`, residuals of shape (b,); `basis` a
 /// (b, n) bool array when every solution has one, else None.
 pub fn batch_to_dict<'py>(
     py: Python<'py>,
@@ -62,7 +62,9 @@ pub fn batch_to_dict<'py>(
     let all_basis = b > 0 && sols.iter().all(|s| s.basis.is_some());
     let mut basis = Vec::with_capacity(if all_basis { b * n } else { 0 });
     let mut status = Vec::with_capacity(b);
+    let mut ok = Vec::with_capacity(b);
     for s in sols {
+        ok.push(s.ok());
         z.extend_from_slice(&s.z);
         w.extend_from_slice(&s.w);
         pivots.push(s.pivots as i64);
@@ -79,6 +81,7 @@ pub fn batch_to_dict<'py>(
     d.set_item("z", PyArray1::from_vec(py, z).reshape([b, n])?)?;
     d.set_item("w", PyArray1::from_vec(py, w).reshape([b, n])?)?;
     d.set_item("status", status)?;
+    d.set_item("ok", PyArray1::from_vec(py, ok))?;
     d.set_item("pivots", PyArray1::from_vec(py, pivots))?;
     d.set_item("residual", PyArray1::from_vec(py, residual))?;
     d.set_item("min_z", PyArray1::from_vec(py, min_z))?;

@@ -102,8 +102,11 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
         for name, p, r in (("unscaled", p0, r0), ("scaled", p1, r1)):
             bad = np.isin(p, impossible_codes) & (mu > 0)
             rows = bad.any(axis=1)
-            imp[name] += int((rows & r.ok).sum())
-            imp[name + "_failed"] += int((rows & ~r.ok).sum())
+            # By the solver's word: classic's "solved" with an impossible pattern is the artifact
+            # (its `ok` is False there, as the acceptance rule rejects such answers).
+            said_solved = np.array([st == "solved" for st in r.status], dtype=bool)
+            imp[name] += int((rows & said_solved).sum())
+            imp[name + "_failed"] += int((rows & ~said_solved).sum())
             for j in np.nonzero(rows)[0]:
                 if len(listed) >= int(cfg["max_listed"]):
                     break

@@ -1,10 +1,11 @@
 //! A rung's working problem: `M` Ruiz-equilibrated or not, `q` brought to
-//! unit size (`z` scales linearly with `q`), and how its answers map back and
-//! are judged.
+//! unit size (`z` scales linearly with `q`), and how its answers map back.
+//! They are judged in the units given by the rule of [`crate::accept`],
+//! which the scaling does not change (it is invariant under diagonal scaling).
 
 use crate::problem::Lcp;
 use crate::scaling::{RuizBuffers, Scaling};
-use crate::solution::Solution;
+use crate::solution::{Solution, Status};
 
 /// Ruiz sweeps used by the default equilibration.
 const RUIZ_ITERATIONS: usize = 8;
@@ -19,9 +20,10 @@ pub(crate) struct Frame {
     pub qscale: f64,
     /// `(D_r M D_c, qscale·D_r q)`: the problem the rung pivots on.
     pub work: Lcp,
-    /// Bounds on the natural residual in the units given and in the working units.
+    /// The acceptance rule's tolerance (Lemke's `accept_tol`).
+    pub accept_tol: f64,
+    /// `accept_tol·(1 + ‖q‖∞)`: the natural-residual target of the Newton–FB polish.
     pub tol: f64,
-    pub tol_work: f64,
 }
 
 impl Default for Frame {
@@ -31,8 +33,8 @@ impl Default for Frame {
             ruiz: RuizBuffers::default(),
             qscale: 1.0,
             work: Lcp::from_parts_unchecked(Vec::new(), Vec::new()),
+            accept_tol: 0.0,
             tol: 0.0,
-            tol_work: 0.0,
         }
     }
 }
@@ -48,7 +50,7 @@ impl Frame {
         let qmax = lcp.q_norm_inf();
         self.qscale = if qmax > 0.0 { pow2_inverse(qmax) } else { 1.0 };
         self.scaling.apply_pow2_into(lcp, self.qscale, &mut self.work);
-        self.tol_work = accept_tol * (1.0 + self.work.q_norm_inf());
+        self.accept_tol = accept_tol;
         self.tol = accept_tol * (1.0 + qmax);
     }
 
@@ -57,17 +59,9 @@ impl Frame {
         z_work.iter().zip(&self.scaling.col).map(|(z, c)| (c * z / self.qscale).max(0.0)).collect()
     }
 
-    /// Accepted in the units given and in the working ones, where
-    /// z' = qs·D_c⁻¹·z and w' = qs·D_r·w: a cone-scaled problem's λ rows are
-    /// divided by s on the way back to physical units, and the equilibration
-    /// undoes that scaling, so its units are the ones that matter.
-    pub fn accept(&self, s: &Solution) -> bool {
-        let (qs, sc) = (self.qscale, &self.scaling);
-        let work_residual = (0..s.z.len()).fold(0.0f64, |a, i| {
-            let (zw, ww) = (qs * s.z[i] / sc.col[i], qs * sc.row[i] * s.w[i]);
-            a.max(zw.min(ww).abs())
-        });
-        s.residuals.residual <= self.tol && work_residual <= self.tol_work
+    /// The answer `z_work` (working units) as a `Solution` of `lcp`, judged by the acceptance rule.
+    pub fn solution(&self, lcp: &Lcp, z_work: &[f64], status: Status, pivots: usize) -> Solution {
+        Solution::from_z_tol(lcp, self.unscale(z_work), status, pivots, self.accept_tol)
     }
 }
 

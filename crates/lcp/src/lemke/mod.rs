@@ -4,6 +4,7 @@
 //! - [`ratio`]: the lexicographic and the classic (seed) ratio tests.
 //! - [`run`]: the pivoting loop with its cycle guard and pivot limit.
 //! - [`refine`]: re-solving the final complementary basis.
+//! - [`exact`]: Lemke in exact integer arithmetic, the ladder's last rung.
 //! - [`frame`]: a rung's working (equilibrated) problem and its acceptance test.
 //! - [`warm`], [`subbasis`]: the warm start's basis, made regular when the
 //!   previous answer's is singular (statically indeterminate contact).
@@ -16,6 +17,7 @@
 //! absolute tolerances and trusts its own values, as the seed note's did.
 
 mod basis;
+mod exact;
 mod frame;
 mod options;
 mod ratio;
@@ -217,6 +219,14 @@ fn solve_lexicographic(
     ws: &mut Workspace,
 ) -> Solution {
     let mut best: Option<Solution> = None;
+    // The ladder stops at an answer that the acceptance rule accepts *and*
+    // whose natural residual is within `accept_tol·(1 + ‖q‖∞)` (on twin
+    // contacts a basis can pass the rule at η ~ 1e-12 with rows of cancelling
+    // impulses 3e-9 off, which a later rung improves on); the first answer
+    // that passes the rule alone is returned if none does both.
+    let bound = o.accept_tol * (1.0 + lcp.q_norm_inf());
+    let tight = |s: &Solution| s.ok() && s.residuals.residual <= bound;
+    let mut within: Option<Solution> = None;
     // Final bases of the failed rungs, with their natural residuals.
     let mut ends: Vec<(f64, Vec<bool>)> = Vec::new();
     let mut pivots = 0;
@@ -241,9 +251,12 @@ fn solve_lexicographic(
         let mut sol = solve_attempt(lcp, o, &attempt, left, start, trace.as_deref_mut(), rung, ws);
         pivots += sol.pivots;
         sol.pivots = pivots;
-        if sol.ok() {
+        if tight(&sol) {
             ws.alpha = alpha;
             return sol;
+        }
+        if sol.ok() && within.is_none() {
+            within = Some(sol.clone());
         }
         if let Some(b) = sol.basis.clone().filter(|b| !ends.iter().any(|(_, e)| e == b)) {
             ends.push((sol.residuals.residual, b));
@@ -283,8 +296,11 @@ fn solve_lexicographic(
             rung += 1;
             pivots += sol.pivots;
             sol.pivots = pivots;
-            if sol.ok() {
+            if tight(&sol) {
                 return sol;
+            }
+            if sol.ok() && within.is_none() {
+                within = Some(sol.clone());
             }
             if let Some(b) = sol.basis.filter(|b| sol.status == Status::Numerical && !tried.contains(b)) {
                 queue.push(b);
@@ -294,21 +310,50 @@ fn solve_lexicographic(
     let mut sol = best.expect("the ladder has at least one rung");
     sol.pivots = pivots;
     // (Not when the pivot budget ran out: that limit is the caller's to set.)
-    if o.fallback && sol.status != Status::MaxPivots {
+    if o.fallback && sol.status != Status::MaxPivots && !tight(&sol) {
         // Last rung: Newton–Fischer–Burmeister polish from the closest answer.
-        // Its z is accepted only by the rungs' residual check, in the units
-        // given and in the first rung's working units (it solves M, not a
+        // Its z is accepted only by the acceptance rule (it solves M, not a
         // regularized M); its basis is the support of z.
         let frame = &mut ws.frame;
         frame.reset(lcp, rungs[0].equilibrate, o.accept_tol);
         let opts = NewtonFbOptions { tol: frame.tol, ..Default::default() };
         let polished = crate::newton_fb::solve_from(lcp, &sol.z, &opts);
-        if frame.accept(&polished) && polished.residuals.residual < sol.residuals.residual {
+        let accepted = crate::accept::accepts(lcp, &polished.z, &polished.w, o.accept_tol);
+        if accepted && polished.residuals.residual < sol.residuals.residual {
             let basis = polished.z.iter().zip(&polished.w).map(|(z, w)| z > w).collect();
-            sol = Solution { status: Status::Solved, pivots, basis: Some(basis), ..polished };
+            sol = Solution { status: Status::Solved, pivots, basis: Some(basis), accepted, ..polished };
         }
     }
-    sol
+    if o.fallback && !tight(&sol) && sol.status != Status::MaxPivots && lcp.n() <= exact::MAX_N {
+        sol = solve_exact(lcp, o, sol, limit.saturating_sub(pivots));
+    }
+    match within {
+        Some(w) if !sol.ok() => Solution { pivots: sol.pivots, ..w },
+        _ => sol,
+    }
+}
+
+/// The last rung: Lemke in exact arithmetic (see [`exact`]). Its answer,
+/// rounded once, replaces `best` if the acceptance rule accepts it and `best`
+/// is not accepted or has the larger natural residual; an exact
+/// ray replaces a failure's status by `RayTermination` (round-off no longer
+/// stands in the way: the ray is the problem's, for the covering vector used).
+fn solve_exact(lcp: &Lcp, o: &LemkeOptions, mut best: Solution, budget: usize) -> Solution {
+    let (end, taken) = exact::solve(lcp, budget);
+    let pivots = best.pivots + taken;
+    match end {
+        exact::ExactEnd::Solved(z, mask) => {
+            let sol = Solution::from_z_tol(lcp, z, Status::Solved, pivots, o.accept_tol);
+            if sol.accepted && (!best.ok() || sol.residuals.residual < best.residuals.residual) {
+                return Solution { basis: Some(mask), ..sol };
+            }
+        }
+        exact::ExactEnd::Ray if !best.ok() => best.status = Status::RayTermination,
+        exact::ExactEnd::Ray => {}
+        exact::ExactEnd::Limit => {}
+    }
+    best.pivots = pivots;
+    best
 }
 
 /// One rung: scale, pivot (from the complementary basis `start` if given),
@@ -368,17 +413,20 @@ fn solve_attempt(
     }
     r.basis.z_into(z_work);
     *bufs = r.basis.into_buffers();
-    let mut sol = Solution::from_z(lcp, frame.unscale(z_work), r.status, r.pivots);
-    if sol.status == Status::Solved && !frame.accept(&sol) {
+    let mut sol = frame.solution(lcp, z_work, r.status, r.pivots);
+    if sol.status == Status::Solved && !sol.accepted {
         // C⁻¹ drifted: re-solve the final basis from scratch by LU.
         let alpha: Vec<usize> = (0..n).filter(|&j| mask[j]).collect();
         if let Some(z_work) = refine::resolve_basis(work, &alpha) {
-            let fresh = Solution::from_z(lcp, frame.unscale(&z_work), Status::Solved, r.pivots);
-            if fresh.residuals.residual < sol.residuals.residual {
+            let fresh = frame.solution(lcp, &z_work, Status::Solved, r.pivots);
+            if fresh.accepted || fresh.residuals.residual < sol.residuals.residual {
                 sol = fresh;
             }
         }
-        if !frame.accept(&sol) {
+        if !sol.accepted {
+            snap_in_working_units(lcp, frame, &mut sol);
+        }
+        if !sol.accepted {
             sol.status = Status::Numerical;
         }
     }
@@ -386,11 +434,24 @@ fn solve_attempt(
     // A run that ended on a (false) ray or a singular basis may still stand at
     // an answer: the residual check, not the pivoting, decides. Its basis is
     // then the support of z, as the pivoting's basis is not complementary.
-    if matches!(sol.status, Status::RayTermination | Status::SingularBasis | Status::Cycling) && frame.accept(&sol) {
+    if matches!(sol.status, Status::RayTermination | Status::SingularBasis | Status::Cycling) && sol.accepted {
         sol.status = Status::Solved;
         sol.basis = Some(sol.z.iter().zip(&sol.w).map(|(z, w)| z > w).collect());
     }
     sol
+}
+
+/// Degenerate bases leave round-off (~1e-17 of the largest value, in
+/// working units) in basic `z_j` that are 0 for the exact data; a row made
+/// only of such terms fails the rule. Those entries are zeroed, judged in the
+/// working units (equilibrated, so a cone-scaled λ does not set the scale),
+/// and the result kept if the rule accepts it (see [`crate::accept::snap`]).
+fn snap_in_working_units(lcp: &Lcp, frame: &frame::Frame, sol: &mut Solution) {
+    let weights: Vec<f64> = frame.scaling.col.iter().map(|c| frame.qscale / c).collect();
+    if let Some((z, w)) = crate::accept::snap(lcp, &sol.z, Some(&weights), frame.accept_tol) {
+        sol.residuals = crate::Residuals::of(&z, &w);
+        (sol.z, sol.w, sol.accepted) = (z, w, true);
+    }
 }
 
 /// Which `z_j` are basic.

@@ -6,11 +6,14 @@ pub enum Pivoting {
     /// Robust default: the problem is equilibrated first; ratio ties are
     /// detected with a *relative* tolerance and broken lexicographically
     /// (z0 preferred); bases are hashed to catch cycling; the final basis is
-    /// re-solved and the answer accepted by its residual in the units given.
+    /// re-solved and the answer judged by the acceptance rule
+    /// ([`crate::accept`]); an exact-arithmetic Lemke is the ladder's last rung.
     Lexicographic,
     /// The seed note's Lemke: absolute `piv_tol` and `zero_tol` applied to the
     /// problem exactly as given, Harris-style ratio test with `zero_tol` slack,
-    /// first index on ties. Kept to reproduce the seed's findings.
+    /// first index on ties. Kept to reproduce the seed's findings. Its
+    /// `Solved` is its own absolute check (`|z_i w_i| < zero_tol`, …); only
+    /// `Solution::ok()` says whether the acceptance rule holds too.
     Classic,
 }
 
@@ -40,8 +43,11 @@ pub struct LemkeOptions {
     pub zero_tol: f64,
     /// Pivot limit; `None` means `max(1000, 50·n)` (Murty's 2ⁿ examples need more).
     pub max_pivots: Option<usize>,
-    /// `Lexicographic` only: accept the answer when the natural residual in the
-    /// units given is ≤ `accept_tol·(1 + ‖q‖∞)`. Default 1e-9.
+    /// `Lexicographic` only: the tolerance of the acceptance rule
+    /// ([`crate::accept`]: each row's backward error on its own scale). The
+    /// ladder stops at the first answer the rule accepts whose natural
+    /// residual is also ≤ `accept_tol·(1 + ‖q‖∞)`, else returns the first the
+    /// rule accepts. Default 1e-9 ([`crate::accept::DEFAULT_TOL`]).
     pub accept_tol: f64,
     /// `Lexicographic` only: Ruiz-equilibrate `M` and normalize `q` before
     /// pivoting. Default true.

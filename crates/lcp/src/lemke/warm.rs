@@ -72,8 +72,11 @@ pub(crate) fn start<'a>(
         // although round-off (or the step's small change) put some a hair
         // below zero: the residual check decides, in the units given.
         basis.z_into(z_work);
-        let sol = Solution::from_z(lcp, frame.unscale(z_work), Status::Solved, swaps);
-        if frame.accept(&sol) {
+        let mut sol = frame.solution(lcp, z_work, Status::Solved, swaps);
+        if !sol.accepted {
+            super::snap_in_working_units(lcp, frame, &mut sol);
+        }
+        if sol.accepted {
             let mask = super::basic_mask(&basis.s, n);
             return Start::Done(Solution { basis: Some(mask), ..sol }, basis.into_buffers());
         }

@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests (each test crate uses some of them).
 #![allow(dead_code)]
 
+pub mod npz;
+
 use lcp::Lcp;
 
 /// Checks z ≥ 0, w = Mz + q ≥ 0, zᵀw = 0 to `tol` (relative to the data

@@ -255,8 +255,9 @@ impl Body {
         if self.is_static {
             return 0.0;
         }
-        let w = self.angular_velocity;
-        0.5 * self.mass * self.velocity.norm_squared() + 0.5 * w.dot(self.inertia_world() * w)
+        // ωᵀ R I Rᵀ ω with Rᵀω computed once (no world-frame inertia formed).
+        let wb = self.orientation.inverse_rotate(self.angular_velocity);
+        0.5 * self.mass * self.velocity.norm_squared() + 0.5 * wb.dot(self.inertia * wb)
     }
 
     /// Where the shape is, for the narrow phase.

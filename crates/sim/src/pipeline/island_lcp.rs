@@ -31,9 +31,10 @@ pub struct IslandLcp {
     pub w: Vec<f64>,
     /// Residuals of that `z` on the unscaled LCP.
     pub residuals: Residuals,
-    /// No impulse applied: the solve failed or its `z` was unusable.
+    /// The solver's answer was not applied: the solve failed or its `z` was unusable.
     pub zeroed: bool,
-    /// Impulses applied (physical `z` clamped at 0; zeros after a failure).
+    /// Impulses applied (physical `z` clamped at 0; after a failure, what the
+    /// failed-solve policy of `pipeline::energy` applies, set by `integrate`).
     pub z_apply: Vec<f64>,
     /// Buffers of the body-space check of the previous basis.
     pub support: SupportWorkspace,
@@ -49,9 +50,10 @@ impl IslandLcp {
     }
 
     /// Solves the assembled LCP, maps the answer to physical units and
-    /// decides the impulses. A failed solve applies none (its last iterate
-    /// can be anything; Moby's Lemke, the seed's, returns z = 0 on failure
-    /// too); the answer is kept for the record.
+    /// decides the impulses. A failed solve's answer is not applied as it
+    /// stands (its last iterate can be anything): `integrate` applies its
+    /// admissible part scaled not to add energy (`pipeline::energy`); the
+    /// answer is kept for the record.
     ///
     /// With `basis_check` (Lemke's acceptance bound), a coupled island first
     /// tries its previous basis in body space (see [`basis_check_applies`]);

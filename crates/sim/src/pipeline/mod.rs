@@ -6,7 +6,8 @@
 //! islands    dynamic bodies linked by contacts          (union-find; static bodies link nothing)
 //! assemble   one Stewart–Trinkle LCP (M, q) per island, z = [fn; fd; λ]
 //! solve      each island with any lcp::Method (or a caller's solver), map z back, record
-//! integrate  v⁺ = v* + M⁻¹(J_nᵀ fn + J_dᵀ fd), then positions from v⁺
+//! integrate  v⁺ = v* + M⁻¹(J_nᵀ fn + J_dᵀ fd), then positions from v⁺, energy audit
+//!            (a failed island applies its answer made admissible, scaled not to add energy: `energy`)
 //! ```
 //!
 //! Every stage is a public method of [`World`] so a caller can run them one by
@@ -14,6 +15,7 @@
 
 mod capture;
 mod detect;
+pub mod energy;
 pub(crate) mod island_lcp;
 mod record;
 mod solve;
@@ -21,6 +23,7 @@ mod trajectory;
 pub(crate) mod warm;
 
 pub use capture::{Captured, CapturedLcp, LcpBuffer, LcpSink, OwnedLcp};
+pub use energy::EnergyAudit;
 pub use record::{IslandRecord, StepRecord};
 pub use trajectory::Trajectory;
 
@@ -204,6 +207,7 @@ impl World {
     pub fn integrate(&mut self) {
         let h = self.params.dt;
         let nb = self.bodies.len();
+        let before = self.energy();
         let ws = &mut self.ws;
         ws.dv.clear();
         ws.dv.resize(nb, Vec3::ZERO);
@@ -214,16 +218,56 @@ impl World {
                 isl.lcp.apply_impulses(&isl.z_apply, &mut ws.dv, &mut ws.dw);
             }
         }
+        // failed islands: their answer made admissible, scaled not to add energy
+        self.fallback_impulses();
+        let (ws, g) = (&mut self.ws, self.params.gravity);
+        let mut work = 0.0;
         for (i, b) in self.bodies.iter_mut().enumerate() {
             if b.is_static {
                 continue;
             }
             b.velocity = ws.v_free[i] + ws.dv[i];
             b.angular_velocity = ws.w_free[i] + ws.dw[i];
+            work += h * ((ws.force[i] - g * b.mass).dot(b.velocity) + ws.torque[i].dot(b.angular_velocity));
             integrate_positions(b, h);
         }
         self.time += h;
         self.steps += 1;
+        self.record.energy = energy::EnergyAudit { before, after: self.energy(), external_work: work };
+    }
+
+    /// The failed-solve policy of [`energy`]: each failed island applies its
+    /// answer's admissible part times the energy-minimizing `α ∈ [0, 1]`
+    /// (recorded as its `z_apply`).
+    fn fallback_impulses(&mut self) {
+        let (h, g, nb) = (self.params.dt, self.params.gravity, self.bodies.len());
+        let ws = &mut self.ws;
+        for i in 0..ws.islands.len() {
+            let isl = &mut ws.pool[i];
+            if !isl.zeroed {
+                continue;
+            }
+            let mut cand = Vec::new();
+            energy::admissible(&isl.z, isl.lcp.layout(), isl.lcp.mu(), &mut cand);
+            let (mut dv, mut dw) = (vec![Vec3::ZERO; nb], vec![Vec3::ZERO; nb]);
+            isl.lcp.apply_impulses(&cand, &mut dv, &mut dw);
+            let bodies = ws.islands.bodies_of(i);
+            let shares = bodies.iter().map(|&b| energy::Share {
+                v: ws.v_free[b],
+                w: ws.w_free[b],
+                dv: dv[b],
+                dw: dw[b],
+                mass: self.bodies[b].mass,
+                inertia: self.bodies[b].inertia_world(),
+            });
+            let alpha = energy::fallback_scale(shares, g, h);
+            for &b in bodies {
+                ws.dv[b] += dv[b] * alpha;
+                ws.dw[b] += dw[b] * alpha;
+            }
+            isl.z_apply.clear();
+            isl.z_apply.extend(cand.iter().map(|v| v * alpha));
+        }
     }
 
     /// The contacts found by the last `detect` stage.

@@ -34,8 +34,13 @@ pub struct StepRecord {
     /// Residuals as the solver reported them (scaled LCP).
     pub solver_residuals: Residuals,
     /// The solve failed (status other than solved, or a `z` of the wrong
-    /// length or not finite): zero impulses were applied this step.
+    /// length or not finite): the solver's answer was not applied; the
+    /// failed-solve policy (`pipeline::energy`) applied its admissible part,
+    /// scaled so that the step adds no energy (zero for an unusable `z`).
     pub zeroed: bool,
+    /// Energy before and after the step and the work of the applied forces
+    /// (`created()`: energy the step added; see `pipeline::energy`).
+    pub energy: super::energy::EnergyAudit,
     /// Physical `z = [fn (nc); fd (nc·k); λ (nc)]` (N·s; λ in m/s), `λ = s·λ_scaled`.
     pub z: Vec<f64>,
     /// `w = M₁ z + q` of the unscaled LCP: normal velocities, tangential velocities + λ, cone slacks.
@@ -70,7 +75,8 @@ pub struct IslandRecord {
     pub residual: f64,
     /// Natural residual as the solver reported it (scaled LCP).
     pub solver_residual: f64,
-    /// No impulse applied (failed solve or unusable `z`).
+    /// The solver's answer was not applied (failed solve or unusable `z`):
+    /// the failed-solve policy was (see `StepRecord::zeroed`).
     pub zeroed: bool,
     /// The solve started from the previous step's basis of the same island.
     pub warm: bool,

@@ -1,0 +1,245 @@
+//! The acceptance rule: when an answer `z` counts as a solution of the LCP.
+//!
+//! One rule for every solver, judged row by row on each row's own scale, so
+//! that no row is judged against the largest `|q_i|`. For `z ≥ 0` and
+//! `w = M z + q` (as computed), row `i` has the *scale* and the *round-off
+//! floor*
+//!
+//! ```text
+//! s_i = |q_i| + Σ_j |M_ij| z_j          f_i = ρ·max_j |M_ij|·Σ_j z_j      ρ = 1e-13 (ROUND_OFF)
+//! ```
+//!
+//! and the *violation* `v_i = |w_i|` if `z_i > 0` (complementarity wants
+//! `w_i = 0`), else `max(−w_i, 0)` (feasibility wants `w_i ≥ 0`). Its
+//! backward error is `η_i = max(v_i − f_i, 0) / s_i` (0 when that is 0,
+//! infinite when only the scale is), and
+//!
+//! ```text
+//! η(z) = max_i η_i,   infinite if some z_i < 0 or is not finite.
+//! ```
+//!
+//! `z` is **accepted** iff `η(z) ≤ tol` (default [`DEFAULT_TOL`] = 1e-9),
+//! i.e. `v_i ≤ tol·s_i + f_i` for every row: `z` solves exactly an LCP whose
+//! rows differ from the ones given by `|ΔM_ij| ≤ tol·|M_ij| + ρ·max_k |M_ik|`,
+//! `|Δq_i| ≤ tol·|q_i|` — the Oettli–Prager bound (without `ρ` it is the
+//! componentwise measure [`crate::certify::Certificate::backward_error`]
+//! evaluates exactly). `ρ` is the round-off of forming and solving a dense
+//! LCP (~450 ε): a contact LCP's `J M_b⁻¹ Jᵀ` has entries that are 0 for the
+//! exact data and ±1e-16 of their row as computed, and with a heavy body on a
+//! light one, or at a stack's sticking contacts, a row is made of nothing
+//! else; its `w_i` is then round-off that no relative test can pass. The rule
+//! is invariant under positive diagonal row scaling; answers are judged in
+//! the units given.
+//!
+//! `Solution::accepted` records the verdict at the solver's tolerance and
+//! `Solution::ok()` needs it: no method (Lemke robust or classic, PGS,
+//! Newton–FB) reports `ok` for an answer outside this rule.
+
+use crate::problem::Lcp;
+
+/// Default tolerance of the rule (Lemke's `accept_tol`; PGS and Newton–FB use it too).
+pub const DEFAULT_TOL: f64 = 1e-9;
+
+/// `ρ` of the module docs: the round-off floor, relative to a row's largest entry times `Σ z`.
+pub const ROUND_OFF: f64 = 1e-13;
+
+/// The violation of row `i`: `|w_i|` where `z_i > 0`, else `max(−w_i, 0)`.
+#[inline]
+fn violation(zi: f64, wi: f64) -> f64 {
+    if zi > 0.0 {
+        wi.abs()
+    } else {
+        (-wi).max(0.0)
+    }
+}
+
+/// The scale `s_i = |q_i| + Σ_j |M_ij| z_j` and the floor
+/// `f_i = ρ·max_j |M_ij|·Σ_j z_j` of row `i` (`zsum = Σ_j z_j`).
+fn row_scale(lcp: &Lcp, i: usize, z: &[f64], zsum: f64) -> (f64, f64) {
+    let (mut terms, mut rmax) = (0.0, 0.0f64);
+    for (&zj, m) in z.iter().zip(lcp.row(i)) {
+        rmax = rmax.max(m.abs());
+        if zj != 0.0 {
+            terms += m.abs() * zj;
+        }
+    }
+    (terms + lcp.q()[i].abs(), ROUND_OFF * rmax * zsum)
+}
+
+/// `η_i` of a row with violation `v` (finite), scale and floor.
+fn row_eta(v: f64, (scale, floor): (f64, f64)) -> f64 {
+    ratio((v - floor).max(0.0), scale)
+}
+
+/// `violation / scale` with 0/0 = 0.
+#[inline]
+fn ratio(violation: f64, scale: f64) -> f64 {
+    if violation == 0.0 {
+        0.0
+    } else if scale > 0.0 {
+        violation / scale
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The componentwise backward error `η(z)` of the module docs, for `w = M z + q`.
+///
+/// # Panics
+/// If `z` or `w` do not have `lcp.n()` entries.
+pub fn backward_error(lcp: &Lcp, z: &[f64], w: &[f64]) -> f64 {
+    check_lengths(lcp, z, w);
+    if !z.iter().all(|&v| v >= 0.0 && v.is_finite()) {
+        return f64::INFINITY;
+    }
+    let zsum: f64 = z.iter().sum();
+    (0..lcp.n()).fold(0.0f64, |eta, i| {
+        let v = violation(z[i], w[i]);
+        if v == 0.0 {
+            eta
+        } else {
+            eta.max(if v.is_finite() { row_eta(v, row_scale(lcp, i, z, zsum)) } else { f64::INFINITY })
+        }
+    })
+}
+
+/// Whether `z` is accepted: `η(z) ≤ tol` (see the module docs). Cheaper than
+/// [`backward_error`]: a row whose violation is within `tol·(|q_i| + |M_ii| z_i)`
+/// (a lower bound of its scale) passes without its scale being summed.
+///
+/// # Panics
+/// If `z` or `w` do not have `lcp.n()` entries.
+pub fn accepts(lcp: &Lcp, z: &[f64], w: &[f64], tol: f64) -> bool {
+    check_lengths(lcp, z, w);
+    let (n, m, q) = (lcp.n(), lcp.m(), lcp.q());
+    if !z.iter().all(|&v| v >= 0.0 && v.is_finite()) {
+        return false;
+    }
+    let mut zsum = None;
+    for i in 0..n {
+        let v = violation(z[i], w[i]);
+        // Most rows: no violation, or one within `tol·(|q_i| + |M_ii| z_i) ≤ tol·s_i`.
+        // (Written `v <= …` so that a NaN falls through to the full check.)
+        if v == 0.0 || v <= tol * (q[i].abs() + m[i * n + i].abs() * z[i]) {
+            continue;
+        }
+        let zs = *zsum.get_or_insert_with(|| z.iter().sum());
+        if !(v.is_finite() && row_eta(v, row_scale(lcp, i, z, zs)) <= tol) {
+            return false;
+        }
+    }
+    true
+}
+
+fn check_lengths(lcp: &Lcp, z: &[f64], w: &[f64]) {
+    assert!(
+        z.len() == lcp.n() && w.len() == lcp.n(),
+        "accept: z and w have {} and {} entries for an LCP of size {}",
+        z.len(),
+        w.len(),
+        lcp.n()
+    );
+}
+
+/// Relative thresholds (of the largest weighted entry) below which [`snap`]
+/// sets an entry of `z` to 0.
+const SNAP_LEVELS: [f64; 3] = [1e-15, 1e-12, 1e-9];
+
+/// A candidate repair of an answer the rule rejects because of entries that
+/// are round-off, not values: an iterative method's `z_i ≈ 1e-14` beside
+/// `w_i ≈ 1` (a zero it has not reached), or a pivoting method's basic
+/// `z_j ≈ 1e-33` at a degenerate contact that leaves a row made of nothing
+/// but such noise. The first of `z` (clipped at 0) and its variants with the
+/// entries `z_j·c_j ≤ τ·max_k z_k c_k` set to 0 (τ = 1e-15, 1e-12, 1e-9;
+/// `c = weights`, all ones by default — a solver passes the column scaling
+/// it worked in) that the rule accepts at `tol`, with its `w`; `None` when
+/// none is. The rule, not the threshold, decides: a variant that drops a real
+/// value fails it.
+pub fn snap(lcp: &Lcp, z: &[f64], weights: Option<&[f64]>, tol: f64) -> Option<(Vec<f64>, Vec<f64>)> {
+    let clipped: Vec<f64> = z.iter().map(|v| v.max(0.0)).collect();
+    let w = lcp.w_of(&clipped);
+    if accepts(lcp, &clipped, &w, tol) {
+        return Some((clipped, w));
+    }
+    let weight = |j: usize| weights.map_or(1.0, |c| c[j]);
+    let top = (0..z.len()).fold(0.0f64, |a, j| a.max(clipped[j] * weight(j)));
+    let mut last = clipped.clone();
+    for tau in SNAP_LEVELS {
+        let cand: Vec<f64> =
+            (0..z.len()).map(|j| if clipped[j] * weight(j) <= tau * top { 0.0 } else { clipped[j] }).collect();
+        if cand == last {
+            continue;
+        }
+        let wc = lcp.w_of(&cand);
+        if accepts(lcp, &cand, &wc, tol) {
+            return Some((cand, wc));
+        }
+        last = cand;
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lcp(m: Vec<f64>, q: Vec<f64>) -> Lcp {
+        Lcp::new(m, q).unwrap()
+    }
+
+    #[test]
+    fn each_row_is_judged_on_its_own_scale() {
+        // Row 0 is tiny, row 1 large: w_0 = −1e-6 is a 100 % violation of row 0
+        // although it is 3e-10 of ‖q‖∞ (issue 15, item 5).
+        let p = lcp(vec![1.0, 0.0, 0.0, 1.0], vec![1e-6, -3e3]);
+        let z = [0.0, 3e3];
+        let w = [1e-6 - 2e-6, 0.0];
+        assert!(!accepts(&p, &z, &w, 1e-9));
+        // (1e-6 − ρ·1·3e3) / 1e-6.
+        assert!((backward_error(&p, &z, &w) - (1.0 - 3e-4)).abs() < 1e-12);
+        let w = p.w_of(&z);
+        assert!(accepts(&p, &z, &w, 1e-9));
+        assert_eq!(backward_error(&p, &z, &w), 0.0);
+    }
+
+    #[test]
+    fn complementarity_and_sign_are_part_of_the_rule() {
+        let p = lcp(vec![2.0, 0.0, 0.0, 2.0], vec![-2.0, 1.0]);
+        // z_1 > 0 while w_1 = 1 + 2 z_1 > 0: complementarity broken.
+        let z = [1.0, 1e-3];
+        let w = p.w_of(&z);
+        assert!(!accepts(&p, &z, &w, 1e-9));
+        assert!(backward_error(&p, &z, &w) > 0.9);
+        // A negative z is never accepted.
+        let z = [1.0, -1e-300];
+        assert!(!accepts(&p, &z, &p.w_of(&z), 1.0));
+        // Snapping the unreached zero repairs it.
+        let (zs, _) = snap(&p, &[1.0, 1e-16], None, 1e-9).unwrap();
+        assert_eq!(zs, vec![1.0, 0.0]);
+    }
+
+    #[test]
+    fn the_rule_ignores_row_scaling() {
+        let m = vec![4.0, 1.0, 1.0, 3.0];
+        let q = vec![-1.0, -1.0 + 1e-7];
+        let z = [2.0 / 11.0, 3.0 / 11.0];
+        let p = lcp(m.clone(), q.clone());
+        let eta = backward_error(&p, &z, &p.w_of(&z));
+        // Rows by 2^10 and 2^-20.
+        let r = [1024.0, 2f64.powi(-20)];
+        let ps = lcp((0..4).map(|k| r[k / 2] * m[k]).collect(), vec![r[0] * q[0], r[1] * q[1]]);
+        assert_eq!(backward_error(&ps, &z, &ps.w_of(&z)), eta);
+        assert!(eta > 1e-9 && eta < 1e-6);
+    }
+
+    #[test]
+    fn round_off_entries_do_not_set_a_row_scale() {
+        // Row 0 couples to z_1 only through a 1e-16 entry (0 for the exact
+        // data): w_0 = −1e-12 is 100 % of Σ|M_0j| z_j, but 1e-16 of the row's
+        // largest entry times Σ z, which the round-off floor admits.
+        let p = lcp(vec![1.0, 1e-16, 1e-16, 1.0], vec![-1e-12 - 1e-16 * 1e4, -1e4]);
+        let z = [0.0, 1e4];
+        let w = p.w_of(&z);
+        assert!(w[0] < 0.0 && backward_error(&p, &z, &w) < 1e-9);
+    }
+}

@@ -1,0 +1,58 @@
+"""Issue 15, items 3 and 4 from Python: ``ok`` means the documented acceptance
+rule holds (each row judged on its own scale), for every method; the
+reproducers in tests/data/repros/ are solved; every step record carries an
+energy audit."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import lcpsim
+from lcpsim import solve_lcp, solve_lcp_batch
+
+REPROS = Path(__file__).parent / "data" / "repros"
+
+
+def violates_rule(M, q, z, tol=1e-9):
+    """The rule of the README, recomputed with numpy: True if some row fails."""
+    w = M @ z + q
+    v = np.where(z > 0, np.abs(w), np.maximum(-w, 0.0))
+    scale = np.abs(q) + np.abs(M) @ z
+    floor = 1e-13 * np.abs(M).max(axis=1) * z.sum()
+    return bool(np.any(z < 0) or np.any(v > tol * scale + floor))
+
+
+@pytest.mark.parametrize("name", ["unit_tri", "repro_tri13", "repro_spd1012", "repro_172"])
+def test_repros_are_solved_within_the_rule(name):
+    d = np.load(REPROS / f"{name}.npz")
+    M, q = d["M"], d["q"]
+    r = solve_lcp(M, q, certify=True)
+    assert r.status == "solved" and r.ok
+    assert not violates_rule(M, q, r.z)
+    assert r.certificate.backward_error <= 1e-12
+    for method, opts in [("lemke", {"pivoting": "classic"}), ("pgs", {}), ("newton_fb", {})]:
+        s = solve_lcp(M, q, method=method, **opts)
+        assert s.ok == (s.status == "solved" and not violates_rule(M, q, s.z)), (method, s.status)
+
+
+def test_classic_solved_is_not_ok_outside_the_rule():
+    # Classic's absolute zero_tol (1e-6) calls w = −8.6e-7 solved; the rule does not.
+    r = solve_lcp([[1.0]], [-8.6e-7], pivoting="classic")
+    assert r.status == "solved" and not r.ok
+    b = solve_lcp_batch(np.ones((2, 1, 1)), np.array([[-8.6e-7], [1.0]]), pivoting="classic")
+    assert list(b.status) == ["solved", "solved"] and list(b.ok) == [False, True]
+    assert solve_lcp([[1.0]], [-8.6e-7]).ok
+
+
+def test_step_records_carry_an_energy_audit():
+    w = lcpsim.World(dt=1e-3)
+    w.add_ground(mu=0.5)
+    w.add_box(size=1.0, mass=1.0, position=(0, 0, 0.5))
+    for _ in range(200):
+        r = w.step()
+        assert r.energy_after == pytest.approx(w.energy(), abs=1e-12)
+        assert r.energy_created == r.energy_after - r.energy_before - r.external_work
+        assert r.energy_created <= 1e-12
