@@ -122,10 +122,14 @@ pub(crate) fn solve(lcp: &Lcp, max_pivots: usize) -> (ExactEnd, usize) {
         return (ExactEnd::Solved(vec![0.0; n], vec![false; n]), 0);
     }
     // z0 enters where q_i/d_i is lexicographically smallest (entries of z0's column are < 0).
+    if max_pivots == 0 {
+        return (ExactEnd::Limit, 0);
+    }
     let r = (1..n).fold(0, |best, i| if t.lex_cmp(i, best, z0) == Ordering::Greater { i } else { best });
     t.pivot(r, z0);
     let mut entering = n + r; // the complement of the w_r that left
-    for pivots in 1..=max_pivots {
+    // `pivots` made so far (z0's entry is the first); the loop's pivot is number `pivots + 1`.
+    for pivots in 1..max_pivots {
         // Ratio test: rows whose basic variable decreases, lexicographic minimum, z0 first on ties.
         let mut leave: Option<usize> = None;
         for i in (0..n).filter(|&i| t.rows[i][entering].is_positive()) {
