@@ -171,7 +171,7 @@ const TIE_TOL: f64 = 1e-13;
 /// Rungs on other covering vectors after the named ones (see `ladder`).
 const EXTRA_COVERS: u32 = 4;
 
-/// Lemke restarts from failed rungs' final bases (see `solve_lexicographic`).
+/// Lemke restarts from failed rungs' final bases after the ladder (see `restart_from_ends`).
 const RESTARTS: usize = 6;
 
 /// Rungs of the full ladder.
@@ -211,26 +211,101 @@ fn ladder(o: &LemkeOptions) -> ([Attempt; RUNGS], usize) {
     (all, RUNGS)
 }
 
+/// Where a climb down the repair ladder stands: pivots spent, the answers
+/// kept and the complementary bases already restarted from.
+struct Climb<'t> {
+    pivots: usize,
+    limit: usize,
+    /// `accept_tol·(1 + ‖q‖∞)`: see [`Climb::tight`].
+    bound: f64,
+    /// The closest failure (by natural residual) of the rungs.
+    best: Option<Solution>,
+    /// The first answer the acceptance rule accepts.
+    within: Option<Solution>,
+    /// Final bases of the failed rungs, with their natural residuals.
+    ends: Vec<(f64, Vec<bool>)>,
+    /// Bases restarted from.
+    tried: Vec<Vec<bool>>,
+    /// Number of the next rung (for the trace).
+    rung: usize,
+    trace: Option<&'t mut Vec<PivotRecord>>,
+}
+
+impl Climb<'_> {
+    /// The ladder stops at an answer that the acceptance rule accepts *and*
+    /// whose natural residual is within `accept_tol·(1 + ‖q‖∞)` (on twin
+    /// contacts a basis can pass the rule at η ~ 1e-12 with rows of cancelling
+    /// impulses 3e-9 off, which a later rung improves on); the first answer
+    /// that passes the rule alone is returned if none does both.
+    fn tight(&self, s: &Solution) -> bool {
+        s.ok() && s.residuals.residual <= self.bound
+    }
+
+    /// Runs one rung (from the complementary basis `start` if given) and
+    /// counts its pivots; the answer, and whether it ends the climb.
+    fn attempt(
+        &mut self,
+        lcp: &Lcp,
+        o: &LemkeOptions,
+        attempt: &Attempt,
+        start: Option<&[usize]>,
+        ws: &mut Workspace,
+    ) -> (Solution, bool) {
+        let left = self.limit.saturating_sub(self.pivots);
+        let mut sol = solve_attempt(lcp, o, attempt, left, start, self.trace.as_deref_mut(), self.rung, ws);
+        self.rung += 1;
+        self.pivots += sol.pivots;
+        sol.pivots = self.pivots;
+        let done = self.tight(&sol);
+        if !done && sol.ok() && self.within.is_none() {
+            self.within = Some(sol.clone());
+        }
+        (sol, done)
+    }
+
+    /// Restarts Lemke from the complementary basis `start` (on the first
+    /// rung's settings) unless it was tried; `Some` answer if that ends the
+    /// climb, and the restart's own basis if it ended complementary but off.
+    fn restart(
+        &mut self,
+        lcp: &Lcp,
+        o: &LemkeOptions,
+        first: &Attempt,
+        start: Vec<bool>,
+        ws: &mut Workspace,
+    ) -> (Option<Solution>, Option<Vec<bool>>) {
+        if self.tried.contains(&start) {
+            return (None, None);
+        }
+        let alpha: Vec<usize> = (0..start.len()).filter(|&j| start[j]).collect();
+        self.tried.push(start);
+        let (sol, done) = self.attempt(lcp, o, first, Some(&alpha), ws);
+        if done {
+            return (Some(sol), None);
+        }
+        let next = sol.basis.filter(|b| sol.status == Status::Numerical && !self.tried.contains(b));
+        (None, next)
+    }
+}
+
 fn solve_lexicographic(
     lcp: &Lcp,
     o: &LemkeOptions,
     warm: Option<&[bool]>,
-    mut trace: Option<&mut Vec<PivotRecord>>,
+    trace: Option<&mut Vec<PivotRecord>>,
     ws: &mut Workspace,
 ) -> Solution {
-    let mut best: Option<Solution> = None;
-    // The ladder stops at an answer that the acceptance rule accepts *and*
-    // whose natural residual is within `accept_tol·(1 + ‖q‖∞)` (on twin
-    // contacts a basis can pass the rule at η ~ 1e-12 with rows of cancelling
-    // impulses 3e-9 off, which a later rung improves on); the first answer
-    // that passes the rule alone is returned if none does both.
-    let bound = o.accept_tol * (1.0 + lcp.q_norm_inf());
-    let tight = |s: &Solution| s.ok() && s.residuals.residual <= bound;
-    let mut within: Option<Solution> = None;
-    // Final bases of the failed rungs, with their natural residuals.
-    let mut ends: Vec<(f64, Vec<bool>)> = Vec::new();
-    let mut pivots = 0;
-    let limit = o.pivot_limit(lcp.n());
+    let mut climb = Climb {
+        pivots: 0,
+        limit: o.pivot_limit(lcp.n()),
+        bound: o.accept_tol * (1.0 + lcp.q_norm_inf()),
+        best: None,
+        within: None,
+        ends: Vec::new(),
+        tried: Vec::new(),
+        rung: 0,
+        trace,
+    };
     let (all_rungs, used) = ladder(o);
     let rungs = &all_rungs[..used];
     // A warm start runs first, on the first rung's settings; the cold ladder follows if it fails.
@@ -241,81 +316,101 @@ fn solve_lexicographic(
         alpha.extend((0..b.len()).filter(|&j| b[j]));
     }
     let warm_rung = warm.map(|_| (rungs[0], Some(alpha.as_slice())));
-    let warm_rung_count = warm_rung.is_some() as usize;
-    for (rung, (attempt, start)) in warm_rung.into_iter().chain(rungs.iter().map(|&r| (r, None))).enumerate() {
+    for (attempt, start) in warm_rung.into_iter().chain(rungs.iter().map(|&r| (r, None))) {
         // `max_pivots` bounds the whole ladder, not each rung.
-        if pivots >= limit && best.is_some() {
+        if climb.pivots >= climb.limit && climb.best.is_some() {
             break;
         }
-        let left = limit.saturating_sub(pivots);
-        let mut sol = solve_attempt(lcp, o, &attempt, left, start, trace.as_deref_mut(), rung, ws);
-        pivots += sol.pivots;
-        sol.pivots = pivots;
-        if tight(&sol) {
+        let (sol, done) = climb.attempt(lcp, o, &attempt, start, ws);
+        if done {
             ws.alpha = alpha;
             return sol;
         }
-        if sol.ok() && within.is_none() {
-            within = Some(sol.clone());
-        }
-        if let Some(b) = sol.basis.clone().filter(|b| !ends.iter().any(|(_, e)| e == b)) {
-            ends.push((sol.residuals.residual, b));
-        }
+        let end = sol.basis.clone().filter(|b| !climb.ends.iter().any(|(_, e)| e == b));
         // Keep the first failure's status unless a later rung gets closer.
-        if best.as_ref().is_none_or(|b| sol.residuals.residual < b.residuals.residual) {
-            best = Some(sol);
+        if climb.best.as_ref().is_none_or(|b| sol.residuals.residual < b.residuals.residual) {
+            climb.best = Some(sol.clone());
+        }
+        let Some(b) = end else { continue };
+        climb.ends.push((sol.residuals.residual, b.clone()));
+        // A complementary basis off by a hair: restart from it at once (a
+        // few pivots) rather than after the other rungs (hundreds each).
+        // Measured on the 10-box stack (`stack_steps -- 2000 10`): restarts
+        // after the ladder only, 1 failed LCP (cycling) and 21,601 pivots; at
+        // once, 0 and 15,000.
+        if o.fallback && sol.status == Status::Numerical && climb.pivots < climb.limit {
+            match climb.restart(lcp, o, &rungs[0], b, ws) {
+                (Some(sol), _) => {
+                    ws.alpha = alpha;
+                    return sol;
+                }
+                // Its end is restarted from after the ladder, closest first.
+                (None, Some(next)) => climb.ends.push((f64::INFINITY, next)),
+                (None, None) => {}
+            }
         }
     }
     ws.alpha = alpha;
-    // Restart Lemke from the rungs' final bases, closest first. On twin and
-    // duplicate contacts a run crosses bases whose C is ill-conditioned
-    // (pivots ~1e-7 of their column), decides near-ties on values carrying that
-    // round-off, and ends on a well-conditioned complementary basis that is
-    // wrong by a hair: solved exactly (`certify`), a few w_i are −1e-8 where 0
-    // was due, so no re-solve helps. Lemke from that basis (covering vector
-    // B·1, fresh factorization) takes the few pivots left on accurate values.
-    // A restart that ends complementary but off is restarted from in turn.
-    // Restarts do not replace `best`: the polish below starts from the ladder's
-    // answer (from a restart's end it failed on LCPs it had solved).
-    if o.fallback {
-        ends.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut queue: Vec<Vec<bool>> = ends.iter().rev().map(|(_, b)| b.clone()).collect();
-        let mut tried: Vec<Vec<bool>> = Vec::new();
-        let mut rung = rungs.len() + warm_rung_count;
-        while let Some(start) = queue.pop() {
-            if pivots >= limit || tried.len() >= RESTARTS {
-                break;
-            }
-            if tried.contains(&start) {
-                continue;
-            }
-            let alpha: Vec<usize> = (0..start.len()).filter(|&j| start[j]).collect();
-            tried.push(start);
-            let mut sol =
-                solve_attempt(lcp, o, &rungs[0], limit - pivots, Some(&alpha), trace.as_deref_mut(), rung, ws);
-            rung += 1;
-            pivots += sol.pivots;
-            sol.pivots = pivots;
-            if tight(&sol) {
-                return sol;
-            }
-            if sol.ok() && within.is_none() {
-                within = Some(sol.clone());
-            }
-            if let Some(b) = sol.basis.filter(|b| sol.status == Status::Numerical && !tried.contains(b)) {
-                queue.push(b);
-            }
+    if let Some(sol) = restart_from_ends(lcp, o, &rungs[0], &mut climb, ws) {
+        return sol;
+    }
+    finish(lcp, o, rungs[0].equilibrate, climb, ws)
+}
+
+/// Restarts Lemke from the rungs' final bases, closest first. On twin and
+/// duplicate contacts a run crosses bases whose C is ill-conditioned
+/// (pivots ~1e-7 of their column), decides near-ties on values carrying that
+/// round-off, and ends on a well-conditioned complementary basis that is
+/// wrong by a hair: solved exactly (`certify`), a few w_i are −1e-8 where 0
+/// was due, so no re-solve helps. Lemke from that basis (covering vector
+/// B·1, fresh factorization) takes the few pivots left on accurate values.
+/// A restart that ends complementary but off is restarted from in turn.
+/// Restarts do not replace `best`: the polish of [`finish`] starts from the
+/// ladder's answer (from a restart's end it failed on LCPs it had solved).
+fn restart_from_ends(
+    lcp: &Lcp,
+    o: &LemkeOptions,
+    first: &Attempt,
+    climb: &mut Climb,
+    ws: &mut Workspace,
+) -> Option<Solution> {
+    if !o.fallback {
+        return None;
+    }
+    climb.ends.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut queue: Vec<Vec<bool>> = climb.ends.iter().rev().map(|(_, b)| b.clone()).collect();
+    let mut restarts = 0;
+    while let Some(start) = queue.pop() {
+        if climb.pivots >= climb.limit || restarts >= RESTARTS {
+            break;
+        }
+        if climb.tried.contains(&start) {
+            continue;
+        }
+        restarts += 1;
+        match climb.restart(lcp, o, first, start, ws) {
+            (Some(sol), _) => return Some(sol),
+            (None, Some(next)) => queue.push(next),
+            (None, None) => {}
         }
     }
-    let mut sol = best.expect("the ladder has at least one rung");
+    None
+}
+
+/// The ladder's last rungs on its closest failure: a Newton–FB polish, then
+/// exact Lemke; else the first answer within the rule, else the failure.
+fn finish(lcp: &Lcp, o: &LemkeOptions, equilibrate: bool, climb: Climb, ws: &mut Workspace) -> Solution {
+    let pivots = climb.pivots;
+    let mut sol = climb.best.expect("the ladder has at least one rung");
     sol.pivots = pivots;
+    let tight = |s: &Solution| s.ok() && s.residuals.residual <= climb.bound;
     // (Not when the pivot budget ran out: that limit is the caller's to set.)
     if o.fallback && sol.status != Status::MaxPivots && !tight(&sol) {
-        // Last rung: Newton–Fischer–Burmeister polish from the closest answer.
-        // Its z is accepted only by the acceptance rule (it solves M, not a
+        // Newton–Fischer–Burmeister polish from the closest answer. Its z is
+        // accepted only by the acceptance rule (it solves M, not a
         // regularized M); its basis is the support of z.
         let frame = &mut ws.frame;
-        frame.reset(lcp, rungs[0].equilibrate, o.accept_tol);
+        frame.reset(lcp, equilibrate, o.accept_tol);
         let opts = NewtonFbOptions { tol: frame.tol, ..Default::default() };
         let polished = crate::newton_fb::solve_from(lcp, &sol.z, &opts);
         let accepted = crate::accept::accepts(lcp, &polished.z, &polished.w, o.accept_tol);
@@ -325,9 +420,9 @@ fn solve_lexicographic(
         }
     }
     if o.fallback && !tight(&sol) && sol.status != Status::MaxPivots && lcp.n() <= exact::MAX_N {
-        sol = solve_exact(lcp, o, sol, limit.saturating_sub(pivots));
+        sol = solve_exact(lcp, o, sol, climb.limit.saturating_sub(pivots));
     }
-    match within {
+    match climb.within {
         Some(w) if !sol.ok() => Solution { pivots: sol.pivots, ..w },
         _ => sol,
     }

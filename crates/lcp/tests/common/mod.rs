@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod npz;
+pub mod sparse;
 
 use lcp::Lcp;
 
