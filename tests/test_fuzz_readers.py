@@ -31,7 +31,9 @@ CLEAN = (ValueError, OSError)
 
 def _read_all(path: Path) -> None:
     """Every reader on ``path``; only clean errors may escape each."""
-    for read in (load_lcp, lambda p: load_lcp(p, 0), load_dump, _capture_records, load_trajectory, read_fclib):
+    # (The trajectory reader in this process: its child-process probe is tested below.)
+    trajectory = lambda p: load_trajectory(p, probe=False)  # noqa: E731
+    for read in (load_lcp, lambda p: load_lcp(p, 0), load_dump, _capture_records, trajectory, read_fclib):
         try:
             read(path)
         except CLEAN:
@@ -144,3 +146,31 @@ def test_lcpsim_solve_survives_a_file_that_crashes_hdf5(tmp_path):
     assert p.returncode == 2, (p.stdout, p.stderr)
     lines = p.stderr.strip().splitlines()
     assert len(lines) == 1 and "crashes the HDF5 library" in lines[0], p.stderr
+
+
+def test_trajectory_load_and_lcpsim_view_survive_a_file_that_crashes_hdf5(tmp_path):
+    """The same file as a trajectory: ``Trajectory.load`` (and so ``lcpsim
+    view``) read it in a child first too — a ``TrajectoryFileError``, and exit
+    2 with one line, instead of a segmentation fault."""
+    path = tmp_path / "crash.h5"
+    path.write_bytes(gzip.decompress((FOUND.parent / "fuzz_crash" / "segfault_attribute.h5.gz").read_bytes()))
+    code = f"""
+        import sys
+        sys.path[:0] = {sys.path[:1]!r}
+        from lcpsim import Trajectory
+        from lcpsim.io.trajectory_file import TrajectoryFileError
+        try:
+            Trajectory.load({str(path)!r})
+        except TrajectoryFileError as e:
+            print("clean:", e)
+    """
+    p = subprocess.run([sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0 and "crashes the HDF5 library" in p.stdout, (p.returncode, p.stdout, p.stderr[-2000:])
+    p = subprocess.run(
+        [sys.executable, "-m", "lcpsim", "view", str(path), "--out", str(tmp_path / "v.html")],
+        capture_output=True, text=True, timeout=120,
+    )
+    assert p.returncode == 2, (p.stdout, p.stderr)
+    lines = p.stderr.strip().splitlines()
+    assert len(lines) == 1 and "crashes the HDF5 library" in lines[0], p.stderr
+    assert not (tmp_path / "v.html").exists()

@@ -11,7 +11,8 @@ refuses such a file with a clear error.
 
 Other damage can crash or stall HDF5 where no check of ours reaches (a
 segmentation fault reading a damaged attribute was found too): :func:`probe`
-reads a file in a child process first, as ``lcpsim solve`` does.
+reads a file in a child process first, as ``lcpsim solve``, ``lcpsim view``
+and ``Trajectory.load`` do.
 
 Collections are found by their ``GCOL`` signature (version 1, reserved bytes
 zero, size at least 4096 and within the file) in the first
@@ -26,7 +27,7 @@ import os
 import struct
 from pathlib import Path
 
-__all__ = ["SCAN_BYTES", "PROBE_SECONDS", "DamagedHdf5Error", "check_global_heaps", "probe"]
+__all__ = ["SCAN_BYTES", "PROBE_SECONDS", "PROBE_KINDS", "DamagedHdf5Error", "check_global_heaps", "probe"]
 
 #: How much of a file is searched for global heap collections.
 SCAN_BYTES = 64 << 20
@@ -87,31 +88,45 @@ PROBE_SECONDS = 30.0
 
 _PROBE = """
 import sys
-from lcpsim.io import load_dump, load_lcp
-from lcpsim.io.lcp_file import is_dump
 path, index = sys.argv[1], (None if sys.argv[2] == "-" else int(sys.argv[2]))
 try:
-    load_dump(path) if is_dump(path) else load_lcp(path, index)
+    if sys.argv[3] == "trajectory":
+        from lcpsim.io.trajectory_file import load_trajectory
+        load_trajectory(path, probe=False)
+    else:
+        from lcpsim.io import load_dump, load_lcp
+        from lcpsim.io.lcp_file import is_dump
+        load_dump(path) if is_dump(path) else load_lcp(path, index)
 except (ValueError, OSError):
     pass
 """
 
+#: What :func:`probe` reads: an LCP or dump (as ``lcpsim solve``), or a trajectory.
+PROBE_KINDS = ("lcp", "trajectory")
 
-def probe(path: str | os.PathLike[str], index: int | None = None, timeout: float = PROBE_SECONDS) -> None:
-    """Reads ``path`` (as ``lcpsim solve`` would: a dump, or ``load_lcp(path,
-    index)``) in a child process first, and raises :class:`DamagedHdf5Error`
-    if that child crashes or does not finish within ``timeout`` seconds.
+
+def probe(
+    path: str | os.PathLike[str], index: int | None = None, timeout: float = PROBE_SECONDS, kind: str = "lcp"
+) -> None:
+    """Reads ``path`` in a child process first — with ``kind="lcp"`` as
+    ``lcpsim solve`` would (a dump, or ``load_lcp(path, index)``), with
+    ``kind="trajectory"`` as ``Trajectory.load`` — and raises
+    :class:`DamagedHdf5Error` if that child crashes or does not finish within
+    ``timeout`` seconds.
 
     The HDF5 library itself can crash (a segmentation fault on some damaged
     attribute heaps) or loop on a damaged file, beyond the reach of any
     Python exception; a child process is the only sure guard. Clean errors
-    are left to the caller's own read. ``lcpsim solve`` probes every HDF5
-    file; a program reading untrusted files can do the same."""
+    are left to the caller's own read. ``lcpsim solve``, ``lcpsim view`` and
+    ``Trajectory.load`` probe every HDF5 file they are given; a program
+    reading untrusted files can do the same."""
     import subprocess
     import sys
 
+    if kind not in PROBE_KINDS:
+        raise ValueError(f"kind must be one of {', '.join(PROBE_KINDS)}, not {kind!r}")
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
-    args = [sys.executable, "-c", _PROBE, os.fspath(path), "-" if index is None else str(int(index))]
+    args = [sys.executable, "-c", _PROBE, os.fspath(path), "-" if index is None else str(int(index)), kind]
     try:
         p = subprocess.run(args, capture_output=True, timeout=timeout, env=env)
     except subprocess.TimeoutExpired:

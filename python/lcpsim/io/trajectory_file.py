@@ -43,6 +43,7 @@ import numpy as np
 from .._json import jsonable
 from ..trajectory import STATUS_NAMES, ContactLog, Trajectory
 from .hdf5_check import DamagedHdf5Error, check_global_heaps
+from .hdf5_check import probe as probe_file
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "TrajectoryFileError", "save_trajectory", "load_trajectory"]
 
@@ -117,13 +118,40 @@ def save_trajectory(path: str | os.PathLike[str], traj: Trajectory) -> str:
     return os.fspath(path)
 
 
-def load_trajectory(path: str | os.PathLike[str]) -> Trajectory:
-    """Reads a trajectory written by :func:`save_trajectory`."""
-    import h5py
-
+def load_trajectory(path: str | os.PathLike[str], probe: bool = True) -> Trajectory:
+    """Reads a trajectory written by :func:`save_trajectory`. With ``probe``
+    (default) an HDF5 file is first read in a child process
+    (:func:`~lcpsim.io.hdf5_check.probe`): the HDF5 library can crash or loop
+    on a damaged file where no Python exception reaches; that is then a
+    :class:`TrajectoryFileError` too."""
     p = Path(path)
     if not p.exists():
         raise FileNotFoundError(2, "No such file or directory", os.fspath(path))
+    if probe and p.is_file() and _is_hdf5(p):
+        try:
+            probe_file(p, kind="trajectory")
+        except DamagedHdf5Error as e:
+            raise TrajectoryFileError(str(e)) from None
+    return _load(p, path)
+
+
+def _is_hdf5(p: Path) -> bool:
+    """Whether ``p`` has the HDF5 signature where the library looks for it
+    (offset 0, then 512, 1024, 2048, …: after a user block)."""
+    size, at = p.stat().st_size, 0
+    with open(p, "rb") as fh:
+        while at + 8 <= size:
+            fh.seek(at)
+            if fh.read(8) == b"\x89HDF\r\n\x1a\n":
+                return True
+            at = 512 if at == 0 else 2 * at
+    return False
+
+
+def _load(p: Path, path: str | os.PathLike[str]) -> Trajectory:
+    """:func:`load_trajectory` in this process (the probe's child reads with it)."""
+    import h5py
+
     try:
         check_global_heaps(p)  # a damaged global heap would hang HDF5 itself
         f = h5py.File(p, "r", locking=False)
