@@ -2,13 +2,9 @@
 //! value for anything that is not a non-negative int that fits (never an
 //! `OverflowError` or a `TypeError` for `2**64`, `-1`, `1.5` or `True`).
 
-use crate::errors::value_error;
+use crate::errors::{repr, value_error};
 use pyo3::prelude::*;
 use pyo3::types::PyBool;
-
-fn repr(value: &Bound<'_, PyAny>) -> String {
-    value.repr().map(|r| r.to_string()).unwrap_or_else(|_| "<unprintable>".to_string())
-}
 
 /// A non-negative int (Python or numpy) of at most `max`.
 fn bounded(value: &Bound<'_, PyAny>, field: &str, max: u64) -> PyResult<u64> {

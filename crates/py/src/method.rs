@@ -1,7 +1,7 @@
 //! Method name + keyword options → `lcp::Method`. Unknown names, wrong types and
 //! out-of-range values are `ValueError`s that name the option and the value.
 
-use crate::errors::value_error;
+use crate::errors::{repr, value_error};
 use lcp::{LemkeOptions, Method, NewtonFbOptions, PgsOptions, Pivoting};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyString};
@@ -16,11 +16,6 @@ const LEMKE_OPTIONS: [&str; 8] =
 const PGS_OPTIONS: [&str; 3] = ["omega", "max_iterations", "tol"];
 const NEWTON_FB_OPTIONS: [&str; 6] =
     ["max_iterations", "tol", "armijo_sigma", "backtrack", "max_backtracks", "descent_rho"];
-
-/// `repr(value)`, for messages.
-fn repr(value: &Bound<'_, PyAny>) -> String {
-    value.repr().map(|r| r.to_string()).unwrap_or_else(|_| "<unprintable>".to_string())
-}
 
 /// A finite real number (bools are refused: `piv_tol=True` is a mistake).
 fn real(name: &str, value: &Bound<'_, PyAny>) -> PyResult<f64> {

@@ -112,18 +112,19 @@ class Experiment:
 
     @classmethod
     def of_module(
-        cls, module: str, name: str, help: str,
-        plot: Callable[[Sequence[Mapping[str, Any]], str | os.PathLike[str]], str],
+        cls, module: str, help: str, plot: Callable[[Sequence[Mapping[str, Any]], str | os.PathLike[str]], str]
     ) -> "Experiment":
         """The experiment an experiment module defines by these names: ``DEFAULTS``,
         ``run``, ``cli_arguments``, ``cli_config``, ``summary`` and, for the report,
-        ``report_run``, ``report_figures``, ``report_section``. Without
+        ``report_run``, ``report_figures``, ``report_section``. Its name is the
+        module's, with hyphens (``critical_scale`` → ``critical-scale``). Without
         ``report_figures`` the report has one figure: ``plot`` of the results
         under the module's own name, in ``NAME.png``."""
         m = sys.modules[module]
-        figures = getattr(m, "report_figures", None) or _one_figure(module.rsplit(".", 1)[-1], plot)
+        key = module.rsplit(".", 1)[-1]
+        figures = getattr(m, "report_figures", None) or _one_figure(key, plot)
         return cls(
-            name=name, help=help, defaults=m.DEFAULTS, run=m.run, arguments=m.cli_arguments, config=m.cli_config,
+            name=key.replace("_", "-"), help=help, defaults=m.DEFAULTS, run=m.run, arguments=m.cli_arguments, config=m.cli_config,
             summary=m.summary, plot=plot, report=ReportPart(m.report_run, figures, m.report_section),
         )
 
