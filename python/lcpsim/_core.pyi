@@ -138,7 +138,7 @@ class World:
     @property
     def capturing(self) -> bool: ...
     def params(self) -> dict[str, Any]: ...
-    def set_method(self, method: str = "lemke", **options: Any) -> None: ...
+    def set_method(self, method: str, **options: Any) -> None: ...
     def set_cone_scale(self, scale: float | str | None = None) -> None: ...
     def copy(self) -> World: ...
     def energy(self) -> float: ...
@@ -254,23 +254,23 @@ class ContactLayout:
 HARD_KINDS: list[str]
 
 def contact_lcp(
-    nc: int, k: int = 8, scale: float = 1.0, seed: int = 0
+    nc: int, k: int, scale: float, seed: int
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], str, int, int]:
     """Contact LCP (z = [fn; fd; λ]) of a unit cube on a random slope."""
 
-def spd_lcp(n: int, seed: int = 0) -> tuple[NDArray[np.float64], NDArray[np.float64], str]:
+def spd_lcp(n: int, seed: int) -> tuple[NDArray[np.float64], NDArray[np.float64], str]:
     """Random LCP with M = A Aᵀ/n + 0.1 I."""
 
-def p_matrix_lcp(n: int, seed: int = 0) -> tuple[NDArray[np.float64], NDArray[np.float64], str]:
+def p_matrix_lcp(n: int, seed: int) -> tuple[NDArray[np.float64], NDArray[np.float64], str]:
     """Random LCP with a nonsymmetric positive definite M."""
 
 def hard_contact_lcp(
-    kind: str, scale: float = 1.0, seed: int = 0, k: int = 8
+    kind: str, scale: float, seed: int, k: int
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], str, int, int]:
     """Hard contact LCP of one family."""
 
 def hard_corpus(
-    seed: int, count: int, scale: float = 1.0
+    seed: int, count: int, scale: float
 ) -> list[tuple[NDArray[np.float64], NDArray[np.float64], str, int, int]]:
     """`count` hard contact LCPs cycling through the families."""
 

@@ -454,7 +454,7 @@ class World:
 
     def body(self, index: int) -> BodyState:
         """A body's shape, mass properties and state."""
-        d = self._core.body(_index(index))
+        d = self._core.body(index)
         return BodyState(
             index=int(d["index"]),
             kind=d["kind"],
@@ -490,26 +490,26 @@ class World:
         return np.concatenate([s["velocity"], s["angular_velocity"]], axis=1)
 
     def set_position(self, body: int, position: Vec) -> None:
-        self._core.set_position(_index(body), position)
+        self._core.set_position(body, position)
 
     def set_orientation(self, body: int, orientation: Vec) -> None:
         """Sets the orientation (normalized; a zero quaternion is an error)."""
-        self._core.set_orientation(_index(body), orientation)
+        self._core.set_orientation(body, orientation)
 
     def set_velocity(self, body: int, velocity: Vec) -> None:
         """Sets the linear velocity (3 values) or ``[v; ω]`` (6 values) of a dynamic body."""
         if np.ndim(velocity) == 1 and np.size(velocity) == 6:
             v6 = _vec(velocity, "velocity", 6)
-            self._core.set_velocity(_index(body), v6[:3])
-            self._core.set_angular_velocity(_index(body), v6[3:])
+            self._core.set_velocity(body, v6[:3])
+            self._core.set_angular_velocity(body, v6[3:])
         else:
-            self._core.set_velocity(_index(body), velocity)
+            self._core.set_velocity(body, velocity)
 
     def set_angular_velocity(self, body: int, angular_velocity: Vec) -> None:
-        self._core.set_angular_velocity(_index(body), angular_velocity)
+        self._core.set_angular_velocity(body, angular_velocity)
 
     def set_mu(self, body: int, mu: float) -> None:
-        self._core.set_mu(_index(body), mu)
+        self._core.set_mu(body, mu)
 
     # ----- forces -----
 
@@ -518,11 +518,11 @@ class World:
         :meth:`clear_forces`. ``point`` is where it acts, relative to the
         centre of mass in the body frame (it moves with the body); None means
         the centre of mass (no torque). Gravity is separate."""
-        self._core.apply_force(_index(body), force, point)
+        self._core.apply_force(body, force, point)
 
     def apply_torque(self, body: int, torque: Vec) -> None:
         """A constant torque (world frame, N·m) every step until cleared."""
-        self._core.apply_torque(_index(body), torque)
+        self._core.apply_torque(body, torque)
 
     def clear_forces(self) -> None:
         """Removes all applied forces and torques."""
@@ -641,12 +641,6 @@ class World:
     def __repr__(self) -> str:
         scene = f", scene={self.scene!r}" if self.scene else ""
         return f"World(bodies={self.body_count}, steps={self.steps}, time={self.time:g}{scene})"
-
-
-def _index(i: Any) -> int:
-    if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < 2**63:
-        raise ValueError(f"body must be a body index (int >= 0), got {i!r}")
-    return int(i)
 
 
 def _real(x: Any, name: str) -> float:

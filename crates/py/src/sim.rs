@@ -69,18 +69,24 @@ impl World {
     /// `set(world, body, value)`: one of the world's per-body setters, guarded.
     fn on_body<T>(
         &mut self,
-        body: usize,
+        body: &Bound<'_, PyAny>,
         value: T,
         set: fn(&mut sim::World, BodyId, T) -> Result<(), sim::SimError>,
     ) -> PyResult<()> {
+        let id = body_id(body)?;
         let w = self.inner();
-        guarded(|| set(w, BodyId(body), value))
+        guarded(|| set(w, id, value))
     }
 
     fn add(&mut self, desc: BodyDesc) -> PyResult<usize> {
         let w = self.inner();
         guarded(|| w.add_body(desc)).map(|id| id.0)
     }
+}
+
+/// A body index (an int ≥ 0; its range is the world's to check).
+fn body_id(body: &Bound<'_, PyAny>) -> PyResult<BodyId> {
+    convert::count(body, "body").map(BodyId)
 }
 
 fn arr3<'py>(py: Python<'py>, v: Vec3) -> Bound<'py, PyArray1<f64>> {
@@ -336,7 +342,7 @@ impl World {
     }
 
     /// Replaces the solver (name + options as in `solve_lcp`).
-    #[pyo3(signature = (method = "lemke", **options))]
+    #[pyo3(signature = (method, **options))]
     fn set_method(&mut self, method: &str, options: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
         let m = method_from_py(method, options)?;
         self.inner().set_method(m);
@@ -473,11 +479,12 @@ impl World {
     }
 
     /// A body's description and state as a dict.
-    fn body<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyDict>> {
+    fn body<'py>(&self, py: Python<'py>, index: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+        let id = body_id(index)?;
         let w = self.shared();
-        let b = w.body(BodyId(index)).map_err(|e| sim_error(&e))?;
+        let b = w.body(id).map_err(|e| sim_error(&e))?;
         let d = PyDict::new(py);
-        d.set_item("index", index)?;
+        d.set_item("index", id.0)?;
         d.set_item("kind", b.shape().kind())?;
         d.set_item("is_static", b.is_static())?;
         d.set_item("mass", b.mass())?;
@@ -521,23 +528,23 @@ impl World {
         Ok(d)
     }
 
-    fn set_position(&mut self, body: usize, position: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn set_position(&mut self, body: &Bound<'_, PyAny>, position: &Bound<'_, PyAny>) -> PyResult<()> {
         self.on_body(body, vec3(position, "position")?, sim::World::set_position)
     }
 
-    fn set_orientation(&mut self, body: usize, orientation: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn set_orientation(&mut self, body: &Bound<'_, PyAny>, orientation: &Bound<'_, PyAny>) -> PyResult<()> {
         self.on_body(body, quat(orientation, "orientation")?, sim::World::set_orientation)
     }
 
-    fn set_velocity(&mut self, body: usize, velocity: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn set_velocity(&mut self, body: &Bound<'_, PyAny>, velocity: &Bound<'_, PyAny>) -> PyResult<()> {
         self.on_body(body, vec3(velocity, "velocity")?, sim::World::set_velocity)
     }
 
-    fn set_angular_velocity(&mut self, body: usize, angular_velocity: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn set_angular_velocity(&mut self, body: &Bound<'_, PyAny>, angular_velocity: &Bound<'_, PyAny>) -> PyResult<()> {
         self.on_body(body, vec3(angular_velocity, "angular_velocity")?, sim::World::set_angular_velocity)
     }
 
-    fn set_mu(&mut self, body: usize, mu: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn set_mu(&mut self, body: &Bound<'_, PyAny>, mu: &Bound<'_, PyAny>) -> PyResult<()> {
         self.on_body(body, real(mu, "mu")?, sim::World::set_mu)
     }
 
@@ -546,15 +553,19 @@ impl World {
     /// A constant force (world frame, N); `point` relative to the centre of
     /// mass in the body frame (None: at the centre of mass).
     #[pyo3(signature = (body, force, point = None))]
-    fn apply_force(&mut self, body: usize, force: &Bound<'_, PyAny>, point: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
-        let f = vec3(force, "force")?;
-        let p = opt_vec3(point, "point")?;
+    fn apply_force(
+        &mut self,
+        body: &Bound<'_, PyAny>,
+        force: &Bound<'_, PyAny>,
+        point: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let (id, f, p) = (body_id(body)?, vec3(force, "force")?, opt_vec3(point, "point")?);
         let w = self.inner();
-        guarded(|| w.apply_force(BodyId(body), f, p))
+        guarded(|| w.apply_force(id, f, p))
     }
 
     /// A constant torque (world frame, N·m).
-    fn apply_torque(&mut self, body: usize, torque: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn apply_torque(&mut self, body: &Bound<'_, PyAny>, torque: &Bound<'_, PyAny>) -> PyResult<()> {
         self.on_body(body, vec3(torque, "torque")?, sim::World::apply_torque)
     }
 
