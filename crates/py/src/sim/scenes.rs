@@ -38,7 +38,9 @@ impl Params<'_, '_> {
 trait Field: Sized {
     fn read(value: &Bound<'_, PyAny>, name: &str) -> PyResult<Self>;
     fn to_py(&self, py: Python<'_>) -> PyResult<Py<PyAny>>;
-    /// What the defaults table builds a scene with in place of a required parameter.
+    /// What the defaults table builds a scene with in place of required
+    /// parameter `name` (the value is never used; the name lets the table
+    /// repeat the call once per required parameter).
     fn placeholder(name: &str) -> Self;
 }
 
