@@ -169,6 +169,17 @@ def test_cli_and_report_are_built_from_the_registry():
         assert mod.EXPERIMENT is e and e.defaults is mod.DEFAULTS and e.report is not None
 
 
+def test_experiment_name_comes_from_its_module_and_the_old_form_still_works():
+    from lcpsim.experiments import REGISTRY
+    from lcpsim.experiments.experiment import Experiment
+
+    for name, e in REGISTRY.items():
+        assert e.run.__module__.rsplit(".", 1)[-1] == name.replace("-", "_")
+    with pytest.warns(DeprecationWarning, match="of_module"):
+        old = Experiment.of_module("lcpsim.experiments.push", "push", "the pushed cube", plot=REGISTRY["push"].plot)
+    assert (old.name, old.help, old.run) == ("push", "the pushed cube", REGISTRY["push"].run)
+
+
 # ---------------------------------------------------------------- one cone-scale parser
 
 
