@@ -11,9 +11,10 @@
 //! triangular ones with cond ≥ 1e15) on which floating-point pivoting ends on
 //! false rays are solved this way. The cost grows with the bits of the
 //! minors (≈ n times an entry's), so the rung runs only up to [`MAX_N`], and
-//! gives up (as at the pivot limit) once its arithmetic passes [`WORK_BUDGET`]:
-//! entries spanning thousands of binary orders (a fuzzed world of n = 48
-//! reached 9,000-bit minors and took 1.9 s) would otherwise stall a step.
+//! gives up (as at the pivot limit) once its arithmetic passes [`WORK_BUDGET`]
+//! (about 0.25 s): at n = 48 a pivot is 4,704 big-integer operations, and a
+//! fuzzed world whose steps each reached the rung (minors of up to 9,000 bits)
+//! took 2 s for one step without it.
 
 use num_bigint::BigInt;
 use num_traits::{Signed, Zero};
@@ -25,11 +26,15 @@ use crate::problem::Lcp;
 /// Largest problem the exact rung is tried on (a failure path: tens of ms at n = 40).
 pub(crate) const MAX_N: usize = 48;
 
-/// Limb products the rung may spend: Σ over pivots of `n·(2n + 2)·limbs²`,
-/// `limbs` the 64-bit words of the current minor — about 0.2 s here. The
-/// ill-conditioned P-matrices it exists for (n = 20, cond ≥ 1e15, minors of
-/// ~1,150 bits) use under a tenth of it.
-const WORK_BUDGET: f64 = 2.5e8;
+/// What the rung may spend, in limb products: Σ over pivots of
+/// `n·(2n + 2)·(OP_COST + limbs²)`, `limbs` the 64-bit words of the current
+/// minor. Fitted to release runs here (a big-integer operation costs ~1.4 µs
+/// plus ~0.55 ns per limb product), the budget is about 0.25 s; the
+/// ill-conditioned P-matrices the rung exists for (n = 20, cond ≥ 1e15,
+/// minors of ~1,150 bits, 63 pivots) use a third of it.
+const WORK_BUDGET: f64 = 4.5e8;
+/// A big-integer operation's fixed cost (allocation, dispatch) in limb products.
+const OP_COST: f64 = 2560.0;
 
 /// How an exact run ended.
 pub(crate) enum ExactEnd {
@@ -137,7 +142,7 @@ pub(crate) fn solve(lcp: &Lcp, max_pivots: usize) -> (ExactEnd, usize) {
     let r = (1..n).fold(0, |best, i| if t.lex_cmp(i, best, z0) == Ordering::Greater { i } else { best });
     t.pivot(r, z0);
     let mut entering = n + r; // the complement of the w_r that left
-    let per_limb2 = (n * (2 * n + 2)) as f64;
+    let per_op = (n * (2 * n + 2)) as f64;
     let mut work = 0.0;
     // `pivots` made so far (z0's entry is the first); the loop's pivot is number `pivots + 1`.
     for pivots in 1..max_pivots {
@@ -161,7 +166,7 @@ pub(crate) fn solve(lcp: &Lcp, max_pivots: usize) -> (ExactEnd, usize) {
         };
         let left = t.basic[r];
         let limbs = (t.det.bits() / 64 + 1) as f64;
-        work += per_limb2 * limbs * limbs;
+        work += per_op * (OP_COST + limbs * limbs);
         if work > WORK_BUDGET {
             return (ExactEnd::Limit, pivots);
         }
