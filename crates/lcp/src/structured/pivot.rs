@@ -31,8 +31,11 @@ pub(crate) struct Run {
     pub mask: Vec<bool>,
 }
 
-/// Pivots below this fraction of their column's largest entry trigger a refactorization.
-const SMALL_PIVOT: f64 = 1e-4;
+/// Pivots below this fraction of their column's largest entry trigger a
+/// refactorization. (1e-4, the dense path's, refactored after 70 of 1,754
+/// pivots on a 100-cube heap LCP, n = 3,030, and the symbolic analysis took
+/// 41 % of the solve; 1e-6: 7 refactorizations, answers accepted all the same.)
+const SMALL_PIVOT: f64 = 1e-6;
 
 /// Runs Lemke from the all-slack basis with covering vector `d`.
 pub(crate) fn run(op: &StructuredLcp, d: &[f64], set: &Settings) -> Run {

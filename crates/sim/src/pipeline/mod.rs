@@ -19,6 +19,7 @@ pub mod energy;
 pub(crate) mod island_lcp;
 mod record;
 mod solve;
+mod structured;
 mod trajectory;
 pub(crate) mod warm;
 
