@@ -82,6 +82,17 @@ impl StructuredLcp {
         })
     }
 
+    /// The same `M` with another `q` (same length, finite).
+    pub fn with_q(&self, q: Vec<f64>) -> Result<Self, LcpError> {
+        if q.len() != self.n {
+            return Err(LcpError::LengthMismatch { q_len: q.len(), n: self.n });
+        }
+        if let Some((index, &value)) = q.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(LcpError::NonFinite { field: "q", index, value });
+        }
+        Ok(StructuredLcp { q, ..self.clone() })
+    }
+
     /// Size `n`.
     pub fn n(&self) -> usize {
         self.n
