@@ -60,4 +60,8 @@ impl Compressed {
         }
     }
 
+    /// Every entry as `(major, minor, value)`.
+    pub(crate) fn entries(&self) -> Vec<(usize, usize, f64)> {
+        (0..self.ptr.len() - 1).flat_map(|a| self.iter(a).map(move |(b, v)| (a, b, v))).collect()
+    }
 }
