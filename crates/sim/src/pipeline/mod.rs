@@ -22,6 +22,7 @@ mod solve;
 mod structured;
 mod trajectory;
 pub(crate) mod warm;
+mod warm_map;
 
 pub use capture::{Captured, CapturedLcp, LcpBuffer, LcpSink, OwnedLcp};
 pub use energy::EnergyAudit;
