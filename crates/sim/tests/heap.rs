@@ -42,3 +42,25 @@ fn heap_of_fifty_cubes_settles_without_failures_or_penetration() {
     assert!(penetration <= 1e-3, "penetration {penetration} m");
     assert_eq!(s.world.last_record().islands.len(), 1, "one heap, one island");
 }
+
+/// Issue 13 item 4 in the step: a block of 4×4×2 touching cubes is one
+/// island of n ≥ 1,500 (the structured Lemke's; no dense `M` is formed),
+/// solved on every step, at rest: the ground carries the weight and nothing sinks.
+#[test]
+fn a_block_of_touching_cubes_is_solved_by_the_structured_lemke() {
+    use sim::scenes::BoxPile;
+    let mut s = BoxPile { nx: 4, ny: 4, nz: 2, spacing: 1.0, ..Default::default() }.build(WorldParams::default()).unwrap();
+    let (h, g) = (s.world.params().dt, 9.81);
+    let mut penetration = 0.0f64;
+    for _ in 0..40 {
+        let r = s.world.step().unwrap();
+        assert!(r.ok(), "step {}: {:?}", r.step, r.islands.iter().map(|i| (i.lcp_size, i.status)).collect::<Vec<_>>());
+        assert_eq!(r.islands.len(), 1, "one block, one island");
+        assert!(r.islands[0].lcp_size >= 1500, "n = {}: under the structured Lemke's threshold", r.islands[0].lcp_size);
+        penetration = r.contacts.iter().fold(penetration, |p, c| p.max(-c.gap));
+        // The ground's contacts (normal +z) carry the block's weight m·g·h per step.
+        let ground: f64 = r.contacts.iter().zip(r.normal_impulses()).filter(|(c, _)| c.normal.z > 0.99 && c.point.z.abs() < 1e-3).map(|(_, f)| f).sum();
+        assert!((ground - 32.0 * g * h).abs() <= 1e-6 * 32.0 * g * h, "step {}: ground impulse {ground}", r.step);
+    }
+    assert!(penetration <= 1e-3, "penetration {penetration} m");
+}
