@@ -64,7 +64,13 @@ fn answers_solve_the_dense_lcp_like_dense_lemke() {
         let dense = op.to_dense();
         let sol = structured::solve(&op, &StructuredOptions::default(), None);
         let reference = lemke::solve(&dense, &LemkeOptions::default());
-        assert_eq!(sol.status == Status::Solved, reference.ok(), "seed {seed}: {:?} vs {:?}", sol.status, reference.status);
+        assert_eq!(
+            sol.status == Status::Solved,
+            reference.ok(),
+            "seed {seed}: {:?} vs {:?}",
+            sol.status,
+            reference.status
+        );
         if sol.ok() {
             assert!(accepts(&dense, &sol.z, &dense.w_of(&sol.z), 1e-9), "seed {seed}");
             // The structured rule is the dense rule.

@@ -56,7 +56,11 @@ fn world(boxes: &[(bool, [f64; 12])], k: usize) -> World {
 
 fn peak_rss_mb() -> f64 {
     let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
-    status.lines().find(|l| l.starts_with("VmHWM")).and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok()).unwrap_or(0.0)
+    status
+        .lines()
+        .find(|l| l.starts_with("VmHWM"))
+        .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
+        .unwrap_or(0.0)
         / 1024.0
 }
 
@@ -71,7 +75,13 @@ fn main() {
     let p = w.params().clone();
     let (v, om) = w.free_velocities();
     let dynamics = BodyDynamics { bodies: w.bodies(), inv_inertia_world: w.inv_inertias(), v_free: v, w_free: om };
-    let ap = AssemblyParams { h: p.dt, k: p.friction_dirs, s: p.scale(), stabilization: p.stabilization, restitution: p.restitution };
+    let ap = AssemblyParams {
+        h: p.dt,
+        k: p.friction_dirs,
+        s: p.scale(),
+        stabilization: p.stabilization,
+        restitution: p.restitution,
+    };
     let mut c = ContactLcp::new();
     c.assemble_rows(w.contacts(), &dynamics, &ap);
     let n = c.n();

@@ -1,6 +1,9 @@
 //! Issue 13 item 4: the structured Lemke (`lcp::structured`) on contact LCPs
 //! of the simulator, against the dense assembly and the dense Lemke.
 
+mod common;
+
+use common::settled;
 use sim::contact::structured::structured_lcp;
 use sim::generate::{hard_corpus_item, HardScene};
 use sim::lcp::accept::accepts;
@@ -9,16 +12,6 @@ use sim::lcp::{lemke, LemkeOptions, Status};
 use sim::scenes::{BoxPile, BoxStack, CubeHeap};
 use sim::{ConeScale, World, WorldParams};
 
-/// Steps `w` a few times, then assembles the dense LCP of its state.
-fn settled(mut w: World, steps: usize) -> World {
-    for _ in 0..steps {
-        w.step().unwrap();
-    }
-    w.forces_stage().unwrap();
-    w.detect();
-    w.assemble();
-    w
-}
 
 fn worlds(params: &WorldParams) -> Vec<World> {
     vec![

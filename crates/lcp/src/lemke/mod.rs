@@ -29,9 +29,10 @@ mod workspace;
 
 pub use options::{LemkeOptions, Pivoting};
 pub use run::PivotRecord;
+pub use workspace::Workspace;
+
 /// The basis hash's key of a variable (shared with [`crate::structured`]).
 pub(crate) use run::key as basis_hash_key;
-pub use workspace::Workspace;
 
 use crate::newton_fb::NewtonFbOptions;
 use crate::problem::Lcp;

@@ -57,7 +57,8 @@ impl<'a> Basis<'a> {
         let n = op.n();
         let mut pos = vec![NONBASIC; 2 * n + 1];
         (0..n).for_each(|i| pos[i] = i);
-        let mut b = Basis { op, d, n, p: op.p(), var: (0..n).collect(), pos, val: vec![0.0; n], lu: None, etas: Vec::new() };
+        let mut b =
+            Basis { op, d, n, p: op.p(), var: (0..n).collect(), pos, val: vec![0.0; n], lu: None, etas: Vec::new() };
         b.refactor().then_some(b)
     }
 

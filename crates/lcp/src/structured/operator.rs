@@ -93,11 +93,6 @@ impl StructuredLcp {
         Ok(StructuredLcp { q, ..self.clone() })
     }
 
-    /// The entries of `G`, `H` and `K` (as [`StructuredLcp::new`] takes them, duplicates summed).
-    pub fn entries(&self) -> (Vec<Entry>, Vec<Entry>, Vec<Entry>) {
-        (self.g_rows.entries(), self.h_rows.entries(), self.k_rows.entries())
-    }
-
     /// Size `n`.
     pub fn n(&self) -> usize {
         self.n

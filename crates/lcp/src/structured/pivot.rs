@@ -6,8 +6,8 @@
 
 use super::factor::{Basis, NONBASIC};
 use super::operator::StructuredLcp;
-use crate::solution::Status;
 use crate::lemke::basis_hash_key as key;
+use crate::solution::Status;
 use std::collections::HashSet;
 
 /// Settings of one run.
@@ -72,7 +72,8 @@ pub(crate) fn run_warm(op: &StructuredLcp, alpha: &[usize], d: &mut Vec<f64>, se
     d.clear();
     d.extend((0..n).map(|i| (in_alpha[i] == 0.0) as u8 as f64 - (m1[i] - op.q()[i])));
     let mut basis = Basis::complementary(op, d, alpha)?;
-    let (worst, r) = basis.val.iter().enumerate().fold((f64::INFINITY, 0), |a, (c, &v)| if v < a.0 { (v, c) } else { a });
+    let (worst, r) =
+        basis.val.iter().enumerate().fold((f64::INFINITY, 0), |a, (c, &v)| if v < a.0 { (v, c) } else { a });
     let top = basis.val.iter().fold(1.0f64, |a, v| a.max(v.abs()));
     if worst >= -1e-12 * top {
         let mut z = Vec::new();

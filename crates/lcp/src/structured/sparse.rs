@@ -59,9 +59,4 @@ impl Compressed {
             y[b] += s * v;
         }
     }
-
-    /// Every entry as `(major, minor, value)`.
-    pub(crate) fn entries(&self) -> Vec<(usize, usize, f64)> {
-        (0..self.ptr.len() - 1).flat_map(|a| self.iter(a).map(move |(b, v)| (a, b, v))).collect()
-    }
 }

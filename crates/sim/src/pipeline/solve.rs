@@ -29,8 +29,8 @@ impl World {
         }
         // Large islands whose contacts changed: the previous basis mapped by contact (read before the record is reset).
         let mut mapped = if self.sink.is_none() && basis_check_applies(&self.params.method).is_some() {
-            let min_n = super::island_lcp::STRUCTURED_MIN_N;
-            super::warm_map::by_contact(&self.record, &self.ws.contacts, &self.ws.islands, self.params.friction_dirs, min_n)
+            let (k, min_n) = (self.params.friction_dirs, super::island_lcp::STRUCTURED_MIN_N);
+            super::warm_map::by_contact(&self.record, &self.ws.contacts, &self.ws.islands, k, min_n)
         } else {
             Vec::new()
         };
