@@ -148,8 +148,10 @@ pub fn scatter<T: Copy>(ids: &[usize], nc: usize, k: usize, src: &[T], dst: &mut
 
 /// Coupled islands from this LCP size up go to the structured Lemke
 /// (`lcp::structured`, see `pipeline::structured`) when the robust Lemke
-/// with warm starts is the method. Measured on heap LCPs (`structured_scaling`):
-/// dense 0.14 s against structured 0.27 s at n = 1,120; 1.2 s against 0.58 s at n = 1,800.
+/// with warm starts is the method. Measured on heap LCPs (`structured_scaling`,
+/// CPU time of a cold solve): n = 1,120 dense 0.09 s, structured 0.07 s;
+/// n = 1,800: 0.73 s, 0.20 s; n = 3,030: 4.9 s, 0.57 s. Below, the dense path
+/// (and its answers) stay as they were.
 pub const STRUCTURED_MIN_N: usize = 1500;
 
 /// Above this size a failed structured solve is reported as it is: the dense
