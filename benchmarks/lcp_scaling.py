@@ -235,6 +235,16 @@ def run_structured(desc: dict[str, Any], max_solve_s: float, mem_cap_gb: float) 
     return {"rows": rows, "stop": stop, "exponent": fit_exponent(pts)}
 
 
+def table_head(cols: list[str]) -> list[str]:
+    """A markdown table's header and rule."""
+    return ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+
+
+def error_row(r: dict[str, Any], ncols: int) -> str:
+    """A size that did not run: its cubes and the error, the other cells empty."""
+    return f"| {r['cubes']} | **{r['error']}** |" + " |" * (ncols - 2)
+
+
 def render_structured(res: dict[str, Any], dense: dict[str, Any] | None) -> list[str]:
     """The structured Lemke's table, with the dense solve's time where both ran."""
     dense_s = {r["cubes"]: r["seconds"] for r in (dense or {}).get("rows", []) if "error" not in r}
@@ -245,12 +255,12 @@ def render_structured(res: dict[str, Any], dense: dict[str, Any] | None) -> list
         "sparse factors: sparse LU of the basis in the augmented space, eta updates; no dense M). Command: "
         "`benchmarks/peers/.venv/bin/python benchmarks/lcp_scaling.py` (the Rust example `structured_scaling`).",
         "",
-        "| cubes | n | contacts | time (s) | pivots | status | peak RSS (MB) | dense Lemke (s) | speed-up |",
-        "|---|---|---|---|---|---|---|---|---|",
+        *table_head(["cubes", "n", "contacts", "time (s)", "pivots", "status", "peak RSS (MB)", "dense Lemke (s)",
+                     "speed-up"]),
     ]
     for r in res["rows"]:
         if "error" in r:
-            lines.append(f"| {r['cubes']} | **{r['error']}** | | | | | | | |")
+            lines.append(error_row(r, 9))
             continue
         d = dense_s.get(r["cubes"])
         dense_cells = f"{d:.4g} | {d / r['seconds']:.1f}×" if d else " | "
