@@ -180,7 +180,8 @@ const RESTARTS: usize = 6;
 /// Rungs of the full ladder.
 const RUNGS: usize = 5 + EXTRA_COVERS as usize;
 
-/// The repair ladder: each rung runs only if the previous one failed its check;
+/// The repair ladder: each rung runs only if the previous one failed its check
+/// (and a restart from its final basis, if complementary, failed too);
 /// after the last, restarts from the rungs' final bases and a Newton–FB polish
 /// of the closest answer (see `solve_lexicographic`). Returned as an array
 /// with the number of rungs in use.
