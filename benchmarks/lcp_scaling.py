@@ -27,7 +27,15 @@ dense M alone is n² · 8 B) or the time cap. Reported per size: cubes, LCPs
 captured, n, time per solve, pivots, status, the dense M's size and the
 process's peak RSS; and the exponent p of time ∝ n^p (log-log least squares).
 
+The structured Lemke (``lcp::structured``: ``M = J M_b⁻¹ Jᵀ + K`` handed over as
+its sparse factors, never formed) is timed beside it on the same sub-heaps, by
+the Rust example ``structured_scaling`` (built here with cargo; the sub-heap's
+boxes are passed as a text file, the LCP assembled as one LCP of all the
+step's contacts). It goes on past the dense solver's limits, up to every cube
+of the heap; its own table and fitted exponent follow the dense one.
+
     benchmarks/peers/.venv/bin/python benchmarks/lcp_scaling.py [--max-solve-s 300] [--mem-cap-gb 6]
+        [--only dense|structured]
 """
 
 from __future__ import annotations
@@ -154,6 +162,114 @@ def stored_bytes(M: Any) -> int:
     if hasattr(M, "nbytes"):
         return int(M.nbytes)
     return int(sum(getattr(M, a).nbytes for a in ("data", "indices", "indptr") if hasattr(M, a)))
+
+
+# --------------------------------------------------------------------------- the structured Lemke
+
+
+ROOT = HERE.parent
+
+
+def structured_binary() -> Path:
+    """Builds the Rust example ``structured_scaling`` (release) and returns its path."""
+    subprocess.run(["cargo", "build", "--release", "-q", "-p", "lcpsim-sim", "--example", "structured_scaling"],
+                   cwd=ROOT, check=True)
+    target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
+    return target / "release" / "examples" / "structured_scaling"
+
+
+def write_boxes(desc: dict[str, Any], path: str) -> None:
+    """The boxes of ``desc`` as the example reads them: ``static hx hy hz px py pz qw qx qy qz mass mu``."""
+    with open(path, "w") as f:
+        for b in desc["boxes"]:
+            row = [int(b["static"]), *b["half"], *b["pos"], *b["quat"], b["mass"], desc["mu"]]
+            f.write(" ".join(repr(float(x)) for x in row) + "\n")
+
+
+def run_structured_child(binary: Path, boxes: str, k: int, mem_cap: int, timeout: float) -> dict[str, Any]:
+    """One size by the structured Lemke (its own process, address space capped)."""
+    cmd = [str(binary), boxes, str(k), "0"]  # 0: no dense solve in the example
+    try:
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout,
+                              preexec_fn=lambda: resource.setrlimit(resource.RLIMIT_AS, (mem_cap, mem_cap)))
+    except subprocess.TimeoutExpired:
+        return {"cubes": k, "error": f"killed after {timeout:.0f} s"}
+    if proc.returncode != 0:
+        return {"cubes": k, "error": (proc.stderr.strip().splitlines() or [f"exit {proc.returncode}"])[-1]}
+    res = json.loads(proc.stdout.strip().splitlines()[-1])
+    s = res.pop("structured")
+    return {"cubes": k, "n": res["n"], "contacts": res["contacts"], "seconds": s["seconds"], "pivots": s["pivots"],
+            "status": s["status"], "accepted": s["accepted"], "peak_rss_mb": res["peak_rss_mb"]}
+
+
+def run_structured(desc: dict[str, Any], max_solve_s: float, mem_cap_gb: float) -> dict[str, Any]:
+    """Every size up to the whole heap, or until a solve is predicted to exceed ``max_solve_s``."""
+    binary = structured_binary()
+    cap = int(mem_cap_gb * (1 << 30))
+    n_dyn = sum(not b["static"] for b in desc["boxes"])
+    rows: list[dict[str, Any]] = []
+    stop = "every size ran"
+    with tempfile.TemporaryDirectory() as tmp:
+        boxes = os.path.join(tmp, "boxes.txt")
+        write_boxes(desc, boxes)
+        for k in [k for k in SIZES if k <= n_dyn]:
+            done = [r for r in rows if "error" not in r and r["n"] > 0]
+            p = fit_exponent([(r["n"], r["seconds"]) for r in done if r["n"] >= 100])
+            if done and p:
+                last = done[-1]
+                n_next = max(r["n"] / r["cubes"] for r in done) * k
+                t_next = last["seconds"] * (n_next / last["n"]) ** p
+                if t_next > max_solve_s:
+                    stop = (f"stopped before {k} cubes: n ≈ {n_next:,.0f}, one solve predicted to take "
+                            f"{t_next:.3g} s > {max_solve_s:g} s (time ∝ n^{p:.2f})")
+                    break
+            row = run_structured_child(binary, boxes, k, cap, timeout=3 * max_solve_s + 120)
+            rows.append(row)
+            if "error" in row:
+                print(f"  structured, {k} cubes: {row['error']}", flush=True)
+                stop = f"stopped at {k} cubes: {row['error']}"
+                break
+            print(f"  structured, {k} cubes: n = {row['n']}, {row['seconds']:.4g} s, {row['pivots']} pivots, "
+                  f"{row['status']}, peak RSS {row['peak_rss_mb']:.0f} MB", flush=True)
+    pts = [(r["n"], r["seconds"]) for r in rows if "error" not in r and r["n"] >= 100]
+    return {"rows": rows, "stop": stop, "exponent": fit_exponent(pts)}
+
+
+def table_head(cols: list[str]) -> list[str]:
+    """A markdown table's header and rule."""
+    return ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+
+
+def error_row(r: dict[str, Any], ncols: int) -> str:
+    """A size that did not run: its cubes and the error, the other cells empty."""
+    return f"| {r['cubes']} | **{r['error']}** |" + " |" * (ncols - 2)
+
+
+def render_structured(res: dict[str, Any], dense: dict[str, Any] | None) -> list[str]:
+    """The structured Lemke's table, with the dense solve's time where both ran."""
+    dense_s = {r["cubes"]: r["seconds"] for r in (dense or {}).get("rows", []) if "error" not in r}
+    lines = [
+        "### Contact LCPs of heaps: the structured Lemke",
+        "",
+        "The same sub-heaps, each step's contacts as one LCP, solved by `lcp::structured` (`M = J M_b⁻¹ Jᵀ + K` as "
+        "sparse factors: sparse LU of the basis in the augmented space, eta updates; no dense M). Command: "
+        "`benchmarks/peers/.venv/bin/python benchmarks/lcp_scaling.py` (the Rust example `structured_scaling`).",
+        "",
+        *table_head(["cubes", "n", "contacts", "time (s)", "pivots", "status", "peak RSS (MB)", "dense Lemke (s)",
+                     "speed-up"]),
+    ]
+    for r in res["rows"]:
+        if "error" in r:
+            lines.append(error_row(r, 9))
+            continue
+        d = dense_s.get(r["cubes"])
+        dense_cells = f"{d:.4g} | {d / r['seconds']:.1f}×" if d else " | "
+        lines.append(f"| {r['cubes']} | {r['n']:,} | {r['contacts']:,} | {r['seconds']:.4g} | {r['pivots']:,} | "
+                     f"{r['status']} | {r['peak_rss_mb']:,.0f} | {dense_cells} |")
+    p = res["exponent"]
+    lines += ["", f"Fitted exponent (time ∝ n^p, n ≥ 100): p = {p:.2f}." if p else "Too few sizes for a fit.",
+              f"Where it stops: {res['stop']}.", ""]
+    return lines
 
 
 # --------------------------------------------------------------------------- driver
@@ -284,13 +400,21 @@ def main() -> int:
     ap.add_argument("--mem-cap-gb", type=float, default=6.0)
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--out", default=str(HERE / "lcp_scaling.json"))
+    ap.add_argument("--only", choices=["dense", "structured"], help="run one solver only")
     args = ap.parse_args()
     found = None if args.block else settled_heap(Path(args.results), args.scene, args.engines.split(","))
     desc, source = found if found else block_heap(max(SIZES))
     print(f"heaps from {source}", flush=True)
-    res = run_all(desc, source, args.max_solve_s, args.mem_cap_gb, args.reps)
+    res: dict[str, Any] = {"source": source}
+    if args.only != "structured":
+        res = run_all(desc, source, args.max_solve_s, args.mem_cap_gb, args.reps)
+    if args.only != "dense":
+        res["structured"] = run_structured(desc, args.max_solve_s, args.mem_cap_gb)
     Path(args.out).write_text(json.dumps(res, indent=1))
-    print("\n".join(render(res)))
+    lines = render(res) if "rows" in res else []
+    if "structured" in res:
+        lines += render_structured(res["structured"], res if "rows" in res else None)
+    print("\n".join(lines))
     return 0
 
 

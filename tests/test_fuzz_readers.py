@@ -132,12 +132,13 @@ def test_probe_turns_a_crash_or_a_hang_into_an_error(tmp_path, monkeypatch):
         hdf5_check.probe(path, timeout=1.0)
 
 
-def test_lcpsim_solve_survives_a_file_that_crashes_hdf5(tmp_path):
-    """A damaged attribute on which the HDF5 library itself segfaults (found by
-    the reader fuzzer; no in-process guard can catch it): ``lcpsim solve``
-    reads the file in a child first and exits 2 with one line."""
+@pytest.mark.parametrize("name", sorted(p.name for p in (FOUND.parent / "fuzz_crash").glob("*.gz")))
+def test_lcpsim_solve_survives_a_file_that_crashes_hdf5(tmp_path, name):
+    """Damaged attributes on which the HDF5 library itself segfaults (found by
+    the reader fuzzer in two runs; no in-process guard can catch it):
+    ``lcpsim solve`` reads the file in a child first and exits 2 with one line."""
     path = tmp_path / "crash.h5"
-    path.write_bytes(gzip.decompress((FOUND.parent / "fuzz_crash" / "segfault_attribute.h5.gz").read_bytes()))
+    path.write_bytes(gzip.decompress((FOUND.parent / "fuzz_crash" / name).read_bytes()))
     p = subprocess.run(
         [sys.executable, "-m", "lcpsim", "solve", str(path), "--index", "0"], capture_output=True, text=True, timeout=120
     )

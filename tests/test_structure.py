@@ -2,8 +2,9 @@
 
 Old modules and names stay importable with a DeprecationWarning naming the new
 home; the command line and the report are built from the experiment registry;
-one cone-scale parser and one JSON conversion; no file over 800 lines and no
-function over 120."""
+one cone-scale parser and one JSON conversion; the defaults of the world, its
+bodies, its stabilization and the scenes are the Rust ones, read from the
+compiled module; no file over 800 lines and no function over 120."""
 
 from __future__ import annotations
 
@@ -168,6 +169,17 @@ def test_cli_and_report_are_built_from_the_registry():
         assert mod.EXPERIMENT is e and e.defaults is mod.DEFAULTS and e.report is not None
 
 
+def test_experiment_name_comes_from_its_module_and_the_old_form_still_works():
+    from lcpsim.experiments import REGISTRY
+    from lcpsim.experiments.experiment import Experiment
+
+    for name, e in REGISTRY.items():
+        assert e.run.__module__.rsplit(".", 1)[-1] == name.replace("-", "_")
+    with pytest.warns(DeprecationWarning, match="of_module"):
+        old = Experiment.of_module("lcpsim.experiments.push", "push", "the pushed cube", plot=REGISTRY["push"].plot)
+    assert (old.name, old.help, old.run) == ("push", "the pushed cube", REGISTRY["push"].run)
+
+
 # ---------------------------------------------------------------- one cone-scale parser
 
 
@@ -230,6 +242,74 @@ def test_every_json_writer_uses_the_one_conversion():
     sources = {p: p.read_text() for p in PACKAGE.rglob("*.py")}
     defs = [p.relative_to(PACKAGE) for p, s in sources.items() if "def jsonable(" in s or "def _jsonable(" in s]
     assert defs == [Path("_json.py")]
+
+
+# ---------------------------------------------------------------- defaults: the Rust ones, declared once
+
+
+def _keyword_defaults(fn) -> dict:
+    import inspect
+
+    return {p.name: p.default for p in inspect.signature(fn).parameters.values() if p.default is not p.empty}
+
+
+def test_world_defaults_are_the_rust_world_params():
+    from lcpsim import Stabilization, World, _core
+
+    d = _core.WORLD_DEFAULTS
+    kw = _keyword_defaults(World.__init__)
+    for name in ("dt", "friction_dirs", "method", "margin", "velocity_margin", "restitution",
+                 "restitution_threshold", "mu_combine", "mu_override", "threads"):
+        assert kw[name] == d[name], name
+    assert list(kw["gravity"]) == d["gravity"] == [0.0, 0.0, -9.81]
+    assert Stabilization().__dict__ == {k: d[k] for k in ("erp", "slop", "speculative", "gap_floor")}
+    # A world given nothing has exactly the compiled defaults, from Python and from the glue alike.
+    assert {k: v for k, v in World().params.items() if k != "solver_options"} == d == _core.World().params()
+    assert d["gap_floor"] == 1e-12 and d["erp"] == 0.2  # the documented values
+
+
+def test_body_defaults_are_the_rust_body_desc():
+    from lcpsim import World, _core
+
+    d = _core.BODY_DEFAULTS
+    for fn in (World.add_box, World.add_sphere):
+        kw = _keyword_defaults(fn)
+        for name in ("mass", "mu", "static"):
+            assert kw[name] == d[name], (fn.__name__, name)
+        for name in ("position", "orientation", "velocity", "angular_velocity"):
+            assert list(kw[name]) == d[name], (fn.__name__, name)
+    for fn in (World.add_plane, World.add_ground, World.add_slope):
+        assert _keyword_defaults(fn)["mu"] == d["mu"], fn.__name__
+    w = World()
+    b = w.body(w.add_sphere(0.5))
+    assert (b.mass, b.mu, b.is_static) == (d["mass"], d["mu"], d["static"])
+    assert w.body(w.add_ground()).mu == d["mu"]
+
+
+@pytest.mark.parametrize("name", sorted(lcpsim.scenes.SCENES))
+def test_scene_defaults_are_the_rust_scene_structs(name):
+    from lcpsim import _core
+    from lcpsim.scenes import scene_parameters
+
+    params = scene_parameters(name)
+    base = "cube_on_slope" if name == "resting_cube" else name
+    rust = _core.SCENE_DEFAULTS[base]
+    for key, value in rust.items():
+        if key in params:
+            assert params[key] == value, key
+    if name != "resting_cube":
+        assert list(params) == _core.SCENES[name]  # the same parameters, in the Rust structs' order
+
+
+def test_glue_refuses_unknown_world_and_scene_parameters():
+    from lcpsim import _core
+
+    with pytest.raises(ValueError, match='unknown parameter "dtt" for World'):
+        _core.World({"dtt": 1e-3})
+    with pytest.raises(ValueError, match='unknown parameter "size" for scene ball_drop'):
+        _core.build_scene("ball_drop", {"size": 1.0}, _core.World())
+    with pytest.raises(ValueError, match="scene box_stack needs the parameter n"):
+        _core.build_scene("box_stack", {}, _core.World())
 
 
 # ---------------------------------------------------------------- sizes

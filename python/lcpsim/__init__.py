@@ -37,7 +37,8 @@ from .lcp import (
     solve_lcp_batch,
 )
 from .certification import Certificate, certify
-from .world import NO_CONTACT, BodyState, ContactLog, LcpStats, Stabilization, StepRecord, Trajectory, World
+from . import world
+from .world import *  # noqa: F403 (its __all__: World, StepRecord, Trajectory, … joins ours below)
 from . import scenes
 from .scenes import Scene
 from .io.capture import Capture, CaptureRecord, CaptureWriter, open_capture
@@ -57,14 +58,6 @@ __all__ = [
     "STATUSES",
     "certify",
     "Certificate",
-    "World",
-    "StepRecord",
-    "Trajectory",
-    "BodyState",
-    "Stabilization",
-    "LcpStats",
-    "ContactLog",
-    "NO_CONTACT",
     "scenes",
     "Scene",
     "Capture",
@@ -73,6 +66,7 @@ __all__ = [
     "open_capture",
     "fclib",
 ]
+__all__ += world.__all__
 
 _deprecated.install()
 __getattr__ = _deprecated.deprecated_names(__name__, {

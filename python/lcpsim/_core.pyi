@@ -13,6 +13,7 @@ from numpy.typing import ArrayLike, NDArray
 __all__ = [
     "__version__", "METHODS", "PIVOTINGS", "STATUSES", "METHOD_OPTIONS", "LEMKE_DEFAULTS", "solve_lcp",
     "solve_lcp_batch", "lcp_residual", "lcp_residuals", "World", "build_scene", "SCENES", "MU_COMBINE",
+    "SCENE_DEFAULTS", "WORLD_DEFAULTS", "BODY_DEFAULTS",
     "contact_lcp", "spd_lcp", "p_matrix_lcp", "hard_contact_lcp", "hard_corpus", "HARD_KINDS", "certify_lcp",
     "certify_lcp_batch", "solve_lcp_traced", "ContactLayout", "quat_from_axis_angle", "quat_mul", "quat_to_matrix",
     "quat_from_matrix",
@@ -50,7 +51,7 @@ def solve_lcp(m: ArrayLike, q: ArrayLike, method: str = "lemke", **options: Any)
     """Solve one LCP. Raises ValueError on invalid input or options."""
 
 def solve_lcp_batch(
-    ms: ArrayLike, qs: ArrayLike, method: str = "lemke", threads: int = 1, **options: Any
+    ms: ArrayLike, qs: ArrayLike, method: str, threads: int, **options: Any
 ) -> BatchDict:
     """Solve a (b, n, n) / (b, n) batch with the GIL released."""
 
@@ -64,6 +65,15 @@ def lcp_residuals(m: ArrayLike, q: ArrayLike, z: ArrayLike) -> ResidualsDict:
 
 #: Scene name → its parameter names (the Rust `sim::scenes` structs' fields).
 SCENES: dict[str, list[str]]
+#: Scene name → its optional parameters and their Rust defaults (the required
+#: ones, such as a slope's angle and μ, have none).
+SCENE_DEFAULTS: dict[str, dict[str, Any]]
+#: ``sim::WorldParams::default()`` as ``World.params()`` gives it (stabilization's
+#: fields ``erp``, ``slop``, ``speculative``, ``gap_floor`` included).
+WORLD_DEFAULTS: dict[str, Any]
+#: ``sim::BodyDesc``'s defaults: ``mass``, ``position``, ``orientation``,
+#: ``velocity``, ``angular_velocity``, ``mu``, ``static``.
+BODY_DEFAULTS: dict[str, Any]
 #: ["min", "max", "product", "geometric_mean", "average"]
 MU_COMBINE: list[str]
 
@@ -116,26 +126,9 @@ class StateDict(TypedDict):
 class World:
     """`sim::World` (use `lcpsim.World`). Invalid input raises ValueError."""
 
-    def __new__(
-        cls,
-        dt: float | None = None,
-        gravity: ArrayLike | None = None,
-        friction_dirs: int | None = None,
-        cone_scale: float | str | None = None,
-        method: str = "lemke",
-        margin: float | None = None,
-        velocity_margin: bool = True,
-        erp: float | None = None,
-        slop: float | None = None,
-        speculative: bool = True,
-        gap_floor: float | None = None,
-        restitution: float | None = None,
-        restitution_threshold: float | None = None,
-        mu_combine: str = "min",
-        mu_override: float | None = None,
-        threads: int | None = None,
-        **options: Any,
-    ) -> World: ...
+    def __new__(cls, params: dict[str, Any] | None = None, **options: Any) -> World:
+        """``params``: the keys of ``WORLD_DEFAULTS`` but ``scale`` and ``method_config``
+        (missing or None: the default); ``options``: the solver's."""
     @property
     def time(self) -> float: ...
     @property
@@ -145,7 +138,7 @@ class World:
     @property
     def capturing(self) -> bool: ...
     def params(self) -> dict[str, Any]: ...
-    def set_method(self, method: str = "lemke", **options: Any) -> None: ...
+    def set_method(self, method: str, **options: Any) -> None: ...
     def set_cone_scale(self, scale: float | str | None = None) -> None: ...
     def copy(self) -> World: ...
     def energy(self) -> float: ...
@@ -164,16 +157,9 @@ class World:
     ) -> int:
         """shape "box" (size: half extents) or "sphere" (size: radius)."""
     def add_plane(
-        self, normal: ArrayLike, offset: float | None = None, mu: float | None = None, tangent: ArrayLike | None = None
+        self, normal: ArrayLike, offset: float, mu: float | None = None, tangent: ArrayLike | None = None
     ) -> int: ...
-    def add_slope(
-        self,
-        angle_deg: float,
-        mu: float | None = None,
-        downhill: str = "+x",
-        offset: float | None = None,
-        tangent_angle: float | None = None,
-    ) -> int: ...
+    def add_slope(self, angle_deg: float, mu: float | None, downhill: str, offset: float, tangent_angle: float) -> int: ...
     def body(self, index: int) -> dict[str, Any]: ...
     def state(self) -> StateDict: ...
     def set_position(self, body: int, position: ArrayLike) -> None: ...
@@ -268,23 +254,23 @@ class ContactLayout:
 HARD_KINDS: list[str]
 
 def contact_lcp(
-    nc: int, k: int = 8, scale: float = 1.0, seed: int = 0
+    nc: int, k: int, scale: float, seed: int
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], str, int, int]:
     """Contact LCP (z = [fn; fd; λ]) of a unit cube on a random slope."""
 
-def spd_lcp(n: int, seed: int = 0) -> tuple[NDArray[np.float64], NDArray[np.float64], str]:
+def spd_lcp(n: int, seed: int) -> tuple[NDArray[np.float64], NDArray[np.float64], str]:
     """Random LCP with M = A Aᵀ/n + 0.1 I."""
 
-def p_matrix_lcp(n: int, seed: int = 0) -> tuple[NDArray[np.float64], NDArray[np.float64], str]:
+def p_matrix_lcp(n: int, seed: int) -> tuple[NDArray[np.float64], NDArray[np.float64], str]:
     """Random LCP with a nonsymmetric positive definite M."""
 
 def hard_contact_lcp(
-    kind: str, scale: float = 1.0, seed: int = 0, k: int = 8
+    kind: str, scale: float, seed: int, k: int
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], str, int, int]:
     """Hard contact LCP of one family."""
 
 def hard_corpus(
-    seed: int, count: int, scale: float = 1.0
+    seed: int, count: int, scale: float
 ) -> list[tuple[NDArray[np.float64], NDArray[np.float64], str, int, int]]:
     """`count` hard contact LCPs cycling through the families."""
 
@@ -322,7 +308,7 @@ def certify_lcp(
     """Exact check of `basis` (compared with `z` if given), or of the support of `z`."""
 
 def certify_lcp_batch(
-    ms: ArrayLike, qs: ArrayLike, bases: NDArray[np.bool_], zs: ArrayLike | None = None, threads: int = 1
+    ms: ArrayLike, qs: ArrayLike, bases: NDArray[np.bool_], zs: ArrayLike | None, threads: int
 ) -> list[CertificateDict]:
     """`certify_lcp` over a (b, n, n) / (b, n) stack with the GIL released."""
 

@@ -166,6 +166,4 @@ def certify_batch(
     qs_ = _as_float(qs, "qs", 2)
     b = _as_basis(bases, "bases")
     zs_ = None if zs is None else _as_float(zs, "zs", 2)
-    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or not 0 <= threads < 2**63:
-        raise ValueError(f"threads must be a non-negative integer, got {threads!r}")
-    return [Certificate._from_core(d) for d in _core.certify_lcp_batch(Ms_, qs_, b, zs_, int(threads))]
+    return [Certificate._from_core(d) for d in _core.certify_lcp_batch(Ms_, qs_, b, zs_, threads)]

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from ._core import ContactLayout
+from .contact import ContactLcpMixin
 from .world import World
 
 __all__ = ["ContactLcp", "cube_on_slope_lcp"]
@@ -30,8 +30,8 @@ G = 9.81
 
 
 @dataclass(frozen=True)
-class ContactLcp:
-    """A contact LCP and what it was built from."""
+class ContactLcp(ContactLcpMixin):
+    """A contact LCP and what it was built from (``layout``, ``split``: :class:`~lcpsim.contact.ContactLcpMixin`)."""
 
     M: NDArray[np.float64]
     q: NDArray[np.float64]
@@ -42,16 +42,6 @@ class ContactLcp:
     s: float
     theta_deg: float
     mass: float
-
-    @property
-    def layout(self) -> ContactLayout:
-        """Where fn, fd, λ live in ``z``."""
-        return ContactLayout(self.nc, self.k)
-
-    def split(self, z: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        """``(fn, fd, λ)`` of a solution ``z``; ``fd`` has shape (nc, k)."""
-        lay = self.layout
-        return z[lay.fn], z[lay.fd].reshape(lay.nc, lay.k), z[lay.lam]
 
 
 def cube_on_slope_lcp(

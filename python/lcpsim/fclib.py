@@ -47,6 +47,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._core import ContactLayout
+from .contact import ContactLcpMixin
 from .io.fclib import (
     STORAGES,
     FclibError,
@@ -105,7 +106,7 @@ def _split_order(nc: int) -> NDArray[np.int64]:
 
 
 @dataclass(frozen=True)
-class FacetedLcp:
+class FacetedLcp(ContactLcpMixin):
     """The Stewart–Trinkle LCP of an FCLib problem: ``M``, ``q`` at cone scale
     ``scale`` (``D M D``, ``D q``), ``unscaled_M``, ``unscaled_q`` at s = 1."""
 
@@ -116,10 +117,6 @@ class FacetedLcp:
     nc: int
     k: int
     scale: float
-
-    @property
-    def layout(self) -> ContactLayout:
-        return ContactLayout(self.nc, self.k)
 
     def impulse(self, z: ArrayLike) -> NDArray[np.float64]:
         """FCLib's ``r`` (normal, t1, t2 per contact) of an LCP answer ``z``

@@ -112,15 +112,6 @@ class GeneratedLcp:
         return self.at_scale(1.0).residual(self.to_physical(z))
 
 
-def _int(value: object, name: str, lo: int = 0) -> int:
-    """An int in [lo, 2⁶⁴) (Python or numpy; not bool, not float): the compiled
-    generators take unsigned 64-bit integers, so anything else is a ValueError
-    here rather than an OverflowError or TypeError there."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not lo <= value < 2**64:
-        raise ValueError(f"{name} must be an integer in [{lo}, 2**64), got {value!r}")
-    return int(value)
-
-
 def _contact(
     t: tuple[NDArray[np.float64], NDArray[np.float64], str, int, int],
     scale: float,
@@ -136,19 +127,19 @@ def contact_lcp(nc: int, k: int = 8, scale: float = 1.0, seed: int = 0) -> Gener
     random μ in [0.1, 1.5] and velocity, h = 0.01, friction-cone scale ``scale``.
     Size ``nc·(k + 2)``.
     """
-    t = _core.contact_lcp(_int(nc, "nc", 1), _int(k, "k", 1), scale, _int(seed, "seed"))
+    t = _core.contact_lcp(nc, k, scale, seed)  # the glue checks the integers
     return _contact(t, scale, lambda s: contact_lcp(nc, k, s, seed))
 
 
 def spd_lcp(n: int, seed: int = 0) -> GeneratedLcp:
     """Random LCP with ``M = A Aᵀ/n + 0.1 I`` (symmetric positive definite), ``q`` uniform in [−1, 1]."""
-    m, q, label = _core.spd_lcp(_int(n, "n", 1), _int(seed, "seed"))
+    m, q, label = _core.spd_lcp(n, seed)
     return GeneratedLcp(m, q, label)
 
 
 def p_matrix_lcp(n: int, seed: int = 0) -> GeneratedLcp:
     """Random LCP with a nonsymmetric positive definite (hence P) matrix: a unique solution."""
-    m, q, label = _core.p_matrix_lcp(_int(n, "n", 1), _int(seed, "seed"))
+    m, q, label = _core.p_matrix_lcp(n, seed)
     return GeneratedLcp(m, q, label)
 
 
@@ -157,7 +148,7 @@ def hard_contact_lcp(kind: str, scale: float = 1.0, seed: int = 0, k: int = 8) -
     duplicate, nearly parallel or collinear contacts, mass ratios to 1e4,
     ill-conditioned bodies, μ in [0, 2]. The label is ``kind/kK/ncN/seedS``.
     """
-    t = _core.hard_contact_lcp(kind, scale, _int(seed, "seed"), _int(k, "k", 1))
+    t = _core.hard_contact_lcp(kind, scale, seed, k)
     return _contact(t, scale, lambda s: hard_contact_lcp(kind, s, seed, k))
 
 
@@ -166,7 +157,7 @@ def hard_corpus(seed: int, count: int, scale: float = 1.0) -> list[GeneratedLcp]
     The same ``seed`` gives the same scenes at every scale.
     """
     out = []
-    for t in _core.hard_corpus(_int(seed, "seed"), _int(count, "count"), scale):
+    for t in _core.hard_corpus(seed, count, scale):
         match = _HARD_LABEL.match(t[2])
         if match is None:  # pragma: no cover - the Rust label format is fixed
             raise RuntimeError(f"unexpected hard-corpus label {t[2]!r}")

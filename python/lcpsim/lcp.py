@@ -337,8 +337,6 @@ def solve_lcp_batch(
     (0 = one per core) share the batch. Options as in :func:`solve_lcp`; the
     results equal ``solve_lcp`` on each problem."""
     method = _check_method(method)
-    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or not 0 <= threads < 2**63:
-        raise ValueError(f"threads must be a non-negative integer, got {threads!r}")
     opts = _options(method, pivoting, piv_tol, zero_tol, max_pivots, options)
     Ms_ = _as_real_array(Ms, "Ms", 3)
     qs_ = _as_real_array(qs, "qs", 2)
@@ -347,7 +345,7 @@ def solve_lcp_batch(
             f"Ms and qs hold different numbers of problems: Ms has shape {Ms_.shape}, qs has shape {qs_.shape}"
         )
     # The batch dict is keyed by the result's fields (`ok`: solved and accepted by the rule).
-    d = _core.solve_lcp_batch(Ms_, qs_, method, int(threads), **opts)
+    d = _core.solve_lcp_batch(Ms_, qs_, method, threads, **opts)  # threads checked there
     return LcpBatchResult(**{**d, "status": tuple(d["status"])})
 
 

@@ -44,6 +44,11 @@ __all__ = [
 
 G = 9.81
 
+# The defaults of the scene parameters that the Rust scene structs default
+# (sim::scenes), read from the compiled module; the rest (slope angle, μ of the
+# slope scenes, push force, counts) are the Python functions' own.
+_D: dict[str, dict[str, Any]] = _core.SCENE_DEFAULTS
+
 
 @dataclass
 class Scene:
@@ -141,11 +146,11 @@ def cube_on_slope(
     angle_deg: float = 30.0,
     mu: float = 0.5,
     *,
-    size: float = 1.0,
-    mass: float = 1.0,
-    downhill: str = "+x",
-    speed: float = 0.0,
-    tangent_angle: float = 0.0,
+    size: float = _D["cube_on_slope"]["size"],
+    mass: float = _D["cube_on_slope"]["mass"],
+    downhill: str = _D["cube_on_slope"]["downhill"],
+    speed: float = _D["cube_on_slope"]["speed"],
+    tangent_angle: float = _D["cube_on_slope"]["tangent_angle"],
     **world: Any,
 ) -> Scene:
     """A cube resting on a slope of ``angle_deg`` (a level plane at 0°), one face
@@ -163,7 +168,13 @@ def cube_on_slope(
     return s
 
 
-def resting_cube(mu: float = 0.5, *, size: float = 1.0, mass: float = 1.0, **world: Any) -> Scene:
+def resting_cube(
+    mu: float = 0.5,
+    *,
+    size: float = _D["cube_on_slope"]["size"],
+    mass: float = _D["cube_on_slope"]["mass"],
+    **world: Any,
+) -> Scene:
     """A cube at rest on level ground: Σfn = m·g·h every step, no drift."""
     s = cube_on_slope(0.0, mu, size=size, mass=mass, **world)
     s.name = s.world.scene = "resting_cube"
@@ -174,9 +185,9 @@ def pushed_cube(
     force: float = 5.0,
     mu: float = 1.0,
     *,
-    size: float = 1.0,
-    mass: float = 1.0,
-    height: float = 0.0,
+    size: float = _D["pushed_cube"]["size"],
+    mass: float = _D["pushed_cube"]["mass"],
+    height: float = _D["pushed_cube"]["height"],
     **world: Any,
 ) -> Scene:
     """A cube at rest on level ground pushed along +x by a constant ``force`` (N)
@@ -190,12 +201,12 @@ def pushed_cube(
 
 
 def cube_drop(
-    height: float = 1.0,
+    height: float = _D["cube_drop"]["height"],
     *,
-    size: float = 1.0,
-    mass: float = 1.0,
-    mu: float = 0.5,
-    restitution: float | None = None,
+    size: float = _D["cube_drop"]["size"],
+    mass: float = _D["cube_drop"]["mass"],
+    mu: float = _D["cube_drop"]["mu"],
+    restitution: float | None = _D["cube_drop"]["restitution"],
     **world: Any,
 ) -> Scene:
     """A cube dropped flat from ``height`` (gap between its bottom face and the
@@ -204,12 +215,12 @@ def cube_drop(
 
 
 def ball_drop(
-    height: float = 1.0,
+    height: float = _D["ball_drop"]["height"],
     *,
-    radius: float = 0.1,
-    mass: float = 1.0,
-    mu: float = 0.5,
-    restitution: float | None = None,
+    radius: float = _D["ball_drop"]["radius"],
+    mass: float = _D["ball_drop"]["mass"],
+    mu: float = _D["ball_drop"]["mu"],
+    restitution: float | None = _D["ball_drop"]["restitution"],
     **world: Any,
 ) -> Scene:
     """A ball dropped from ``height`` (gap below it, m): impact at √(2H/g)
@@ -220,9 +231,9 @@ def ball_drop(
 def box_stack(
     n: int = 3,
     *,
-    size: float = 1.0,
-    mass: float = 1.0,
-    mu: float = 0.5,
+    size: float = _D["box_stack"]["size"],
+    mass: float = _D["box_stack"]["mass"],
+    mu: float = _D["box_stack"]["mu"],
     **world: Any,
 ) -> Scene:
     """A tower of ``n`` cubes on level ground: the force at interface j (from
@@ -234,9 +245,9 @@ def ball_on_incline(
     angle_deg: float = 30.0,
     mu: float = 0.3,
     *,
-    radius: float = 0.5,
-    mass: float = 1.0,
-    downhill: str = "+x",
+    radius: float = _D["ball_on_incline"]["radius"],
+    mass: float = _D["ball_on_incline"]["mass"],
+    downhill: str = _D["ball_on_incline"]["downhill"],
     **world: Any,
 ) -> Scene:
     """A solid ball at rest on a slope: rolls iff μ ≥ (2/7) tan θ with
@@ -248,16 +259,16 @@ def ball_on_incline(
 
 
 def box_pile(
-    nx: int = 3,
-    ny: int = 3,
-    nz: int = 3,
+    nx: int = _D["box_pile"]["nx"],
+    ny: int = _D["box_pile"]["ny"],
+    nz: int = _D["box_pile"]["nz"],
     *,
-    size: float = 1.0,
-    mass: float = 1.0,
-    mu: float = 0.5,
-    spacing: float = 1.5,
-    yaw: float = 0.0,
-    seed: int = 0,
+    size: float = _D["box_pile"]["size"],
+    mass: float = _D["box_pile"]["mass"],
+    mu: float = _D["box_pile"]["mu"],
+    spacing: float = _D["box_pile"]["spacing"],
+    yaw: float = _D["box_pile"]["yaw"],
+    seed: int = _D["box_pile"]["seed"],
     **world: Any,
 ) -> Scene:
     """``nx × ny`` towers of ``nz`` cubes on a grid (``spacing`` × size between
@@ -269,13 +280,13 @@ def box_pile(
 def cube_heap(
     n: int = 50,
     seed: int = 0,
-    walls: bool = False,
+    walls: bool = _D["cube_heap"]["walls"],
     *,
-    size: float = 1.0,
-    mass: float = 1.0,
-    mu: float = 0.5,
-    spacing: float = 1.1,
-    jitter: float = 0.02,
+    size: float = _D["cube_heap"]["size"],
+    mass: float = _D["cube_heap"]["mass"],
+    mu: float = _D["cube_heap"]["mu"],
+    spacing: float = _D["cube_heap"]["spacing"],
+    jitter: float = _D["cube_heap"]["jitter"],
     **world: Any,
 ) -> Scene:
     """``n`` cubes dropped into one connected heap: a stepped pyramid whose

@@ -7,6 +7,8 @@ from __future__ import annotations
 from dataclasses import dataclass, fields
 from typing import Any, Mapping
 
+from . import _core
+
 __all__ = ["Stabilization", "as_stabilization"]
 
 
@@ -22,14 +24,17 @@ class Stabilization:
     resting stack's LCP every step.
     """
 
-    #: Fraction of the penetration removed per step, in [0, 1].
-    erp: float = 0.2
-    #: Penetration left uncorrected (m), ≥ 0.
-    slop: float = 0.0
-    #: Use the positive gap of contacts inside the margin.
-    speculative: bool = True
-    #: Gaps within ±gap_floor (m) get no term; 0 turns the floor off.
-    gap_floor: float = 1e-12
+    # The defaults are sim::Stabilization's (``_core.WORLD_DEFAULTS``); the
+    # compiled World checks the values.
+
+    #: Fraction of the penetration removed per step, in [0, 1] (default 0.2).
+    erp: float = _core.WORLD_DEFAULTS["erp"]
+    #: Penetration left uncorrected (m), ≥ 0 (default 0).
+    slop: float = _core.WORLD_DEFAULTS["slop"]
+    #: Use the positive gap of contacts inside the margin (default True).
+    speculative: bool = _core.WORLD_DEFAULTS["speculative"]
+    #: Gaps within ±gap_floor (m) get no term; 0 turns the floor off (default 1e-12).
+    gap_floor: float = _core.WORLD_DEFAULTS["gap_floor"]
 
     @classmethod
     def none(cls) -> "Stabilization":

@@ -57,6 +57,11 @@ __all__ = [
 #: Rules for combining two bodies' μ into the contact's μ.
 MU_COMBINE: tuple[str, ...] = tuple(_core.MU_COMBINE)
 
+# The defaults are the Rust ones (sim::WorldParams, sim::BodyDesc), read from the
+# compiled module: this module declares none of its own.
+_WORLD = _core.WORLD_DEFAULTS
+_BODY = _core.BODY_DEFAULTS
+
 Vec = Union[Sequence[float], NDArray[np.float64]]
 CaptureTarget = Union[str, "os.PathLike[str]", "CaptureWriter", None]
 
@@ -246,20 +251,20 @@ class World:
 
     def __init__(
         self,
-        dt: float = 1e-3,
-        gravity: Vec = (0.0, 0.0, -9.81),
-        friction_dirs: int = 8,
+        dt: float = _WORLD["dt"],
+        gravity: Vec = tuple(_WORLD["gravity"]),
+        friction_dirs: int = _WORLD["friction_dirs"],
         cone_scale: float | str | None = None,
-        method: str = "lemke",
+        method: str = _WORLD["method"],
         *,
-        margin: float = 1e-3,
-        velocity_margin: bool = True,
+        margin: float = _WORLD["margin"],
+        velocity_margin: bool = _WORLD["velocity_margin"],
         stabilization: Stabilization | Mapping[str, Any] | str | None = None,
-        restitution: float = 0.0,
-        restitution_threshold: float = 1e-2,
-        mu_combine: str = "min",
-        mu_override: float | None = None,
-        threads: int = 1,
+        restitution: float = _WORLD["restitution"],
+        restitution_threshold: float = _WORLD["restitution_threshold"],
+        mu_combine: str = _WORLD["mu_combine"],
+        mu_override: float | None = _WORLD["mu_override"],
+        threads: int = _WORLD["threads"],
         **solver_options: Any,
     ) -> None:
         # The compiled World validates every parameter (messages name the field and
@@ -271,25 +276,23 @@ class World:
         }
         if direct:
             stab = Stabilization(**{**stab.__dict__, **direct})
-        self._core = _core.World(
-            dt=dt,
-            gravity=gravity,
-            friction_dirs=friction_dirs,
-            cone_scale=parse_cone_scale(cone_scale, "cone_scale"),
-            method=method,
-            margin=margin,
-            velocity_margin=bool(velocity_margin),
-            erp=stab.erp,
-            slop=stab.slop,
-            speculative=bool(stab.speculative),
-            gap_floor=stab.gap_floor,
-            restitution=restitution,
-            restitution_threshold=restitution_threshold,
-            mu_combine=mu_combine,
-            mu_override=mu_override,
-            threads=threads,
-            **solver_options,
-        )
+        params = {
+            "dt": dt,
+            "gravity": gravity,
+            "friction_dirs": friction_dirs,
+            "cone_scale": parse_cone_scale(cone_scale, "cone_scale"),
+            "method": method,
+            "margin": margin,
+            "velocity_margin": bool(velocity_margin),
+            **{k: getattr(stab, k) for k in STABILIZATION_FIELDS},
+            "speculative": bool(stab.speculative),
+            "restitution": restitution,
+            "restitution_threshold": restitution_threshold,
+            "mu_combine": mu_combine,
+            "mu_override": mu_override,
+            "threads": threads,
+        }
+        self._core = _core.World(params, **solver_options)
         self._method = method
         self._solver_options = {k: v for k, v in solver_options.items() if v is not None}
         #: Name and parameters of the scene that built this world (see :mod:`lcpsim.scenes`).
@@ -367,15 +370,15 @@ class World:
     def add_box(
         self,
         half_extents: Vec | None = None,
-        mass: float = 1.0,
-        position: Vec = (0.0, 0.0, 0.0),
-        orientation: Vec = (1.0, 0.0, 0.0, 0.0),
-        velocity: Vec = (0.0, 0.0, 0.0),
-        angular_velocity: Vec = (0.0, 0.0, 0.0),
-        mu: float = 0.5,
+        mass: float = _BODY["mass"],
+        position: Vec = tuple(_BODY["position"]),
+        orientation: Vec = tuple(_BODY["orientation"]),
+        velocity: Vec = tuple(_BODY["velocity"]),
+        angular_velocity: Vec = tuple(_BODY["angular_velocity"]),
+        mu: float = _BODY["mu"],
         *,
         size: float | Vec | None = None,
-        static: bool = False,
+        static: bool = _BODY["static"],
         inertia: ArrayLike | None = None,
     ) -> int:
         """Adds a box and returns its index.
@@ -400,14 +403,14 @@ class World:
     def add_sphere(
         self,
         radius: float,
-        mass: float = 1.0,
-        position: Vec = (0.0, 0.0, 0.0),
-        orientation: Vec = (1.0, 0.0, 0.0, 0.0),
-        velocity: Vec = (0.0, 0.0, 0.0),
-        angular_velocity: Vec = (0.0, 0.0, 0.0),
-        mu: float = 0.5,
+        mass: float = _BODY["mass"],
+        position: Vec = tuple(_BODY["position"]),
+        orientation: Vec = tuple(_BODY["orientation"]),
+        velocity: Vec = tuple(_BODY["velocity"]),
+        angular_velocity: Vec = tuple(_BODY["angular_velocity"]),
+        mu: float = _BODY["mu"],
         *,
-        static: bool = False,
+        static: bool = _BODY["static"],
         inertia: ArrayLike | None = None,
     ) -> int:
         """Adds a solid sphere and returns its index (``velocity`` may hold ``[v; ω]``)."""
@@ -415,21 +418,21 @@ class World:
         return int(self._core.add_body("sphere", radius, mass, position, orientation, v, wv, mu, bool(static), inertia))
 
     def add_plane(
-        self, normal: Vec = (0.0, 0.0, 1.0), offset: float = 0.0, mu: float = 0.5, *, tangent: Vec | None = None
+        self, normal: Vec = (0.0, 0.0, 1.0), offset: float = 0.0, mu: float = _BODY["mu"], *, tangent: Vec | None = None
     ) -> int:
         """Adds a static plane ``normal·x = offset`` (solid below it) and returns
         its index. ``tangent`` sets its contacts' first friction direction
         (default: downhill on a tilted plane, else x projected into the plane)."""
         return int(self._core.add_plane(normal, offset, mu, tangent))
 
-    def add_ground(self, mu: float = 0.5, height: float = 0.0) -> int:
+    def add_ground(self, mu: float = _BODY["mu"], height: float = 0.0) -> int:
         """Adds the level ground ``z = height``."""
         return self.add_plane((0.0, 0.0, 1.0), height, mu)
 
     def add_slope(
         self,
         angle_deg: float,
-        mu: float = 0.5,
+        mu: float = _BODY["mu"],
         *,
         downhill: str = "+x",
         offset: float = 0.0,
@@ -451,7 +454,7 @@ class World:
 
     def body(self, index: int) -> BodyState:
         """A body's shape, mass properties and state."""
-        d = self._core.body(_index(index))
+        d = self._core.body(index)
         return BodyState(
             index=int(d["index"]),
             kind=d["kind"],
@@ -487,26 +490,26 @@ class World:
         return np.concatenate([s["velocity"], s["angular_velocity"]], axis=1)
 
     def set_position(self, body: int, position: Vec) -> None:
-        self._core.set_position(_index(body), position)
+        self._core.set_position(body, position)
 
     def set_orientation(self, body: int, orientation: Vec) -> None:
         """Sets the orientation (normalized; a zero quaternion is an error)."""
-        self._core.set_orientation(_index(body), orientation)
+        self._core.set_orientation(body, orientation)
 
     def set_velocity(self, body: int, velocity: Vec) -> None:
         """Sets the linear velocity (3 values) or ``[v; ω]`` (6 values) of a dynamic body."""
         if np.ndim(velocity) == 1 and np.size(velocity) == 6:
             v6 = _vec(velocity, "velocity", 6)
-            self._core.set_velocity(_index(body), v6[:3])
-            self._core.set_angular_velocity(_index(body), v6[3:])
+            self._core.set_velocity(body, v6[:3])
+            self._core.set_angular_velocity(body, v6[3:])
         else:
-            self._core.set_velocity(_index(body), velocity)
+            self._core.set_velocity(body, velocity)
 
     def set_angular_velocity(self, body: int, angular_velocity: Vec) -> None:
-        self._core.set_angular_velocity(_index(body), angular_velocity)
+        self._core.set_angular_velocity(body, angular_velocity)
 
     def set_mu(self, body: int, mu: float) -> None:
-        self._core.set_mu(_index(body), mu)
+        self._core.set_mu(body, mu)
 
     # ----- forces -----
 
@@ -515,11 +518,11 @@ class World:
         :meth:`clear_forces`. ``point`` is where it acts, relative to the
         centre of mass in the body frame (it moves with the body); None means
         the centre of mass (no torque). Gravity is separate."""
-        self._core.apply_force(_index(body), force, point)
+        self._core.apply_force(body, force, point)
 
     def apply_torque(self, body: int, torque: Vec) -> None:
         """A constant torque (world frame, N·m) every step until cleared."""
-        self._core.apply_torque(_index(body), torque)
+        self._core.apply_torque(body, torque)
 
     def clear_forces(self) -> None:
         """Removes all applied forces and torques."""
@@ -638,12 +641,6 @@ class World:
     def __repr__(self) -> str:
         scene = f", scene={self.scene!r}" if self.scene else ""
         return f"World(bodies={self.body_count}, steps={self.steps}, time={self.time:g}{scene})"
-
-
-def _index(i: Any) -> int:
-    if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < 2**63:
-        raise ValueError(f"body must be a body index (int >= 0), got {i!r}")
-    return int(i)
 
 
 def _real(x: Any, name: str) -> float:

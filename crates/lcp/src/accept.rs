@@ -111,20 +111,34 @@ pub fn backward_error(lcp: &Lcp, z: &[f64], w: &[f64]) -> f64 {
 /// If `z` or `w` do not have `lcp.n()` entries.
 pub fn accepts(lcp: &Lcp, z: &[f64], w: &[f64], tol: f64) -> bool {
     check_lengths(lcp, z, w);
-    let (n, m, q) = (lcp.n(), lcp.m(), lcp.q());
+    let (n, m) = (lcp.n(), lcp.m());
+    accepts_rows(lcp.q(), z, w, tol, |i| m[i * n + i], |i, zsum| row_scale(lcp, i, z, zsum))
+}
+
+/// [`accepts`] for an `M` reached through its diagonal `diag(i) = M_ii` and
+/// `scale(i, Σ z) = (s_i, f_i)` of the module docs (a structured `M`, see
+/// [`crate::structured`]): the same rule, row by row.
+pub(crate) fn accepts_rows(
+    q: &[f64],
+    z: &[f64],
+    w: &[f64],
+    tol: f64,
+    diag: impl Fn(usize) -> f64,
+    mut scale: impl FnMut(usize, f64) -> (f64, f64),
+) -> bool {
     if !z.iter().all(|&v| v >= 0.0 && v.is_finite()) {
         return false;
     }
     let mut zsum = None;
-    for i in 0..n {
+    for i in 0..q.len() {
         let v = violation(z[i], w[i]);
         // Most rows: no violation, or one within `tol·(|q_i| + |M_ii| z_i) ≤ tol·s_i`.
         // (Written `v <= …` so that a NaN falls through to the full check.)
-        if v == 0.0 || v <= tol * (q[i].abs() + m[i * n + i].abs() * z[i]) {
+        if v == 0.0 || v <= tol * (q[i].abs() + diag(i).abs() * z[i]) {
             continue;
         }
         let zs = *zsum.get_or_insert_with(|| z.iter().sum());
-        if !(v.is_finite() && row_eta(v, row_scale(lcp, i, z, zs)) <= tol) {
+        if !(v.is_finite() && row_eta(v, scale(i, zs)) <= tol) {
             return false;
         }
     }

@@ -17,6 +17,8 @@
 //! - [`contact`]: the layout of a contact LCP's `z = [fn; fd; λ]`, its cone scaling and sign patterns.
 //! - [`accept`]: the one acceptance rule (componentwise backward error, each row on its own scale).
 //! - [`certify`]: exact (rational) check that a complementary basis solves the LCP of the floats given.
+//! - [`structured`]: Lemke on `M = G H + K` with sparse `G`, `H`, `K` (a contact
+//!   LCP in body space): sparse LU of the basis with eta updates, no dense `M`.
 //! - [`support`]: solving on a guessed complementary basis through an operator
 //!   (`M` never formed): the zero-pivot step of a simulator.
 //! - [`enumerate`]: brute-force enumeration of complementary bases (small n; tests).
@@ -38,6 +40,7 @@ pub mod pgs;
 pub mod problem;
 pub mod scaling;
 pub mod solution;
+pub mod structured;
 pub mod support;
 
 pub use contact::ContactLayout;

@@ -114,15 +114,16 @@ pub fn certify_lcp<'py>(
 /// bool and optionally `zs` (b, n). Returns a list of certificate dicts. The
 /// GIL is released; `threads` workers (0 = one per core) split the batch.
 #[pyfunction]
-#[pyo3(signature = (ms, qs, bases, zs = None, threads = 1))]
+#[pyo3(signature = (ms, qs, bases, zs, threads))]
 pub fn certify_lcp_batch<'py>(
     py: Python<'py>,
     ms: &Bound<'py, PyAny>,
     qs: &Bound<'py, PyAny>,
     bases: PyReadonlyArray2<'py, bool>,
     zs: Option<&Bound<'py, PyAny>>,
-    threads: usize,
+    threads: &Bound<'py, PyAny>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let threads = crate::args::count(threads, "threads")?;
     let ms = array3(ms, "Ms")?;
     let qs = array2(qs, "qs")?;
     let (ms_v, qs_v, b_v) = (ms.as_array(), qs.as_array(), bases.as_array());

@@ -3,8 +3,13 @@
 
 use lcp::LcpError;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
-use pyo3::PyErr;
+use pyo3::prelude::*;
 use std::any::Any;
+
+/// `repr(value)`, for messages.
+pub fn repr(value: &Bound<'_, PyAny>) -> String {
+    value.repr().map(|r| r.to_string()).unwrap_or_else(|_| "<unprintable>".to_string())
+}
 
 /// `ValueError(msg)`.
 pub fn value_error(msg: impl Into<String>) -> PyErr {

@@ -5,9 +5,10 @@
 //! contact generators also return `(nc, k)` so that Python can undo the
 //! friction-cone scaling (DESIGN §1). Arguments the Rust generators would panic
 //! on, and sizes whose matrices could not fit in memory, are rejected here with
-//! a `ValueError` (saying how much memory the request needs). Integer arguments are checked
-//! by the Python wrappers (`lcpsim.generate`), so they arrive here as ints that fit.
+//! a `ValueError` (saying how much memory the request needs); integer arguments
+//! (sizes ≥ 1, seeds and counts ≥ 0, below 2⁶⁴) by `args::integer`, naming the field.
 
+use crate::args::integer;
 use crate::errors::value_error;
 use lcp::generate;
 use sim::generate::{self as scenes, HardKind};
@@ -43,21 +44,18 @@ fn check_scale(scale: f64) -> PyResult<()> {
     }
 }
 
-fn check_positive(value: usize, name: &str) -> PyResult<()> {
-    if value == 0 {
-        return Err(value_error(format!("{name} must be >= 1, got 0")));
-    }
-    Ok(())
-}
-
 /// Friction directions of a generated contact LCP: in [1, `sim::limits::MAX_FRICTION_DIRS`].
 fn check_dirs(k: usize) -> PyResult<()> {
-    check_positive(k, "k")?;
     let max = sim::limits::MAX_FRICTION_DIRS;
     if k > max {
         return Err(value_error(format!("k must be at most {max} friction directions, got {k}")));
     }
     Ok(())
+}
+
+/// A size or count ≥ 1 (`n`, `nc`, `k`).
+fn size(value: &Bound<'_, PyAny>, field: &str) -> PyResult<usize> {
+    Ok(integer(value, field, 1)? as usize)
 }
 
 /// Refuses a generator call whose `copies` dense `n × n` matrices could not fit in memory.
@@ -74,9 +72,14 @@ fn hard_kind(name: &str) -> PyResult<HardKind> {
 
 /// The contact LCP of one unit cube on a random slope (`sim::generate::contact_lcp`).
 #[pyfunction]
-#[pyo3(signature = (nc, k = 8, scale = 1.0, seed = 0))]
-pub fn contact_lcp(py: Python<'_>, nc: usize, k: usize, scale: f64, seed: u64) -> PyResult<ContactTuple<'_>> {
-    check_positive(nc, "nc")?;
+pub fn contact_lcp<'py>(
+    py: Python<'py>,
+    nc: &Bound<'py, PyAny>,
+    k: &Bound<'py, PyAny>,
+    scale: f64,
+    seed: &Bound<'py, PyAny>,
+) -> PyResult<ContactTuple<'py>> {
+    let (nc, k, seed) = (size(nc, "nc")?, size(k, "k")?, integer(seed, "seed", 0)?);
     check_dirs(k)?;
     check_scale(scale)?;
     let n = sim::limits::lcp_size(nc, k).unwrap_or(usize::MAX);
@@ -88,15 +91,17 @@ pub fn contact_lcp(py: Python<'_>, nc: usize, k: usize, scale: f64, seed: u64) -
 
 /// A random LCP with a symmetric positive definite `M` (`generate::spd_lcp`).
 #[pyfunction]
-#[pyo3(signature = (n, seed = 0))]
-pub fn spd_lcp(py: Python<'_>, n: usize, seed: u64) -> PyResult<PlainTuple<'_>> {
+pub fn spd_lcp<'py>(py: Python<'py>, n: &Bound<'py, PyAny>, seed: &Bound<'py, PyAny>) -> PyResult<PlainTuple<'py>> {
     matrix_lcp(py, "spd", n, seed, generate::spd_lcp)
 }
 
 /// A random LCP with a nonsymmetric positive definite (P) `M` (`generate::p_matrix_lcp`).
 #[pyfunction]
-#[pyo3(signature = (n, seed = 0))]
-pub fn p_matrix_lcp(py: Python<'_>, n: usize, seed: u64) -> PyResult<PlainTuple<'_>> {
+pub fn p_matrix_lcp<'py>(
+    py: Python<'py>,
+    n: &Bound<'py, PyAny>,
+    seed: &Bound<'py, PyAny>,
+) -> PyResult<PlainTuple<'py>> {
     matrix_lcp(py, "p_matrix", n, seed, generate::p_matrix_lcp)
 }
 
@@ -104,11 +109,11 @@ pub fn p_matrix_lcp(py: Python<'_>, n: usize, seed: u64) -> PyResult<PlainTuple<
 fn matrix_lcp<'py>(
     py: Python<'py>,
     family: &str,
-    n: usize,
-    seed: u64,
+    n: &Bound<'py, PyAny>,
+    seed: &Bound<'py, PyAny>,
     make: fn(usize, u64) -> Lcp,
 ) -> PyResult<PlainTuple<'py>> {
-    check_positive(n, "n")?;
+    let (n, seed) = (size(n, "n")?, integer(seed, "seed", 0)?);
     check_size(|| format!("{family}_lcp(n={n})"), n, 4)?;
     let lcp = py.detach(|| make(n, seed));
     let (m, q) = to_numpy(py, lcp)?;
@@ -118,15 +123,15 @@ fn matrix_lcp<'py>(
 /// A hard contact LCP of family `kind` (`sim::generate::hard_contact_lcp_k`); the
 /// label is the scene's own (`kind/kK/ncN/seedS`).
 #[pyfunction]
-#[pyo3(signature = (kind, scale = 1.0, seed = 0, k = 8))]
 pub fn hard_contact_lcp<'py>(
     py: Python<'py>,
     kind: &str,
     scale: f64,
-    seed: u64,
-    k: usize,
+    seed: &Bound<'py, PyAny>,
+    k: &Bound<'py, PyAny>,
 ) -> PyResult<ContactTuple<'py>> {
     let kind = hard_kind(kind)?;
+    let (seed, k) = (integer(seed, "seed", 0)?, size(k, "k")?);
     check_dirs(k)?;
     check_scale(scale)?;
     let scene = scenes::HardScene::random(kind, k, seed);
@@ -137,8 +142,13 @@ pub fn hard_contact_lcp<'py>(
 
 /// `count` hard contact LCPs (`sim::generate::hard_corpus`), each `(M, q, label, nc, k)`.
 #[pyfunction]
-#[pyo3(signature = (seed, count, scale = 1.0))]
-pub fn hard_corpus(py: Python<'_>, seed: u64, count: usize, scale: f64) -> PyResult<Vec<ContactTuple<'_>>> {
+pub fn hard_corpus<'py>(
+    py: Python<'py>,
+    seed: &Bound<'py, PyAny>,
+    count: &Bound<'py, PyAny>,
+    scale: f64,
+) -> PyResult<Vec<ContactTuple<'py>>> {
+    let (seed, count) = (integer(seed, "seed", 0)?, integer(count, "count", 0)? as usize);
     check_scale(scale)?;
     // Every item is at least one contact with k = 4 (an LCP of 6 unknowns).
     let bytes = (count as u128).saturating_mul(lcp::limits::dense_bytes(6, 1) + 64);

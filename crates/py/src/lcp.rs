@@ -61,15 +61,16 @@ pub fn solve_lcp<'py>(
 /// Solves `b` LCPs `(Ms[i], qs[i])` of one size n with one method, with the
 /// GIL released. `threads` worker threads (0 = one per core) split the batch.
 #[pyfunction]
-#[pyo3(signature = (ms, qs, method = "lemke", threads = 1, **options))]
+#[pyo3(signature = (ms, qs, method, threads, **options))]
 pub fn solve_lcp_batch<'py>(
     py: Python<'py>,
     ms: &Bound<'py, PyAny>,
     qs: &Bound<'py, PyAny>,
     method: &str,
-    threads: usize,
+    threads: &Bound<'py, PyAny>,
     options: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let threads = crate::args::count(threads, "threads")?;
     let method_v = method_from_py(method, options)?;
     let lcps = lcps_from_py(ms, qs)?;
     let n = match lcps.first() {

@@ -1,7 +1,7 @@
 //! Method name + keyword options → `lcp::Method`. Unknown names, wrong types and
 //! out-of-range values are `ValueError`s that name the option and the value.
 
-use crate::errors::value_error;
+use crate::errors::{repr, value_error};
 use lcp::{LemkeOptions, Method, NewtonFbOptions, PgsOptions, Pivoting};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyString};
@@ -16,11 +16,6 @@ const LEMKE_OPTIONS: [&str; 8] =
 const PGS_OPTIONS: [&str; 3] = ["omega", "max_iterations", "tol"];
 const NEWTON_FB_OPTIONS: [&str; 6] =
     ["max_iterations", "tol", "armijo_sigma", "backtrack", "max_backtracks", "descent_rho"];
-
-/// `repr(value)`, for messages.
-fn repr(value: &Bound<'_, PyAny>) -> String {
-    value.repr().map(|r| r.to_string()).unwrap_or_else(|_| "<unprintable>".to_string())
-}
 
 /// A finite real number (bools are refused: `piv_tol=True` is a mistake).
 fn real(name: &str, value: &Bound<'_, PyAny>) -> PyResult<f64> {
@@ -69,89 +64,91 @@ fn boolean(name: &str, value: &Bound<'_, PyAny>) -> PyResult<bool> {
         .map_err(|_| value_error(format!("option {name} must be True or False, got {}", repr(value))))
 }
 
-fn unknown_option(method: &str, name: &str, valid: &[&str]) -> PyErr {
-    value_error(format!("unknown option {name:?} for method {method:?} (valid options: {})", valid.join(", ")))
-}
-
-/// Calls `set(name, value)` for each option given; `None` values are skipped
-/// (they mean "the default") except for the options in `nullable`.
-fn each_option(
-    options: Option<&Bound<'_, PyDict>>,
+/// `O::default()` with each option given in `options` set by `set`, which says
+/// false for a name that is not one of the method's (`valid`, listed in the
+/// error). `None` values are skipped (they mean "the default") except for the
+/// options in `nullable`.
+fn options_of<O: Default>(
+    method: &str,
+    valid: &[&str],
     nullable: &[&str],
-    mut set: impl FnMut(&str, Bound<'_, PyAny>) -> PyResult<()>,
-) -> PyResult<()> {
+    options: Option<&Bound<'_, PyDict>>,
+    set: impl Fn(&mut O, &str, &Bound<'_, PyAny>) -> PyResult<bool>,
+) -> PyResult<O> {
+    let mut o = O::default();
     for (key, value) in options.into_iter().flat_map(|d| d.iter()) {
         let name: &str = key.extract()?;
-        if !value.is_none() || nullable.contains(&name) {
-            set(name, value)?;
+        if (!value.is_none() || nullable.contains(&name)) && !set(&mut o, name, &value)? {
+            return Err(value_error(format!(
+                "unknown option {name:?} for method {method:?} (valid options: {})",
+                valid.join(", ")
+            )));
         }
     }
-    Ok(())
+    Ok(o)
 }
 
 fn lemke_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<LemkeOptions> {
-    let mut o = LemkeOptions::default();
-    each_option(options, &["max_pivots"], |name, value| {
+    options_of("lemke", &LEMKE_OPTIONS, &["max_pivots"], options, |o: &mut LemkeOptions, name, value| {
         match name {
-            "pivoting" => {
-                let s: &str = value
-                    .extract()
-                    .map_err(|_| value_error(format!("option pivoting must be a string, got {}", repr(&value))))?;
-                o.pivoting = match s {
-                    "lexicographic" => Pivoting::Lexicographic,
-                    "classic" => Pivoting::Classic,
-                    _ => return Err(value_error(format!("unknown pivoting {s:?} (valid: {})", PIVOTINGS.join(", ")))),
-                };
-            }
-            "piv_tol" => o.piv_tol = tolerance(name, &value)?,
-            "zero_tol" => o.zero_tol = tolerance(name, &value)?,
-            "accept_tol" => o.accept_tol = tolerance(name, &value)?,
-            "max_pivots" => o.max_pivots = if value.is_none() { None } else { Some(count(name, &value)?) },
-            "equilibrate" => o.equilibrate = boolean(name, &value)?,
-            "fallback" => o.fallback = boolean(name, &value)?,
-            "warm_start" => o.warm_start = boolean(name, &value)?,
-            _ => return Err(unknown_option("lemke", name, &LEMKE_OPTIONS)),
+            "pivoting" => o.pivoting = pivoting(value)?,
+            "piv_tol" => o.piv_tol = tolerance(name, value)?,
+            "zero_tol" => o.zero_tol = tolerance(name, value)?,
+            "accept_tol" => o.accept_tol = tolerance(name, value)?,
+            "max_pivots" => o.max_pivots = if value.is_none() { None } else { Some(count(name, value)?) },
+            "equilibrate" => o.equilibrate = boolean(name, value)?,
+            "fallback" => o.fallback = boolean(name, value)?,
+            "warm_start" => o.warm_start = boolean(name, value)?,
+            _ => return Ok(false),
         }
-        Ok(())
-    })?;
-    Ok(o)
+        Ok(true)
+    })
+}
+
+fn pivoting(value: &Bound<'_, PyAny>) -> PyResult<Pivoting> {
+    let s: &str =
+        value.extract().map_err(|_| value_error(format!("option pivoting must be a string, got {}", repr(value))))?;
+    match s {
+        "lexicographic" => Ok(Pivoting::Lexicographic),
+        "classic" => Ok(Pivoting::Classic),
+        _ => Err(value_error(format!("unknown pivoting {s:?} (valid: {})", PIVOTINGS.join(", ")))),
+    }
 }
 
 fn pgs_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<PgsOptions> {
-    let mut o = PgsOptions::default();
-    each_option(options, &[], |name, value| {
+    options_of("pgs", &PGS_OPTIONS, &[], options, |o: &mut PgsOptions, name, value| {
         match name {
-            "omega" => o.omega = open_interval(name, &value, 0.0, 2.0)?,
-            "max_iterations" => o.max_iterations = count(name, &value)?,
-            "tol" => o.tol = tolerance(name, &value)?,
-            _ => return Err(unknown_option("pgs", name, &PGS_OPTIONS)),
+            "omega" => o.omega = open_interval(name, value, 0.0, 2.0)?,
+            "max_iterations" => o.max_iterations = count(name, value)?,
+            "tol" => o.tol = tolerance(name, value)?,
+            _ => return Ok(false),
         }
-        Ok(())
-    })?;
-    Ok(o)
+        Ok(true)
+    })
 }
 
 fn newton_fb_options(options: Option<&Bound<'_, PyDict>>) -> PyResult<NewtonFbOptions> {
-    let mut o = NewtonFbOptions::default();
-    each_option(options, &[], |name, value| {
+    options_of("newton_fb", &NEWTON_FB_OPTIONS, &[], options, |o: &mut NewtonFbOptions, name, value| {
         match name {
-            "max_iterations" => o.max_iterations = count(name, &value)?,
-            "tol" => o.tol = tolerance(name, &value)?,
-            "armijo_sigma" => o.armijo_sigma = open_interval(name, &value, 0.0, 0.5)?,
-            "backtrack" => o.backtrack = open_interval(name, &value, 0.0, 1.0)?,
-            "max_backtracks" => o.max_backtracks = count(name, &value)?,
-            "descent_rho" => {
-                let rho = tolerance(name, &value)?;
-                if rho == 0.0 {
-                    return Err(value_error(format!("option descent_rho must be > 0, got {}", repr(&value))));
-                }
-                o.descent_rho = rho;
-            }
-            _ => return Err(unknown_option("newton_fb", name, &NEWTON_FB_OPTIONS)),
+            "max_iterations" => o.max_iterations = count(name, value)?,
+            "tol" => o.tol = tolerance(name, value)?,
+            "armijo_sigma" => o.armijo_sigma = open_interval(name, value, 0.0, 0.5)?,
+            "backtrack" => o.backtrack = open_interval(name, value, 0.0, 1.0)?,
+            "max_backtracks" => o.max_backtracks = count(name, value)?,
+            "descent_rho" => o.descent_rho = positive(name, value)?,
+            _ => return Ok(false),
         }
-        Ok(())
-    })?;
-    Ok(o)
+        Ok(true)
+    })
+}
+
+/// A tolerance > 0.
+fn positive(name: &str, value: &Bound<'_, PyAny>) -> PyResult<f64> {
+    let x = tolerance(name, value)?;
+    if x == 0.0 {
+        return Err(value_error(format!("option {name} must be > 0, got {}", repr(value))));
+    }
+    Ok(x)
 }
 
 /// Builds the `Method` named `method` from keyword `options` (`None` values mean the default).

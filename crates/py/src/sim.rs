@@ -9,12 +9,15 @@ mod capture;
 mod convert;
 mod scenes;
 
-pub use scenes::{build_scene, SCENES};
+pub use scenes::{build_scene, defaults as scene_defaults, SCENES};
 
 use crate::errors::{panic_error, value_error};
 use crate::method::method_from_py;
 use capture::{status_code, CaptureBuffer};
-use convert::{cone_scale, cone_scale_to_py, mat3, mu_combine_name, opt_vec3, or_default, quat, real, sim_error, vec3};
+use convert::{
+    cone_scale, cone_scale_to_py, flag, mat3, mu_combine_name, opt_vec3, or_default, quat, real, sim_error, text, vec3,
+    Fields,
+};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::intern;
 use pyo3::prelude::*;
@@ -66,18 +69,24 @@ impl World {
     /// `set(world, body, value)`: one of the world's per-body setters, guarded.
     fn on_body<T>(
         &mut self,
-        body: usize,
+        body: &Bound<'_, PyAny>,
         value: T,
         set: fn(&mut sim::World, BodyId, T) -> Result<(), sim::SimError>,
     ) -> PyResult<()> {
+        let id = body_id(body)?;
         let w = self.inner();
-        guarded(|| set(w, BodyId(body), value))
+        guarded(|| set(w, id, value))
     }
 
     fn add(&mut self, desc: BodyDesc) -> PyResult<usize> {
         let w = self.inner();
         guarded(|| w.add_body(desc)).map(|id| id.0)
     }
+}
+
+/// A body index (an int ≥ 0; its range is the world's to check).
+fn body_id(body: &Bound<'_, PyAny>) -> PyResult<BodyId> {
+    convert::count(body, "body").map(BodyId)
 }
 
 fn arr3<'py>(py: Python<'py>, v: Vec3) -> Bound<'py, PyArray1<f64>> {
@@ -230,93 +239,110 @@ fn trajectory_to_dict(py: Python<'_>, t: Trajectory) -> PyResult<Bound<'_, PyDic
     Ok(d)
 }
 
+/// The parameters `World(params)` takes: the keys of `params_dict` less the
+/// derived `scale` and `method_config`.
+const WORLD_FIELDS: [&str; 16] = [
+    "dt",
+    "gravity",
+    "friction_dirs",
+    "cone_scale",
+    "method",
+    "margin",
+    "velocity_margin",
+    "erp",
+    "slop",
+    "speculative",
+    "gap_floor",
+    "restitution",
+    "restitution_threshold",
+    "mu_combine",
+    "mu_override",
+    "threads",
+];
+
+/// World parameters as a dict (cone_scale: "none", "dt" or the number): a
+/// world's `params()`, and `WorldParams::default()` as `_core.WORLD_DEFAULTS`,
+/// which `lcpsim.World` and `lcpsim.Stabilization` take as their defaults.
+pub fn params_dict<'py>(py: Python<'py>, p: &WorldParams) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("dt", p.dt)?;
+    d.set_item("gravity", p.gravity.to_array().to_vec())?;
+    d.set_item("friction_dirs", p.friction_dirs)?;
+    d.set_item("cone_scale", cone_scale_to_py(py, p.cone_scale)?)?;
+    d.set_item("scale", p.scale())?;
+    d.set_item("margin", p.margin)?;
+    d.set_item("velocity_margin", p.velocity_margin)?;
+    d.set_item("erp", p.stabilization.erp)?;
+    d.set_item("slop", p.stabilization.slop)?;
+    d.set_item("speculative", p.stabilization.speculative)?;
+    d.set_item("gap_floor", p.stabilization.gap_floor)?;
+    d.set_item("restitution", p.restitution.coefficient)?;
+    d.set_item("restitution_threshold", p.restitution.threshold)?;
+    d.set_item("mu_combine", mu_combine_name(p.mu_combine))?;
+    d.set_item("mu_override", p.mu_override)?;
+    d.set_item("threads", p.threads)?;
+    d.set_item("method", p.method.name())?;
+    d.set_item("method_config", format!("{:?}", p.method))?;
+    Ok(d)
+}
+
+/// `sim::BodyDesc`'s defaults (shape aside), as `_core.BODY_DEFAULTS`: the
+/// defaults of `lcpsim.World.add_box`/`add_sphere` and of the planes' μ.
+pub fn body_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let b = BodyDesc::sphere(1.0);
+    let d = PyDict::new(py);
+    d.set_item("mass", b.mass)?;
+    d.set_item("position", b.position.to_array().to_vec())?;
+    d.set_item("orientation", b.orientation.to_array().to_vec())?;
+    d.set_item("velocity", b.velocity.to_array().to_vec())?;
+    d.set_item("angular_velocity", b.angular_velocity.to_array().to_vec())?;
+    d.set_item("mu", b.mu)?;
+    d.set_item("static", b.is_static)?;
+    Ok(d)
+}
+
 #[pymethods]
 impl World {
+    /// `World(params, **options)`: `params` a dict of `WORLD_FIELDS` (missing or
+    /// None: `WorldParams::default()`'s value), `options` the solver's.
     #[new]
-    #[pyo3(signature = (
-        dt = None, gravity = None, friction_dirs = None, cone_scale = None, method = "lemke",
-        margin = None, velocity_margin = true, erp = None, slop = None, speculative = true, gap_floor = None,
-        restitution = None, restitution_threshold = None, mu_combine = "min", mu_override = None,
-        threads = None, **options
-    ))]
-    #[allow(clippy::too_many_arguments)]
-    fn new(
-        dt: Option<&Bound<'_, PyAny>>,
-        gravity: Option<&Bound<'_, PyAny>>,
-        friction_dirs: Option<&Bound<'_, PyAny>>,
-        cone_scale: Option<&Bound<'_, PyAny>>,
-        method: &str,
-        margin: Option<&Bound<'_, PyAny>>,
-        velocity_margin: bool,
-        erp: Option<&Bound<'_, PyAny>>,
-        slop: Option<&Bound<'_, PyAny>>,
-        speculative: bool,
-        gap_floor: Option<&Bound<'_, PyAny>>,
-        restitution: Option<&Bound<'_, PyAny>>,
-        restitution_threshold: Option<&Bound<'_, PyAny>>,
-        mu_combine: &str,
-        mu_override: Option<&Bound<'_, PyAny>>,
-        threads: Option<&Bound<'_, PyAny>>,
-        options: Option<&Bound<'_, PyDict>>,
-    ) -> PyResult<World> {
+    #[pyo3(signature = (params = None, **options))]
+    fn new(params: Option<&Bound<'_, PyDict>>, options: Option<&Bound<'_, PyDict>>) -> PyResult<World> {
+        let p = Fields { of: "World", dict: params };
+        p.check_names(&WORLD_FIELDS)?;
         let d = WorldParams::default();
-        let or = |v: Option<&Bound<'_, PyAny>>, name: &str, default: f64| -> PyResult<f64> {
-            v.filter(|v| !v.is_none()).map_or(Ok(default), |v| real(v, name))
-        };
         let params = WorldParams {
-            dt: or(dt, "dt", d.dt)?,
-            gravity: opt_vec3(gravity, "gravity")?.unwrap_or(d.gravity),
-            friction_dirs: friction_dirs
-                .filter(|v| !v.is_none())
-                .map_or(Ok(d.friction_dirs), |v| convert::count(v, "friction_dirs"))?,
-            cone_scale: convert::cone_scale(cone_scale)?,
-            margin: or(margin, "margin", d.margin)?,
-            velocity_margin,
+            dt: p.or("dt", real, d.dt)?,
+            gravity: p.or("gravity", vec3, d.gravity)?,
+            friction_dirs: p.or("friction_dirs", convert::count, d.friction_dirs)?,
+            cone_scale: convert::cone_scale(p.get("cone_scale")?.as_ref())?,
+            margin: p.or("margin", real, d.margin)?,
+            velocity_margin: p.or("velocity_margin", flag, d.velocity_margin)?,
             stabilization: Stabilization {
-                erp: or(erp, "erp", d.stabilization.erp)?,
-                slop: or(slop, "slop", d.stabilization.slop)?,
-                speculative,
-                gap_floor: or(gap_floor, "gap_floor", d.stabilization.gap_floor)?,
+                erp: p.or("erp", real, d.stabilization.erp)?,
+                slop: p.or("slop", real, d.stabilization.slop)?,
+                speculative: p.or("speculative", flag, d.stabilization.speculative)?,
+                gap_floor: p.or("gap_floor", real, d.stabilization.gap_floor)?,
             },
             restitution: Restitution {
-                coefficient: or(restitution, "restitution", d.restitution.coefficient)?,
-                threshold: or(restitution_threshold, "restitution_threshold", d.restitution.threshold)?,
+                coefficient: p.or("restitution", real, d.restitution.coefficient)?,
+                threshold: p.or("restitution_threshold", real, d.restitution.threshold)?,
             },
-            mu_combine: convert::mu_combine(mu_combine)?,
-            mu_override: mu_override.filter(|m| !m.is_none()).map(|m| real(m, "mu_override")).transpose()?,
-            method: method_from_py(method, options)?,
-            threads: threads.filter(|v| !v.is_none()).map_or(Ok(d.threads), |v| convert::count(v, "threads"))?,
+            mu_combine: p.or("mu_combine", |v, f| convert::mu_combine(&text(v, f)?), d.mu_combine)?,
+            mu_override: p.or("mu_override", |v, f| real(v, f).map(Some), d.mu_override)?,
+            method: method_from_py(&p.or("method", text, d.method.name().to_string())?, options)?,
+            threads: p.or("threads", convert::count, d.threads)?,
         };
         guarded(|| sim::World::new(params)).map(World::wrap)
     }
 
     /// The parameters as a dict (cone_scale: "none", "dt" or the number).
     fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let p = self.params_clone();
-        let d = PyDict::new(py);
-        d.set_item("dt", p.dt)?;
-        d.set_item("gravity", p.gravity.to_array().to_vec())?;
-        d.set_item("friction_dirs", p.friction_dirs)?;
-        d.set_item("cone_scale", cone_scale_to_py(py, p.cone_scale)?)?;
-        d.set_item("scale", p.scale())?;
-        d.set_item("margin", p.margin)?;
-        d.set_item("velocity_margin", p.velocity_margin)?;
-        d.set_item("erp", p.stabilization.erp)?;
-        d.set_item("slop", p.stabilization.slop)?;
-        d.set_item("speculative", p.stabilization.speculative)?;
-        d.set_item("gap_floor", p.stabilization.gap_floor)?;
-        d.set_item("restitution", p.restitution.coefficient)?;
-        d.set_item("restitution_threshold", p.restitution.threshold)?;
-        d.set_item("mu_combine", mu_combine_name(p.mu_combine))?;
-        d.set_item("mu_override", p.mu_override)?;
-        d.set_item("threads", p.threads)?;
-        d.set_item("method", p.method.name())?;
-        d.set_item("method_config", format!("{:?}", p.method))?;
-        Ok(d)
+        params_dict(py, &self.params_clone())
     }
 
     /// Replaces the solver (name + options as in `solve_lcp`).
-    #[pyo3(signature = (method = "lemke", **options))]
+    #[pyo3(signature = (method, **options))]
     fn set_method(&mut self, method: &str, options: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
         let m = method_from_py(method, options)?;
         self.inner().set_method(m);
@@ -395,18 +421,19 @@ impl World {
     }
 
     /// A static plane `normal·x = offset` (normal normalized; the solid is below it).
-    /// `tangent` sets the first friction direction (projected into the plane).
-    #[pyo3(signature = (normal, offset = None, mu = None, tangent = None))]
+    /// `tangent` sets the first friction direction (projected into the plane);
+    /// `mu` not given (or None) is `sim::BodyDesc`'s default.
+    #[pyo3(signature = (normal, offset, mu = None, tangent = None))]
     fn add_plane(
         &mut self,
         normal: &Bound<'_, PyAny>,
-        offset: Option<&Bound<'_, PyAny>>,
+        offset: &Bound<'_, PyAny>,
         mu: Option<&Bound<'_, PyAny>>,
         tangent: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
         let n = vec3(normal, "normal")?;
-        let off = offset.map(|o| real(o, "offset")).transpose()?.unwrap_or(0.0);
-        let mu = mu.map(|m| real(m, "mu")).transpose()?.unwrap_or(0.5);
+        let off = real(offset, "offset")?;
+        let mu = or_default(mu, "mu", real, BodyDesc::sphere(1.0).mu)?;
         let t = opt_vec3(tangent, "tangent")?;
         let w = self.inner();
         guarded(|| {
@@ -422,20 +449,20 @@ impl World {
     /// A static slope through `(0, 0, offset)`-shifted origin at `angle_deg`
     /// descending towards `downhill` ("+x" or "-x"); its first friction
     /// direction is the downhill direction, turned by `tangent_angle` (rad) about the normal.
-    #[pyo3(signature = (angle_deg, mu = None, downhill = "+x", offset = None, tangent_angle = None))]
+    #[pyo3(signature = (angle_deg, mu, downhill, offset, tangent_angle))]
     fn add_slope(
         &mut self,
         angle_deg: &Bound<'_, PyAny>,
         mu: Option<&Bound<'_, PyAny>>,
         downhill: &str,
-        offset: Option<&Bound<'_, PyAny>>,
-        tangent_angle: Option<&Bound<'_, PyAny>>,
+        offset: &Bound<'_, PyAny>,
+        tangent_angle: &Bound<'_, PyAny>,
     ) -> PyResult<usize> {
         let a = convert::angle_deg(real(angle_deg, "angle_deg")?)?;
-        let mu = mu.map(|m| real(m, "mu")).transpose()?.unwrap_or(0.5);
+        let mu = or_default(mu, "mu", real, BodyDesc::sphere(1.0).mu)?;
         let side = convert::downhill(downhill)?;
-        let off = offset.map(|o| real(o, "offset")).transpose()?.unwrap_or(0.0);
-        let ta = tangent_angle.map(|o| real(o, "tangent_angle")).transpose()?.unwrap_or(0.0);
+        let off = real(offset, "offset")?;
+        let ta = real(tangent_angle, "tangent_angle")?;
         if !ta.is_finite() {
             return Err(value_error(format!("tangent_angle must be finite, got {}", crate::errors::py_float(ta))));
         }
@@ -452,11 +479,12 @@ impl World {
     }
 
     /// A body's description and state as a dict.
-    fn body<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyDict>> {
+    fn body<'py>(&self, py: Python<'py>, index: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+        let id = body_id(index)?;
         let w = self.shared();
-        let b = w.body(BodyId(index)).map_err(|e| sim_error(&e))?;
+        let b = w.body(id).map_err(|e| sim_error(&e))?;
         let d = PyDict::new(py);
-        d.set_item("index", index)?;
+        d.set_item("index", id.0)?;
         d.set_item("kind", b.shape().kind())?;
         d.set_item("is_static", b.is_static())?;
         d.set_item("mass", b.mass())?;
@@ -500,23 +528,23 @@ impl World {
         Ok(d)
     }
 
-    fn set_position(&mut self, body: usize, position: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn set_position(&mut self, body: &Bound<'_, PyAny>, position: &Bound<'_, PyAny>) -> PyResult<()> {
         self.on_body(body, vec3(position, "position")?, sim::World::set_position)
     }
 
-    fn set_orientation(&mut self, body: usize, orientation: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn set_orientation(&mut self, body: &Bound<'_, PyAny>, orientation: &Bound<'_, PyAny>) -> PyResult<()> {
         self.on_body(body, quat(orientation, "orientation")?, sim::World::set_orientation)
     }
 
-    fn set_velocity(&mut self, body: usize, velocity: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn set_velocity(&mut self, body: &Bound<'_, PyAny>, velocity: &Bound<'_, PyAny>) -> PyResult<()> {
         self.on_body(body, vec3(velocity, "velocity")?, sim::World::set_velocity)
     }
 
-    fn set_angular_velocity(&mut self, body: usize, angular_velocity: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn set_angular_velocity(&mut self, body: &Bound<'_, PyAny>, angular_velocity: &Bound<'_, PyAny>) -> PyResult<()> {
         self.on_body(body, vec3(angular_velocity, "angular_velocity")?, sim::World::set_angular_velocity)
     }
 
-    fn set_mu(&mut self, body: usize, mu: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn set_mu(&mut self, body: &Bound<'_, PyAny>, mu: &Bound<'_, PyAny>) -> PyResult<()> {
         self.on_body(body, real(mu, "mu")?, sim::World::set_mu)
     }
 
@@ -525,15 +553,19 @@ impl World {
     /// A constant force (world frame, N); `point` relative to the centre of
     /// mass in the body frame (None: at the centre of mass).
     #[pyo3(signature = (body, force, point = None))]
-    fn apply_force(&mut self, body: usize, force: &Bound<'_, PyAny>, point: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
-        let f = vec3(force, "force")?;
-        let p = opt_vec3(point, "point")?;
+    fn apply_force(
+        &mut self,
+        body: &Bound<'_, PyAny>,
+        force: &Bound<'_, PyAny>,
+        point: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let (id, f, p) = (body_id(body)?, vec3(force, "force")?, opt_vec3(point, "point")?);
         let w = self.inner();
-        guarded(|| w.apply_force(BodyId(body), f, p))
+        guarded(|| w.apply_force(id, f, p))
     }
 
     /// A constant torque (world frame, N·m).
-    fn apply_torque(&mut self, body: usize, torque: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn apply_torque(&mut self, body: &Bound<'_, PyAny>, torque: &Bound<'_, PyAny>) -> PyResult<()> {
         self.on_body(body, vec3(torque, "torque")?, sim::World::apply_torque)
     }
 

@@ -77,11 +77,17 @@ impl crate::World {
     /// with [`SimError::TooLarge`] before anything is assembled.
     pub(crate) fn reserve_islands(&mut self) -> Result<(), SimError> {
         let k = self.params.friction_dirs;
+        // Islands the structured Lemke takes need no dense M (unless a sink captures it).
+        use crate::pipeline::island_lcp::{basis_check_applies, DENSE_FALLBACK_MAX_N};
+        let structured = self.sink.is_none() && basis_check_applies(&self.params.method).is_some();
         let ws = &mut self.ws;
         for (i, isl) in ws.pool[..ws.islands.len()].iter_mut().enumerate() {
             let what = || format!("step {}, contact island {i}", self.steps);
             check_contact_lcp(what, isl.contacts.len(), k)?;
             let n = lcp_size(isl.contacts.len(), k).unwrap_or(usize::MAX);
+            if structured && n > DENSE_FALLBACK_MAX_N {
+                continue;
+            }
             isl.lcp.reserve_matrix(n).map_err(|mut e| {
                 e.what = format!("{}: the dense matrix of a contact LCP of {n} unknowns", what());
                 SimError::TooLarge(e)

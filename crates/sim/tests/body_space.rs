@@ -2,20 +2,13 @@
 //! dense assembly, and the zero-pivot step it serves: a coupled LCP whose
 //! previous basis still solves it is solved without forming `M`.
 
+mod common;
+
+use common::settled;
 use sim::lcp::support::LcpOperator;
 use sim::scenes::{BoxPile, BoxStack};
-use sim::{ConeScale, World, WorldParams};
+use sim::{ConeScale, WorldParams};
 
-/// Steps `w` a few times, then assembles the dense LCP of its state.
-fn settled(mut w: World, steps: usize) -> World {
-    for _ in 0..steps {
-        w.step().unwrap();
-    }
-    w.forces_stage().unwrap();
-    w.detect();
-    w.assemble();
-    w
-}
 
 /// A deterministic pseudo-random vector in [0, 1).
 fn noise(n: usize, seed: u64) -> Vec<f64> {

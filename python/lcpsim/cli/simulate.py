@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from .command import EXIT_NOT_SOLVED, EXIT_OK, CliError, Command, lemke_options, register_command
+from .. import _core
 from ..lcp import METHODS, PIVOTINGS
 from ..scale import cone_scale_argument
 from ..scenes import SCENES, Scene, scene_parameters
@@ -55,14 +56,17 @@ def _configure(p: argparse.ArgumentParser) -> None:
 def add_run_arguments(p: argparse.ArgumentParser) -> None:
     """The options of a scene run (steps, world, solver, scene parameters); ``lcpsim view`` shares them."""
     p.add_argument("--steps", type=int, default=2000, help="time steps to run (default: 2000)")
-    p.add_argument("--dt", type=float, default=1e-3, help="time step h in s (default: 1e-3)")
+    world, lemke = _core.WORLD_DEFAULTS, _core.LEMKE_DEFAULTS  # the defaults of lcpsim.World and Lemke
+    p.add_argument("--dt", type=float, default=world["dt"], help=f"time step h in s (default: {world['dt']:g})")
     p.add_argument(
         "--scale", type=cone_scale_argument, default=None, metavar="none|dt|FLOAT",
         help="friction-cone scale s (default: none, s = 1; dt: s = h)",
     )
-    p.add_argument("--friction-dirs", type=int, default=8, metavar="K", help="friction directions per contact (default: 8)")
-    p.add_argument("--method", choices=METHODS, default="lemke", help="LCP solver (default: lemke)")
-    p.add_argument("--pivoting", choices=PIVOTINGS, default=None, help="Lemke pivoting rule (default: lexicographic)")
+    p.add_argument("--friction-dirs", type=int, default=world["friction_dirs"], metavar="K",
+                   help=f"friction directions per contact (default: {world['friction_dirs']})")
+    p.add_argument("--method", choices=METHODS, default=world["method"], help=f"LCP solver (default: {world['method']})")
+    p.add_argument("--pivoting", choices=PIVOTINGS, default=None,
+                   help=f"Lemke pivoting rule (default: {lemke['pivoting']})")
     p.add_argument("--piv-tol", type=float, default=None, help="Lemke: smallest pivot")
     p.add_argument("--zero-tol", type=float, default=None, help="Lemke: the user zero")
     p.add_argument("--max-pivots", type=int, default=None, help="Lemke: pivot limit")

@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from .. import __version__
+from .. import __version__, _core
 from ..lcp import METHODS, PIVOTINGS, LcpResult, solve_lcp
 from .command import EXIT_NOT_SOLVED, EXIT_OK, CliError, Command, lemke_options, register_command
 
@@ -28,13 +28,15 @@ def _configure_solve(p: argparse.ArgumentParser) -> None:
         "or an FCLib local problem (solved as the faceted LCP; see --friction-dirs, --scale)",
     )
     p.add_argument("--index", type=int, default=None, metavar="K", help="problem K of a capture (lcpsim simulate --capture)")
-    # Defaults are None here so that a dump's options apply unless given on the command line.
+    # Defaults are None here so that a dump's options apply unless given on the command line;
+    # the help shows the compiled defaults.
+    lemke = _core.LEMKE_DEFAULTS
     p.add_argument("--method", choices=METHODS, default=None, help="solver (default: lemke)")
     p.add_argument(
-        "--pivoting", choices=PIVOTINGS, default=None, help="Lemke pivoting rule (default: lexicographic)"
+        "--pivoting", choices=PIVOTINGS, default=None, help=f"Lemke pivoting rule (default: {lemke['pivoting']})"
     )
-    p.add_argument("--piv-tol", type=float, default=None, help="Lemke: smallest pivot (default: 1e-12)")
-    p.add_argument("--zero-tol", type=float, default=None, help="Lemke: the user zero (default: 1e-6)")
+    p.add_argument("--piv-tol", type=float, default=None, help=f"Lemke: smallest pivot (default: {lemke['piv_tol']:g})")
+    p.add_argument("--zero-tol", type=float, default=None, help=f"Lemke: the user zero (default: {lemke['zero_tol']:g})")
     p.add_argument("--max-pivots", type=int, default=None, help="Lemke: pivot limit (default: max(1000, 50 n))")
     p.add_argument("--certify", action="store_true", help="check the final basis exactly (rational arithmetic)")
     p.add_argument("--dump", metavar="DIR", default=None, help="if not solved, write a failure dump into DIR")

@@ -240,8 +240,5 @@ def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: Repor
 
 
 EXPERIMENT = Experiment.of_module(
-    __name__,
-    "critical-scale",
-    "the cone scale below which the slope cube is held instead of sliding",
-    plot=plot_critical_scale,
+    __name__, "the cone scale below which the slope cube is held instead of sliding", plot=plot_critical_scale
 )

@@ -47,6 +47,8 @@ import argparse
 import functools
 import os
 import time
+from collections import Counter
+from dataclasses import dataclass
 from typing import Any, Mapping, Sequence
 
 import numpy as np
@@ -55,7 +57,9 @@ from ..certification import ETA_CERTIFIED, Certificate, certify_batch
 from ._common import envelope, merge_config, parse_scale, parse_scales, scale_label, scale_value
 from .presets import Solver, parse_solver
 from .seed_corpus import DEFAULTS as CORPUS_DEFAULTS
-from .seed_corpus import build_world, experiment_corpus, generate, scaled, simulations, solve_scaled
+from .seed_corpus import (
+    build_world, experiment_corpus, generate, physical_answers, scaled, simulations, solve_scaled,
+)
 from .document import Doc, pct
 from .experiment import (
     Experiment, ReportContext, add_common_arguments, add_corpus_arguments, base_config, corpus_config, header,
@@ -153,9 +157,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     mode = str(cfg["mode"])
     if mode not in ("resolve", "simulate"):
         raise ValueError(f"failure-rate: mode must be 'resolve' or 'simulate', got {mode!r}")
-    cert_names = _certify_names(cfg, solvers)
-    cert_max_n = int(cfg["certify_max_n"])
-    threads = int(cfg["threads"])
+    judge = _Judge(tol, rel_tol, _certify_names(cfg, solvers), int(cfg["certify_max_n"]), int(cfg["threads"]))
     ccfg = experiment_corpus(cfg)
     hcfg = _hard_config(cfg) if "hard" in corpora else None
     dt = float(ccfg.get("dt", CORPUS_DEFAULTS["dt"]))
@@ -163,14 +165,10 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     summaries: dict[str, Any] = {}
     for corpus_name in corpora:
         if corpus_name == "seed":
-            rows_by_solver, summaries["seed"] = _seed_rows(
-                solvers, scales, ccfg, cfg, dt, mode, tol, rel_tol, cert_names, cert_max_n, threads
-            )
+            rows_by_solver, summaries["seed"] = _seed_rows(solvers, scales, ccfg, cfg, dt, mode, judge)
         else:
             assert hcfg is not None
-            rows_by_solver, summaries["hard"] = _hard_rows(
-                solvers, scales, hcfg, dt, tol, rel_tol, cert_names, cert_max_n, threads
-            )
+            rows_by_solver, summaries["hard"] = _hard_rows(solvers, scales, hcfg, dt, judge)
         for solver in solvers:
             comparison += [{"solver": solver.name, "corpus": corpus_name, **r} for r in rows_by_solver[solver.name]]
     first = [
@@ -188,8 +186,8 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
             "rel_tol": rel_tol,
             "corpus": summaries.get("seed", summaries.get(corpora[0])),
             "corpora": summaries,
-            "certify": sorted(cert_names),
-            "certify_max_n": cert_max_n,
+            "certify": sorted(judge.cert_names),
+            "certify_max_n": judge.cert_max_n,
             "rows": first,
             "comparison": comparison,
             "seed_values": SEED_VALUES,
@@ -206,13 +204,10 @@ def _seed_rows(
     cfg: Mapping[str, Any],
     dt: float,
     mode: str,
-    tol: float,
-    rel_tol: float,
-    cert_names: set[str],
-    cert_max_n: int,
-    threads: int,
+    judge: "_Judge",
 ) -> tuple[dict[str, list[dict[str, Any]]], dict[str, Any]]:
     """The seed corpus: each solver's rows per scale, and the corpus summary."""
+    tol, rel_tol, cert_max_n, threads = judge.tol, judge.rel_tol, judge.cert_max_n, judge.threads
     out: dict[str, list[dict[str, Any]]] = {s.name: [] for s in solvers}
     if mode == "resolve":
         corpus = generate(ccfg).subsample(cfg["max_lcps"], int(cfg["seed"]))
@@ -221,7 +216,7 @@ def _seed_rows(
         for solver in solvers:
             for scale in scales:
                 s = scale_value(scale, dt)
-                acc = _Acc(certify=solver.name in cert_names)
+                acc = _Acc(certify=solver.name in judge.cert_names)
                 for g in corpus.groups:
                     r = solve_scaled(g, solver, s, threads=threads)
                     acc.add(r.status, r.residual, r.pivots, tol, size=g.n, rel_bound=rel_tol * (1.0 + qnorm[id(g)]))
@@ -252,13 +247,10 @@ def _hard_rows(
     scales: list[Any],
     hcfg: dict[str, Any],
     dt: float,
-    tol: float,
-    rel_tol: float,
-    cert_names: set[str],
-    cert_max_n: int,
-    threads: int,
+    judge: "_Judge",
 ) -> tuple[dict[str, list[dict[str, Any]]], dict[str, Any]]:
     """The hard corpus, generated at each scale, judged on the scenes at s = 1."""
+    tol, rel_tol, cert_max_n, threads = judge.tol, judge.rel_tol, judge.cert_max_n, judge.threads
     from ..generate import hard_corpus
 
     seed, count = hcfg["seed"], hcfg["count"]
@@ -290,12 +282,10 @@ def _hard_rows(
             q1 = np.stack([base[i].q for i in ix])
             stacks[n] = (Ms, qs, d, M1, q1)
         for solver in solvers:
-            acc = _Acc(certify=solver.name in cert_names)
+            acc = _Acc(certify=solver.name in judge.cert_names)
             for n, (Ms, qs, d, M1, q1) in stacks.items():
                 res = solver.solve_batch(Ms, qs, threads=threads)
-                z = res.z * d
-                w = np.einsum("bij,bj->bi", M1, z) + q1
-                residual = np.abs(np.minimum(z, w)).max(axis=1)
+                _, _, residual = physical_answers(res.z, d, M1, q1)
                 acc.add(tuple(res.status), residual, np.asarray(res.pivots), tol, size=n,
                         rel_bound=rel_tol * (1.0 + np.abs(q1).max(axis=1)))
                 if acc.certify and n <= cert_max_n:
@@ -304,29 +294,32 @@ def _hard_rows(
     return out, summary
 
 
+@dataclass(frozen=True)
+class _Judge:
+    """How answers are judged: the residual tolerances, which solvers' answers are
+    certified (up to size ``cert_max_n``), and the solver threads."""
+
+    tol: float
+    rel_tol: float
+    cert_names: set[str]
+    cert_max_n: int
+    threads: int
+
+
 class _Acc:
-    """Counts over batches of answers."""
+    """Counts over batches of answers (``n``: the integer counts by name)."""
+
+    #: The certification counts that the row also gives as a share of the certified LCPs.
+    CERTIFIED = ("certified", "certified_eta", "certified_residual", "certified_either")
 
     def __init__(self, certify: bool = False) -> None:
         self.certify = certify
-        self.cert_lcps = 0
-        self.certified = 0
-        self.certified_eta = 0
-        self.certified_residual = 0
-        self.certified_either = 0
-        self.cert_by_status: dict[str, int] = {}
+        self.n: Counter[str] = Counter()
+        self.by_status: Counter[str] = Counter()
+        self.cert_by_status: Counter[str] = Counter()
         self.max_eta = 0.0
-        self.rel_measured = True
-        self.rel_fail = 0
-        self.rel_union = 0
-        self.rel_accepted_wrong = 0
-        self.lcps = 0
-        self.status_fail = 0
-        self.resid_fail = 0
-        self.union = 0
-        self.accepted_wrong = 0
-        self.by_status: dict[str, int] = {}
         self.max_res_solved = 0.0
+        self.rel_measured = True
         self.pivots: list[np.ndarray] = []
         self.by_size: dict[int, list[int]] = {}
 
@@ -345,18 +338,13 @@ class _Acc:
         fail = ~ok | bad_r
         if rel_bound is not None:
             bad_rel = ~(np.asarray(residual) <= rel_bound)
-            self.rel_fail += int(bad_rel.sum())
-            self.rel_union += int((~ok | bad_rel).sum())
-            self.rel_accepted_wrong += int((ok & bad_rel).sum())
+            self._count(rel_fail=bad_rel, rel_union=~ok | bad_rel, rel_accepted_wrong=ok & bad_rel)
         else:
             self.rel_measured = False  # simulate mode: reported as None
-        self.lcps += len(st)
-        self.status_fail += int((~ok).sum())
-        self.resid_fail += int(bad_r.sum())
-        self.union += int(fail.sum())
-        self.accepted_wrong += int((ok & bad_r).sum())
+        self.n["lcps"] += len(st)
+        self._count(status_fail=~ok, resid_fail=bad_r, union=fail, accepted_wrong=ok & bad_r)
         for s in np.unique(st):
-            self.by_status[str(s)] = self.by_status.get(str(s), 0) + int((st == s).sum())
+            self.by_status[str(s)] += int((st == s).sum())
         if ok.any():
             self.max_res_solved = max(self.max_res_solved, float(np.nanmax(np.asarray(residual)[ok])))
         self.pivots.append(np.asarray(pivots))
@@ -367,63 +355,60 @@ class _Acc:
             e[0] += int(m.sum())
             e[1] += int(fail[m].sum())
 
+    def _count(self, **masks: np.ndarray) -> None:
+        for key, mask in masks.items():
+            self.n[key] += int(mask.sum())
+
     def add_cert(
         self, Ms: np.ndarray, qs: np.ndarray, bases: np.ndarray | None, zs: np.ndarray, threads: int
     ) -> None:
         """Certifies a batch of answers (on the LCPs as the solver saw them)."""
         b = int(qs.shape[0])
-        self.cert_lcps += b
+        self.n["cert_lcps"] += b
         if bases is None:  # no basis: nothing to certify, none certified
-            self.cert_by_status["no_basis"] = self.cert_by_status.get("no_basis", 0) + b
+            self.cert_by_status["no_basis"] += b
             return
         certs: list[Certificate] = certify_batch(Ms, qs, bases, zs, threads=threads)
         qn = np.abs(qs).max(axis=1)
         for c, qi in zip(certs, qn.tolist()):
-            self.cert_by_status[c.status] = self.cert_by_status.get(c.status, 0) + 1
-            self.certified += int(c.certified)
-            self.certified_eta += int(c.backward_error <= ETA_CERTIFIED)
+            self.cert_by_status[c.status] += 1
+            eta_ok = c.backward_error <= ETA_CERTIFIED
             small = c.natural_residual <= CERT_RESIDUAL_TOL * (1.0 + qi)
-            self.certified_residual += int(small)
-            self.certified_either += int(small or c.backward_error <= ETA_CERTIFIED)
+            self.n.update(certified=int(c.certified), certified_eta=int(eta_ok), certified_residual=int(small),
+                          certified_either=int(small or eta_ok))
             self.max_eta = max(self.max_eta, float(c.backward_error))
 
     def row(self) -> dict[str, Any]:
-        n = max(self.lcps, 1)
+        c = self.n
+        n = max(c["lcps"], 1)
         piv = np.concatenate(self.pivots) if self.pivots else np.zeros(0)
         measured = self.rel_measured
-        cn = max(self.cert_lcps, 1)
-        cert: dict[str, Any] = {
-            "cert_lcps": self.cert_lcps if self.certify else None,
-            "certified": self.certified if self.certify else None,
-            "certified_share": self.certified / cn if self.certify and self.cert_lcps else None,
-            "certified_eta": self.certified_eta if self.certify else None,
-            "certified_eta_share": self.certified_eta / cn if self.certify and self.cert_lcps else None,
-            "certified_residual": self.certified_residual if self.certify else None,
-            "certified_residual_share": self.certified_residual / cn if self.certify and self.cert_lcps else None,
-            "certified_either": self.certified_either if self.certify else None,
-            "certified_either_share": self.certified_either / cn if self.certify and self.cert_lcps else None,
-            "cert_by_status": dict(sorted(self.cert_by_status.items())) if self.certify else None,
-            "max_backward_error": self.max_eta if self.certify and self.cert_lcps else None,
-        }
+        certified = self.certify and c["cert_lcps"] > 0
+        cert: dict[str, Any] = {"cert_lcps": c["cert_lcps"] if self.certify else None}
+        for key in self.CERTIFIED:
+            cert[key] = c[key] if self.certify else None
+            cert[f"{key}_share"] = c[key] / c["cert_lcps"] if certified else None
+        cert["cert_by_status"] = dict(sorted(self.cert_by_status.items())) if self.certify else None
+        cert["max_backward_error"] = self.max_eta if certified else None
         return {
-            "lcps": self.lcps,
-            "failures": self.union,
-            "rate": self.union / n,
-            "status_failures": self.status_fail,
-            "status_rate": self.status_fail / n,
-            "residual_failures": self.resid_fail,
-            "residual_rate": self.resid_fail / n,
-            "accepted_wrong": self.accepted_wrong,
+            "lcps": c["lcps"],
+            "failures": c["union"],
+            "rate": c["union"] / n,
+            "status_failures": c["status_fail"],
+            "status_rate": c["status_fail"] / n,
+            "residual_failures": c["resid_fail"],
+            "residual_rate": c["resid_fail"] / n,
+            "accepted_wrong": c["accepted_wrong"],
             "by_status": dict(sorted(self.by_status.items())),
             "max_residual_solved": self.max_res_solved,
             "pivots_median": float(np.median(piv)) if piv.size else 0.0,
             "pivots_max": int(piv.max(initial=0)),
             "by_size": {str(k): {"lcps": v[0], "failures": v[1]} for k, v in sorted(self.by_size.items())},
-            "rel_residual_failures": self.rel_fail if measured else None,
-            "rel_residual_rate": self.rel_fail / n if measured else None,
-            "rel_failures": self.rel_union if measured else None,
-            "rel_rate": self.rel_union / n if measured else None,
-            "rel_accepted_wrong": self.rel_accepted_wrong if measured else None,
+            "rel_residual_failures": c["rel_fail"] if measured else None,
+            "rel_residual_rate": c["rel_fail"] / n if measured else None,
+            "rel_failures": c["rel_union"] if measured else None,
+            "rel_rate": c["rel_union"] / n if measured else None,
+            "rel_accepted_wrong": c["rel_accepted_wrong"] if measured else None,
             **cert,
         }
 
@@ -677,8 +662,5 @@ def _comparison_section(d: Doc, cmp: dict[str, Any]) -> None:
 
 
 EXPERIMENT = Experiment.of_module(
-    __name__,
-    "failure-rate",
-    "failure rate of solvers over the seed and hard corpora per friction-cone scale",
-    plot=plot_failure_rate,
+    __name__, "failure rate of solvers over the seed and hard corpora per friction-cone scale", plot=plot_failure_rate
 )

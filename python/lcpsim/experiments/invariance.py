@@ -273,8 +273,5 @@ def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: Repor
 
 
 EXPERIMENT = Experiment.of_module(
-    __name__,
-    "invariance",
-    "fn, fd unchanged and λ·s by cone scaling, over the seed corpus",
-    plot=plot_invariance,
+    __name__, "fn, fd unchanged and λ·s by cone scaling, over the seed corpus", plot=plot_invariance
 )

@@ -256,7 +256,6 @@ def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: Repor
 
 EXPERIMENT = Experiment.of_module(
     __name__,
-    "patterns",
     "sign patterns (fn, Σfd, λ) per contact, unscaled × scaled",
     plot=lambda results, path: plot_patterns(results[0], path),
 )

@@ -249,9 +249,4 @@ def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: Repor
     d.img(ctx.rel(figs["push_trace"]), "push traces")
 
 
-EXPERIMENT = Experiment.of_module(
-    __name__,
-    "push",
-    "the seed's pushed cube (9.79 N, μ = 1)",
-    plot=plot_push,
-)
+EXPERIMENT = Experiment.of_module(__name__, "the seed's pushed cube (9.79 N, μ = 1)", plot=plot_push)

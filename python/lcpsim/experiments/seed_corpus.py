@@ -65,6 +65,7 @@ __all__ = [
     "generate",
     "scaled",
     "solve_scaled",
+    "physical_answers",
     "experiment_corpus",
     "scaled_case",
 ]
@@ -356,13 +357,22 @@ class ScaledSolve:
     basis: NDArray[np.bool_] | None
 
 
+def physical_answers(
+    z_scaled: NDArray[np.float64], d: NDArray[np.float64], M: NDArray[np.float64], q: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """A batch's answers solved at a cone scale, judged in physical units:
+    ``z = d·z_scaled`` (``d`` the scale's diagonal), ``w = M z + q`` and
+    ``‖min(z, w)‖∞`` per LCP, on the unscaled LCPs ``(M, q)``."""
+    z = z_scaled * d
+    w = np.einsum("bij,bj->bi", M, z) + q
+    return z, w, np.abs(np.minimum(z, w)).max(axis=1)
+
+
 def solve_scaled(group: Group, solver: Solver, s: float, threads: int = 1) -> ScaledSolve:
     """Solves every LCP of ``group`` scaled by ``s`` with ``solver`` and maps the answers back."""
     Ms, qs, d = scaled(group.M, group.q, group.contacts, group.friction_dirs, s)
     res = solver.solve_batch(Ms, qs, threads=threads)
-    z = res.z * d
-    w = np.einsum("bij,bj->bi", group.M, z) + group.q
-    residual = np.abs(np.minimum(z, w)).max(axis=1)
+    z, w, residual = physical_answers(res.z, d, group.M, group.q)
     return ScaledSolve(
         s=s,
         status=tuple(res.status),

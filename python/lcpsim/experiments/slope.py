@@ -330,8 +330,5 @@ def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: Repor
 
 
 EXPERIMENT = Experiment.of_module(
-    __name__,
-    "slope",
-    "the seed's slope test: does a μ = 1 cube slide, rest or tip?",
-    plot=plot_slope,
+    __name__, "the seed's slope test: does a μ = 1 cube slide, rest or tip?", plot=plot_slope
 )

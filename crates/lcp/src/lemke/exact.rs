@@ -10,7 +10,11 @@
 //! to the nearest `f64` once, at the end. Ill-conditioned P-matrices (permuted
 //! triangular ones with cond ≥ 1e15) on which floating-point pivoting ends on
 //! false rays are solved this way. The cost grows with the bits of the
-//! minors (≈ n times an entry's), so the rung runs only up to [`MAX_N`].
+//! minors (≈ n times an entry's), so the rung runs only up to [`MAX_N`], and
+//! gives up (as at the pivot limit) once its arithmetic passes [`WORK_BUDGET`]
+//! (about 0.25 s): at n = 48 a pivot is 4,704 big-integer operations, and a
+//! fuzzed world whose steps each reached the rung (minors of up to 9,000 bits)
+//! took 2 s for one step without it.
 
 use num_bigint::BigInt;
 use num_traits::{Signed, Zero};
@@ -22,13 +26,23 @@ use crate::problem::Lcp;
 /// Largest problem the exact rung is tried on (a failure path: tens of ms at n = 40).
 pub(crate) const MAX_N: usize = 48;
 
+/// What the rung may spend, in limb products: Σ over pivots of
+/// `n·(2n + 2)·(OP_COST + limbs²)`, `limbs` the 64-bit words of the current
+/// minor. Fitted to release runs here (a big-integer operation costs ~1.4 µs
+/// plus ~0.55 ns per limb product), the budget is about 0.25 s; the
+/// ill-conditioned P-matrices the rung exists for (n = 20, cond ≥ 1e15,
+/// minors of ~1,150 bits, 63 pivots) use a third of it.
+const WORK_BUDGET: f64 = 4.5e8;
+/// A big-integer operation's fixed cost (allocation, dispatch) in limb products.
+const OP_COST: f64 = 2560.0;
+
 /// How an exact run ended.
 pub(crate) enum ExactEnd {
     /// `z` (rounded to nearest) and the basic `z_j`.
     Solved(Vec<f64>, Vec<bool>),
     /// A secondary ray, exact (not a round-off artefact).
     Ray,
-    /// The pivot limit.
+    /// The pivot limit or the work budget.
     Limit,
 }
 
@@ -128,6 +142,8 @@ pub(crate) fn solve(lcp: &Lcp, max_pivots: usize) -> (ExactEnd, usize) {
     let r = (1..n).fold(0, |best, i| if t.lex_cmp(i, best, z0) == Ordering::Greater { i } else { best });
     t.pivot(r, z0);
     let mut entering = n + r; // the complement of the w_r that left
+    let per_op = (n * (2 * n + 2)) as f64;
+    let mut work = 0.0;
     // `pivots` made so far (z0's entry is the first); the loop's pivot is number `pivots + 1`.
     for pivots in 1..max_pivots {
         // Ratio test: rows whose basic variable decreases, lexicographic minimum, z0 first on ties.
@@ -149,6 +165,11 @@ pub(crate) fn solve(lcp: &Lcp, max_pivots: usize) -> (ExactEnd, usize) {
             _ => r,
         };
         let left = t.basic[r];
+        let limbs = (t.det.bits() / 64 + 1) as f64;
+        work += per_op * (OP_COST + limbs * limbs);
+        if work > WORK_BUDGET {
+            return (ExactEnd::Limit, pivots);
+        }
         t.pivot(r, entering);
         if left == z0 {
             return (answer(&t), pivots + 1);
@@ -176,4 +197,41 @@ fn answer(t: &Tableau) -> ExactEnd {
         }
     }
     ExactEnd::Solved(z, mask)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A unit lower-triangular P-matrix whose entries span ±2^900: exact
+    /// Lemke would solve it, but its minors grow by hundreds of bits a pivot;
+    /// the rung stops at its work budget (found by the `world` fuzz target,
+    /// where such a step took 1.9 s) instead of stalling the caller.
+    #[test]
+    fn gives_up_past_its_work_budget() {
+        let n = 40;
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let mut m = vec![0.0; n * n];
+        for i in 0..n {
+            m[i * n + i] = 1.0;
+            for j in 0..i {
+                let r = next();
+                let e = (r % 1801) as i32 - 900;
+                m[i * n + j] = if r & (1 << 40) == 0 { 1.0 } else { -1.0 } * 2f64.powi(e);
+            }
+        }
+        let lcp = Lcp::new(m, vec![-1.0; n]).unwrap();
+        let (end, pivots) = solve(&lcp, 10 * n);
+        assert!(matches!(end, ExactEnd::Limit), "expected the work budget to end the rung");
+        assert!(pivots < 10 * n, "stopped by the budget, not the pivot limit ({pivots} pivots)");
+        // The same structure with entries of a few bits is solved exactly.
+        let small = Lcp::from_fn(n, |i, j| if i == j { 1.0 } else if j < i { 0.5 } else { 0.0 }, vec![-1.0; n]).unwrap();
+        assert!(matches!(solve(&small, 10 * n).0, ExactEnd::Solved(..)));
+    }
 }

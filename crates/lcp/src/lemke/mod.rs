@@ -31,6 +31,9 @@ pub use options::{LemkeOptions, Pivoting};
 pub use run::PivotRecord;
 pub use workspace::Workspace;
 
+/// The basis hash's key of a variable (shared with [`crate::structured`]).
+pub(crate) use run::key as basis_hash_key;
+
 use crate::newton_fb::NewtonFbOptions;
 use crate::problem::Lcp;
 use crate::solution::{Solution, Status};
@@ -467,6 +470,6 @@ fn basic_mask(s: &[Var], n: usize) -> Vec<bool> {
 
 /// Entry `i` of the `k`-th (`k ≥ 1`) fixed, irregular covering vector, in
 /// [1, 2): a golden-ratio sequence, shifted by `(k − 1)(√2 − 1)` per vector.
-fn covering(i: usize, k: u32) -> f64 {
+pub(crate) fn covering(i: usize, k: u32) -> f64 {
     1.0 + ((i as f64 + 1.0) * 0.618_033_988_749_895 + (k - 1) as f64 * 0.414_213_562_373_095).fract()
 }

@@ -1,16 +1,12 @@
 //! Python values → `sim` types (vectors, quaternions, cone scale, μ rule), and
 //! `SimError` → `ValueError`. Every message names the argument and its value.
 
+pub use crate::errors::repr;
 use crate::errors::{py_float, value_error};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyString};
+use pyo3::types::{PyBool, PyDict, PyString};
 use sim::math::{Mat3, Quat, Vec3};
 use sim::{ConeScale, MuCombine, SimError};
-
-/// `repr(value)`, for messages.
-pub fn repr(value: &Bound<'_, PyAny>) -> String {
-    value.repr().map(|r| r.to_string()).unwrap_or_else(|_| "<unprintable>".to_string())
-}
 
 /// A `SimError` (invalid input) as a `ValueError`; its message names the field and value.
 pub fn sim_error(e: &SimError) -> PyErr {
@@ -38,6 +34,19 @@ pub fn real(value: &Bound<'_, PyAny>, field: &str) -> PyResult<f64> {
         return Err(value_error(format!("{field} must be a real number, got {}", repr(value))));
     }
     value.extract::<f64>().map_err(|_| value_error(format!("{field} must be a real number, got {}", repr(value))))
+}
+
+/// True or False (numbers are refused: `speculative=1` is a mistake).
+pub fn flag(value: &Bound<'_, PyAny>, field: &str) -> PyResult<bool> {
+    if value.is_instance_of::<PyBool>() {
+        return value.extract();
+    }
+    Err(value_error(format!("{field} must be True or False, got {}", repr(value))))
+}
+
+/// A string.
+pub fn text(value: &Bound<'_, PyAny>, field: &str) -> PyResult<String> {
+    value.extract().map_err(|_| value_error(format!("{field} must be a string, got {}", repr(value))))
 }
 
 /// `len` real numbers from any sequence (tuple, list, numpy array).
@@ -87,25 +96,22 @@ pub fn mat3(value: &Bound<'_, PyAny>, field: &str) -> PyResult<Mat3> {
     Ok(Mat3::from_rows(m))
 }
 
-/// The friction-cone scale: `None`/"none"/"unscaled" → s = 1, "dt"/"h"/"timestep"
-/// → s = h, a number → that s (> 0, checked by the core).
+/// The friction-cone scale in the forms `lcpsim.scale.parse_cone_scale` hands
+/// on (the one parser of its spellings): None or "none" → s = 1, "dt" → s = h,
+/// a number → that s (> 0, checked by the core).
 pub fn cone_scale(value: Option<&Bound<'_, PyAny>>) -> PyResult<ConeScale> {
     let Some(v) = value.filter(|v| !v.is_none()) else {
         return Ok(ConeScale::Unscaled);
     };
+    let bad = || value_error(format!("cone_scale must be None, \"none\", \"dt\" or a number > 0, got {}", repr(v)));
     if let Ok(s) = v.extract::<String>() {
-        return match s.to_ascii_lowercase().as_str() {
-            "none" | "unscaled" => Ok(ConeScale::Unscaled),
-            "dt" | "h" | "timestep" | "time_step" => Ok(ConeScale::TimeStep),
-            _ => match s.parse::<f64>() {
-                Ok(x) => Ok(ConeScale::Value(x)),
-                Err(_) => Err(value_error(format!("cone_scale must be None, \"dt\" or a number > 0, got {}", repr(v)))),
-            },
+        return match s.as_str() {
+            "none" => Ok(ConeScale::Unscaled),
+            "dt" => Ok(ConeScale::TimeStep),
+            _ => Err(bad()),
         };
     }
-    let x = real(v, "cone_scale")
-        .map_err(|_| value_error(format!("cone_scale must be None, \"dt\" or a number > 0, got {}", repr(v))))?;
-    Ok(ConeScale::Value(x))
+    real(v, "cone_scale").map(ConeScale::Value).map_err(|_| bad())
 }
 
 /// How a cone scale is shown to Python: "none", "dt" or the number.
@@ -158,4 +164,42 @@ pub fn angle_deg(value: f64) -> PyResult<f64> {
         return Err(value_error(format!("angle_deg must be in [0, 90), got {}", py_float(value))));
     }
     Ok(value)
+}
+
+/// Named fields from a dict (the scene parameters, the world parameters):
+/// None counts as not given, and unknown names are refused.
+pub struct Fields<'a, 'py> {
+    /// What the fields are of, for messages ("scene cube_drop", "World").
+    pub of: &'a str,
+    pub dict: Option<&'a Bound<'py, PyDict>>,
+}
+
+impl<'py> Fields<'_, 'py> {
+    /// The value of `name`, unless missing or None.
+    pub fn get(&self, name: &str) -> PyResult<Option<Bound<'py, PyAny>>> {
+        match self.dict {
+            Some(d) => Ok(d.get_item(name)?.filter(|v| !v.is_none())),
+            None => Ok(None),
+        }
+    }
+
+    /// `name` read by `read`, else `default` (the Rust side's own: the glue declares none).
+    pub fn or<T>(&self, name: &str, read: impl Fn(&Bound<'py, PyAny>, &str) -> PyResult<T>, default: T) -> PyResult<T> {
+        self.get(name)?.map_or(Ok(default), |v| read(&v, name))
+    }
+
+    /// Refuses any name not in `valid`.
+    pub fn check_names(&self, valid: &[&str]) -> PyResult<()> {
+        for key in self.dict.into_iter().flat_map(|d| d.keys()) {
+            let name: String = key.extract()?;
+            if !valid.contains(&name.as_str()) {
+                return Err(value_error(format!(
+                    "unknown parameter {name:?} for {} (valid: {})",
+                    self.of,
+                    valid.join(", ")
+                )));
+            }
+        }
+        Ok(())
+    }
 }

@@ -7,6 +7,7 @@
 //!   `(M, q)` with `z = [fn; fd; λ]`, plus the map back to physical units.
 //! - [`body_space`]: the same LCP as an operator on the Jacobian rows, without
 //!   the dense `M` (products and entries for a basis check).
+//! - [`structured`]: the same LCP as `G H + K` for the structured Lemke of large islands.
 //!
 //! Assembly never solves and solvers never see bodies (DESIGN §6).
 
@@ -14,6 +15,7 @@ pub mod assembly;
 pub mod body_space;
 pub mod friction;
 pub mod params;
+pub mod structured;
 
 pub use assembly::{ContactLcp, ContactRows};
 pub use body_space::BodySpaceLcp;

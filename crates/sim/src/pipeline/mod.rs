@@ -19,8 +19,10 @@ pub mod energy;
 pub(crate) mod island_lcp;
 mod record;
 mod solve;
+mod structured;
 mod trajectory;
 pub(crate) mod warm;
+mod warm_map;
 
 pub use capture::{Captured, CapturedLcp, LcpBuffer, LcpSink, OwnedLcp};
 pub use energy::EnergyAudit;

@@ -27,6 +27,13 @@ impl World {
         if !self.ws.islands.is_ready() {
             self.islands();
         }
+        // Large islands whose contacts changed: the previous basis mapped by contact (read before the record is reset).
+        let mut mapped = if self.sink.is_none() && basis_check_applies(&self.params.method).is_some() {
+            let (k, min_n) = (self.params.friction_dirs, super::island_lcp::STRUCTURED_MIN_N);
+            super::warm_map::by_contact(&self.record, &self.ws.contacts, &self.ws.islands, k, min_n)
+        } else {
+            Vec::new()
+        };
         self.record_header();
         let count = self.ws.islands.len();
         if count == 0 {
@@ -38,7 +45,8 @@ impl World {
         let ws = &mut self.ws;
         for i in 0..count {
             let nc = ws.islands.contacts_of(i).len();
-            ws.pool[i].warm = ws.warm.take(ws.islands.bodies_of(i), nc);
+            let by_contact = mapped.get_mut(i).and_then(Option::take);
+            ws.pool[i].warm = ws.warm.take(ws.islands.bodies_of(i), nc).or(by_contact);
         }
         let method = self.params.method.clone();
         let name = match solver {

@@ -43,3 +43,14 @@ pub fn interface_fn(r: &StepRecord, a: usize, b: usize) -> f64 {
         .map(|(i, _)| r.z[i])
         .sum()
 }
+
+/// Steps `w` a few times, then assembles the dense LCP of its state.
+pub fn settled(mut w: World, steps: usize) -> World {
+    for _ in 0..steps {
+        w.step().unwrap();
+    }
+    w.forces_stage().unwrap();
+    w.detect();
+    w.assemble();
+    w
+}

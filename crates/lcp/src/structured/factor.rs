@@ -1,0 +1,210 @@
+//! The Lemke basis of a structured LCP, factored in the augmented space.
+//!
+//! Lemke works on `I w − M z − d z0 = q`. With `M = G H + K` and `u = H z`
+//! (`p` unknowns more), the same system reads
+//!
+//! ```text
+//!   [ I_W  −K_S  −d  −G ] [w; z_S; z0; u]   [q]
+//!   [  0    H_S   0  −I ]                 = [0]
+//! ```
+//!
+//! whose matrix (`n + p` square: one column per basic variable, the `p`
+//! columns of `u` fixed) is as sparse as `G`, `H` and `K`, and regular exactly
+//! when the basis is (eliminating `u` leaves `[I_W, −M_S, −d]`). It is factored
+//! by faer's sparse LU (COLAMD ordering, partial pivoting); each pivot then
+//! replaces one column, kept as an eta vector (product form of the inverse),
+//! until the next refactorization. A solve costs the LU's nonzeros plus the
+//! etas' — never `n²`: nothing here is dense but vectors.
+
+use super::operator::StructuredLcp;
+use faer::linalg::solvers::SolveCore;
+use faer::sparse::linalg::solvers::Lu;
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{Conj, MatMut};
+
+/// One column replacement: position `r` took a column whose solve was `y`
+/// (`piv = y_r`; `idx`, `val`: the other nonzeros of `y`).
+struct Eta {
+    r: usize,
+    piv: f64,
+    idx: Vec<usize>,
+    val: Vec<f64>,
+}
+
+/// Variables are numbered `w_i → i`, `z_j → n + j`, `z0 → 2n`.
+pub(crate) const NONBASIC: usize = usize::MAX;
+
+/// A basis: which variable sits at each of the `n` positions, its value, and
+/// the factorization of the augmented matrix.
+pub(crate) struct Basis<'a> {
+    op: &'a StructuredLcp,
+    d: &'a [f64],
+    n: usize,
+    p: usize,
+    /// Variable at each position (`n`).
+    pub(crate) var: Vec<usize>,
+    /// Position of each variable (`2n + 1`), [`NONBASIC`] when nonbasic.
+    pub(crate) pos: Vec<usize>,
+    /// Value of each position.
+    pub(crate) val: Vec<f64>,
+    lu: Option<Lu<usize, f64>>,
+    etas: Vec<Eta>,
+}
+
+impl<'a> Basis<'a> {
+    /// The all-slack basis (`w = q`), factored.
+    pub(crate) fn slack(op: &'a StructuredLcp, d: &'a [f64]) -> Option<Self> {
+        let n = op.n();
+        let mut pos = vec![NONBASIC; 2 * n + 1];
+        (0..n).for_each(|i| pos[i] = i);
+        let mut b =
+            Basis { op, d, n, p: op.p(), var: (0..n).collect(), pos, val: vec![0.0; n], lu: None, etas: Vec::new() };
+        b.refactor().then_some(b)
+    }
+
+    /// The complementary basis `{z_j : j ∈ α} ∪ {w_i : i ∉ α}`, factored; `None` if singular.
+    pub(crate) fn complementary(op: &'a StructuredLcp, d: &'a [f64], alpha: &[usize]) -> Option<Self> {
+        let n = op.n();
+        let mut pos = vec![NONBASIC; 2 * n + 1];
+        let mut var: Vec<usize> = (0..n).collect();
+        for &j in alpha {
+            var[j] = n + j;
+        }
+        var.iter().enumerate().for_each(|(c, &v)| pos[v] = c);
+        let mut b = Basis { op, d, n, p: op.p(), var, pos, val: vec![0.0; n], lu: None, etas: Vec::new() };
+        b.refactor().then_some(b)
+    }
+
+    /// Column updates since the last refactorization.
+    pub(crate) fn updates(&self) -> usize {
+        self.etas.len()
+    }
+
+    /// Calls `f(row, value)` for each entry of variable `v`'s augmented column.
+    fn column_entries(&self, v: usize, mut f: impl FnMut(usize, f64)) {
+        let n = self.n;
+        if v < n {
+            f(v, 1.0);
+        } else if v < 2 * n {
+            let j = v - n;
+            self.op.k_cols.iter(j).for_each(|(i, k)| f(i, -k));
+            self.op.h_cols.iter(j).for_each(|(k, h)| f(n + k, h));
+        } else {
+            self.d.iter().enumerate().for_each(|(i, &di)| f(i, -di));
+        }
+    }
+
+    /// Variable `v`'s augmented column, dense (`n + p`), into `out`.
+    pub(crate) fn column_into(&self, v: usize, out: &mut Vec<f64>) {
+        out.clear();
+        out.resize(self.n + self.p, 0.0);
+        self.column_entries(v, |i, a| out[i] += a);
+    }
+
+    /// `y ← B⁻¹ y` (augmented).
+    pub(crate) fn ftran(&self, y: &mut [f64]) {
+        let lu = self.lu.as_ref().expect("a factored basis");
+        lu.solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(y, self.n + self.p, 1));
+        for e in &self.etas {
+            let yr = y[e.r] / e.piv;
+            y[e.r] = yr;
+            if yr != 0.0 {
+                for (&i, &v) in e.idx.iter().zip(&e.val) {
+                    y[i] -= v * yr;
+                }
+            }
+        }
+    }
+
+    /// Row `r` of `B⁻¹` (augmented, `n + p` entries) into `out`.
+    pub(crate) fn row_of_inverse(&self, r: usize, out: &mut Vec<f64>) {
+        out.clear();
+        out.resize(self.n + self.p, 0.0);
+        out[r] = 1.0;
+        for e in self.etas.iter().rev() {
+            let s: f64 = e.idx.iter().zip(&e.val).map(|(&i, &v)| v * out[i]).sum();
+            out[e.r] = (out[e.r] - s) / e.piv;
+        }
+        let lu = self.lu.as_ref().expect("a factored basis");
+        lu.solve_transpose_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(out, self.n + self.p, 1));
+    }
+
+    /// Variable `e` enters at position `r` with value `theta`, `y = B⁻¹ a_e`.
+    pub(crate) fn pivot(&mut self, e: usize, r: usize, y: &[f64], theta: f64) {
+        for (v, yi) in self.val.iter_mut().zip(y) {
+            *v -= theta * yi;
+        }
+        self.val[r] = theta;
+        self.pos[self.var[r]] = NONBASIC;
+        self.var[r] = e;
+        self.pos[e] = r;
+        let (idx, val) = y.iter().enumerate().filter(|&(i, &v)| i != r && v != 0.0).map(|(i, &v)| (i, v)).unzip();
+        self.etas.push(Eta { r, piv: y[r], idx, val });
+    }
+
+    /// `B x` (augmented) for the augmented vector `x`, into `out`.
+    fn times(&self, x: &[f64], out: &mut [f64]) {
+        out.iter_mut().for_each(|v| *v = 0.0);
+        for (c, &v) in self.var.iter().enumerate() {
+            if x[c] != 0.0 {
+                self.column_entries(v, |i, a| out[i] += a * x[c]);
+            }
+        }
+        for k in 0..self.p {
+            let xu = x[self.n + k];
+            self.op.g_cols.iter(k).for_each(|(i, g)| out[i] -= g * xu);
+            out[self.n + k] -= xu;
+        }
+    }
+
+    /// Refactors from scratch and recomputes the values from `q` (with one
+    /// step of iterative refinement). `false` when the basis is singular or
+    /// its values are not finite.
+    pub(crate) fn refactor(&mut self) -> bool {
+        let (n, p) = (self.n, self.p);
+        let mut t = Vec::with_capacity(2 * n + 13 * p);
+        for (c, &v) in self.var.iter().enumerate() {
+            self.column_entries(v, |i, a| t.push(Triplet::new(i, c, a)));
+        }
+        for k in 0..p {
+            self.op.g_cols.iter(k).for_each(|(i, g)| t.push(Triplet::new(i, n + k, -g)));
+            t.push(Triplet::new(n + k, n + k, -1.0));
+        }
+        self.etas.clear();
+        self.lu = SparseColMat::<usize, f64>::try_new_from_triplets(n + p, n + p, &t).ok().and_then(|a| a.sp_lu().ok());
+        if self.lu.is_none() {
+            return false;
+        }
+        let mut rhs = self.op.q().to_vec();
+        rhs.resize(n + p, 0.0);
+        let mut x = rhs.clone();
+        self.ftran(&mut x);
+        // One refinement step: x += B⁻¹ (rhs − B x).
+        let mut r = vec![0.0; n + p];
+        self.times(&x, &mut r);
+        r.iter_mut().zip(&rhs).for_each(|(r, b)| *r = b - *r);
+        self.ftran(&mut r);
+        x.iter_mut().zip(&r).for_each(|(x, r)| *x += r);
+        if !x.iter().all(|v| v.is_finite()) {
+            return false;
+        }
+        self.val.copy_from_slice(&x[..n]);
+        true
+    }
+
+    /// `z` (length n) from the basic values; returns `z0`.
+    pub(crate) fn z_into(&self, z: &mut Vec<f64>) -> f64 {
+        let n = self.n;
+        z.clear();
+        z.resize(n, 0.0);
+        let mut z0 = 0.0;
+        for (c, &v) in self.var.iter().enumerate() {
+            if (n..2 * n).contains(&v) {
+                z[v - n] = self.val[c];
+            } else if v == 2 * n {
+                z0 = self.val[c];
+            }
+        }
+        z0
+    }
+}

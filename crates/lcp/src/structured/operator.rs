@@ -1,0 +1,197 @@
+//! The structured LCP `M = G H + K`, `q`: `G` (`n × p`), `H` (`p × n`) and
+//! `K` (`n × n`) sparse, `p` small against `n²/nnz`. A contact LCP is one with
+//! `G = J` (contact Jacobian rows over the bodies' `p` degrees of freedom),
+//! `H = M_b⁻¹ Jᵀ` and `K` the friction-cone blocks; the solver sees only the
+//! three sparse matrices.
+
+use super::sparse::Compressed;
+use crate::problem::{Lcp, LcpError};
+use crate::support::LcpOperator;
+use std::cell::RefCell;
+
+/// An LCP `(G H + K, q)` with sparse `G`, `H`, `K`.
+#[derive(Clone, Debug)]
+pub struct StructuredLcp {
+    n: usize,
+    p: usize,
+    q: Vec<f64>,
+    /// `G` by rows and by columns.
+    pub(crate) g_rows: Compressed,
+    pub(crate) g_cols: Compressed,
+    /// `H` by columns (column `j`: the `p`-vector of `z_j`) and by rows.
+    pub(crate) h_cols: Compressed,
+    h_rows: Compressed,
+    /// `K` by columns and by rows.
+    pub(crate) k_cols: Compressed,
+    k_rows: Compressed,
+    /// Scratch of [`StructuredLcp::row_into`] and of the `p`-space product.
+    scratch: RefCell<Scratch>,
+}
+
+/// Buffers of the products: a sparse accumulator over `n` and a `p`-vector.
+#[derive(Clone, Debug, Default)]
+struct Scratch {
+    acc: Vec<f64>,
+    mark: Vec<bool>,
+    touched: Vec<usize>,
+    u: Vec<f64>,
+}
+
+/// A sparse entry `(row, column, value)`.
+pub type Entry = (usize, usize, f64);
+
+impl StructuredLcp {
+    /// `M = G H + K` from the entries of `G` (`n × p`), `H` (`p × n`) and
+    /// `K` (`n × n`) (repeated entries are summed) and `q` (length `n`).
+    /// Errors on an empty problem, an index out of range or a non-finite value.
+    pub fn new(p: usize, g: &[Entry], h: &[Entry], k: &[Entry], q: Vec<f64>) -> Result<Self, LcpError> {
+        let n = q.len();
+        if n == 0 {
+            return Err(LcpError::Empty);
+        }
+        for (field, entries, rows, cols) in [("G", g, n, p), ("H", h, p, n), ("K", k, n, n)] {
+            for (index, &(r, c, v)) in entries.iter().enumerate() {
+                if r >= rows || c >= cols {
+                    return Err(LcpError::NotSquare { entries: r.max(c) + 1, n: rows.max(cols) });
+                }
+                if !v.is_finite() {
+                    return Err(LcpError::NonFinite { field, index, value: v });
+                }
+            }
+        }
+        if let Some((index, &value)) = q.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(LcpError::NonFinite { field: "q", index, value });
+        }
+        let transpose = |e: &[Entry]| e.iter().map(|&(r, c, v)| (c, r, v)).collect::<Vec<_>>();
+        Ok(StructuredLcp {
+            n,
+            p,
+            g_rows: Compressed::new(n, g),
+            g_cols: Compressed::new(p, &transpose(g)),
+            h_cols: Compressed::new(n, &transpose(h)),
+            h_rows: Compressed::new(p, h),
+            k_cols: Compressed::new(n, &transpose(k)),
+            k_rows: Compressed::new(n, k),
+            q,
+            scratch: RefCell::new(Scratch {
+                acc: vec![0.0; n],
+                mark: vec![false; n],
+                touched: Vec::new(),
+                u: vec![0.0; p],
+            }),
+        })
+    }
+
+    /// The same `M` with another `q` (same length, finite).
+    pub fn with_q(&self, q: Vec<f64>) -> Result<Self, LcpError> {
+        if q.len() != self.n {
+            return Err(LcpError::LengthMismatch { q_len: q.len(), n: self.n });
+        }
+        if let Some((index, &value)) = q.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(LcpError::NonFinite { field: "q", index, value });
+        }
+        Ok(StructuredLcp { q, ..self.clone() })
+    }
+
+    /// Size `n`.
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// Inner dimension `p` (the bodies' degrees of freedom for a contact LCP).
+    pub fn p(&self) -> usize {
+        self.p
+    }
+
+    /// The vector `q`.
+    pub fn q(&self) -> &[f64] {
+        &self.q
+    }
+
+    /// `‖q‖∞`.
+    pub fn q_norm_inf(&self) -> f64 {
+        self.q.iter().fold(0.0f64, |a, v| a.max(v.abs()))
+    }
+
+    /// `w = M z + q`: `u = H z`, `w = G u + K z + q`. O(nnz).
+    pub fn w_of(&self, z: &[f64], w: &mut [f64]) {
+        let mut guard = self.scratch.borrow_mut();
+        let u = &mut guard.u;
+        u.iter_mut().for_each(|v| *v = 0.0);
+        for (j, &zj) in z.iter().enumerate() {
+            if zj != 0.0 {
+                self.h_cols.axpy(j, zj, u);
+            }
+        }
+        for (i, wi) in w.iter_mut().enumerate() {
+            *wi = self.q[i] + self.g_rows.dot(i, u) + self.k_rows.dot(i, z);
+        }
+    }
+
+    /// Row `i` of `M` as `(column, value)` pairs (structural nonzeros, in no
+    /// particular order) appended to `out` after clearing it.
+    pub fn row_into(&self, i: usize, out: &mut Vec<(usize, f64)>) {
+        out.clear();
+        let mut guard = self.scratch.borrow_mut();
+        let Scratch { acc, mark, touched, .. } = &mut *guard;
+        let mut add = |j: usize, v: f64| {
+            if !mark[j] {
+                mark[j] = true;
+                touched.push(j);
+            }
+            acc[j] += v;
+        };
+        for (k, gik) in self.g_rows.iter(i) {
+            for (j, hkj) in self.h_rows.iter(k) {
+                add(j, gik * hkj);
+            }
+        }
+        for (j, v) in self.k_rows.iter(i) {
+            add(j, v);
+        }
+        for &j in touched.iter() {
+            out.push((j, acc[j]));
+            (acc[j], mark[j]) = (0.0, false);
+        }
+        touched.clear();
+    }
+
+    /// Entry `M_ij`.
+    pub fn at(&self, i: usize, j: usize) -> f64 {
+        let gh: f64 = self.g_rows.iter(i).map(|(k, g)| g * self.h_cols.get(j, k)).sum();
+        gh + self.k_cols.get(j, i)
+    }
+
+    /// The dense LCP (for tests and small problems): O(n²) memory.
+    pub fn to_dense(&self) -> Lcp {
+        let n = self.n;
+        let mut m = vec![0.0; n * n];
+        let mut row = Vec::new();
+        for i in 0..n {
+            self.row_into(i, &mut row);
+            for &(j, v) in &row {
+                m[i * n + j] = v;
+            }
+        }
+        Lcp::new(m, self.q.clone()).expect("finite entries make a finite dense M")
+    }
+}
+
+impl LcpOperator for StructuredLcp {
+    fn n(&self) -> usize {
+        self.n
+    }
+    fn q(&self) -> &[f64] {
+        &self.q
+    }
+    fn block(&self, rows: &[usize], cols: &[usize], out: &mut [f64]) {
+        for (r, &i) in rows.iter().enumerate() {
+            for (c, &j) in cols.iter().enumerate() {
+                out[r * cols.len() + c] = self.at(i, j);
+            }
+        }
+    }
+    fn w_of(&self, z: &[f64], w: &mut [f64]) {
+        StructuredLcp::w_of(self, z, w)
+    }
+}

@@ -1,0 +1,62 @@
+//! Compressed sparse storage by major index (rows of a CSR, columns of a CSC).
+
+/// Entries grouped by major index: `idx[ptr[a]..ptr[a + 1]]` are the minor
+/// indices of major index `a` (sorted, repeated entries summed), `val` their values.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Compressed {
+    ptr: Vec<usize>,
+    idx: Vec<usize>,
+    val: Vec<f64>,
+}
+
+impl Compressed {
+    /// From `(major, minor, value)` entries over `majors` major indices.
+    pub(crate) fn new(majors: usize, entries: &[(usize, usize, f64)]) -> Self {
+        let mut sorted = entries.to_vec();
+        sorted.sort_by_key(|&(a, b, _)| (a, b));
+        let mut ptr = vec![0; majors + 1];
+        let (mut idx, mut val): (Vec<usize>, Vec<f64>) = (Vec::new(), Vec::new());
+        let mut last = None;
+        for (a, b, v) in sorted {
+            if last == Some((a, b)) {
+                *val.last_mut().expect("a previous entry") += v;
+                continue;
+            }
+            last = Some((a, b));
+            idx.push(b);
+            val.push(v);
+            ptr[a + 1] += 1;
+        }
+        for a in 0..majors {
+            ptr[a + 1] += ptr[a];
+        }
+        Compressed { ptr, idx, val }
+    }
+
+    /// `(minor, value)` of major index `a`.
+    #[inline]
+    pub(crate) fn iter(&self, a: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let r = self.ptr[a]..self.ptr[a + 1];
+        self.idx[r.clone()].iter().copied().zip(self.val[r].iter().copied())
+    }
+
+    /// Entry `(a, b)` (0 if absent), by binary search.
+    pub(crate) fn get(&self, a: usize, b: usize) -> f64 {
+        let r = self.ptr[a]..self.ptr[a + 1];
+        self.idx[r.clone()].binary_search(&b).map_or(0.0, |k| self.val[r.start + k])
+    }
+
+    /// `Σ_b A[a, b] x_b`.
+    #[inline]
+    pub(crate) fn dot(&self, a: usize, x: &[f64]) -> f64 {
+        self.iter(a).map(|(b, v)| v * x[b]).sum()
+    }
+
+    /// `y_b += s·A[a, b]`.
+    #[inline]
+    pub(crate) fn axpy(&self, a: usize, s: f64, y: &mut [f64]) {
+        for (b, v) in self.iter(a) {
+            y[b] += s * v;
+        }
+    }
+}

@@ -1,0 +1,125 @@
+//! The structured Lemke (`lcp::structured`) on LCPs `M = G H + K` built here
+//! from random sparse factors (contact LCPs of the simulator are tested in
+//! `sim/tests/structured_lemke.rs`): its answers solve the dense LCP by the
+//! dense acceptance rule, agree with enumeration where the solution is
+//! unique, and a warm start from its own basis takes no pivot.
+
+use lcp::accept::accepts;
+use lcp::enumerate::all_solutions;
+use lcp::structured::{self, Entry, StructuredLcp, StructuredOptions};
+use lcp::{lemke, LemkeOptions, Status};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// `M = G W Gᵀ + K`: `n` rows over `p` dofs, each row touching `touch`
+/// dofs, `W` diagonal positive, `K` = `shift·I` plus a skew-symmetric coupling
+/// of `pairs` random pairs (so `M` is positive definite for `shift > 0`:
+/// a unique solution) and `q` random.
+fn random(n: usize, p: usize, touch: usize, shift: f64, pairs: usize, seed: u64) -> StructuredLcp {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let w: Vec<f64> = (0..p).map(|_| rng.random_range(0.5..2.0)).collect();
+    let (mut g, mut h, mut k): (Vec<Entry>, Vec<Entry>, Vec<Entry>) = (Vec::new(), Vec::new(), Vec::new());
+    for i in 0..n {
+        for _ in 0..touch {
+            let d = rng.random_range(0..p);
+            let v = rng.random_range(-1.0..1.0);
+            g.push((i, d, v));
+            h.push((d, i, w[d] * v));
+        }
+        if shift > 0.0 {
+            k.push((i, i, shift));
+        }
+    }
+    for _ in 0..pairs {
+        let (a, b) = (rng.random_range(0..n), rng.random_range(0..n));
+        if a != b {
+            let v = rng.random_range(-1.0..1.0);
+            k.push((a, b, v));
+            k.push((b, a, -v));
+        }
+    }
+    let q = (0..n).map(|_| rng.random_range(-1.0..1.0)).collect();
+    StructuredLcp::new(p, &g, &h, &k, q).unwrap()
+}
+
+#[test]
+fn small_problems_agree_with_enumeration() {
+    for seed in 0..40 {
+        let op = random(10, 6, 3, 0.1, 4, seed);
+        let dense = op.to_dense();
+        let sol = structured::solve(&op, &StructuredOptions::default(), None);
+        assert!(sol.ok(), "seed {seed}: {:?}", sol.status);
+        let all = all_solutions(&dense, 1e-9);
+        assert_eq!(all.len(), 1, "seed {seed}: positive definite, one solution");
+        let err = sol.z.iter().zip(&all[0]).fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+        assert!(err <= 1e-9 * (1.0 + all[0].iter().fold(0.0f64, |a, v| a.max(v.abs()))), "seed {seed}: {err:e}");
+    }
+}
+
+#[test]
+fn answers_solve_the_dense_lcp_like_dense_lemke() {
+    // Positive semidefinite M (rank ≤ p < n, no shift): many solutions, any one will do.
+    for seed in 0..20 {
+        let op = random(200, 60, 4, 0.0, 0, 100 + seed);
+        let dense = op.to_dense();
+        let sol = structured::solve(&op, &StructuredOptions::default(), None);
+        let reference = lemke::solve(&dense, &LemkeOptions::default());
+        assert_eq!(
+            sol.status == Status::Solved,
+            reference.ok(),
+            "seed {seed}: {:?} vs {:?}",
+            sol.status,
+            reference.status
+        );
+        if sol.ok() {
+            assert!(accepts(&dense, &sol.z, &dense.w_of(&sol.z), 1e-9), "seed {seed}");
+            // The structured rule is the dense rule.
+            assert!(structured::accepts(&op, &sol.z, &dense.w_of(&sol.z), 1e-9));
+        }
+    }
+}
+
+#[test]
+fn the_structured_rule_rejects_what_the_dense_rule_rejects() {
+    let op = random(50, 20, 3, 0.5, 10, 7);
+    let dense = op.to_dense();
+    let sol = structured::solve(&op, &StructuredOptions::default(), None);
+    assert!(sol.ok());
+    // Perturb one basic z: complementarity broken in its row.
+    let mut z = sol.z.clone();
+    let j = (0..z.len()).find(|&j| z[j] > 0.0).expect("a positive z");
+    z[j] *= 1.0 + 1e-6;
+    let w = dense.w_of(&z);
+    assert!(!accepts(&dense, &z, &w, 1e-9));
+    assert!(!structured::accepts(&op, &z, &w, 1e-9));
+}
+
+#[test]
+fn a_warm_start_from_the_answer_takes_no_pivot() {
+    let op = random(300, 90, 4, 0.05, 20, 3);
+    let cold = structured::solve(&op, &StructuredOptions::default(), None);
+    assert!(cold.ok() && cold.pivots > 0);
+    let warm = structured::solve(&op, &StructuredOptions::default(), cold.basis.as_deref());
+    assert!(warm.ok());
+    assert_eq!(warm.pivots, 0);
+    // A perturbed q: the warm start pivots from the old basis, and solves it.
+    let q: Vec<f64> = op.q().iter().enumerate().map(|(i, v)| v + 0.05 * ((i % 7) as f64 - 3.0)).collect();
+    let moved = rebuild(&op, q);
+    let again = structured::solve(&moved, &StructuredOptions::default(), cold.basis.as_deref());
+    assert!(again.ok(), "{:?}", again.status);
+    let dense = moved.to_dense();
+    assert!(accepts(&dense, &again.z, &dense.w_of(&again.z), 1e-9));
+}
+
+/// The same `M` with another `q`.
+fn rebuild(op: &StructuredLcp, q: Vec<f64>) -> StructuredLcp {
+    op.with_q(q).unwrap()
+}
+
+#[test]
+fn invalid_input_is_an_error() {
+    assert!(StructuredLcp::new(2, &[], &[], &[], vec![]).is_err());
+    assert!(StructuredLcp::new(2, &[(0, 5, 1.0)], &[], &[], vec![1.0]).is_err());
+    assert!(StructuredLcp::new(2, &[(0, 1, f64::NAN)], &[], &[], vec![1.0]).is_err());
+    assert!(StructuredLcp::new(2, &[], &[], &[], vec![f64::INFINITY]).is_err());
+}

@@ -1,0 +1,70 @@
+//! Warm starts for large islands whose contacts changed since the previous
+//! step (a heap settling: contacts come and go every step, so the island
+//! never has the same contacts twice and `warm::WarmStarts` starts it cold).
+//!
+//! Each contact of the island takes the basis flags (`fn`, its `fd_j`, `λ`)
+//! of the previous step's contact between the same two bodies nearest to it
+//! (within [`SAME_CONTACT`] and with a normal within [`SAME_NORMAL`]); a new
+//! contact starts with every flag off (its `w` basic). The structured Lemke
+//! starts from that basis (covering vector `B·1`; cold if it is singular).
+//! Only islands of the structured Lemke's size get one: smaller islands keep
+//! their previous rule and answers.
+
+use super::record::StepRecord;
+use crate::geometry::Contact;
+use crate::islands::Islands;
+use lcp::contact::ContactLayout;
+use std::collections::HashMap;
+
+/// Farthest a contact point may have moved in one step and still be the same contact (m).
+const SAME_CONTACT: f64 = 0.02;
+
+/// Least cosine between the normals of the same contact on two steps.
+const SAME_NORMAL: f64 = 0.9;
+
+/// Per island, a basis mapped from the previous step's `prev` by contact
+/// (`None` for islands under `min_n` unknowns or when `prev` has no basis).
+pub(crate) fn by_contact(
+    prev: &StepRecord,
+    contacts: &[Contact],
+    islands: &Islands,
+    k: usize,
+    min_n: usize,
+) -> Vec<Option<Vec<bool>>> {
+    let mut out = vec![None; islands.len()];
+    let Some(basis) = prev.basis.as_ref().filter(|_| prev.friction_dirs == k) else { return out };
+    let old = ContactLayout::new(prev.contacts.len(), k);
+    if basis.len() != old.n() {
+        return out;
+    }
+    let mut by_pair: HashMap<(usize, usize), Vec<usize>> = HashMap::new();
+    for (c, ct) in prev.contacts.iter().enumerate() {
+        by_pair.entry((ct.body_a, ct.body_b)).or_default().push(c);
+    }
+    for (i, slot) in out.iter_mut().enumerate() {
+        let ids = islands.contacts_of(i);
+        let lay = ContactLayout::new(ids.len(), k);
+        if lay.n() < min_n {
+            continue;
+        }
+        let mut mask = vec![false; lay.n()];
+        for (c, &g) in ids.iter().enumerate() {
+            let ct = &contacts[g];
+            let near = by_pair.get(&(ct.body_a, ct.body_b)).and_then(|cands| {
+                cands
+                    .iter()
+                    .map(|&p| (p, (prev.contacts[p].point - ct.point).norm()))
+                    .filter(|&(p, d)| d <= SAME_CONTACT && prev.contacts[p].normal.dot(ct.normal) >= SAME_NORMAL)
+                    .min_by(|a, b| a.1.total_cmp(&b.1))
+            });
+            let Some((p, _)) = near else { continue };
+            mask[lay.fn_index(c)] = basis[old.fn_index(p)];
+            for j in 0..k {
+                mask[lay.fd_index(c, j)] = basis[old.fd_index(p, j)];
+            }
+            mask[lay.lambda_index(c)] = basis[old.lambda_index(p)];
+        }
+        *slot = Some(mask);
+    }
+    out
+}
