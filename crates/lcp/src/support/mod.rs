@@ -211,21 +211,10 @@ const REFINE_STOP: f64 = 1e-15;
 /// product `M z`). Leaves `ws.z`, `ws.w` and returns `true` once the
 /// correction is negligible; `false` (factor afresh) otherwise.
 fn refine_on_factor(op: &dyn LcpOperator, ws: &mut SupportWorkspace) -> bool {
-    let (n, m, q) = (op.n(), ws.support.len(), op.q());
-    if ws.factored.len() != n {
+    if ws.factored.len() != op.n() {
         return false;
     }
-    ws.x.clear();
-    ws.x.resize(m, 0.0);
-    for &p in &ws.order[..ws.rank] {
-        ws.x[p] = -q[ws.support[p]];
-    }
-    principal::solve(&ws.lu, m, &ws.order, ws.rank, &mut ws.x, &mut ws.y);
-    ws.z.clear();
-    ws.z.resize(n, 0.0);
-    ws.w.clear();
-    ws.w.resize(n, 0.0);
-    scatter_add(&ws.x, &ws.order[..ws.rank], &ws.support, &mut ws.z);
+    first_solve(op, ws);
     for _ in 0..REFINE_STEPS {
         op.w_of(&ws.z, &mut ws.w);
         let (dmax, zmax) = correct(ws);
@@ -238,6 +227,22 @@ fn refine_on_factor(op: &dyn LcpOperator, ws: &mut SupportWorkspace) -> bool {
         }
     }
     false
+}
+
+/// `z_β = M_ββ⁻¹ (−q_β)` with the factors in `ws`, `z = 0` elsewhere (`w` zeroed).
+fn first_solve(op: &dyn LcpOperator, ws: &mut SupportWorkspace) {
+    let (n, m, q) = (op.n(), ws.support.len(), op.q());
+    ws.x.clear();
+    ws.x.resize(m, 0.0);
+    for &p in &ws.order[..ws.rank] {
+        ws.x[p] = -q[ws.support[p]];
+    }
+    principal::solve(&ws.lu, m, &ws.order, ws.rank, &mut ws.x, &mut ws.y);
+    ws.z.clear();
+    ws.z.resize(n, 0.0);
+    ws.w.clear();
+    ws.w.resize(n, 0.0);
+    scatter_add(&ws.x, &ws.order[..ws.rank], &ws.support, &mut ws.z);
 }
 
 /// One refinement step: `z_β += M_ββ⁻¹ (−w_β)` with the kept factors;
@@ -280,18 +285,7 @@ fn solve_fresh(op: &dyn LcpOperator, ws: &mut SupportWorkspace, entered: Option<
     }
     let first = entered.and_then(|i| ws.support.binary_search(&i).ok());
     ws.rank = principal::factor(&mut ws.lu, m, &mut ws.order, first);
-    let q = op.q();
-    ws.x.clear();
-    ws.x.resize(m, 0.0);
-    for &p in &ws.order[..ws.rank] {
-        ws.x[p] = -q[ws.support[p]];
-    }
-    principal::solve(&ws.lu, m, &ws.order, ws.rank, &mut ws.x, &mut ws.y);
-    ws.z.clear();
-    ws.z.resize(n, 0.0);
-    ws.w.clear();
-    ws.w.resize(n, 0.0);
-    scatter_add(&ws.x, &ws.order[..ws.rank], &ws.support, &mut ws.z);
+    first_solve(op, ws);
     op.w_of(&ws.z, &mut ws.w);
     correct(ws);
     if !ws.z.iter().all(|v| v.is_finite()) {
