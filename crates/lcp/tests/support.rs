@@ -66,3 +66,46 @@ fn wrong_length_or_non_finite_blocks_are_refused() {
     let mut ws = SupportWorkspace::default();
     assert!(solve_on_basis(&lcp, &[true; 3], 1e-9, None, &mut ws).is_none());
 }
+
+/// `m` with every entry moved by `rel` of its size (a deterministic pattern).
+fn perturbed(lcp: &Lcp, rel: f64) -> Lcp {
+    let m: Vec<f64> = lcp.m().iter().enumerate().map(|(e, v)| v * (1.0 + rel * ((e % 7) as f64 - 3.0) / 3.0)).collect();
+    Lcp::new(m, lcp.q().to_vec()).unwrap()
+}
+
+#[test]
+fn the_kept_factorization_refines_to_answers_that_solve_the_new_problem() {
+    let mut ws = SupportWorkspace::default();
+    let (mut reused, mut fresh) = (0, 0);
+    for seed in 0..20 {
+        let lcp = p_matrix_lcp(12, seed);
+        let sol = lemke::solve(&lcp, &LemkeOptions::default());
+        let first = solve_on_basis(&lcp, sol.basis.as_deref().unwrap(), 1e-9, None, &mut ws).unwrap();
+        assert!(!first.reused);
+        // The next problem is a little different (a simulator's next step), or
+        // far (the old factors cannot serve): either way the answer meets the
+        // bound on the new problem, and agrees with Lemke's (P-matrix: unique).
+        for rel in [1e-10, 1e-6, 0.3] {
+            let next = perturbed(&lcp, rel);
+            solve_on_basis(&lcp, sol.basis.as_deref().unwrap(), 1e-9, None, &mut ws).unwrap();
+            let Some(ans) = solve_on_basis(&next, first.solution.basis.as_deref().unwrap(), 1e-9, None, &mut ws) else {
+                continue;
+            };
+            let (z, w) = (&ans.solution.z, &ans.solution.w);
+            let (w_exact, r) = lcp::Residuals::compute(&next, z);
+            assert!(r.residual <= 1e-9 * (1.0 + next.q_norm_inf()), "seed {seed}, rel {rel}: residual {:e}", r.residual);
+            assert!(w.iter().zip(&w_exact).all(|(a, b)| (a - b).abs() < 1e-12));
+            let exact = lemke::solve(&next, &LemkeOptions::default());
+            for (a, b) in z.iter().zip(&exact.z) {
+                assert!((a - b).abs() <= 1e-8 * (1.0 + b.abs()), "seed {seed}, rel {rel}: {a} vs {b}");
+            }
+            if ans.reused {
+                reused += 1;
+            } else {
+                fresh += 1;
+            }
+        }
+    }
+    // Small changes reuse the factors; a 30 % change needs fresh ones.
+    assert!(reused >= 40 && fresh > 0, "reused {reused}, fresh {fresh}");
+}

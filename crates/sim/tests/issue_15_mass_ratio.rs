@@ -77,12 +77,17 @@ fn issue_15_failed_steps_add_no_energy_box_on_box() {
             let mut w = heavy_on_light(heavy, sphere, 0.0);
             let e0 = w.energy().abs();
             let mut failed = 0;
-            for _ in 0..200 {
+            // (Up to 2,000 steps until ten failed ones: since issue 13's body-space
+            // warm start the first failure at 1e7 comes after step 200.)
+            for _ in 0..2000 {
                 let r = w.step().unwrap();
                 if !r.ok() {
                     failed += 1;
                     let c = r.energy.created();
                     assert!(c <= 1e-12 * e0, "{heavy:e} kg, sphere {sphere}, step {}: a failed step created {c:e} J", r.step);
+                }
+                if failed == 10 {
+                    break;
                 }
             }
             assert!(failed > 0, "{heavy:e} kg box–box: no failed step left to test the policy on");

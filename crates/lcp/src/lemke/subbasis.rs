@@ -10,44 +10,19 @@
 //! `M_αα` for a consistent system, `z_β` solves the rows left out too, and the
 //! residual check after the solve has the last word anyway.
 
-/// Pivots below this fraction of the block's largest entry count as zero.
-const RANK_TOL: f64 = 1e-11;
+use crate::support::principal;
 
 /// Keeps in `alpha` a subset `β` whose block `M_ββ` (`m(i, j)` for
-/// `i, j ∈ β`) has rank `|β|` = the numerical rank found, choosing at each
-/// step the largest diagonal pivot of the remaining Schur complement.
-/// `a` is scratch. Returns the number of indices dropped.
+/// `i, j ∈ β`) has rank `|β|` = the numerical rank found by the principal
+/// factorization of [`crate::support::principal`] (largest diagonal pivot of
+/// the remaining Schur complement first). `a` is scratch. Returns the number
+/// of indices dropped.
 pub(crate) fn regular_subset(m: impl Fn(usize, usize) -> f64, alpha: &mut Vec<usize>, a: &mut Vec<f64>) -> usize {
     let k = alpha.len();
     a.clear();
     a.extend((0..k * k).map(|e| m(alpha[e / k], alpha[e % k])));
-    let amax = a.iter().fold(0.0f64, |x, v| x.max(v.abs()));
-    // `order[..done]`: pivots taken; the rest are still in the Schur complement.
-    let mut order: Vec<usize> = (0..k).collect();
-    let mut done = 0;
-    while done < k {
-        let (at, piv) = order[done..]
-            .iter()
-            .enumerate()
-            .map(|(t, &i)| (done + t, a[i * k + i]))
-            .max_by(|x, y| x.1.abs().total_cmp(&y.1.abs()))
-            .expect("a remaining index");
-        if !(piv.abs() > RANK_TOL * amax) {
-            break;
-        }
-        order.swap(done, at);
-        let p = order[done];
-        done += 1;
-        // Eliminate pivot p from the remaining rows and columns.
-        for &r in &order[done..] {
-            let f = a[r * k + p] / piv;
-            if f != 0.0 {
-                for &c in &order[done..] {
-                    a[r * k + c] -= f * a[p * k + c];
-                }
-            }
-        }
-    }
+    let mut order = Vec::with_capacity(k);
+    let done = principal::factor(a, k, &mut order, None);
     let mut keep = order[..done].to_vec();
     keep.sort_unstable();
     let dropped = k - done;

@@ -1,0 +1,320 @@
+//! Solving an LCP on a guessed complementary basis, without pivoting and
+//! without forming `M`.
+//!
+//! A simulator's LCP changes little from one step to the next, and on most
+//! steps the previous step's complementary basis (which `z_j` are basic)
+//! solves the new problem as it is: `z_S = −M_SS⁻¹ q_S`, `z = 0` elsewhere,
+//! with `z ≥ 0` and `w = M z + q ≥ 0`. Checking that needs only the block
+//! `M_SS` and products `M z`, both of which a caller can compute from a
+//! structure far smaller than the dense `n × n` matrix (the simulator keeps
+//! `M = J M_b⁻¹ Jᵀ` in body space). [`LcpOperator`] is that access;
+//! [`solve_on_basis`] is the check.
+//!
+//! Statically indeterminate contact (four corners of a box on a box bear a
+//! load that three constraints fix) makes a guessed basis rank-deficient. The
+//! block is factored by the principal rank-revealing LU of [`principal`]
+//! (shared with the dense Lemke's warm start); dependent indices leave the
+//! support (`z_j = 0`, `w_j` basic instead), which keeps the previous vertex
+//! of the solution set instead of jumping to another — the reason a resting
+//! stack needs no pivot.
+//!
+//! The factorization is kept: when the next call starts from the basis it
+//! factored (the previous answer's), `M_SS` is not formed again — the old
+//! factors precondition iterative refinement against the new `M` (products
+//! only, O(contacts) in body space), and a fresh factorization is made only
+//! when that does not converge in a few steps. Refinement converges to the
+//! solution of the new block itself; nothing about the problem is changed.
+//!
+//! An answer is accepted only if its natural residual is within
+//! `accept_tol·(1 + ‖q‖∞)` on the problem as given and — when the caller
+//! passes one — on a second operator in other units (the simulator's
+//! unscaled, physical LCP). No regularization. (The componentwise rule of
+//! [`crate::accept`] needs `|M|` row sums the operator does not give cheaply;
+//! see the report of issue 13's warm-start work.)
+
+pub(crate) mod principal;
+
+use crate::problem::Lcp;
+use crate::solution::{Residuals, Solution, Status};
+
+/// An LCP `(M, q)` whose matrix is reached through products and blocks.
+pub trait LcpOperator {
+    /// Size `n`.
+    fn n(&self) -> usize;
+    /// The vector `q`.
+    fn q(&self) -> &[f64];
+    /// `M[rows, cols]` into `out`, row-major (`rows.len() × cols.len()`).
+    fn block(&self, rows: &[usize], cols: &[usize], out: &mut [f64]);
+    /// `w = M z + q`.
+    fn w_of(&self, z: &[f64], w: &mut [f64]);
+}
+
+impl LcpOperator for Lcp {
+    fn n(&self) -> usize {
+        Lcp::n(self)
+    }
+    fn q(&self) -> &[f64] {
+        Lcp::q(self)
+    }
+    fn block(&self, rows: &[usize], cols: &[usize], out: &mut [f64]) {
+        for (r, &i) in rows.iter().enumerate() {
+            let row = self.row(i);
+            for (c, &j) in cols.iter().enumerate() {
+                out[r * cols.len() + c] = row[j];
+            }
+        }
+    }
+    fn w_of(&self, z: &[f64], w: &mut [f64]) {
+        for (i, wi) in w.iter_mut().enumerate() {
+            *wi = crate::problem::dot(self.row(i), z) + self.q()[i];
+        }
+    }
+}
+
+/// Buffers of [`solve_on_basis`], reused across calls by their owner; they
+/// also keep the last factorization for the next call.
+#[derive(Clone, Debug, Default)]
+pub struct SupportWorkspace {
+    /// Which `z_j` are basic in the basis being tried.
+    mask: Vec<bool>,
+    /// Support `S` (basic `z` indices) of the factorization.
+    support: Vec<usize>,
+    /// `M_SS`, factored in place by [`principal::factor`] (row-major).
+    lu: Vec<f64>,
+    /// Pivot order (positions in `S`) and rank: `β = S[order[..rank]]`.
+    order: Vec<usize>,
+    rank: usize,
+    /// `β` as a mask when `lu` holds its factors (empty when it does not).
+    factored: Vec<bool>,
+    /// Right-hand side and solution, by position in `S`.
+    x: Vec<f64>,
+    y: Vec<f64>,
+    /// `z` and `w` of a candidate in the operator's units, and in the other units.
+    z: Vec<f64>,
+    w: Vec<f64>,
+    z2: Vec<f64>,
+    w2: Vec<f64>,
+}
+
+impl SupportWorkspace {
+    /// Forgets the kept factorization (the next call factors afresh).
+    pub fn forget(&mut self) {
+        self.factored.clear();
+    }
+}
+
+/// The answer of [`solve_on_basis`] when it is accepted.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BasisAnswer {
+    /// `z`, `w = M z + q` and residuals on the operator given.
+    pub solution: Solution,
+    /// Columns of the guess dropped as linearly dependent.
+    pub dropped: usize,
+    /// Whether the kept factorization served (no `M_SS` formed).
+    pub reused: bool,
+}
+
+/// The second problem an answer must also solve: its operator and the map
+/// of `z` into its units.
+pub type Also<'a> = (&'a dyn LcpOperator, &'a dyn Fn(&[f64], &mut Vec<f64>));
+
+/// Solves `op` on the complementary basis `basis` (`basis[j]`: `z_j` basic):
+/// `M_ββ z_β = −q_β` on a regular principal block `β` of the guess (dependent
+/// indices dropped), refined to convergence, `z` clipped at 0; violated
+/// indices are exchanged one at a time (at most [`REPAIR_ROUNDS`]). Returns
+/// the first answer whose natural residual is at most `accept_tol·(1 + ‖q‖∞)`
+/// on `op` and, when given, on `also` (the same `z` mapped, e.g. to physical
+/// units); `None` otherwise (the caller then pivots). The returned
+/// `Solution` has status `Solved`, 0 pivots and the basis `β` used.
+pub fn solve_on_basis(
+    op: &dyn LcpOperator,
+    basis: &[bool],
+    accept_tol: f64,
+    also: Option<Also<'_>>,
+    ws: &mut SupportWorkspace,
+) -> Option<BasisAnswer> {
+    let n = op.n();
+    if basis.len() != n {
+        return None;
+    }
+    // Violations far below the acceptance bound are exchanged too, so a
+    // slowly drifting vertex is left before its values reach the bound.
+    let repair = REPAIR_FRACTION * accept_tol * (1.0 + norm_inf(op.q()));
+    ws.mask.clear();
+    ws.mask.extend_from_slice(basis);
+    // The index the last exchange made basic.
+    let mut entered = None;
+    for round in 0..=REPAIR_ROUNDS {
+        let reused = round == 0 && ws.factored == ws.mask && refine_on_factor(op, ws);
+        if !reused && !solve_fresh(op, ws, entered) {
+            break;
+        }
+        let (m, rank) = (ws.support.len(), ws.rank);
+        // Dependent indices carry z = 0: they leave the support.
+        for &p in &ws.order[rank..m] {
+            ws.mask[ws.support[p]] = false;
+        }
+        // The most violated index (basic z < 0 leaves, nonbasic w < 0 enters).
+        let mut worst = (repair, None);
+        for i in 0..n {
+            let v = if ws.mask[i] { -ws.z[i] } else { -ws.w[i] };
+            if v > worst.0 {
+                worst = (v, Some(i));
+            }
+        }
+        // Round-off negatives of z are clipped and w recomputed for the check.
+        if ws.z.iter().any(|&v| v < 0.0) {
+            ws.z.iter_mut().for_each(|v| *v = v.max(0.0));
+            op.w_of(&ws.z, &mut ws.w);
+        }
+        if within(op, &ws.z, &ws.w, accept_tol) && accepted_by(also, accept_tol, ws) {
+            return Some(answer(ws, if reused { 0 } else { m - rank }, reused));
+        }
+        // One exchange at a time (all at once wanders on these degenerate
+        // problems): the most violated index.
+        let Some(i) = worst.1 else { break };
+        ws.mask[i] = !ws.mask[i];
+        entered = ws.mask[i].then_some(i);
+    }
+    None
+}
+
+/// The accepted answer in `ws`, on the basis `β` factored.
+fn answer(ws: &SupportWorkspace, dropped: usize, reused: bool) -> BasisAnswer {
+    let solution = Solution {
+        z: ws.z.clone(),
+        w: ws.w.clone(),
+        status: Status::Solved,
+        pivots: 0,
+        residuals: Residuals::of(&ws.z, &ws.w),
+        basis: Some(ws.factored.clone()),
+        accepted: true,
+    };
+    BasisAnswer { solution, dropped, reused }
+}
+
+/// Violations above this fraction of `accept_tol·(1 + ‖q‖∞)` are exchanged.
+const REPAIR_FRACTION: f64 = 0.1;
+
+/// Index exchanges tried after the guessed basis itself (block principal
+/// pivoting on the violated indices); the caller pivots when they do not do.
+pub const REPAIR_ROUNDS: usize = 8;
+
+/// Refinement steps with a kept factorization before a fresh one is made.
+const REFINE_STEPS: usize = 4;
+
+/// Refinement has converged when its correction is below this fraction of `‖z_β‖∞`.
+const REFINE_STOP: f64 = 1e-15;
+
+/// `z` on `β` of the kept factorization, for the new `op`: the old factors
+/// precondition iterative refinement against the new block (each step one
+/// product `M z`). Leaves `ws.z`, `ws.w` and returns `true` once the
+/// correction is negligible; `false` (factor afresh) otherwise.
+fn refine_on_factor(op: &dyn LcpOperator, ws: &mut SupportWorkspace) -> bool {
+    if ws.factored.len() != op.n() {
+        return false;
+    }
+    first_solve(op, ws);
+    for _ in 0..REFINE_STEPS {
+        op.w_of(&ws.z, &mut ws.w);
+        let (dmax, zmax) = correct(ws);
+        if !(dmax.is_finite() && zmax.is_finite()) {
+            return false;
+        }
+        if dmax <= REFINE_STOP * zmax {
+            op.w_of(&ws.z, &mut ws.w);
+            return true;
+        }
+    }
+    false
+}
+
+/// `z_β = M_ββ⁻¹ (−q_β)` with the factors in `ws`, `z = 0` elsewhere (`w` zeroed).
+fn first_solve(op: &dyn LcpOperator, ws: &mut SupportWorkspace) {
+    let (n, m, q) = (op.n(), ws.support.len(), op.q());
+    ws.x.clear();
+    ws.x.resize(m, 0.0);
+    for &p in &ws.order[..ws.rank] {
+        ws.x[p] = -q[ws.support[p]];
+    }
+    principal::solve(&ws.lu, m, &ws.order, ws.rank, &mut ws.x, &mut ws.y);
+    ws.z.clear();
+    ws.z.resize(n, 0.0);
+    ws.w.clear();
+    ws.w.resize(n, 0.0);
+    scatter_add(&ws.x, &ws.order[..ws.rank], &ws.support, &mut ws.z);
+}
+
+/// One refinement step: `z_β += M_ββ⁻¹ (−w_β)` with the kept factors;
+/// returns `(‖correction‖∞, ‖z_β‖∞)`.
+fn correct(ws: &mut SupportWorkspace) -> (f64, f64) {
+    let m = ws.support.len();
+    for &p in &ws.order[..ws.rank] {
+        ws.x[p] = -ws.w[ws.support[p]];
+    }
+    principal::solve(&ws.lu, m, &ws.order, ws.rank, &mut ws.x, &mut ws.y);
+    scatter_add(&ws.x, &ws.order[..ws.rank], &ws.support, &mut ws.z);
+    let beta = &ws.order[..ws.rank];
+    let dmax = beta.iter().fold(0.0f64, |a, &p| a.max(ws.x[p].abs()));
+    let zmax = beta.iter().fold(0.0f64, |a, &p| a.max(ws.z[ws.support[p]].abs()));
+    (dmax, zmax)
+}
+
+/// `z[S[p]] += x[p]` for the positions `p` given.
+fn scatter_add(x: &[f64], positions: &[usize], support: &[usize], z: &mut [f64]) {
+    for &p in positions {
+        z[support[p]] += x[p];
+    }
+}
+
+/// Factors `M_SS` of the support `ws.mask` afresh ([`principal::factor`],
+/// the index `entered` pivoted first so that it stays basic),
+/// then `z` on its regular block `β` with one refinement step and
+/// `w = M z + q`, unclipped. `false` if the block or `z` is not finite.
+fn solve_fresh(op: &dyn LcpOperator, ws: &mut SupportWorkspace, entered: Option<usize>) -> bool {
+    let n = op.n();
+    ws.factored.clear();
+    ws.support.clear();
+    ws.support.extend((0..n).filter(|&j| ws.mask[j]));
+    let m = ws.support.len();
+    ws.lu.clear();
+    ws.lu.resize(m * m, 0.0);
+    op.block(&ws.support, &ws.support, &mut ws.lu);
+    if !ws.lu.iter().all(|v| v.is_finite()) {
+        return false;
+    }
+    let first = entered.and_then(|i| ws.support.binary_search(&i).ok());
+    ws.rank = principal::factor(&mut ws.lu, m, &mut ws.order, first);
+    first_solve(op, ws);
+    op.w_of(&ws.z, &mut ws.w);
+    correct(ws);
+    if !ws.z.iter().all(|v| v.is_finite()) {
+        return false;
+    }
+    op.w_of(&ws.z, &mut ws.w);
+    ws.factored.resize(n, false);
+    for &p in &ws.order[..ws.rank] {
+        ws.factored[ws.support[p]] = true;
+    }
+    true
+}
+
+/// The natural residual of `(z, w)` is within `accept_tol·(1 + ‖q‖∞)` of `op`.
+fn within(op: &dyn LcpOperator, z: &[f64], w: &[f64], accept_tol: f64) -> bool {
+    Residuals::of(z, w).residual <= accept_tol * (1.0 + norm_inf(op.q()))
+}
+
+/// The second check of [`solve_on_basis`]: `z` mapped into the other units
+/// meets the same bound there.
+fn accepted_by(also: Option<Also<'_>>, accept_tol: f64, ws: &mut SupportWorkspace) -> bool {
+    let Some((other, map)) = also else { return true };
+    map(&ws.z, &mut ws.z2);
+    ws.w2.clear();
+    ws.w2.resize(ws.z2.len(), 0.0);
+    other.w_of(&ws.z2, &mut ws.w2);
+    within(other, &ws.z2, &ws.w2, accept_tol)
+}
+
+fn norm_inf(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |a, x| a.max(x.abs()))
+}

@@ -1,0 +1,140 @@
+//! A rank-revealing principal LU: the one factorization that makes a
+//! complementary basis regular, for the dense Lemke's warm start
+//! (`lemke::subbasis`) and for the body-space check of a guessed basis
+//! ([`super::solve_on_basis`]).
+//!
+//! A complementary basis keeps rows and columns paired (`w_j = 0` exactly
+//! where `z_j` is basic), so dependent indices must leave as row *and*
+//! column: Gaussian elimination with diagonal pivoting on the Schur
+//! complement, choosing at each step its largest diagonal entry, until the
+//! remaining diagonal is below [`RANK_TOL`] of the block's largest entry.
+//! The pivots taken index a regular principal block `M_ββ`; the others are
+//! the dependent indices (statically indeterminate contact: four corners of a
+//! box on a box bear a load that three constraints fix).
+
+/// Pivots below this fraction of the block's largest entry count as zero.
+pub(crate) const RANK_TOL: f64 = 1e-11;
+
+/// Factors the `k × k` row-major block `a` in place by elimination with
+/// diagonal pivoting; `order` gets the pivot order (positions `0..k`), its
+/// first `rank` entries (the return value) indexing the regular block. Rows
+/// and columns are moved as pivots are taken, so `a` ends as the packed LU
+/// of `a[order, order]` (multipliers below the diagonal); read it with
+/// [`solve`]. With `first`, that position is the first pivot if it can be
+/// (an index entering a basis stays, and a dependent one leaves instead).
+pub(crate) fn factor(a: &mut [f64], k: usize, order: &mut Vec<usize>, first: Option<usize>) -> usize {
+    let amax = a[..k * k].iter().fold(0.0f64, |x, v| x.max(v.abs()));
+    order.clear();
+    order.extend(0..k);
+    // `[..done]`: pivots taken; the rest is the Schur complement.
+    let mut done = 0;
+    while done < k {
+        let (at, piv) = match first.filter(|&f| done == 0 && f < k && a[f * k + f].abs() > RANK_TOL * amax) {
+            Some(f) => (f, a[f * k + f]),
+            None => (done..k)
+                .map(|t| (t, a[t * k + t]))
+                .max_by(|x, y| x.1.abs().total_cmp(&y.1.abs()))
+                .expect("a remaining index"),
+        };
+        if !(piv.abs() > RANK_TOL * amax) {
+            break;
+        }
+        if at != done {
+            swap_symmetric(a, k, done, at);
+            order.swap(done, at);
+        }
+        let p = done;
+        done += 1;
+        // Eliminate pivot p from the remaining rows (the multiplier is kept
+        // where the eliminated entry was).
+        let (top, below) = a.split_at_mut(done * k);
+        let pivot_row = &top[p * k + done..p * k + k];
+        for row in below.chunks_exact_mut(k) {
+            let f = row[p] / piv;
+            row[p] = f;
+            if f != 0.0 {
+                for (x, &u) in row[done..].iter_mut().zip(pivot_row) {
+                    *x -= f * u;
+                }
+            }
+        }
+    }
+    done
+}
+
+/// Swaps rows and columns `i` and `j` of the `k × k` block `a`.
+fn swap_symmetric(a: &mut [f64], k: usize, i: usize, j: usize) {
+    for c in 0..k {
+        a.swap(i * k + c, j * k + c);
+    }
+    for r in 0..k {
+        a.swap(r * k + i, r * k + j);
+    }
+}
+
+/// Solves `M_ββ x = b` with the factors of [`factor`] (`β = order[..rank]`):
+/// `x[p]` for `p ∈ β` from `b[p]` in place (other entries untouched);
+/// `y` is scratch.
+pub(crate) fn solve(a: &[f64], k: usize, order: &[usize], rank: usize, x: &mut [f64], y: &mut Vec<f64>) {
+    y.clear();
+    y.extend(order[..rank].iter().map(|&p| x[p]));
+    // L y = b.
+    for t in 0..rank {
+        let row = &a[t * k..t * k + t];
+        let s: f64 = row.iter().zip(&y[..t]).map(|(l, v)| l * v).sum();
+        y[t] -= s;
+    }
+    // U x = y, backwards.
+    for t in (0..rank).rev() {
+        let row = &a[t * k + t + 1..t * k + rank];
+        let s: f64 = row.iter().zip(&y[t + 1..rank]).map(|(u, v)| u * v).sum();
+        y[t] = (y[t] - s) / a[t * k + t];
+    }
+    for (t, &p) in order[..rank].iter().enumerate() {
+        x[p] = y[t];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn solves_a_nonsymmetric_block_with_a_zero_diagonal() {
+        // [[2, 1, 1], [1, 3, −1], [−1, 1, 0]]: regular, zero diagonal entry last.
+        let m = [2.0, 1.0, 1.0, 1.0, 3.0, -1.0, -1.0, 1.0, 0.0];
+        let x_true = [0.5, -2.0, 3.0];
+        let b: Vec<f64> = (0..3).map(|i| (0..3).map(|j| m[i * 3 + j] * x_true[j]).sum()).collect();
+        let (mut a, mut order) = (m.to_vec(), Vec::new());
+        assert_eq!(factor(&mut a, 3, &mut order, None), 3);
+        let mut x = b.clone();
+        solve(&a, 3, &order, 3, &mut x, &mut Vec::new());
+        for (u, v) in x.iter().zip(x_true) {
+            assert!((u - v).abs() < 1e-14, "{x:?}");
+        }
+    }
+
+    #[test]
+    fn a_dependent_index_is_left_out_and_the_rest_solved() {
+        // Row/column 2 = row/column 0 + row/column 1 (symmetric PSD, rank 2).
+        let m = [2.0, 1.0, 3.0, 1.0, 2.0, 3.0, 3.0, 3.0, 6.0];
+        let (mut a, mut order) = (m.to_vec(), Vec::new());
+        assert_eq!(factor(&mut a, 3, &mut order, None), 2);
+        // The largest diagonal (6) is the first pivot.
+        assert_eq!(order[0], 2);
+        let beta = [order[0], order[1]];
+        let x_true = [0.0; 3].map(|_| 0.0);
+        let mut x = [0.0; 3];
+        // M_ββ x_β = b_β with x_β = (1, −1).
+        let mut xb = x_true;
+        xb[beta[0]] = 1.0;
+        xb[beta[1]] = -1.0;
+        for &i in &beta {
+            x[i] = beta.iter().map(|&j| m[i * 3 + j] * xb[j]).sum();
+        }
+        solve(&a, 3, &order, 2, &mut x, &mut Vec::new());
+        for &i in &beta {
+            assert!((x[i] - xb[i]).abs() < 1e-14, "{x:?}");
+        }
+    }
+}
