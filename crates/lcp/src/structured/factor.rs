@@ -11,16 +11,14 @@
 //! whose matrix (`n + p` square: one column per basic variable, the `p`
 //! columns of `u` fixed) is as sparse as `G`, `H` and `K`, and regular exactly
 //! when the basis is (eliminating `u` leaves `[I_W, −M_S, −d]`). It is factored
-//! by faer's sparse LU (COLAMD ordering, partial pivoting); each pivot then
+//! by a sparse LU ([`super::lu`]: COLAMD ordering, partial pivoting); each pivot then
 //! replaces one column, kept as an eta vector (product form of the inverse),
 //! until the next refactorization. A solve costs the LU's nonzeros plus the
 //! etas' — never `n²`: nothing here is dense but vectors.
 
+use super::lu::SparseLu;
 use super::operator::StructuredLcp;
-use faer::linalg::solvers::SolveCore;
-use faer::sparse::linalg::solvers::Lu;
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Conj, MatMut};
+use faer::sparse::Triplet;
 
 /// One column replacement: position `r` took a column whose solve was `y`
 /// (`piv = y_r`; `idx`, `val`: the other nonzeros of `y`).
@@ -47,7 +45,7 @@ pub(crate) struct Basis<'a> {
     pub(crate) pos: Vec<usize>,
     /// Value of each position.
     pub(crate) val: Vec<f64>,
-    lu: Option<Lu<usize, f64>>,
+    lu: SparseLu,
     etas: Vec<Eta>,
 }
 
@@ -58,7 +56,7 @@ impl<'a> Basis<'a> {
         let mut pos = vec![NONBASIC; 2 * n + 1];
         (0..n).for_each(|i| pos[i] = i);
         let mut b =
-            Basis { op, d, n, p: op.p(), var: (0..n).collect(), pos, val: vec![0.0; n], lu: None, etas: Vec::new() };
+            Basis { op, d, n, p: op.p(), var: (0..n).collect(), pos, val: vec![0.0; n], lu: SparseLu::new(n + op.p()), etas: Vec::new() };
         b.refactor().then_some(b)
     }
 
@@ -71,7 +69,7 @@ impl<'a> Basis<'a> {
             var[j] = n + j;
         }
         var.iter().enumerate().for_each(|(c, &v)| pos[v] = c);
-        let mut b = Basis { op, d, n, p: op.p(), var, pos, val: vec![0.0; n], lu: None, etas: Vec::new() };
+        let mut b = Basis { op, d, n, p: op.p(), var, pos, val: vec![0.0; n], lu: SparseLu::new(n + op.p()), etas: Vec::new() };
         b.refactor().then_some(b)
     }
 
@@ -103,8 +101,7 @@ impl<'a> Basis<'a> {
 
     /// `y ← B⁻¹ y` (augmented).
     pub(crate) fn ftran(&self, y: &mut [f64]) {
-        let lu = self.lu.as_ref().expect("a factored basis");
-        lu.solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(y, self.n + self.p, 1));
+        self.lu.solve_in_place(y);
         for e in &self.etas {
             let yr = y[e.r] / e.piv;
             y[e.r] = yr;
@@ -114,19 +111,6 @@ impl<'a> Basis<'a> {
                 }
             }
         }
-    }
-
-    /// Row `r` of `B⁻¹` (augmented, `n + p` entries) into `out`.
-    pub(crate) fn row_of_inverse(&self, r: usize, out: &mut Vec<f64>) {
-        out.clear();
-        out.resize(self.n + self.p, 0.0);
-        out[r] = 1.0;
-        for e in self.etas.iter().rev() {
-            let s: f64 = e.idx.iter().zip(&e.val).map(|(&i, &v)| v * out[i]).sum();
-            out[e.r] = (out[e.r] - s) / e.piv;
-        }
-        let lu = self.lu.as_ref().expect("a factored basis");
-        lu.solve_transpose_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(out, self.n + self.p, 1));
     }
 
     /// Variable `e` enters at position `r` with value `theta`, `y = B⁻¹ a_e`.
@@ -171,8 +155,7 @@ impl<'a> Basis<'a> {
             t.push(Triplet::new(n + k, n + k, -1.0));
         }
         self.etas.clear();
-        self.lu = SparseColMat::<usize, f64>::try_new_from_triplets(n + p, n + p, &t).ok().and_then(|a| a.sp_lu().ok());
-        if self.lu.is_none() {
+        if !self.lu.factor(&t) {
             return false;
         }
         let mut rhs = self.op.q().to_vec();

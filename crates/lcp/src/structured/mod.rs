@@ -14,6 +14,7 @@
 //! fall back to the dense [`crate::lemke`] where `n` allows.
 
 mod factor;
+mod lu;
 mod operator;
 mod pivot;
 mod sparse;

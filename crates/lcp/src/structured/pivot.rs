@@ -1,8 +1,8 @@
 //! The pivoting loop of the structured Lemke: the lexicographic rule of
 //! [`crate::lemke`] (relative pivot and tie tolerances, z0 preferred, ties
 //! broken on the rows of `B⁻¹`), with the basis of [`super::factor`].
-//! A tie is broken by one transposed solve per tied row, computed only when
-//! a tie occurs.
+//! A tie is broken on the columns of `B⁻¹`, one solve per column that is
+//! not a basic slack's, computed only when a tie occurs.
 
 use super::factor::{Basis, NONBASIC};
 use super::operator::StructuredLcp;
@@ -179,26 +179,28 @@ fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize
 }
 
 /// Keeps the tied positions whose row of `B⁻¹` over the pivot is
-/// lexicographically smallest (columns `0..n`, the constraints of `q`).
+/// lexicographically smallest (columns `0..n`, the constraints of `q`),
+/// walking the columns of `B⁻¹` rather than its rows: column `j` is `e_c`
+/// when `w_j` is basic at position `c` (no solve: the row at `c` drops out,
+/// every other ties at 0), else one solve `B⁻¹ e_j` serves every tied row.
+/// (By rows, a tie of 2,000 degenerate rows on a forming heap took 2,000
+/// transposed solves: 11 % of the time.)
 fn lex_break(b: &Basis, y: &[f64], tied: &mut Vec<usize>, tie_tol: f64) {
     let n = b.val.len();
-    let mut row = Vec::new();
-    let rows: Vec<Vec<f64>> = tied
-        .iter()
-        .map(|&c| {
-            b.row_of_inverse(c, &mut row);
-            row[..n].iter().map(|v| v / y[c]).collect()
-        })
-        .collect();
-    let mut alive: Vec<usize> = (0..tied.len()).collect();
-    for col in 0..n {
-        if alive.len() == 1 {
+    let mut col = Vec::new();
+    for j in 0..n {
+        if tied.len() <= 1 {
             break;
         }
-        let min = alive.iter().map(|&k| rows[k][col]).fold(f64::INFINITY, f64::min);
-        let scale = alive.iter().fold(0.0f64, |a, &k| a.max(rows[k][col].abs()));
-        alive.retain(|&k| rows[k][col] <= min + tie_tol * scale);
+        let c = b.pos[j];
+        if c != NONBASIC {
+            tied.retain(|&t| t != c);
+            continue;
+        }
+        b.column_into(j, &mut col);
+        b.ftran(&mut col);
+        let min = tied.iter().map(|&t| col[t] / y[t]).fold(f64::INFINITY, f64::min);
+        let scale = tied.iter().fold(0.0f64, |a, &t| a.max((col[t] / y[t]).abs()));
+        tied.retain(|&t| col[t] / y[t] <= min + tie_tol * scale);
     }
-    let kept: Vec<usize> = alive.iter().map(|&k| tied[k]).collect();
-    *tied = kept;
 }
