@@ -202,3 +202,4 @@ fn dump_failing_lcps() {
     let (failed, _, _) = run(&mut w, 2000);
     println!("{failed} failed");
 }
+
