@@ -8,15 +8,14 @@
 //! tell a tie from a step or get the final values right, while exact Lemke
 //! (`exact`) solves them but at n = 80 takes ~0.8 s. Here the same method
 //! runs in [`Dd`] (~106 bits) on the working problem of the first rung
-//! (equilibrated, so the scaling adds no round-off), in two stages:
-//!
-//! 1. the complementary bases the `f64` rungs ended on are re-solved in
-//!    double-double ([`dd_solve`](super::dd_solve)): often the pivoting found
-//!    the right basis but could not compute its values;
-//! 2. else Lemke pivots a dense tableau `B⁻¹[I | −M | −d | q]` in
-//!    double-double from the all-slack basis (`d = 1`), with the
-//!    lexicographic ratio test of the `f64` rule (relative ties, z0 first),
-//!    and its final basis is re-solved as in 1.
+//! (equilibrated by powers of two, so the scaling adds no round-off): a dense
+//! tableau `B⁻¹[I | −M | −d | q]` pivoted from the all-slack basis (`d = 1`)
+//! with the lexicographic ratio test of the `f64` rule (relative ties, z0
+//! first), its final basis re-solved with refinement
+//! ([`dd_solve`](super::dd_solve)). Measured on twelve such LCPs (n = 60–80,
+//! 1e6–1e8 kg on 1 kg): all solved in 38–160 pivots. Re-solving the `f64`
+//! rungs' final bases in double-double instead solved none of them: their
+//! paths, not only their values, had gone wrong.
 //!
 //! Each answer, rounded to `f64`, must pass the acceptance rule in the units
 //! given. The tableau costs `n·(2n + 2)` double-double operations a pivot at
@@ -28,8 +27,8 @@ use crate::ddouble::Dd;
 use crate::problem::Lcp;
 use std::collections::HashSet;
 
-/// Largest problem the rung is tried on: ~8·n³ double-double operations for
-/// a few hundred pivots, well under a second here.
+/// Largest problem the rung is tried on (a tableau of 2 MB); its time is
+/// bounded by the caller's operation budget at any n.
 pub(crate) const MAX_N: usize = 256;
 
 /// Entering-column entries below this fraction of the column's largest are

@@ -449,7 +449,9 @@ fn finish(lcp: &Lcp, o: &LemkeOptions, equilibrate: bool, climb: Climb, ws: &mut
     }
 }
 
-/// Double-double operations [`extended::solve`] may spend (~0.2 s here).
+/// Double-double operations [`extended::solve`] may spend: ~0.1 s at the
+/// ~5 ns an operation that n = 80 takes here (107 pivots, at most 1.4e6
+/// operations, 6.7 ms: `extended::tests::timing`).
 const EXTENDED_OPS: usize = 20_000_000;
 
 /// The double-double rung (see [`extended`]): Lemke from scratch on the
