@@ -72,10 +72,10 @@ fn heap_runs_without_failures_or_penetration(n: usize, steps: usize) -> sim::sce
 /// machine (`many_bodies heap:200 STEPS 1`): the first 150 steps take 21 s
 /// (74 s before the structured path skipped the body-space check and broke
 /// ties on columns), ~300 pivots per step, penetration 0.61 mm; past step
-/// 170 most steps take 500–3,000 pivots (2–16 s), but a few end their warm
-/// run on a ray or a cycle and the cold runs take 8,000–56,000 pivots
-/// (40–600 s), and one such step (175, n = 9,900) ended `cycling` after
-/// 33,562 pivots.
+/// 170 most steps take 1,000–4,000 pivots (2–16 s), but on a few the warm
+/// run ends on a ray or a cycle and the cold runs take 7,000–56,000 pivots
+/// (13–600 s; step 175, n = 9,900: 25,934 pivots, 48 s); run to step 180,
+/// that step's LCP (n = 12,580) ended `numerical` after 55,656 pivots.
 /// Run with `cargo test --release -p lcpsim-sim --test heap -- --ignored --nocapture`.
 #[test]
 #[ignore]
