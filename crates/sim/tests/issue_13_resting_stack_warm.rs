@@ -105,8 +105,9 @@ fn every_answer_on_a_resting_ten_box_stack_is_within_the_acceptance_rule() {
         assert!(lcp::accept::accepts(&phys, &r.z, &phys.w_of(&r.z), lcp::accept::DEFAULT_TOL), "step {step}: physical answer outside the rule");
         w.integrate();
     }
-    // Measured (`stack_steps 2000 10`): 28 steps of 2,000 fall back to the dense Lemke.
-    assert!(pivoting <= 60, "{pivoting} of {steps} steps pivoted");
+    // Measured (`stack_steps 2000 10`): 8 steps of 2,000 pivot, the first
+    // (cold) one included (31 before the exchanges up to `REPAIR_ROUNDS` = 32).
+    assert!(pivoting <= 20, "{pivoting} of {steps} steps pivoted");
     let drift = (s.world.body(s.body).unwrap().position() - top0).norm();
     assert!(drift <= 1e-9, "top box drifted {drift:e} m");
 }

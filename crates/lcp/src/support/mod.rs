@@ -269,7 +269,7 @@ pub const FLOOR_FRACTION: f64 = 0.5;
 
 /// Index exchanges tried after the guessed basis itself (block principal
 /// pivoting on the violated indices); the caller pivots when they do not do.
-pub const REPAIR_ROUNDS: usize = 8;
+pub const REPAIR_ROUNDS: usize = 32;
 
 /// Refinement steps with a kept factorization before a fresh one is made.
 const REFINE_STEPS: usize = 4;
