@@ -29,6 +29,7 @@
 pub mod accept;
 pub mod certify;
 pub mod contact;
+mod ddouble;
 pub mod enumerate;
 pub mod generate;
 mod kernels;

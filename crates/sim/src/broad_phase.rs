@@ -1,8 +1,14 @@
 //! Broad phase: which pairs of bodies the narrow phase looks at.
 //!
 //! A pair is kept when its bounding spheres come within the pair's margin,
-//! `|p_i − p_j| ≤ r_i + r_j + margin_ij` (see [`PairMargin`]), and not both
+//! `|p_i − p_j| ≤ r_i + r_j + margin_ij` (see [`PairMargin`]), its
+//! world-aligned bounding boxes too (`|p_i − p_j|_k ≤ e_ik + e_jk + margin_ij`
+//! on each axis `k`, `e` the half widths of the rotated shape), and not both
 //! bodies are static; a pair with an unbounded shape (a plane) is always kept.
+//! Both tests only drop pairs farther apart than their margin, which the
+//! narrow phase would not give a contact: the box test matters for boxes side
+//! by side (cubes 1.5 m apart in a grid of towers are within their spheres'
+//! reach, 2·0.87 m, but not of their boxes').
 //! That is the rule of the all-pairs loop ([`brute_force_pairs`], kept as the
 //! reference for tests and benchmarks), found here by sweep and prune in
 //! O(B log B + pairs) instead of O(B²):
@@ -23,6 +29,7 @@
 //! order whichever broad phase found them.
 
 use crate::dynamics::Body;
+use crate::geometry::Shape;
 use crate::math::Vec3;
 
 /// The margin of a pair: `base + h·(reach_i + reach_j)` when velocity margins
@@ -62,35 +69,67 @@ pub fn reach(b: &Body, v: Vec3, w: Vec3) -> f64 {
     v.norm() + if wn > 0.0 { wn * r } else { 0.0 }
 }
 
-/// Whether the pair passes the bounding-sphere test (the rule of the module docs).
+/// What the pair test reads of a body: its centre, bounding radius (∞ for a
+/// plane) and the half widths of its world-aligned bounding box.
+#[derive(Clone, Copy, Debug)]
+struct Bound {
+    centre: Vec3,
+    radius: f64,
+    half: [f64; 3],
+}
+
+impl Bound {
+    fn of(b: &Body) -> Bound {
+        let radius = b.shape.bounding_radius();
+        let half = match &b.shape {
+            // e_k = Σ_j |R_kj| h_j, widened by a round-off's worth: a bound, never short.
+            Shape::Box(x) => {
+                let (r, h) = (b.rotation(), x.half_extents);
+                std::array::from_fn(|k| {
+                    let e = r.row(k).abs().dot(h);
+                    (e + 1e-12 * radius).min(radius)
+                })
+            }
+            _ => [radius; 3],
+        };
+        Bound { centre: b.position, radius, half }
+    }
+}
+
+/// Whether the pair passes the tests of the module docs (spheres, then boxes).
 #[inline]
-fn near(bi: &Body, bj: &Body, margin: f64) -> bool {
-    let (ri, rj) = (bi.shape.bounding_radius(), bj.shape.bounding_radius());
-    !(ri.is_finite() && rj.is_finite() && (bi.position - bj.position).norm() > ri + rj + margin)
+fn near(bi: &Bound, bj: &Bound, margin: f64) -> bool {
+    if !(bi.radius.is_finite() && bj.radius.is_finite()) {
+        return true;
+    }
+    let d = (bi.centre - bj.centre).to_array();
+    // Written as "not farther": a NaN keeps the pair (the narrow phase decides).
+    !((bi.centre - bj.centre).norm() > bi.radius + bj.radius + margin
+        || (0..3).any(|k| d[k].abs() > bi.half[k] + bj.half[k] + margin))
 }
 
 /// The reference: every pair `i < j` tested, in that order.
 pub fn brute_force_pairs(bodies: &[Body], margin: &PairMargin<'_>, out: &mut Vec<(usize, usize)>) {
     out.clear();
+    let bounds: Vec<Bound> = bodies.iter().map(Bound::of).collect();
     for i in 0..bodies.len() {
         for j in (i + 1)..bodies.len() {
-            let (bi, bj) = (&bodies[i], &bodies[j]);
-            if !(bi.is_static && bj.is_static) && near(bi, bj, margin.of(i, j)) {
+            if !(bodies[i].is_static && bodies[j].is_static) && near(&bounds[i], &bounds[j], margin.of(i, j)) {
                 out.push((i, j));
             }
         }
     }
 }
 
-/// A bounded body's box: `[lo, hi]` along the sweep axis, and a cube of half
-/// width `ext` about its centre (read in sequence by the sweep: no lookup
-/// into the bodies before the boxes overlap).
+/// A bounded body's box: `[lo, hi]` along the sweep axis, and half widths
+/// `ext` about its centre (read in sequence by the sweep: no lookup into the
+/// bodies before the boxes overlap).
 #[derive(Clone, Copy, Debug)]
 struct Span {
     lo: f64,
     hi: f64,
     centre: [f64; 3],
-    ext: f64,
+    ext: [f64; 3],
     body: usize,
     is_static: bool,
 }
@@ -99,10 +138,9 @@ impl Span {
     /// Whether the boxes overlap on every axis.
     #[inline]
     fn overlaps(&self, o: &Span) -> bool {
-        let e = self.ext + o.ext;
-        let (c, d) = (&self.centre, &o.centre);
+        let (c, d, e, f) = (&self.centre, &o.centre, &self.ext, &o.ext);
         // Non-short-circuit `&`: one hard-to-predict branch instead of three.
-        ((c[0] - d[0]).abs() <= e) & ((c[1] - d[1]).abs() <= e) & ((c[2] - d[2]).abs() <= e)
+        ((c[0] - d[0]).abs() <= e[0] + f[0]) & ((c[1] - d[1]).abs() <= e[1] + f[1]) & ((c[2] - d[2]).abs() <= e[2] + f[2])
     }
 }
 
@@ -111,6 +149,13 @@ impl Span {
 pub struct BroadPhase {
     /// Every bounded body's box, sorted along the sweep axis.
     spans: Vec<Span>,
+    /// Every body's [`Bound`] (the exact test's data).
+    bounds: Vec<Bound>,
+    /// The bodies in the order of the last sweep, and its axis: bodies move
+    /// little in a step, so this step's spans, laid out in that order, are
+    /// nearly sorted and an insertion sort finishes them in O(B + swaps).
+    order: Vec<usize>,
+    axis: usize,
     /// Bodies with an unbounded shape.
     unbounded: Vec<usize>,
     pairs: Vec<(usize, usize)>,
@@ -130,22 +175,39 @@ impl BroadPhase {
     pub fn find(&mut self, bodies: &[Body], margin: &PairMargin<'_>) -> &[(usize, usize)] {
         self.pairs.clear();
         self.unbounded.clear();
-        let axis = sweep_axis(bodies);
+        let axis = sweep_axis(bodies, self.axis);
+        let reuse = axis == self.axis && self.order.len() == bodies.len();
+        if !reuse {
+            self.order.clear();
+            self.order.extend(0..bodies.len());
+        }
+        self.axis = axis;
         self.spans.clear();
-        for (k, b) in bodies.iter().enumerate() {
-            let r = b.shape.bounding_radius();
-            if !r.is_finite() {
+        self.bounds.clear();
+        self.bounds.extend(bodies.iter().map(Bound::of));
+        for &k in &self.order {
+            let (b, bound) = (&bodies[k], &self.bounds[k]);
+            if !bound.radius.is_finite() {
                 self.unbounded.push(k);
                 continue;
             }
             let centre = b.position.to_array();
             // Round-off slack: the exact test decides, the boxes must only not miss.
-            let ext = r + margin.half(k);
-            let ext = ext + 1e-9 * (ext + centre[0].abs() + centre[1].abs() + centre[2].abs());
-            let (lo, hi) = (centre[axis] - ext, centre[axis] + ext);
+            let slack = 1e-9 * (bound.radius + margin.half(k) + centre[0].abs() + centre[1].abs() + centre[2].abs());
+            let ext: [f64; 3] = std::array::from_fn(|a| bound.half[a] + margin.half(k) + slack);
+            let (lo, hi) = (centre[axis] - ext[axis], centre[axis] + ext[axis]);
             self.spans.push(Span { lo, hi, centre, ext, body: k, is_static: b.is_static });
         }
-        self.spans.sort_unstable_by(|a, b| a.lo.total_cmp(&b.lo).then(a.body.cmp(&b.body)));
+        // (lo, body) is a total order: the sorted spans do not depend on the start order.
+        let order = |a: &Span, b: &Span| a.lo.total_cmp(&b.lo).then(a.body.cmp(&b.body));
+        if reuse {
+            insertion_sort(&mut self.spans, |a, b| order(a, b).is_lt());
+        } else {
+            self.spans.sort_unstable_by(order);
+        }
+        self.order.clear();
+        self.order.extend(self.spans.iter().map(|s| s.body));
+        self.order.extend(&self.unbounded);
         for (a, sa) in self.spans.iter().enumerate() {
             for sb in &self.spans[a + 1..] {
                 if sb.lo > sa.hi {
@@ -155,7 +217,7 @@ impl BroadPhase {
                     continue;
                 }
                 let (i, j) = (sa.body.min(sb.body), sa.body.max(sb.body));
-                if near(&bodies[i], &bodies[j], margin.of(i, j)) {
+                if near(&self.bounds[i], &self.bounds[j], margin.of(i, j)) {
                     self.pairs.push((i, j));
                 }
             }
@@ -174,8 +236,25 @@ impl BroadPhase {
     }
 }
 
-/// The axis (0, 1, 2) along which the centres of the bounded bodies spread most.
-fn sweep_axis(bodies: &[Body]) -> usize {
+/// Sorts `v` by `before` (a strict total order), moving each element left past
+/// the ones it precedes: linear on a nearly sorted `v`.
+fn insertion_sort<T: Copy>(v: &mut [T], before: impl Fn(&T, &T) -> bool) {
+    for i in 1..v.len() {
+        let x = v[i];
+        let mut j = i;
+        while j > 0 && before(&x, &v[j - 1]) {
+            v[j] = v[j - 1];
+            j -= 1;
+        }
+        v[j] = x;
+    }
+}
+
+/// The axis (0, 1, 2) along which the centres of the bounded bodies spread
+/// most — `last` (the previous sweep's) unless another spreads 10 % more, so
+/// that a grid whose x and y spreads tie does not switch axes (and lose the
+/// previous order) on round-off from step to step.
+fn sweep_axis(bodies: &[Body], last: usize) -> usize {
     let (mut n, mut sum, mut sq) = (0.0, [0.0; 3], [0.0; 3]);
     for b in bodies.iter().filter(|b| b.shape.bounding_radius().is_finite()) {
         n += 1.0;
@@ -188,5 +267,10 @@ fn sweep_axis(bodies: &[Body]) -> usize {
         return 0;
     }
     let var = |a: usize| sq[a] / n - (sum[a] / n) * (sum[a] / n);
-    (0..3).fold(0, |best, a| if var(a) > var(best) { a } else { best })
+    let best = (0..3).fold(0, |best, a| if var(a) > var(best) { a } else { best });
+    if last < 3 && var(best) <= 1.1 * var(last) {
+        last
+    } else {
+        best
+    }
 }

@@ -1,5 +1,5 @@
 //! Issue 13 item 2: sweep and prune finds exactly the pairs of the all-pairs
-//! bounding-sphere loop, in the same order, on random scenes (boxes, spheres,
+//! loop (bounding spheres and boxes), in the same order, on random scenes (boxes, spheres,
 //! static boxes, planes, fast bodies with velocity margins).
 
 use sim::broad_phase::{brute_force_pairs, reach, BroadPhase, PairMargin};
@@ -102,4 +102,55 @@ fn pairs_at_the_margin_edge() {
         assert_eq!(w.broad_pairs(), expect, "gap {gap}");
         assert_eq!(w.broad_pairs(), &reference(&w)[..]);
     }
+}
+
+#[test]
+fn the_broad_phase_drops_no_pair_the_narrow_phase_would_touch() {
+    // The box test (world-aligned boxes of rotated shapes) only drops pairs
+    // farther apart than their margin: every pair of bounded bodies to which
+    // the narrow phase itself gives a contact (called on all pairs here) is
+    // among the broad phase's pairs; and the box test does drop pairs.
+    use sim::geometry::{box_box, sphere_box, sphere_sphere, Placement, Shape};
+    let (mut touching, mut dropped) = (0, 0);
+    for seed in 0..40u64 {
+        let mut w = random_world(1000 + seed, 80, 3.0, seed % 2 == 0);
+        w.forces_stage().unwrap();
+        w.detect();
+        let pairs = reference(&w);
+        let (v, o) = w.free_velocities();
+        let r: Vec<f64> = w.bodies().iter().enumerate().map(|(k, b)| reach(b, v[k], o[k])).collect();
+        let p = w.params();
+        let margin = PairMargin { base: p.margin, h: p.dt, reach: p.velocity_margin.then_some(&r[..]) };
+        let bodies = w.bodies();
+        let mut out = Vec::new();
+        for i in 0..bodies.len() {
+            for j in i + 1..bodies.len() {
+                let (a, b) = (&bodies[i], &bodies[j]);
+                if a.is_static() && b.is_static() {
+                    continue;
+                }
+                let m = margin.of(i, j);
+                out.clear();
+                let (pa, pb) = (Placement { center: a.position(), rotation: a.rotation() }, Placement { center: b.position(), rotation: b.rotation() });
+                match (a.shape(), b.shape()) {
+                    (Shape::Box(x), Shape::Box(y)) => box_box(x, &pa, y, &pb, m, &mut out),
+                    (Shape::Sphere { radius }, Shape::Box(x)) => sphere_box(a.position(), *radius, x, &pb, m, &mut out),
+                    (Shape::Box(x), Shape::Sphere { radius }) => sphere_box(b.position(), *radius, x, &pa, m, &mut out),
+                    (Shape::Sphere { radius: ra }, Shape::Sphere { radius: rb }) => {
+                        sphere_sphere(a.position(), *ra, b.position(), *rb, m, &mut out)
+                    }
+                    _ => continue,
+                }
+                let kept = pairs.binary_search(&(i, j)).is_ok();
+                if !out.is_empty() {
+                    touching += 1;
+                    assert!(kept, "seed {seed}: pair ({i}, {j}) has {} contacts but no broad-phase pair", out.len());
+                }
+                let sphere_near = (a.position() - b.position()).norm() <= a.shape().bounding_radius() + b.shape().bounding_radius() + m;
+                dropped += usize::from(sphere_near && !kept);
+            }
+        }
+    }
+    assert!(touching > 500, "only {touching} touching pairs");
+    assert!(dropped > 100, "the box test dropped only {dropped} pairs");
 }

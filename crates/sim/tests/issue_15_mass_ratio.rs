@@ -1,21 +1,34 @@
 //! Issue 15, item 3: a heavy body resting or sliding on a light one (box–box
-//! and sphere–box), and the energy audit of every step. At 1e6 kg on 1 kg
-//! every contact LCP is solved but one (box–box sliding), and sphere–box up to 1e8; box–box at 1e7 and
-//! 1e8 still fails on many steps (resting: 263 and 992 of 2,000; sliding: 33
-//! and 191; sphere–box: none — `mass_ratio_failures`, ignored, prints them),
-//! and the failed-solve policy keeps those steps from adding energy. (Exact
-//! Lemke solves those LCPs, n = 80, in ~0.8 s each; enabled there, a 2,000-step
-//! run took over 14 minutes, so its rung stays limited to n ≤ 48.)
+//! and sphere–box), and the energy audit of every step. Every contact LCP of
+//! 2,000 steps is solved, box–box and sphere–box, resting and sliding, at
+//! 1e6, 1e7 and 1e8 kg on 1 kg (`mass_ratio_failures`, ignored, prints the
+//! figures; the CI test below runs fewer steps of the box–box cases at 1e7
+//! and 1e8). Box–box at 1e7 and 1e8 used to fail on many steps (resting: 100
+//! and 944 of 2,000; sliding: 45 and 184; at 1e6 sliding 1, at 1e8
+//! sphere–box sliding 1): the bases on Lemke's path mix the light box's
+//! mobility with the heavy one's (1e-7–1e-8 of it), at cond 1e10–1e17, where
+//! no `f64` rung of the ladder resolves ties and values. The ladder's
+//! double-double rung (Lemke in ~106-bit arithmetic) solves them in
+//! 40–160 pivots, a few milliseconds at n = 80. The failed-solve policy
+//! (a failed step adds no energy) is tested with the ladder switched off.
+//! Open: at 1e8 box–box resting the energy still rises by up to 6.3e-5 of
+//! E₀ (see the CI test).
 
 mod common;
 use common::G;
+use sim::lcp::{LemkeOptions, Method};
 use sim::math::Vec3;
 use sim::{World, WorldParams};
 
 /// A 1 m box (or a sphere of radius 0.5 m) of `heavy` kg on a 0.1 m, 1 kg box
 /// on the ground (μ = 0.5 everywhere), the heavy body moving at `slide` m/s along x.
 fn heavy_on_light(heavy: f64, sphere: bool, slide: f64) -> World {
-    let mut w = World::new(WorldParams::default()).unwrap();
+    heavy_on_light_with(WorldParams::default(), heavy, sphere, slide)
+}
+
+/// [`heavy_on_light`] with the world's parameters given.
+fn heavy_on_light_with(params: WorldParams, heavy: f64, sphere: bool, slide: f64) -> World {
+    let mut w = World::new(params).unwrap();
     w.add_ground(0.5).unwrap();
     w.add_box(Vec3::new(0.05, 0.05, 0.05), 1.0, Vec3::new(0.0, 0.0, 0.05), 0.5).unwrap();
     let top = if sphere {
@@ -46,26 +59,28 @@ fn run(w: &mut World, steps: usize) -> (usize, f64, f64) {
 
 #[test]
 fn issue_15_heavy_on_light_every_lcp_is_solved() {
-    // Box–box and sphere–box at 1e6, sphere–box at 1e7 (resting, sliding) and
-    // 1e8 (resting): every LCP of 2,000 steps solved (before issue 15's
-    // acceptance rule and failed-step policy: up to 175 failures at 1e6).
-    let mut cases = vec![];
-    for sphere in [false, true] {
-        cases.extend([(1e6, sphere, 0.0), (1e6, sphere, 0.5)]);
-    }
-    cases.extend([(1e7, true, 0.0), (1e7, true, 0.5), (1e8, true, 0.0)]);
-    for (heavy, sphere, slide) in cases {
-        let mut w = heavy_on_light(heavy, sphere, slide);
-        let (failed, rise, _) = run(&mut w, 2000);
-        // Box–box sliding at 1e6: one LCP of 2,000 (step 1878, n = 80) ends
-        // `numerical` since the warm-start refinement (stack) and the ladder's
-        // restarts (rel) were merged: each branch alone solved all 2,000, the
-        // merged trajectory meets a harder LCP that every floating-point rung
-        // fails (cold too) — the box–box class of the ignored test below.
-        let allowed = usize::from(!sphere && heavy == 1e6 && slide > 0.0);
-        assert!(failed <= allowed, "{heavy:e} kg, sphere {sphere}, slide {slide}: {failed} failed LCPs");
-        // Measured: at most 2.2e-10 of E₀.
-        assert!(rise <= 1e-8, "{heavy:e} kg, sphere {sphere}, slide {slide}: energy rose by {rise:e} of E₀");
+    // Box–box and sphere–box, resting and sliding, at 1e6, 1e7 and 1e8 kg:
+    // every LCP solved (2,000 steps; box–box at 1e7 and 1e8 for 500, to keep
+    // this test near 40 s — the 2,000-step figures are
+    // `mass_ratio_failures`'s). Before issue 15's acceptance rule and
+    // failed-step policy: up to 175 failures at 1e6; before the double-double
+    // rung, box–box 1e7 and 1e8 failed on 45–944 steps of 2,000.
+    for heavy in [1e6, 1e7, 1e8] {
+        for sphere in [false, true] {
+            for slide in [0.0, 0.5] {
+                let steps = if !sphere && heavy > 1e6 { 500 } else { 2000 };
+                let mut w = heavy_on_light(heavy, sphere, slide);
+                let (failed, rise, _) = run(&mut w, steps);
+                assert_eq!(failed, 0, "{heavy:e} kg, sphere {sphere}, slide {slide}: {failed} failed LCPs");
+                // Measured over 2,000 steps: at most 1.3e-10 of E₀, but for
+                // box–box resting at 1e8: 6.3e-5 (4.1e-5 by step 200), from
+                // solved steps (the warm-started and the laddered alike) whose
+                // answers, within the acceptance rule's 1e-9 of rows scaled by
+                // 1e8-kg impulses, leave the boxes rising at a few mm/s: open.
+                let bound = if !sphere && heavy == 1e8 && slide == 0.0 { 1e-4 } else { 1e-8 };
+                assert!(rise <= bound, "{heavy:e} kg, sphere {sphere}, slide {slide}: energy rose by {rise:e} of E₀");
+            }
+        }
     }
 }
 
@@ -75,22 +90,27 @@ fn issue_15_failed_steps_add_no_energy_box_on_box() {
     // heavy body sank into the light one and a later solve threw it up
     // (5.9 MJ → 14 MJ at 1e6; 1.2 GJ gained at 1e8 sphere–box). Now a failed
     // step never has more energy than the step with no contact impulse, which
-    // loses ½ m h² g²: it creates none. (Measured over 2,000 steps: the whole
-    // scene's energy rises by at most 1.1e-6 of E₀ at 1e7 and 2.9e-5 at 1e8
-    // box–box — solved steps pushing out what failed steps let sink.)
+    // loses ½ m h² g²: it creates none. The full ladder now solves every one
+    // of these LCPs, so the failures come from Lemke's first rung alone
+    // (`fallback: false`).
+    let first_rung = LemkeOptions { fallback: false, ..Default::default() };
+    let params = WorldParams { method: Method::Lemke(first_rung), ..WorldParams::default() };
     for heavy in [1e7, 1e8] {
         for sphere in [false] {
-            let mut w = heavy_on_light(heavy, sphere, 0.0);
+            let mut w = heavy_on_light_with(params.clone(), heavy, sphere, 0.0);
             let e0 = w.energy().abs();
             let mut failed = 0;
-            // (Up to 2,000 steps until ten failed ones: since issue 13's body-space
-            // warm start the first failure at 1e7 comes after step 200.)
+            // (Up to 2,000 steps until ten failed ones.)
             for _ in 0..2000 {
                 let r = w.step().unwrap();
                 if !r.ok() {
                     failed += 1;
                     let c = r.energy.created();
-                    assert!(c <= 1e-12 * e0, "{heavy:e} kg, sphere {sphere}, step {}: a failed step created {c:e} J", r.step);
+                    assert!(
+                        c <= 1e-12 * e0,
+                        "{heavy:e} kg, sphere {sphere}, step {}: a failed step created {c:e} J",
+                        r.step
+                    );
                 }
                 if failed == 10 {
                     break;
@@ -133,3 +153,53 @@ fn mass_ratio_failures() {
         }
     }
 }
+
+/// Writes `.lcpsparse` file `path` (layout: `crates/lcp/tests/common/sparse.rs`).
+fn write_lcpsparse(path: &str, m: &[f64], q: &[f64], basis: &[bool]) {
+    let n = q.len();
+    let nz: Vec<usize> = (0..n * n).filter(|&k| m[k] != 0.0).collect();
+    let mut b = b"LCPSPARSE1".to_vec();
+    b.extend((n as u64).to_le_bytes());
+    b.extend((nz.len() as u64).to_le_bytes());
+    nz.iter().for_each(|&k| b.extend((k as u32).to_le_bytes()));
+    nz.iter().for_each(|&k| b.extend(m[k].to_le_bytes()));
+    q.iter().for_each(|v| b.extend(v.to_le_bytes()));
+    b.extend(basis.iter().map(|&v| v as u8));
+    std::fs::write(path, b).unwrap();
+}
+
+#[test]
+#[ignore]
+fn dump_failing_lcps() {
+    // How tests/data/repros/heavy1e6_slide_step1876.lcpsparse was made (before
+    // the double-double rung; MAX=4 HEAVY=1e6 SLIDE=0.5):
+    // HEAVY=1e7 SPHERE=0 SLIDE=0 DUMP=/tmp/dir cargo test --release -p lcpsim-sim
+    //   --test issue_15_mass_ratio dump_failing_lcps -- --ignored --nocapture
+    // Each failing LCP is written as DUMP/step{N}.lcpsparse with the previous
+    // LCP's support (z > w) as its basis when the sizes agree.
+    let env = |k: &str, d: &str| std::env::var(k).unwrap_or_else(|_| d.to_string());
+    let heavy: f64 = env("HEAVY", "1e7").parse().unwrap();
+    let sphere = env("SPHERE", "0") == "1";
+    let slide: f64 = env("SLIDE", "0").parse().unwrap();
+    let (dir, max): (String, usize) = (env("DUMP", "/tmp/heavy_dumps"), env("MAX", "5").parse().unwrap());
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut w = heavy_on_light(heavy, sphere, slide);
+    let prev = std::sync::Arc::new(std::sync::Mutex::new((Vec::<bool>::new(), 0usize)));
+    let p2 = prev.clone();
+    let dir2 = dir.clone();
+    w.set_sink(Box::new(move |c: &sim::CapturedLcp<'_>| {
+        let mut g = p2.lock().unwrap();
+        let p = sim::lcp::Lcp::new(c.m.to_vec(), c.q.to_vec()).unwrap();
+        let ok = c.status == sim::lcp::Status::Solved && sim::lcp::accept::accepts(&p, c.z, c.w, 1e-9);
+        if !ok && g.1 < max {
+            let basis = if g.0.len() == c.n() { g.0.clone() } else { vec![false; c.n()] };
+            write_lcpsparse(&format!("{dir2}/step{}.lcpsparse", c.step), c.m, c.q, &basis);
+            println!("step {} n {} status {:?} pivots {}", c.step, c.n(), c.status, c.pivots);
+            g.1 += 1;
+        }
+        g.0 = c.z.iter().zip(c.w).map(|(z, w)| z > w).collect();
+    }));
+    let (failed, _, _) = run(&mut w, 2000);
+    println!("{failed} failed");
+}
+

@@ -4,6 +4,8 @@
 //! - [`ratio`]: the lexicographic and the classic (seed) ratio tests.
 //! - [`run`]: the pivoting loop with its cycle guard and pivot limit.
 //! - [`refine`]: re-solving the final complementary basis.
+//! - [`extended`], [`dd_solve`]: Lemke in double-double arithmetic, the rung
+//!   for bases beyond `f64` (a heavy body on a light one).
 //! - [`exact`]: Lemke in exact integer arithmetic, the ladder's last rung.
 //! - [`frame`]: a rung's working (equilibrated) problem and its acceptance test.
 //! - [`warm`], [`subbasis`]: the warm start's basis, made regular when the
@@ -17,7 +19,9 @@
 //! absolute tolerances and trusts its own values, as the seed note's did.
 
 mod basis;
+mod dd_solve;
 mod exact;
+mod extended;
 mod frame;
 mod options;
 mod ratio;
@@ -402,7 +406,8 @@ fn restart_from_ends(
 }
 
 /// The ladder's last rungs on its closest failure: a Newton–FB polish, then
-/// exact Lemke; else the first answer within the rule, else the failure.
+/// Lemke in double-double (when nothing was accepted), then exact Lemke;
+/// else the first answer within the rule, else the failure.
 fn finish(lcp: &Lcp, o: &LemkeOptions, equilibrate: bool, climb: Climb, ws: &mut Workspace) -> Solution {
     let pivots = climb.pivots;
     let mut sol = climb.best.expect("the ladder has at least one rung");
@@ -423,13 +428,54 @@ fn finish(lcp: &Lcp, o: &LemkeOptions, equilibrate: bool, climb: Climb, ws: &mut
             sol = Solution { status: Status::Solved, pivots, basis: Some(basis), accepted, ..polished };
         }
     }
+    // Nothing accepted so far: the double-double rung (answers the `f64`
+    // rungs accepted stay as they were).
+    if o.fallback
+        && !sol.ok()
+        && climb.within.is_none()
+        && sol.status != Status::MaxPivots
+        && lcp.n() <= extended::MAX_N
+    {
+        let budget = climb.limit.saturating_sub(sol.pivots);
+        sol = solve_extended(lcp, o, equilibrate, sol, budget, ws);
+    }
     if o.fallback && !tight(&sol) && sol.status != Status::MaxPivots && lcp.n() <= exact::MAX_N {
-        sol = solve_exact(lcp, o, sol, climb.limit.saturating_sub(pivots));
+        let budget = climb.limit.saturating_sub(sol.pivots);
+        sol = solve_exact(lcp, o, sol, budget);
     }
     match climb.within {
         Some(w) if !sol.ok() => Solution { pivots: sol.pivots, ..w },
         _ => sol,
     }
+}
+
+/// Double-double operations [`extended::solve`] may spend: ~0.1 s at the
+/// ~5 ns an operation that n = 80 takes here (107 pivots, at most 1.4e6
+/// operations, 6.7 ms: `extended::tests::timing`).
+const EXTENDED_OPS: usize = 20_000_000;
+
+/// The double-double rung (see [`extended`]): Lemke from scratch on the
+/// working problem of the first rung. Its answer replaces `best` if the
+/// acceptance rule accepts it.
+fn solve_extended(
+    lcp: &Lcp,
+    o: &LemkeOptions,
+    equilibrate: bool,
+    best: Solution,
+    budget: usize,
+    ws: &mut Workspace,
+) -> Solution {
+    let frame = &mut ws.frame;
+    frame.reset(lcp, equilibrate, o.accept_tol);
+    let pivots = best.pivots;
+    let (end, taken) = extended::solve(&frame.work, budget, EXTENDED_OPS);
+    if let extended::ExtEnd::Solved(z, mask) = end {
+        let sol = frame.solution(lcp, &z, Status::Solved, pivots + taken);
+        if sol.accepted {
+            return Solution { basis: Some(mask), ..sol };
+        }
+    }
+    Solution { pivots: pivots + taken, ..best }
 }
 
 /// The last rung: Lemke in exact arithmetic (see [`exact`]). Its answer,

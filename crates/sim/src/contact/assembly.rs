@@ -85,6 +85,11 @@ pub struct ContactLcp {
     minv_jt: Vec<[Row6; 3]>,
     /// Dynamic body of each `(contact, side)`, `None` for a static body.
     side_body: Vec<Option<usize>>,
+    /// The same bodies numbered within the island (their rank among its
+    /// dynamic bodies): per-body scratch of one island is sized by the island,
+    /// not by the world (100 islands of a 1,000-body world each zeroed 1,000
+    /// entries per product).
+    side_slot: Vec<Option<usize>>,
     mu: Vec<f64>,
     /// Row-major `M` (scaled by `s`) and `q`.
     m: Vec<f64>,
@@ -171,6 +176,13 @@ impl ContactLcp {
     #[inline]
     pub fn side_body(&self, c: usize, side: usize) -> Option<usize> {
         self.side_body[2 * c + side]
+    }
+
+    /// The island's own number (`0..dynamic_body_count()`) of the body on
+    /// `side` of contact `c`, `None` if static.
+    #[inline]
+    pub fn side_slot(&self, c: usize, side: usize) -> Option<usize> {
+        self.side_slot[2 * c + side]
     }
 
     /// Rows `[n, t1, t2]` of `J` and of `M_b⁻¹ Jᵀ` on `side` of contact `c`.
@@ -278,6 +290,9 @@ impl ContactLcp {
         self.seen.sort_unstable();
         self.seen.dedup();
         self.dynamic_bodies = self.seen.len();
+        self.side_slot.clear();
+        let seen = &self.seen;
+        self.side_slot.extend(self.side_body.iter().map(|b| b.map(|b| seen.partition_point(|&x| x < b))));
 
         // q = [J_n v* + stabilization; J_d v*; 0].
         self.q.clear();
@@ -313,11 +328,11 @@ impl ContactLcp {
     pub fn assemble_matrix(&mut self) {
         let lay = self.layout;
         let (nc, k, n, s) = (lay.nc, lay.k, lay.n(), self.s);
-        let nb = self.bodies;
-        // Group (contact, side) by body: a counting sort over body indices.
+        let nb = self.dynamic_bodies;
+        // Group (contact, side) by body: a counting sort over the island's body slots.
         self.adj_start.clear();
         self.adj_start.resize(nb + 1, 0);
-        for b in self.side_body.iter().flatten() {
+        for b in self.side_slot.iter().flatten() {
             self.adj_start[b + 1] += 1;
         }
         for b in 0..nb {
@@ -327,7 +342,7 @@ impl ContactLcp {
         self.adj.resize(self.adj_start[nb], (0, 0));
         self.adj_cursor.clear();
         self.adj_cursor.extend_from_slice(&self.adj_start[..nb]);
-        for (idx, sb) in self.side_body.iter().enumerate() {
+        for (idx, sb) in self.side_slot.iter().enumerate() {
             if let Some(b) = *sb {
                 self.adj[self.adj_cursor[b]] = (idx / 2, idx % 2);
                 self.adj_cursor[b] += 1;
@@ -466,10 +481,20 @@ impl ContactLcp {
     /// Adds `M_b⁻¹ Jᵀ z` (the velocity change of the impulses `fn`, `fd` in
     /// the physical `z`) to the per-body `dv`, `dw`.
     pub fn apply_impulses(&self, z: &[f64], dv: &mut [Vec3], dw: &mut [Vec3]) {
+        self.add_impulses(&self.side_body, z, dv, dw);
+    }
+
+    /// As [`ContactLcp::apply_impulses`], into per-body arrays of the island
+    /// (`dynamic_body_count()` long, indexed by [`ContactLcp::side_slot`]).
+    pub fn apply_impulses_local(&self, z: &[f64], dv: &mut [Vec3], dw: &mut [Vec3]) {
+        self.add_impulses(&self.side_slot, z, dv, dw);
+    }
+
+    fn add_impulses(&self, index: &[Option<usize>], z: &[f64], dv: &mut [Vec3], dw: &mut [Vec3]) {
         for c in 0..self.layout.nc {
             let imp = self.frame_impulse(c, z);
             for side in 0..2 {
-                let Some(b) = self.side_body[2 * c + side] else { continue };
+                let Some(b) = index[2 * c + side] else { continue };
                 for (w, &zi) in self.minv_jt[2 * c + side].iter().zip(&imp) {
                     dv[b] += Vec3::new(w[0], w[1], w[2]) * zi;
                     dw[b] += Vec3::new(w[3], w[4], w[5]) * zi;

@@ -39,7 +39,7 @@ struct IndexRows {
 pub struct BodySpaceLcp<'a> {
     lcp: &'a ContactLcp,
     s: f64,
-    /// Per-body velocity change `Δv`, `Δω` of a product.
+    /// Per-body velocity change `Δv`, `Δω` of a product (island body slots).
     dv: RefCell<(Vec<Vec3>, Vec<Vec3>)>,
     /// Rows and columns of a block, by index (reused across calls).
     sides: RefCell<(Vec<IndexRows>, Vec<IndexRows>)>,
@@ -64,7 +64,7 @@ impl<'a> BodySpaceLcp<'a> {
 
     /// The same rows at cone scale `s`.
     pub fn at_scale(lcp: &'a ContactLcp, s: f64) -> Self {
-        let nb = lcp.body_count();
+        let nb = lcp.dynamic_body_count();
         BodySpaceLcp {
             lcp,
             s,
@@ -251,13 +251,13 @@ impl LcpOperator for BodySpaceLcp<'_> {
         let (dv, dw) = &mut *guard;
         dv.fill(Vec3::ZERO);
         dw.fill(Vec3::ZERO);
-        self.lcp.apply_impulses(z, dv, dw);
+        self.lcp.apply_impulses_local(z, dv, dw);
         let q = self.lcp.q();
         for c in 0..nc {
             // J Δv along n, t1, t2.
             let mut jv = [0.0; 3];
             for side in 0..2 {
-                let Some(b) = self.lcp.side_body(c, side) else { continue };
+                let Some(b) = self.lcp.side_slot(c, side) else { continue };
                 let (jac, _) = self.lcp.side_rows(c, side);
                 let vel = row(dv[b], dw[b]);
                 for (v, r) in jv.iter_mut().zip(jac) {

@@ -1,5 +1,5 @@
 //! Stage `detect`: the broad phase (`broad_phase`: sweep and prune on
-//! bounding spheres) gives the pairs, then the narrow-phase file of each
+//! bounding spheres and boxes) gives the pairs, then the narrow-phase file of each
 //! pair's shapes gives its contacts.
 //!
 //! Each contact gets its bodies in the order of the pair function (A = the
