@@ -109,3 +109,63 @@ fn the_kept_factorization_refines_to_answers_that_solve_the_new_problem() {
     // Small changes reuse the factors; a 30 % change needs fresh ones.
     assert!(reused >= 40 && fresh > 0, "reused {reused}, fresh {fresh}");
 }
+
+/// A deterministic pseudo-random value in [−1, 1) from `(seed, k)`.
+fn uniform(seed: u64, k: u64) -> f64 {
+    let mut x = (seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ k.wrapping_mul(0xD1B5_4A32_D192_ED03)) | 1;
+    for _ in 0..3 {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+    }
+    2.0 * ((x >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+}
+
+#[test]
+fn answers_are_accepted_by_the_componentwise_rule_on_every_row() {
+    // Rows of very different scales: the rule judges each on its own scale,
+    // not against ‖q‖∞ (a normwise bound would pass a 1e-6 row that is 100 % wrong).
+    let mut ws = SupportWorkspace::default();
+    let mut answered = 0;
+    for seed in 0..40 {
+        let base = p_matrix_lcp(10, seed);
+        let r: Vec<f64> = (0..10).map(|i| if i % 3 == 0 { 1e-6 } else { 1e3 }).collect();
+        let m: Vec<f64> = base.m().iter().enumerate().map(|(e, v)| v * r[e / 10]).collect();
+        let q: Vec<f64> = base.q().iter().zip(&r).map(|(v, s)| v * s).collect();
+        let lcp = Lcp::new(m, q).unwrap();
+        let guess: Vec<bool> = (0..10).map(|j| (j + seed as usize) % 2 == 0).collect();
+        if let Some(ans) = solve_on_basis(&lcp, &guess, 1e-9, None, &mut ws) {
+            let z = &ans.solution.z;
+            assert!(lcp::accept::accepts(&lcp, z, &lcp.w_of(z), 1e-9), "seed {seed}");
+            answered += 1;
+        }
+    }
+    assert!(answered > 0);
+}
+
+#[test]
+fn exchanges_on_rank_deficient_problems_end_on_a_solution_or_refuse() {
+    // M = B Bᵀ (positive semidefinite, rank 3 of 6: dependent columns, as
+    // statically indeterminate contact makes them), random q; from wrong
+    // guesses the exchanges end on one of the solutions the enumeration
+    // finds, accepted by the rule, or give up — never on a non-solution.
+    let (n, rank) = (6, 3);
+    let mut ws = SupportWorkspace::default();
+    let (mut solved, mut exchanged) = (0, 0);
+    for seed in 0..60u64 {
+        let b: Vec<f64> = (0..n * rank).map(|k| uniform(seed, k as u64)).collect();
+        let m: Vec<f64> = (0..n * n).map(|e| (0..rank).map(|t| b[(e / n) * rank + t] * b[(e % n) * rank + t]).sum()).collect();
+        let q: Vec<f64> = (0..n).map(|i| uniform(seed, 1000 + i as u64)).collect();
+        let lcp = Lcp::new(m, q).unwrap();
+        let solutions = lcp::enumerate::all_solutions(&lcp, 1e-9);
+        let guess: Vec<bool> = (0..n).map(|j| (j as u64 + seed) % 3 == 0).collect();
+        let Some(ans) = solve_on_basis(&lcp, &guess, 1e-9, None, &mut ws) else { continue };
+        let z = &ans.solution.z;
+        assert!(lcp::accept::accepts(&lcp, z, &lcp.w_of(z), 1e-9), "seed {seed}: {z:?}");
+        assert!(lcp::enumerate::is_solution(&lcp, z, 1e-9), "seed {seed}");
+        assert!(solutions.iter().any(|s| s.iter().zip(z).all(|(a, b)| (a - b).abs() <= 1e-8 * (1.0 + a.abs()))), "seed {seed}: {z:?} not among {solutions:?}");
+        solved += 1;
+        exchanged += usize::from(ans.solution.basis.as_deref() != Some(&guess[..]));
+    }
+    assert!(solved >= 20 && exchanged >= 10, "solved {solved}, with exchanges {exchanged}");
+}
