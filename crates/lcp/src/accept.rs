@@ -45,7 +45,7 @@ pub const ROUND_OFF: f64 = 1e-13;
 
 /// The violation of row `i`: `|w_i|` where `z_i > 0`, else `max(−w_i, 0)`.
 #[inline]
-pub(crate) fn violation(zi: f64, wi: f64) -> f64 {
+fn violation(zi: f64, wi: f64) -> f64 {
     if zi > 0.0 {
         wi.abs()
     } else {
@@ -67,7 +67,7 @@ fn row_scale(lcp: &Lcp, i: usize, z: &[f64], zsum: f64) -> (f64, f64) {
 }
 
 /// `η_i` of a row with violation `v` (finite), scale and floor.
-pub(crate) fn row_eta(v: f64, (scale, floor): (f64, f64)) -> f64 {
+fn row_eta(v: f64, (scale, floor): (f64, f64)) -> f64 {
     ratio((v - floor).max(0.0), scale)
 }
 

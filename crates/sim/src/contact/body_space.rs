@@ -43,17 +43,6 @@ pub struct BodySpaceLcp<'a> {
     dv: RefCell<(Vec<Vec3>, Vec<Vec3>)>,
     /// Rows and columns of a block, by index (reused across calls).
     sides: RefCell<(Vec<IndexRows>, Vec<IndexRows>)>,
-    /// Scratch of [`LcpOperator::row_abs`].
-    rows: RefCell<RowScratch>,
-}
-
-/// `(body, contact, side)` of every dynamic side, sorted by body (built on
-/// the first row read), and a row's `J·M_b⁻¹Jᵀ` against `[n, t1, t2]` per contact.
-#[derive(Default)]
-struct RowScratch {
-    by_body: Vec<(usize, usize, usize)>,
-    gram: Vec<[f64; 3]>,
-    touched: Vec<usize>,
 }
 
 impl<'a> BodySpaceLcp<'a> {
@@ -70,7 +59,6 @@ impl<'a> BodySpaceLcp<'a> {
             s,
             dv: RefCell::new((vec![Vec3::ZERO; nb], vec![Vec3::ZERO; nb])),
             sides: RefCell::default(),
-            rows: RefCell::default(),
         }
     }
 
@@ -116,24 +104,6 @@ impl BodySpaceLcp<'_> {
             };
             IndexRows { var, sides }
         }));
-    }
-}
-
-impl RowScratch {
-    /// Fills `by_body` for `lcp` if it is empty.
-    fn index(&mut self, lcp: &ContactLcp) {
-        if !self.by_body.is_empty() {
-            return;
-        }
-        for c in 0..lcp.nc() {
-            for side in 0..2 {
-                if let Some(b) = lcp.side_body(c, side) {
-                    self.by_body.push((b, c, side));
-                }
-            }
-        }
-        self.by_body.sort_unstable();
-        self.gram.resize(lcp.nc(), [0.0; 3]);
     }
 }
 
@@ -183,64 +153,6 @@ impl LcpOperator for BodySpaceLcp<'_> {
                 };
             }
         }
-    }
-
-    fn diag(&self, i: usize) -> f64 {
-        let var = self.var(i);
-        if let Var::Lambda(_) = var {
-            return 0.0;
-        }
-        (0..2).filter_map(|side| self.side_rows(contact(var), var, side)).map(|(_, j, m)| dot6(&j, &m)).sum()
-    }
-
-    fn row_abs(&self, i: usize, z: &[f64]) -> (f64, f64) {
-        let (lay, s, var) = (self.lcp.layout(), self.s, self.var(i));
-        let c = contact(var);
-        if let Var::Lambda(_) = var {
-            // s·μ at fn, −s at each fd of the same contact.
-            let mu = self.lcp.mu()[c];
-            let fd: f64 = z[lay.fd_of(c)].iter().sum();
-            return (s * mu * z[lay.fn_index(c)] + s * fd, (s * mu).max(if lay.k > 0 { s } else { 0.0 }));
-        }
-        let mut guard = self.rows.borrow_mut();
-        let sc = &mut *guard;
-        sc.index(self.lcp);
-        // The row against [n, t1, t2] of every contact sharing a body, summed over the shared bodies.
-        sc.touched.clear();
-        for side in 0..2 {
-            let Some((b, jrow, _)) = self.side_rows(c, var, side) else { continue };
-            let lo = sc.by_body.partition_point(|e| e.0 < b);
-            for e in lo..sc.by_body.len() {
-                let (b2, c2, side2) = sc.by_body[e];
-                if b2 != b {
-                    break;
-                }
-                let (_, minv) = self.lcp.side_rows(c2, side2);
-                let g = [dot6(&jrow, &minv[0]), dot6(&jrow, &minv[1]), dot6(&jrow, &minv[2])];
-                if !sc.touched.contains(&c2) {
-                    sc.touched.push(c2);
-                    sc.gram[c2] = [0.0; 3];
-                }
-                (0..3).for_each(|r| sc.gram[c2][r] += g[r]);
-            }
-        }
-        let (mut sum, mut max) = (0.0, 0.0f64);
-        let mut add = |m: f64, zj: f64| {
-            sum += m.abs() * zj;
-            max = max.max(m.abs());
-        };
-        for &c2 in &sc.touched {
-            let g = sc.gram[c2];
-            add(g[0], z[lay.fn_index(c2)]);
-            for (j, f) in lay.fd_of(c2).enumerate() {
-                let (cj, sj) = self.lcp.cos_sin(j);
-                add(cj * g[1] + sj * g[2], z[f]);
-            }
-        }
-        if let Var::Dir(..) = var {
-            add(s, z[lay.lambda_index(c)]);
-        }
-        (sum, max)
     }
 
     fn w_of(&self, z: &[f64], w: &mut [f64]) {
