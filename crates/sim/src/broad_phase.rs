@@ -102,10 +102,10 @@ fn near(bi: &Bound, bj: &Bound, margin: f64) -> bool {
     if !(bi.radius.is_finite() && bj.radius.is_finite()) {
         return true;
     }
-    let d = (bi.centre - bj.centre).to_array();
+    let d = bi.centre - bj.centre;
+    let axes = d.to_array();
     // Written as "not farther": a NaN keeps the pair (the narrow phase decides).
-    !((bi.centre - bj.centre).norm() > bi.radius + bj.radius + margin
-        || (0..3).any(|k| d[k].abs() > bi.half[k] + bj.half[k] + margin))
+    !(d.norm() > bi.radius + bj.radius + margin || (0..3).any(|k| axes[k].abs() > bi.half[k] + bj.half[k] + margin))
 }
 
 /// The reference: every pair `i < j` tested, in that order.
@@ -193,8 +193,9 @@ impl BroadPhase {
             }
             let centre = b.position.to_array();
             // Round-off slack: the exact test decides, the boxes must only not miss.
-            let slack = 1e-9 * (bound.radius + margin.half(k) + centre[0].abs() + centre[1].abs() + centre[2].abs());
-            let ext: [f64; 3] = std::array::from_fn(|a| bound.half[a] + margin.half(k) + slack);
+            let share = margin.half(k);
+            let slack = 1e-9 * (bound.radius + share + centre[0].abs() + centre[1].abs() + centre[2].abs());
+            let ext: [f64; 3] = std::array::from_fn(|a| bound.half[a] + share + slack);
             let (lo, hi) = (centre[axis] - ext[axis], centre[axis] + ext[axis]);
             self.spans.push(Span { lo, hi, centre, ext, body: k, is_static: b.is_static });
         }
