@@ -123,3 +123,17 @@ fn invalid_input_is_an_error() {
     assert!(StructuredLcp::new(2, &[(0, 1, f64::NAN)], &[], &[], vec![1.0]).is_err());
     assert!(StructuredLcp::new(2, &[], &[], &[], vec![f64::INFINITY]).is_err());
 }
+
+#[test]
+fn a_restriction_is_the_principal_submatrix() {
+    let op = random(30, 12, 3, 0.1, 20, 7);
+    let (dense, keep) = (op.to_dense(), [0usize, 3, 4, 9, 17, 29]);
+    let sub = op.restrict(&keep).unwrap().to_dense();
+    for (a, &i) in keep.iter().enumerate() {
+        assert_eq!(sub.q()[a], dense.q()[i]);
+        for (b, &j) in keep.iter().enumerate() {
+            let (x, y) = (sub.m()[a * keep.len() + b], dense.m()[i * 30 + j]);
+            assert!((x - y).abs() <= 1e-15 * (1.0 + y.abs()), "({i}, {j}): {x} vs {y}");
+        }
+    }
+}
