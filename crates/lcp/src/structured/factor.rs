@@ -45,6 +45,9 @@ pub(crate) struct Basis<'a> {
     pub(crate) pos: Vec<usize>,
     /// Value of each position.
     pub(crate) val: Vec<f64>,
+    /// Variable at each position when the basis was built: the lexicographic
+    /// rule's reference (see `pivot::lex_break`).
+    pub(crate) init: Vec<usize>,
     lu: SparseLu,
     etas: Vec<Eta>,
 }
@@ -55,8 +58,18 @@ impl<'a> Basis<'a> {
         let n = op.n();
         let mut pos = vec![NONBASIC; 2 * n + 1];
         (0..n).for_each(|i| pos[i] = i);
-        let mut b =
-            Basis { op, d, n, p: op.p(), var: (0..n).collect(), pos, val: vec![0.0; n], lu: SparseLu::new(n + op.p()), etas: Vec::new() };
+        let mut b = Basis {
+            op,
+            d,
+            n,
+            p: op.p(),
+            var: (0..n).collect(),
+            pos,
+            val: vec![0.0; n],
+            init: (0..n).collect(),
+            lu: SparseLu::new(n + op.p()),
+            etas: Vec::new(),
+        };
         b.refactor().then_some(b)
     }
 
@@ -69,7 +82,19 @@ impl<'a> Basis<'a> {
             var[j] = n + j;
         }
         var.iter().enumerate().for_each(|(c, &v)| pos[v] = c);
-        let mut b = Basis { op, d, n, p: op.p(), var, pos, val: vec![0.0; n], lu: SparseLu::new(n + op.p()), etas: Vec::new() };
+        let init = var.clone();
+        let mut b = Basis {
+            op,
+            d,
+            n,
+            p: op.p(),
+            var,
+            pos,
+            val: vec![0.0; n],
+            init,
+            lu: SparseLu::new(n + op.p()),
+            etas: Vec::new(),
+        };
         b.refactor().then_some(b)
     }
 

@@ -107,3 +107,49 @@ fn extend(
     let residuals = Residuals::of(&z, &w);
     Solution { z, w, status, pivots, residuals, basis: Some(basis), accepted }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::structured::structured_lcp;
+    use crate::scenes::{BoxPile, CubeHeap};
+    use crate::{World, WorldParams};
+
+    /// `w` stepped `steps` times, with this step's contact LCP assembled.
+    fn settled(mut w: World, steps: usize) -> World {
+        for _ in 0..steps {
+            w.step().unwrap();
+        }
+        w.forces_stage().unwrap();
+        w.detect();
+        w.assemble();
+        w
+    }
+
+    /// Cold, friction first only where `q_fn < 0`: the extended answer solves
+    /// the full (dense) LCP by the dense rule, with fewer unknowns pivoted on
+    /// (side-by-side cubes and speculative contacts carry no load).
+    #[test]
+    fn the_extended_answer_solves_the_full_lcp() {
+        let p = WorldParams::default();
+        let worlds = [
+            settled(
+                BoxPile { nx: 3, ny: 3, nz: 2, spacing: 1.0, ..Default::default() }.build(p.clone()).unwrap().world,
+                20,
+            ),
+            settled(CubeHeap { walls: true, ..CubeHeap::new(12, 1) }.build(p.clone()).unwrap().world, 450),
+        ];
+        for w in worlds {
+            let lcp = w.contact_lcp();
+            let lay = lcp.layout();
+            let op = structured_lcp(lcp, lcp.scale()).unwrap();
+            let active: Vec<bool> = (0..lay.nc).map(|c| lcp.q()[lay.fn_index(c)] < 0.0).collect();
+            let unloaded = active.iter().filter(|&&a| !a).count();
+            assert!(unloaded > 0 && unloaded < lay.nc, "{unloaded} of {} contacts without friction", lay.nc);
+            let sol = solve(&op, lay, &StructuredOptions::default(), None, active).expect("sub-LCPs solved");
+            assert!(sol.ok(), "n {}: {:?}", op.n(), sol.residuals);
+            let dense = lcp.to_lcp().unwrap();
+            assert!(lcp::accept::accepts(&dense, &sol.z, &dense.w_of(&sol.z), 1e-9), "n {}", op.n());
+        }
+    }
+}
