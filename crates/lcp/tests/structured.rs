@@ -137,3 +137,17 @@ fn a_restriction_is_the_principal_submatrix() {
         }
     }
 }
+
+/// A warm basis with a structurally dependent column (here `z_1`, whose
+/// column of `M` is empty) is repaired (`z_1 → w_1`) rather than dropped for
+/// a cold run: the repaired basis is the answer, at no pivot.
+#[test]
+fn a_singular_warm_basis_is_repaired() {
+    let (g, h) = ([(0, 0, 1.0), (2, 0, 1.0)], [(0, 0, 1.0), (0, 2, 1.0)]);
+    let op = StructuredLcp::new(1, &g, &h, &[(0, 0, 1.0), (2, 2, 1.0)], vec![-1.0, 1.0, -1.0]).unwrap();
+    let sol = structured::solve(&op, &StructuredOptions::default(), Some(&[true, true, true]));
+    assert!(sol.ok(), "{:?}", sol.status);
+    assert_eq!(sol.pivots, 0);
+    assert_eq!(sol.basis.as_deref(), Some(&[true, false, true][..]));
+    assert!(accepts(&op.to_dense(), &sol.z, &op.to_dense().w_of(&sol.z), 1e-9));
+}

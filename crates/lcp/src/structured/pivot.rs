@@ -63,15 +63,15 @@ pub(crate) fn run(op: &StructuredLcp, d: &[f64], set: &Settings) -> Run {
 /// negative basic leaves first. `None` when that basis is singular.
 pub(crate) fn run_warm(op: &StructuredLcp, alpha: &[usize], d: &mut Vec<f64>, set: &Settings) -> Option<Run> {
     let n = op.n();
-    // d = B·1: e_i for basic w_i, −M_j for basic z_j.
-    let mut ones = vec![0.0; n];
-    alpha.iter().for_each(|&j| ones[j] = 1.0);
-    let mut m1 = vec![0.0; n];
-    op.w_of(&ones, &mut m1);
-    let in_alpha = ones;
-    d.clear();
-    d.extend((0..n).map(|i| (in_alpha[i] == 0.0) as u8 as f64 - (m1[i] - op.q()[i])));
-    let mut basis = Basis::complementary(op, d, alpha)?;
+    cover_into(op, alpha, d);
+    let mut basis = match Basis::complementary(op, d, alpha) {
+        Some(b) => b,
+        None => {
+            let alpha = Basis::regular_alpha(op, alpha, REPAIRS)?;
+            cover_into(op, &alpha, d);
+            Basis::complementary(op, d, &alpha)?
+        }
+    };
     let (worst, r) =
         basis.val.iter().enumerate().fold((f64::INFINITY, 0), |a, (c, &v)| if v < a.0 { (v, c) } else { a });
     let top = basis.val.iter().fold(1.0f64, |a, v| a.max(v.abs()));
@@ -90,6 +90,20 @@ pub(crate) fn run_warm(op: &StructuredLcp, alpha: &[usize], d: &mut Vec<f64>, se
     let left = basis.var[r];
     basis.pivot(2 * n, r, &y, worst / y[r]);
     Some(pivot_loop(basis, complement(left, n), set))
+}
+
+/// Columns swapped at most to make a singular warm basis regular ([`Basis::regular_alpha`]).
+const REPAIRS: usize = 64;
+
+/// `d = B·1` for the complementary basis `alpha`: `e_i` for basic `w_i`, `−M_j` for basic `z_j`.
+fn cover_into(op: &StructuredLcp, alpha: &[usize], d: &mut Vec<f64>) {
+    let n = op.n();
+    let mut ones = vec![0.0; n];
+    alpha.iter().for_each(|&j| ones[j] = 1.0);
+    let mut m1 = vec![0.0; n];
+    op.w_of(&ones, &mut m1);
+    d.clear();
+    d.extend((0..n).map(|i| (ones[i] == 0.0) as u8 as f64 - (m1[i] - op.q()[i])));
 }
 
 /// `w_i ↔ z_i`.
