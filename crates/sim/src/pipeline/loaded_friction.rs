@@ -11,7 +11,8 @@
 //! full LCP whenever their normal impulses come out 0. When some do not,
 //! their friction joins and the sub-LCP is solved again from the previous
 //! answer's basis. The extended answer is judged by the acceptance rule on
-//! the full LCP, like any other.
+//! the full LCP, like any other; the step record reports the full LCP (its
+//! `n`, the extended `z`, `w` and basis, the pivots of every round).
 //!
 //! A forming heap has many speculative contacts (within the detection margin,
 //! not touching): each costs `k + 1` unknowns and, when its tangential

@@ -1,6 +1,10 @@
 //! A large island's LCP solved by the structured Lemke (`lcp::structured`):
 //! `M = J M_b⁻¹ Jᵀ + K` handed over as its sparse factors, never formed.
 //!
+//! The solver first sees the sub-LCP with friction unknowns only for the
+//! contacts loaded on the previous step or about to touch (`q_fn < 0`),
+//! grown as contacts take load, and its answer extended exactly to the full
+//! LCP (`pipeline::loaded_friction`); the full LCP is solved when that fails.
 //! The answer is accepted on the LCP as scaled (by the solver, with the
 //! acceptance rule of `lcp::accept` evaluated on the sparse rows) and again
 //! in physical units (cone scale 1), as the body-space basis check does.
