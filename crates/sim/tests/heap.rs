@@ -78,9 +78,10 @@ fn heap_runs_without_failures_or_penetration(n: usize, steps: usize) -> sim::sce
 /// - with it (sub-LCPs of ~55–65 % of n: about half the contacts carry no
 ///   load), the repaired singular warm bases and the lexicographic rule on
 ///   `B⁻¹B₀` (16d6ab1): steps 170–179 take 470–16,105 pivots each, 51,979
-///   pivots and 209 s in all; steps 180–183 (n = 12,610–13,380) solved in
-///   21,907, 86,846, 58,108 and 49,546 pivots (101, 494, 315, 182 s, a
-///   build beside it); not measured further. Such steps are slow because
+///   pivots and 209 s in all; steps 180–184 (n = 12,610–13,380) solved in
+///   21,907–86,846 pivots (101–494 s, a build beside it); step 185
+///   (n = 13,460) ended `numerical` after 94,900 pivots; steps 186–190
+///   5,085–22,756 pivots (3–37 s). Such steps are slow because
 ///   most runs fail before one succeeds: warm and cold runs end on rays,
 ///   cycles or answers a hair outside the acceptance rule (natural residual
 ///   ~5e-9) and are restarted; in a run without the warm-basis repair, step
