@@ -80,8 +80,10 @@ fn heap_runs_without_failures_or_penetration(n: usize, steps: usize) -> sim::sce
 ///   `B⁻¹B₀` (16d6ab1): steps 170–179 take 470–16,105 pivots each, 51,979
 ///   pivots and 209 s in all; steps 180–184 (n = 12,610–13,380) solved in
 ///   21,907–86,846 pivots (101–494 s, a build beside it); step 185
-///   (n = 13,460) ended `numerical` after 94,900 pivots; steps 186–190
-///   5,085–22,756 pivots (3–37 s). Such steps are slow because
+///   (n = 13,460) ended `numerical` after 94,900 pivots; steps 186–195
+///   5,085–37,443 pivots (3–37 s) except steps 192 and 195 (n = 13,460,
+///   13,810): `ray_termination` and `numerical` after ~100,000 pivots
+///   (~195 s). Such steps are slow because
 ///   most runs fail before one succeeds: warm and cold runs end on rays,
 ///   cycles or answers a hair outside the acceptance rule (natural residual
 ///   ~5e-9) and are restarted; in a run without the warm-basis repair, step
