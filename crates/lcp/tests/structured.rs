@@ -123,3 +123,31 @@ fn invalid_input_is_an_error() {
     assert!(StructuredLcp::new(2, &[(0, 1, f64::NAN)], &[], &[], vec![1.0]).is_err());
     assert!(StructuredLcp::new(2, &[], &[], &[], vec![f64::INFINITY]).is_err());
 }
+
+#[test]
+fn a_restriction_is_the_principal_submatrix() {
+    let op = random(30, 12, 3, 0.1, 20, 7);
+    let (dense, keep) = (op.to_dense(), [0usize, 3, 4, 9, 17, 29]);
+    let sub = op.restrict(&keep).unwrap().to_dense();
+    for (a, &i) in keep.iter().enumerate() {
+        assert_eq!(sub.q()[a], dense.q()[i]);
+        for (b, &j) in keep.iter().enumerate() {
+            let (x, y) = (sub.m()[a * keep.len() + b], dense.m()[i * 30 + j]);
+            assert!((x - y).abs() <= 1e-15 * (1.0 + y.abs()), "({i}, {j}): {x} vs {y}");
+        }
+    }
+}
+
+/// A warm basis with a structurally dependent column (here `z_1`, whose
+/// column of `M` is empty) is repaired (`z_1 → w_1`) rather than dropped for
+/// a cold run: the repaired basis is the answer, at no pivot.
+#[test]
+fn a_singular_warm_basis_is_repaired() {
+    let (g, h) = ([(0, 0, 1.0), (2, 0, 1.0)], [(0, 0, 1.0), (0, 2, 1.0)]);
+    let op = StructuredLcp::new(1, &g, &h, &[(0, 0, 1.0), (2, 2, 1.0)], vec![-1.0, 1.0, -1.0]).unwrap();
+    let sol = structured::solve(&op, &StructuredOptions::default(), Some(&[true, true, true]));
+    assert!(sol.ok(), "{:?}", sol.status);
+    assert_eq!(sol.pivots, 0);
+    assert_eq!(sol.basis.as_deref(), Some(&[true, false, true][..]));
+    assert!(accepts(&op.to_dense(), &sol.z, &op.to_dense().w_of(&sol.z), 1e-9));
+}

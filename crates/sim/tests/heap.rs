@@ -67,15 +67,28 @@ fn heap_runs_without_failures_or_penetration(n: usize, steps: usize) -> sim::sce
 
 /// Issue 13 item 7: a 200-cube heap runs 200 steps with no failed LCP and
 /// penetration ≤ 1 mm. Too slow for the suite, and not yet passing: the cubes
-/// land at steps 140–200 and the heap is one island of n = 4,000–12,600 whose
+/// land at steps 140–200 and the heap is one island of n = 4,000–13,000 whose
 /// contacts change every step. Measured in release on the loaded 2-core
-/// machine (`many_bodies heap:200 STEPS 1`): the first 150 steps take 21 s
-/// (74 s before the structured path skipped the body-space check and broke
-/// ties on columns), ~300 pivots per step, penetration 0.61 mm; past step
-/// 170 most steps take 1,000–4,000 pivots (2–16 s), but on a few the warm
-/// run ends on a ray or a cycle and the cold runs take 7,000–56,000 pivots
-/// (13–600 s; step 175, n = 9,900: 25,934 pivots, 48 s); run to step 180,
-/// that step's LCP (n = 12,580) ended `numerical` after 55,656 pivots.
+/// machine (`many_bodies heap:200 200 1`, one run each; the runs part ways
+/// after step ~145, every LCP having many answers):
+/// - before friction for loaded contacts only (main at 66be6d9): steps
+///   170–179 took 958–25,934 pivots each, 94,450 pivots and 460 s in all
+///   (step 175, n = 9,900: 25,934 pivots, 176 s); in an earlier run step
+///   180 (n = 12,580) ended `numerical` after 55,656 pivots;
+/// - with it (sub-LCPs of ~55–65 % of n: about half the contacts carry no
+///   load), the repaired singular warm bases and the lexicographic rule on
+///   `B⁻¹B₀` (16d6ab1): steps 170–179 take 470–16,105 pivots each, 51,979
+///   pivots and 209 s in all; steps 180–184 (n = 12,610–13,380) solved in
+///   21,907–86,846 pivots (101–494 s, a build beside it); step 185
+///   (n = 13,460) ended `numerical` after 94,900 pivots; steps 186–195
+///   5,085–37,443 pivots (3–37 s) except steps 192 and 195 (n = 13,460,
+///   13,810): `ray_termination` and `numerical` after ~100,000 pivots
+///   (~195 s). Such steps are slow because
+///   most runs fail before one succeeds: warm and cold runs end on rays,
+///   cycles or answers a hair outside the acceptance rule (natural residual
+///   ~5e-9) and are restarted; in a run without the warm-basis repair, step
+///   181 (n = 13,060) failed so on the sub-LCP (n = 8,434, 47,380 pivots)
+///   and on the full LCP after it.
 /// Run with `cargo test --release -p lcpsim-sim --test heap -- --ignored --nocapture`.
 #[test]
 #[ignore]

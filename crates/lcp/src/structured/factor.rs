@@ -45,6 +45,9 @@ pub(crate) struct Basis<'a> {
     pub(crate) pos: Vec<usize>,
     /// Value of each position.
     pub(crate) val: Vec<f64>,
+    /// Variable at each position when the basis was built: the lexicographic
+    /// rule's reference (see `pivot::lex_break`).
+    pub(crate) init: Vec<usize>,
     lu: SparseLu,
     etas: Vec<Eta>,
 }
@@ -55,13 +58,29 @@ impl<'a> Basis<'a> {
         let n = op.n();
         let mut pos = vec![NONBASIC; 2 * n + 1];
         (0..n).for_each(|i| pos[i] = i);
-        let mut b =
-            Basis { op, d, n, p: op.p(), var: (0..n).collect(), pos, val: vec![0.0; n], lu: SparseLu::new(n + op.p()), etas: Vec::new() };
+        let mut b = Basis {
+            op,
+            d,
+            n,
+            p: op.p(),
+            var: (0..n).collect(),
+            pos,
+            val: vec![0.0; n],
+            init: (0..n).collect(),
+            lu: SparseLu::new(n + op.p()),
+            etas: Vec::new(),
+        };
         b.refactor().then_some(b)
     }
 
     /// The complementary basis `{z_j : j ∈ α} ∪ {w_i : i ∉ α}`, factored; `None` if singular.
     pub(crate) fn complementary(op: &'a StructuredLcp, d: &'a [f64], alpha: &[usize]) -> Option<Self> {
+        let mut b = Self::complementary_unfactored(op, d, alpha);
+        b.refactor().then_some(b)
+    }
+
+    /// [`Basis::complementary`] before its factorization.
+    fn complementary_unfactored(op: &'a StructuredLcp, d: &'a [f64], alpha: &[usize]) -> Self {
         let n = op.n();
         let mut pos = vec![NONBASIC; 2 * n + 1];
         let mut var: Vec<usize> = (0..n).collect();
@@ -69,8 +88,44 @@ impl<'a> Basis<'a> {
             var[j] = n + j;
         }
         var.iter().enumerate().for_each(|(c, &v)| pos[v] = c);
-        let mut b = Basis { op, d, n, p: op.p(), var, pos, val: vec![0.0; n], lu: SparseLu::new(n + op.p()), etas: Vec::new() };
-        b.refactor().then_some(b)
+        let init = var.clone();
+        Basis {
+            op,
+            d,
+            n,
+            p: op.p(),
+            var,
+            pos,
+            val: vec![0.0; n],
+            init,
+            lu: SparseLu::new(n + op.p()),
+            etas: Vec::new(),
+        }
+    }
+
+    /// The complementary basis `alpha` repaired until it factors: a position
+    /// whose column the sparse LU finds structurally dependent on the columns
+    /// eliminated before it takes its complement's column (`z_j ↔ w_j`), up
+    /// to `tries` times. Returns the repaired `alpha`, `None` if it is still
+    /// singular.
+    pub(crate) fn regular_alpha(op: &StructuredLcp, alpha: &[usize], tries: usize) -> Option<Vec<usize>> {
+        let n = op.n();
+        let mut inz = vec![false; n];
+        alpha.iter().for_each(|&j| inz[j] = true);
+        // The cover is no column of a complementary basis.
+        let d = vec![0.0; n];
+        for _ in 0..=tries {
+            let alpha: Vec<usize> = (0..n).filter(|&j| inz[j]).collect();
+            let mut b = Basis::complementary_unfactored(op, &d, &alpha);
+            if b.refactor() {
+                return Some(alpha);
+            }
+            match b.lu.dependent.filter(|&c| c < n) {
+                Some(c) => inz[c] = !inz[c],
+                None => return None,
+            }
+        }
+        None
     }
 
     /// Column updates since the last refactorization.

@@ -19,6 +19,7 @@ use faer::sparse::linalg::colamd;
 use faer::sparse::linalg::lu::simplicial::{
     factorize_simplicial_numeric_lu, factorize_simplicial_numeric_lu_scratch, SimplicialLu,
 };
+use faer::sparse::linalg::LuError;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, MatMut, Par};
 use std::cell::RefCell;
@@ -32,6 +33,9 @@ pub(crate) struct SparseLu {
     col_fwd: Vec<usize>,
     col_inv: Vec<usize>,
     factored: bool,
+    /// After a failed [`SparseLu::factor`]: the column found structurally
+    /// dependent on the columns eliminated before it, when that was the failure.
+    pub(crate) dependent: Option<usize>,
     /// Workspace of the solves.
     work: RefCell<Vec<f64>>,
 }
@@ -46,6 +50,7 @@ impl SparseLu {
             col_fwd: vec![0; dim],
             col_inv: vec![0; dim],
             factored: false,
+            dependent: None,
             work: RefCell::new(vec![0.0; dim]),
         }
     }
@@ -55,6 +60,7 @@ impl SparseLu {
     pub(crate) fn factor(&mut self, triplets: &[Triplet<usize, usize, f64>]) -> bool {
         let n = self.dim;
         self.factored = false;
+        self.dependent = None;
         let Ok(a) = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, triplets) else { return false };
         let req = StackReq::any_of(&[
             colamd::order_scratch::<usize>(n, n, a.compute_nnz()),
@@ -67,9 +73,14 @@ impl SparseLu {
             return false;
         }
         let col = PermRef::new_checked(&self.col_fwd, &self.col_inv, n);
-        self.factored =
-            factorize_simplicial_numeric_lu(&mut self.row_fwd, &mut self.row_inv, &mut self.lu, a.as_ref(), col, stack)
-                .is_ok();
+        let res =
+            factorize_simplicial_numeric_lu(&mut self.row_fwd, &mut self.row_inv, &mut self.lu, a.as_ref(), col, stack);
+        // Step `index` eliminates column `col_fwd[index]`.
+        self.dependent = match res {
+            Err(LuError::SymbolicSingular { index }) => self.col_fwd.get(index).copied(),
+            _ => None,
+        };
+        self.factored = res.is_ok();
         self.factored
     }
 

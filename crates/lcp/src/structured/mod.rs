@@ -71,7 +71,8 @@ enum Start {
 }
 
 /// Solves `op` by Lemke's method, first from the complementary basis `warm`
-/// (`warm[j]`: `z_j` basic; the previous step's answer) when given, then cold
+/// (`warm[j]`: `z_j` basic; the previous step's answer; repaired column by
+/// column if it is structurally singular) when given, then cold
 /// on each rung until an answer passes the acceptance rule at `accept_tol`
 /// with a natural residual ≤ `accept_tol·(1 + ‖q‖∞)`. Returns the first such
 /// answer, else the first accepted one, else the closest failure.

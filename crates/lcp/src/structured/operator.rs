@@ -93,6 +93,21 @@ impl StructuredLcp {
         Ok(StructuredLcp { q, ..self.clone() })
     }
 
+    /// The principal sub-LCP on the unknowns `keep` (ascending, no repeats):
+    /// `M[keep, keep] = G[keep, :]·H[:, keep] + K[keep, keep]`, `q[keep]`;
+    /// unknown `i` of the result is `keep[i]`. Same `p`. O(nnz).
+    pub fn restrict(&self, keep: &[usize]) -> Result<Self, LcpError> {
+        let mut new_of = vec![usize::MAX; self.n];
+        keep.iter().enumerate().for_each(|(i, &j)| new_of[j] = i);
+        let (mut g, mut h, mut k) = (Vec::new(), Vec::new(), Vec::new());
+        for (i, &j) in keep.iter().enumerate() {
+            g.extend(self.g_rows.iter(j).map(|(c, v)| (i, c, v)));
+            h.extend(self.h_cols.iter(j).map(|(r, v)| (r, i, v)));
+            k.extend(self.k_cols.iter(j).filter(|&(r, _)| new_of[r] != usize::MAX).map(|(r, v)| (new_of[r], i, v)));
+        }
+        StructuredLcp::new(self.p, &g, &h, &k, keep.iter().map(|&j| self.q[j]).collect())
+    }
+
     /// Size `n`.
     pub fn n(&self) -> usize {
         self.n

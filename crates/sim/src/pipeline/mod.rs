@@ -17,6 +17,7 @@ mod capture;
 mod detect;
 pub mod energy;
 pub(crate) mod island_lcp;
+mod loaded_friction;
 mod record;
 mod solve;
 mod structured;

@@ -1,6 +1,10 @@
 //! A large island's LCP solved by the structured Lemke (`lcp::structured`):
 //! `M = J M_b⁻¹ Jᵀ + K` handed over as its sparse factors, never formed.
 //!
+//! The solver first sees the sub-LCP with friction unknowns only for the
+//! contacts loaded on the previous step or about to touch (`q_fn < 0`),
+//! grown as contacts take load, and its answer extended exactly to the full
+//! LCP (`pipeline::loaded_friction`); the full LCP is solved when that fails.
 //! The answer is accepted on the LCP as scaled (by the solver, with the
 //! acceptance rule of `lcp::accept` evaluated on the sparse rows) and again
 //! in physical units (cone scale 1), as the body-space basis check does.
@@ -17,7 +21,17 @@ pub fn solve(lcp: &ContactLcp, warm: Option<&[bool]>, tol: f64, keep_failure: bo
     let op = structured_lcp(lcp, lcp.scale()).ok()?;
     let o = StructuredOptions { accept_tol: tol, ..Default::default() };
     let warm = warm.map(|b| sliding_contacts_seeded(lcp, b));
-    let mut sol = structured::solve(&op, &o, warm.as_deref());
+    let lay = lcp.layout();
+    // Friction first for the contacts loaded on the previous step or about to touch (q_fn < 0).
+    let active =
+        (0..lay.nc).map(|c| warm.as_ref().is_some_and(|b| b[lay.fn_index(c)]) || lcp.q()[lay.fn_index(c)] < 0.0);
+    let mut sol = match super::loaded_friction::solve(&op, lay, &o, warm.as_deref(), active.collect()) {
+        Ok(sol) if sol.ok() => sol,
+        Ok(Solution { pivots, .. }) | Err(pivots) => {
+            let sol = structured::solve(&op, &o, warm.as_deref());
+            Solution { pivots: sol.pivots + pivots, ..sol }
+        }
+    };
     let physical_ok = sol.ok()
         && (lcp.scale() == 1.0
             || structured_lcp(lcp, 1.0).is_ok_and(|p| {
