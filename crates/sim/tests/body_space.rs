@@ -9,7 +9,6 @@ use sim::lcp::support::LcpOperator;
 use sim::scenes::{BoxPile, BoxStack};
 use sim::{ConeScale, WorldParams};
 
-
 /// A deterministic pseudo-random vector in [0, 1).
 fn noise(n: usize, seed: u64) -> Vec<f64> {
     let mut x = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
@@ -27,7 +26,8 @@ fn noise(n: usize, seed: u64) -> Vec<f64> {
 fn body_space_entries_and_products_equal_the_dense_lcp() {
     for scale in [ConeScale::Unscaled, ConeScale::Value(1e-3)] {
         let params = WorldParams { cone_scale: scale, ..Default::default() };
-        let worlds = [BoxPile::default().build(params.clone()).unwrap().world, BoxStack::new(4).build(params).unwrap().world];
+        let worlds =
+            [BoxPile::default().build(params.clone()).unwrap().world, BoxStack::new(4).build(params).unwrap().world];
         for w in worlds {
             let w = settled(w, 30);
             let lcp = w.contact_lcp().to_lcp().unwrap();
@@ -49,6 +49,14 @@ fn body_space_entries_and_products_equal_the_dense_lcp() {
             for (r, &i) in rows.iter().enumerate() {
                 for (c, &j) in cols.iter().enumerate() {
                     assert_eq!(sub[r * 2 + c], block[i * n + j]);
+                }
+            }
+            // Rows (the acceptance rule's row scales) are the same rows.
+            let mut row = vec![0.0; n];
+            for i in 0..n {
+                op.row(i, &mut row);
+                for (j, (a, b)) in row.iter().zip(&lcp.m()[i * n..(i + 1) * n]).enumerate() {
+                    assert!((a - b).abs() <= 1e-13 * mmax, "row {i}, column {j}: body space {a:e}, dense {b:e}");
                 }
             }
             let z = noise(n, n as u64);

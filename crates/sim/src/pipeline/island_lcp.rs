@@ -6,7 +6,7 @@ use crate::contact::assembly::{AssemblyParams, BodyDynamics};
 use crate::contact::{BodySpaceLcp, ContactLcp};
 use crate::geometry::Contact;
 use lcp::contact::ContactLayout;
-use lcp::support::{LcpOperator, SupportWorkspace};
+use lcp::support::{BasisTolerances, LcpOperator, SupportWorkspace};
 use lcp::{LemkeOptions, Lcp, LcpError, Method, Pivoting, Residuals, Solution, Status};
 
 /// A solver for one LCP, started from a basis when one is given.
@@ -66,7 +66,7 @@ impl IslandLcp {
         self.warmed = warm.is_some();
         let fast = match (basis_check, warm.as_deref()) {
             (Some(tol), Some(basis)) if self.lcp.dynamic_body_count() >= 2 && n < STRUCTURED_MIN_N => {
-                try_previous_basis(&self.lcp, basis, tol * BASIS_CHECK_TOL, &mut self.support)
+                try_previous_basis(&self.lcp, basis, tol, &mut self.support)
             }
             _ => None,
         };
@@ -181,12 +181,16 @@ pub fn basis_check_applies(method: &Method) -> Option<f64> {
 }
 
 /// The previous step's basis solved on this step's LCP in body space, accepted
-/// on the LCP as scaled and in physical units.
+/// on the LCP as scaled and in physical units: within [`BASIS_CHECK_TOL`] of
+/// Lemke's bound if some exchange round gets there, else by what the dense
+/// Lemke's warm start would accept at 0 pivots (the acceptance rule and
+/// Lemke's bound at `accept_tol`) — the same answer without forming `M`.
 fn try_previous_basis(lcp: &ContactLcp, basis: &[bool], accept_tol: f64, ws: &mut SupportWorkspace) -> Option<Solution> {
     let scaled = BodySpaceLcp::new(lcp);
     let physical = BodySpaceLcp::at_scale(lcp, 1.0);
     let to_physical = |z: &[f64], out: &mut Vec<f64>| lcp.unscale_z(z, out);
     // At scale 1 the physical LCP is the one solved: one check does.
     let also = (lcp.scale() != 1.0).then_some((&physical as &dyn LcpOperator, &to_physical as &dyn Fn(&[f64], &mut Vec<f64>)));
-    lcp::support::solve_on_basis(&scaled, basis, accept_tol, also, ws).map(|a| a.solution)
+    let tol = BasisTolerances { tight: accept_tol * BASIS_CHECK_TOL, rule: Some(accept_tol) };
+    lcp::support::solve_on_basis_ruled(&scaled, basis, tol, also, ws).map(|a| a.solution)
 }
