@@ -163,3 +163,20 @@ fn the_rule_through_an_operator_is_the_rule_on_the_dense_matrix() {
         }
     }
 }
+
+#[test]
+fn an_answer_within_the_bound_is_kept_with_its_factors_when_exchanges_do_no_better() {
+    // M = [[1, 1], [1, 1e-3]], q = [−1, −1 − ε]: on {z₀}, w₁ = −ε (within the
+    // bound, above the repair threshold). Entering z₁ gives z₁ = −ε/0.999 < 0,
+    // which leaves again: no exchange does better, the first answer is kept —
+    // and its factorization with it, so the next call from its basis reuses it.
+    let eps = 1e-9;
+    let lcp = Lcp::new(vec![1.0, 1.0, 1.0, 1e-3], vec![-1.0, -1.0 - eps]).unwrap();
+    let mut ws = SupportWorkspace::default();
+    let first = solve_on_basis(&lcp, &[true, false], 1e-9, None, &mut ws).expect("within the bound");
+    assert_eq!(first.solution.basis.as_deref(), Some(&[true, false][..]));
+    assert_eq!(first.solution.z, vec![1.0, 0.0]);
+    let again = solve_on_basis(&lcp, &[true, false], 1e-9, None, &mut ws).expect("within the bound");
+    assert!(again.reused, "the kept answer's factors serve the next call");
+    assert_eq!(again.solution.z, first.solution.z);
+}

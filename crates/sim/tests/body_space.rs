@@ -90,3 +90,24 @@ fn a_resting_stack_mostly_steps_without_pivoting_and_stays_exact() {
     let drift = (s.world.body(top).unwrap().position().z - z0).abs();
     assert!(drift < 1e-9, "top box drifted {drift:e} m");
 }
+
+#[test]
+fn the_recorded_physical_w_is_that_of_the_recorded_z_at_any_cone_scale() {
+    // A body-space answer hands its checked physical z and w to the record
+    // (not formed again): they must be the physical LCP's z and M₁z + q.
+    for scale in [ConeScale::Unscaled, ConeScale::Value(1e-3)] {
+        let params = WorldParams { cone_scale: scale, ..Default::default() };
+        let mut s = BoxStack::new(3).build(params).unwrap();
+        for _ in 0..200 {
+            let r = s.world.step().unwrap().clone();
+            assert!(r.ok(), "step {} not solved", r.step);
+            let lcp = s.world.contact_lcp();
+            let mut w = vec![0.0; lcp.n()];
+            sim::contact::BodySpaceLcp::at_scale(lcp, 1.0).w_of(&r.z, &mut w);
+            let wmax = w.iter().fold(1e-300f64, |a, v| a.max(v.abs()));
+            for (i, (a, b)) in w.iter().zip(&r.w).enumerate() {
+                assert!((a - b).abs() <= 1e-12 * wmax, "step {}, w[{i}]: {a:e} recorded {b:e}", r.step);
+            }
+        }
+    }
+}
