@@ -36,6 +36,7 @@
 //! Newton–FB) reports `ok` for an answer outside this rule.
 
 use crate::problem::Lcp;
+use crate::support::LcpOperator;
 
 /// Default tolerance of the rule (Lemke's `accept_tol`; PGS and Newton–FB use it too).
 pub const DEFAULT_TOL: f64 = 1e-9;
@@ -56,14 +57,19 @@ fn violation(zi: f64, wi: f64) -> f64 {
 /// The scale `s_i = |q_i| + Σ_j |M_ij| z_j` and the floor
 /// `f_i = ρ·max_j |M_ij|·Σ_j z_j` of row `i` (`zsum = Σ_j z_j`).
 fn row_scale(lcp: &Lcp, i: usize, z: &[f64], zsum: f64) -> (f64, f64) {
+    scale_of_row(lcp.row(i), lcp.q()[i], z, zsum)
+}
+
+/// [`row_scale`] of a row `m_i` given as a slice, with its `q_i`.
+fn scale_of_row(row: &[f64], qi: f64, z: &[f64], zsum: f64) -> (f64, f64) {
     let (mut terms, mut rmax) = (0.0, 0.0f64);
-    for (&zj, m) in z.iter().zip(lcp.row(i)) {
+    for (&zj, m) in z.iter().zip(row) {
         rmax = rmax.max(m.abs());
         if zj != 0.0 {
             terms += m.abs() * zj;
         }
     }
-    (terms + lcp.q()[i].abs(), ROUND_OFF * rmax * zsum)
+    (terms + qi.abs(), ROUND_OFF * rmax * zsum)
 }
 
 /// `η_i` of a row with violation `v` (finite), scale and floor.
@@ -134,7 +140,8 @@ pub(crate) fn accepts_rows(
         let v = violation(z[i], w[i]);
         // Most rows: no violation, or one within `tol·(|q_i| + |M_ii| z_i) ≤ tol·s_i`.
         // (Written `v <= …` so that a NaN falls through to the full check.)
-        if v == 0.0 || v <= tol * (q[i].abs() + diag(i).abs() * z[i]) {
+        // (`M_ii` is read only where `z_i > 0`: a block read costs in body space.)
+        if v == 0.0 || v <= tol * (q[i].abs() + if z[i] > 0.0 { diag(i).abs() * z[i] } else { 0.0 }) {
             continue;
         }
         let zs = *zsum.get_or_insert_with(|| z.iter().sum());
@@ -145,13 +152,39 @@ pub(crate) fn accepts_rows(
     true
 }
 
+/// [`accepts`] for an `M` reached through an [`LcpOperator`] (blocks and
+/// products, e.g. a contact LCP in body space): the same rule, row by row.
+/// A row's scale is read with [`LcpOperator::row`], and only for the rows
+/// the cheap lower bound does not clear — meant for occasional checks, not every step.
+///
+/// # Panics
+/// If `z` or `w` do not have `op.n()` entries.
+pub fn accepts_operator(op: &dyn LcpOperator, z: &[f64], w: &[f64], tol: f64) -> bool {
+    check_sizes(op.n(), z, w);
+    let mut row = vec![0.0; op.n()];
+    let diag = |i: usize| {
+        let mut d = [0.0];
+        op.block(&[i], &[i], &mut d);
+        d[0]
+    };
+    let scale = |i: usize, zsum: f64| {
+        op.row(i, &mut row);
+        scale_of_row(&row, op.q()[i], z, zsum)
+    };
+    accepts_rows(op.q(), z, w, tol, diag, scale)
+}
+
 fn check_lengths(lcp: &Lcp, z: &[f64], w: &[f64]) {
+    check_sizes(lcp.n(), z, w);
+}
+
+fn check_sizes(n: usize, z: &[f64], w: &[f64]) {
     assert!(
-        z.len() == lcp.n() && w.len() == lcp.n(),
+        z.len() == n && w.len() == n,
         "accept: z and w have {} and {} entries for an LCP of size {}",
         z.len(),
         w.len(),
-        lcp.n()
+        n
     );
 }
 

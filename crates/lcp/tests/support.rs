@@ -3,7 +3,7 @@
 
 use lcp::generate::p_matrix_lcp;
 use lcp::support::{solve_on_basis, SupportWorkspace};
-use lcp::{lemke, LemkeOptions, Lcp};
+use lcp::{lemke, Lcp, LemkeOptions};
 
 #[test]
 fn lemkes_basis_solves_its_problem_again_without_pivots() {
@@ -12,7 +12,8 @@ fn lemkes_basis_solves_its_problem_again_without_pivots() {
         let lcp = p_matrix_lcp(12, seed);
         let sol = lemke::solve(&lcp, &LemkeOptions::default());
         assert!(sol.ok());
-        let ans = solve_on_basis(&lcp, sol.basis.as_deref().unwrap(), 1e-9, None, &mut ws).expect("its own basis solves it");
+        let ans =
+            solve_on_basis(&lcp, sol.basis.as_deref().unwrap(), 1e-9, None, &mut ws).expect("its own basis solves it");
         assert_eq!(ans.solution.pivots, 0);
         assert_eq!(ans.dropped, 0);
         for (a, b) in ans.solution.z.iter().zip(&sol.z) {
@@ -93,7 +94,11 @@ fn the_kept_factorization_refines_to_answers_that_solve_the_new_problem() {
             };
             let (z, w) = (&ans.solution.z, &ans.solution.w);
             let (w_exact, r) = lcp::Residuals::compute(&next, z);
-            assert!(r.residual <= 1e-9 * (1.0 + next.q_norm_inf()), "seed {seed}, rel {rel}: residual {:e}", r.residual);
+            assert!(
+                r.residual <= 1e-9 * (1.0 + next.q_norm_inf()),
+                "seed {seed}, rel {rel}: residual {:e}",
+                r.residual
+            );
             assert!(w.iter().zip(&w_exact).all(|(a, b)| (a - b).abs() < 1e-12));
             let exact = lemke::solve(&next, &LemkeOptions::default());
             for (a, b) in z.iter().zip(&exact.z) {
@@ -108,4 +113,70 @@ fn the_kept_factorization_refines_to_answers_that_solve_the_new_problem() {
     }
     // Small changes reuse the factors; a 30 % change needs fresh ones.
     assert!(reused >= 40 && fresh > 0, "reused {reused}, fresh {fresh}");
+}
+
+#[test]
+fn a_violation_within_the_bound_is_still_exchanged_when_an_exchange_clears_it() {
+    // M = I, q = [−1, −ε]: the basis {z₀} leaves w₁ = −ε. With ε = 1e-9 the
+    // residual is within 1e-9·(1 + ‖q‖∞), but the violation is above the
+    // repair threshold: z₁ enters and the answer is exact.
+    let eps = 1e-9;
+    let lcp = Lcp::new(vec![1.0, 0.0, 0.0, 1.0], vec![-1.0, -eps]).unwrap();
+    let ans = solve_on_basis(&lcp, &[true, false], 1e-9, None, &mut SupportWorkspace::default()).unwrap();
+    assert_eq!(ans.solution.basis.as_deref(), Some(&[true, true][..]));
+    assert_eq!(ans.solution.z, vec![1.0, eps]);
+    assert_eq!(ans.solution.residuals.residual, 0.0);
+}
+
+#[test]
+fn an_entering_dependent_index_stays_and_its_partner_leaves() {
+    // M = [[1, 1], [1, 1]] (singular), q = [−1, −1 − ε]: on {z₀}, w₁ = −ε,
+    // within the bound but above the repair threshold. z₁ enters; the block
+    // {z₀, z₁} is singular and the entering index is kept, so z₀ leaves:
+    // z = (0, 1 + ε), w₀ = ε ≥ 0, exact.
+    let eps = 1e-9;
+    let lcp = Lcp::new(vec![1.0, 1.0, 1.0, 1.0], vec![-1.0, -1.0 - eps]).unwrap();
+    let ans = solve_on_basis(&lcp, &[true, false], 1e-9, None, &mut SupportWorkspace::default()).expect("exact");
+    assert_eq!(ans.solution.basis.as_deref(), Some(&[false, true][..]));
+    assert_eq!(ans.solution.z, vec![0.0, 1.0 + eps]);
+    assert_eq!(ans.solution.residuals.residual, 0.0);
+}
+
+#[test]
+fn the_rule_through_an_operator_is_the_rule_on_the_dense_matrix() {
+    use lcp::accept::{accepts, accepts_operator};
+    for seed in 0..30 {
+        let lcp = p_matrix_lcp(10, seed);
+        let sol = lemke::solve(&lcp, &LemkeOptions::default());
+        // The answer, and versions of it perturbed by growing amounts.
+        for (k, scale) in [0.0, 1e-14, 1e-11, 1e-9, 1e-6].into_iter().enumerate() {
+            let z: Vec<f64> =
+                sol.z.iter().enumerate().map(|(j, v)| (v * (1.0 + scale * ((j + k) % 3) as f64)).max(0.0)).collect();
+            let w = lcp.w_of(&z);
+            for tol in [1e-12, 1e-9, 1e-6] {
+                assert_eq!(
+                    accepts_operator(&lcp, &z, &w, tol),
+                    accepts(&lcp, &z, &w, tol),
+                    "seed {seed}, scale {scale:e}, tol {tol:e}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn an_answer_within_the_bound_is_kept_with_its_factors_when_exchanges_do_no_better() {
+    // M = [[1, 1], [1, 1e-3]], q = [−1, −1 − ε]: on {z₀}, w₁ = −ε (within the
+    // bound, above the repair threshold). Entering z₁ gives z₁ = −ε/0.999 < 0,
+    // which leaves again: no exchange does better, the first answer is kept —
+    // and its factorization with it, so the next call from its basis reuses it.
+    let eps = 1e-9;
+    let lcp = Lcp::new(vec![1.0, 1.0, 1.0, 1e-3], vec![-1.0, -1.0 - eps]).unwrap();
+    let mut ws = SupportWorkspace::default();
+    let first = solve_on_basis(&lcp, &[true, false], 1e-9, None, &mut ws).expect("within the bound");
+    assert_eq!(first.solution.basis.as_deref(), Some(&[true, false][..]));
+    assert_eq!(first.solution.z, vec![1.0, 0.0]);
+    let again = solve_on_basis(&lcp, &[true, false], 1e-9, None, &mut ws).expect("within the bound");
+    assert!(again.reused, "the kept answer's factors serve the next call");
+    assert_eq!(again.solution.z, first.solution.z);
 }

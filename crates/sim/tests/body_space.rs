@@ -9,7 +9,6 @@ use sim::lcp::support::LcpOperator;
 use sim::scenes::{BoxPile, BoxStack};
 use sim::{ConeScale, WorldParams};
 
-
 /// A deterministic pseudo-random vector in [0, 1).
 fn noise(n: usize, seed: u64) -> Vec<f64> {
     let mut x = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
@@ -27,7 +26,8 @@ fn noise(n: usize, seed: u64) -> Vec<f64> {
 fn body_space_entries_and_products_equal_the_dense_lcp() {
     for scale in [ConeScale::Unscaled, ConeScale::Value(1e-3)] {
         let params = WorldParams { cone_scale: scale, ..Default::default() };
-        let worlds = [BoxPile::default().build(params.clone()).unwrap().world, BoxStack::new(4).build(params).unwrap().world];
+        let worlds =
+            [BoxPile::default().build(params.clone()).unwrap().world, BoxStack::new(4).build(params).unwrap().world];
         for w in worlds {
             let w = settled(w, 30);
             let lcp = w.contact_lcp().to_lcp().unwrap();
@@ -49,6 +49,14 @@ fn body_space_entries_and_products_equal_the_dense_lcp() {
             for (r, &i) in rows.iter().enumerate() {
                 for (c, &j) in cols.iter().enumerate() {
                     assert_eq!(sub[r * 2 + c], block[i * n + j]);
+                }
+            }
+            // Rows (the acceptance rule's row scales) are the same rows.
+            let mut row = vec![0.0; n];
+            for i in 0..n {
+                op.row(i, &mut row);
+                for (j, (a, b)) in row.iter().zip(&lcp.m()[i * n..(i + 1) * n]).enumerate() {
+                    assert!((a - b).abs() <= 1e-13 * mmax, "row {i}, column {j}: body space {a:e}, dense {b:e}");
                 }
             }
             let z = noise(n, n as u64);
@@ -81,4 +89,25 @@ fn a_resting_stack_mostly_steps_without_pivoting_and_stays_exact() {
     assert!(zero * 10 >= steps * 8, "only {zero} of {steps} steps without a pivot");
     let drift = (s.world.body(top).unwrap().position().z - z0).abs();
     assert!(drift < 1e-9, "top box drifted {drift:e} m");
+}
+
+#[test]
+fn the_recorded_physical_w_is_that_of_the_recorded_z_at_any_cone_scale() {
+    // A body-space answer hands its checked physical z and w to the record
+    // (not formed again): they must be the physical LCP's z and M₁z + q.
+    for scale in [ConeScale::Unscaled, ConeScale::Value(1e-3)] {
+        let params = WorldParams { cone_scale: scale, ..Default::default() };
+        let mut s = BoxStack::new(3).build(params).unwrap();
+        for _ in 0..200 {
+            let r = s.world.step().unwrap().clone();
+            assert!(r.ok(), "step {} not solved", r.step);
+            let lcp = s.world.contact_lcp();
+            let mut w = vec![0.0; lcp.n()];
+            sim::contact::BodySpaceLcp::at_scale(lcp, 1.0).w_of(&r.z, &mut w);
+            let wmax = w.iter().fold(1e-300f64, |a, v| a.max(v.abs()));
+            for (i, (a, b)) in w.iter().zip(&r.w).enumerate() {
+                assert!((a - b).abs() <= 1e-12 * wmax, "step {}, w[{i}]: {a:e} recorded {b:e}", r.step);
+            }
+        }
+    }
 }

@@ -113,7 +113,6 @@ fn contact(v: Var) -> usize {
     }
 }
 
-
 impl LcpOperator for BodySpaceLcp<'_> {
     fn n(&self) -> usize {
         self.lcp.n()
@@ -152,6 +151,42 @@ impl LcpOperator for BodySpaceLcp<'_> {
                     }
                 };
             }
+        }
+    }
+
+    fn row(&self, i: usize, out: &mut [f64]) {
+        // Row i of J M_b⁻¹ Jᵀ is J (M_b⁻¹ J_iᵀ): the unit impulse of index i
+        // seen by every contact on its bodies; plus the cone entries.
+        let (lay, s) = (self.lcp.layout(), self.s);
+        out.fill(0.0);
+        let var = self.var(i);
+        if let Var::Lambda(c) = var {
+            out[lay.fn_index(c)] = s * self.lcp.mu()[c];
+            out[lay.fd_of(c)].fill(-s);
+            return;
+        }
+        let c = contact(var);
+        for side in 0..2 {
+            let (Some(slot), Some((_, _, m6))) = (self.lcp.side_slot(c, side), self.side_rows(c, var, side)) else {
+                continue;
+            };
+            for c2 in 0..lay.nc {
+                for side2 in 0..2 {
+                    if self.lcp.side_slot(c2, side2) != Some(slot) {
+                        continue;
+                    }
+                    let (jac, _) = self.lcp.side_rows(c2, side2);
+                    let jv = [dot6(&jac[0], &m6), dot6(&jac[1], &m6), dot6(&jac[2], &m6)];
+                    out[lay.fn_index(c2)] += jv[0];
+                    for (j, f) in lay.fd_of(c2).enumerate() {
+                        let (cj, sj) = self.lcp.cos_sin(j);
+                        out[f] += cj * jv[1] + sj * jv[2];
+                    }
+                }
+            }
+        }
+        if let Var::Dir(..) = var {
+            out[lay.lambda_index(c)] = s;
         }
     }
 
