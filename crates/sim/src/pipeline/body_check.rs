@@ -62,7 +62,8 @@ impl IslandLcp {
             self.lcp.unscale_z(&cand.z, &mut z);
             self.lcp.unscaled_w(&z, &mut w);
             eta = self.check.eta(&self.lcp, &z, &w);
-            eta <= tol
+            // (A physical z or w that overflows is no answer, as in `IslandLcp::solve`.)
+            eta <= tol && lcp::Residuals::of(&z, &w).residual.is_finite()
         });
         if let Some(better) = found {
             self.body_eta = eta;
