@@ -6,16 +6,18 @@
 //! judges the same answer in body space (`sim::contact::body_check`). An
 //! answer the rule accepts from an `f64` basis of cond ~1e17 can fail there
 //! (a 1e8 kg box on a 1 kg one: the heavy box pushed up at mm/s).
-//! [`solve_dd`] then tries, in double-double: the caller's basis re-solved
-//! with refinement (`dd_solve`: the values, where the basis was right), then
+//! [`solve_dd`] then tries, in double-double: the caller's bases (say the
+//! answer's and the previous step's) re-solved with refinement (`dd_solve`:
+//! the values, where a basis was right), then
 //! Lemke from the all-slack basis (`extended`: the path too) on the working
 //! problem equilibrated as `o` says, then on the other one; and returns the
 //! first answer that the rule and the caller's `accept` both accept.
 //!
 //! Measured on 2,000 steps each of a 1e7 and a 1e8 kg box resting on a 1 kg
-//! box (n = 80): of 131 answers the body-space check rejected, 9 were right
-//! in their basis, 115 needed the double-double path, 3 the other scaling
-//! (the first run ended on a ray or cycled); for 4 no run passed.
+//! box (n = 80), with the answer's basis alone: of 131 answers the
+//! body-space check rejected, 9 were right in their basis, 115 needed the
+//! double-double path, 3 the other scaling (the first run ended on a ray or
+//! cycled); for 4 no run passed (3 with the previous step's basis too).
 
 use super::extended::{self, ExtEnd};
 use super::frame::Frame;
@@ -26,7 +28,7 @@ use crate::solution::{Solution, Status};
 /// Largest LCP [`solve_dd`] tries (the double-double tableau's limit).
 pub const DD_MAX_N: usize = extended::MAX_N;
 
-/// The first of (the basis `basis` re-solved in double-double, Lemke in
+/// The first of (each basis of `bases` re-solved in double-double, Lemke in
 /// double-double from scratch on each scaling) that the acceptance rule at
 /// `o.accept_tol` and `accept` accept; `None` when none is, or `n` is above
 /// the double-double rung's limit. Pivots of the answer: those of its
@@ -34,7 +36,7 @@ pub const DD_MAX_N: usize = extended::MAX_N;
 pub fn solve_dd(
     lcp: &Lcp,
     o: &LemkeOptions,
-    basis: Option<&[bool]>,
+    bases: &[&[bool]],
     mut accept: impl FnMut(&Solution) -> bool,
 ) -> Option<Solution> {
     let n = lcp.n();
@@ -47,7 +49,7 @@ pub fn solve_dd(
         (sol.accepted && accept(&sol)).then_some(Solution { basis: Some(mask), ..sol })
     };
     frame.reset(lcp, o.equilibrate, o.accept_tol);
-    if let Some(mask) = basis.filter(|b| b.len() == n) {
+    for &mask in bases.iter().filter(|b| b.len() == n) {
         if let Some(sol) = extended::resolve(&frame.work, mask).and_then(|z| take(&frame, z, mask.to_vec(), 0)) {
             return Some(sol);
         }

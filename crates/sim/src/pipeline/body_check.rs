@@ -36,9 +36,10 @@ pub fn body_check_applies(method: &Method) -> Option<LemkeOptions> {
 impl IslandLcp {
     /// Judges a solved answer in body space and sets `body_eta` (left at 0
     /// for a failed one); re-solves in double-double an answer that fails, or
-    /// a failed solve, replacing `sol`, `z`, `w` and `residuals` by an answer
+    /// a failed solve (from its basis, then from `warm`, the basis the solve
+    /// started from), replacing `sol`, `z`, `w` and `residuals` by an answer
     /// that passes.
-    pub(super) fn check_in_body_space(&mut self, sol: &mut Solution, o: &LemkeOptions) {
+    pub(super) fn check_in_body_space(&mut self, sol: &mut Solution, o: &LemkeOptions, warm: Option<&[bool]>) {
         let tol = o.accept_tol;
         match sol.status {
             Status::Solved if BodyCheck::applies(&self.lcp) => {
@@ -58,7 +59,8 @@ impl IslandLcp {
         }
         let Ok(scaled) = self.lcp.to_lcp() else { return };
         let (mut z, mut w, mut eta) = (Vec::new(), Vec::new(), f64::INFINITY);
-        let found = lcp::lemke::solve_dd(&scaled, o, sol.basis.as_deref(), |cand| {
+        let bases: Vec<&[bool]> = sol.basis.as_deref().into_iter().chain(warm).collect();
+        let found = lcp::lemke::solve_dd(&scaled, o, &bases, |cand| {
             self.lcp.unscale_z(&cand.z, &mut z);
             self.lcp.unscaled_w(&z, &mut w);
             eta = self.check.eta(&self.lcp, &z, &w);

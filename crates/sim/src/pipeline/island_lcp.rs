@@ -132,7 +132,7 @@ impl IslandLcp {
         }
         self.body_eta = 0.0;
         if let Some(o) = self.body_check.take() {
-            self.check_in_body_space(&mut sol, &o);
+            self.check_in_body_space(&mut sol, &o, warm.as_deref());
         }
         self.z_apply.clear();
         if sol.status == Status::Solved {
