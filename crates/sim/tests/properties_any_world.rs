@@ -69,3 +69,18 @@ fn a_rescued_step_with_an_overflowing_answer_is_not_solved() {
     ];
     properties::check(&data).unwrap();
 }
+
+/// Reported by `cargo fuzz` (world, run 6, after the fix above) as a timeout
+/// (over 10 s under ASAN, the fuzzer at `nice 10` on a machine loaded ~4×):
+/// a heavy body on light ones, failed steps rescued in double-double. It
+/// runs in 0.11 s in a release build (0.07 s before the body-space check);
+/// the properties hold.
+#[test]
+fn a_slow_fuzzed_world_keeps_the_properties() {
+    let data = [
+        41u8, 41, 205, 138, 44, 0, 0, 122, 75, 48, 54, 85, 85, 85, 10, 41, 138, 44, 122, 92, 41, 163, 1, 92, 41, 2,
+        243, 0, 122, 75, 48, 54, 85, 85, 85, 10, 41, 138, 44, 122, 92, 41, 163, 1, 92, 244, 23, 208, 183, 39, 2, 243,
+        243, 243, 189,
+    ];
+    properties::check(&data).unwrap();
+}
