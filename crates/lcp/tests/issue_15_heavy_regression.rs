@@ -31,3 +31,24 @@ fn heavy_box_on_light_box_is_solved_within_the_rule() {
         assert!(sol.z[..8].iter().sum::<f64>() > 0.0);
     }
 }
+
+/// `lemke::solve_dd` (the double-double rungs on demand, for an answer the
+/// caller doubts): it returns only answers that the rule and the caller's
+/// check both accept, and it asks the caller about each candidate in turn.
+#[test]
+fn double_double_on_demand_answers_within_the_rule_and_the_callers_check() {
+    let (p, basis) = repro_sparse("heavy1e6_slide_step1876.lcpsparse");
+    let o = LemkeOptions::default();
+    let sol = lemke::solve_dd(&p, &o, &[&basis[..]], |_| true).expect("the double-double rungs solve it");
+    assert!(sol.ok());
+    let eta = backward_error(&p, &sol.z, &p.w_of(&sol.z));
+    assert!(eta <= DEFAULT_TOL, "η = {eta:e}");
+    // A caller that accepts nothing gets nothing, after every candidate was put to it.
+    let mut asked = 0;
+    assert!(lemke::solve_dd(&p, &o, &[&basis[..]], |_| {
+        asked += 1;
+        false
+    })
+    .is_none());
+    assert!(asked >= 1, "no candidate was put to the caller");
+}

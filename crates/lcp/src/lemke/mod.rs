@@ -5,7 +5,8 @@
 //! - [`run`]: the pivoting loop with its cycle guard and pivot limit.
 //! - [`refine`]: re-solving the final complementary basis.
 //! - [`extended`], [`dd_solve`]: Lemke in double-double arithmetic, the rung
-//!   for bases beyond `f64` (a heavy body on a light one).
+//!   for bases beyond `f64` (a heavy body on a light one); [`precise`]: the
+//!   same on demand, for an answer the caller doubts ([`solve_dd`]).
 //! - [`exact`]: Lemke in exact integer arithmetic, the ladder's last rung.
 //! - [`frame`]: a rung's working (equilibrated) problem and its acceptance test.
 //! - [`warm`], [`subbasis`]: the warm start's basis, made regular when the
@@ -24,6 +25,7 @@ mod exact;
 mod extended;
 mod frame;
 mod options;
+mod precise;
 mod ratio;
 mod refine;
 mod run;
@@ -32,6 +34,7 @@ mod warm;
 mod workspace;
 
 pub use options::{LemkeOptions, Pivoting};
+pub use precise::{solve_dd, DD_MAX_N};
 pub use run::PivotRecord;
 pub use workspace::Workspace;
 

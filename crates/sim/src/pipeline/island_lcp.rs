@@ -3,7 +3,7 @@
 //! island slot), so a warm step allocates only what the solver allocates.
 
 use crate::contact::assembly::{AssemblyParams, BodyDynamics};
-use crate::contact::{BodySpaceLcp, ContactLcp};
+use crate::contact::{BodyCheck, BodySpaceLcp, ContactLcp};
 use crate::geometry::Contact;
 use lcp::contact::ContactLayout;
 use lcp::support::{BasisTolerances, LcpOperator, SupportWorkspace};
@@ -38,6 +38,13 @@ pub struct IslandLcp {
     pub z_apply: Vec<f64>,
     /// Buffers of the body-space check of the previous basis.
     pub support: SupportWorkspace,
+    /// Options of the body-space check of the answer and its double-double
+    /// re-solve (`pipeline::body_check`), `None` for no check; set per solve.
+    pub body_check: Option<LemkeOptions>,
+    /// The answer's body-space error `η_body` (`contact::body_check`; 0 unchecked).
+    pub body_eta: f64,
+    /// Buffers of that check.
+    pub check: BodyCheck,
 }
 
 impl IslandLcp {
@@ -139,6 +146,10 @@ impl IslandLcp {
         // A physical w that overflows cannot be checked: not solved either.
         if sol.status == Status::Solved && !self.residuals.residual.is_finite() {
             sol.status = Status::Numerical;
+        }
+        self.body_eta = 0.0;
+        if let Some(o) = self.body_check.take() {
+            self.check_in_body_space(&mut sol, &o, warm.as_deref());
         }
         self.z_apply.clear();
         if sol.status == Status::Solved {

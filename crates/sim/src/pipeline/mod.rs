@@ -13,6 +13,7 @@
 //! Every stage is a public method of [`World`] so a caller can run them one by
 //! one (and look at the contacts or the LCP in between); `step` runs them all.
 
+mod body_check;
 mod capture;
 mod detect;
 pub mod energy;

@@ -67,7 +67,9 @@ impl World {
                 }
                 // A sink captures every island's dense M: no body-space shortcut then.
                 let check = if self.sink.is_none() { basis_check_applies(&method) } else { None };
+                let body = super::body_check::body_check_applies(&method);
                 parallel::for_each(&mut ws.pool[..count], &mut ws.solvers[..threads], |solver, isl| {
+                    isl.body_check = body.clone();
                     isl.solve(&mut |lcp, warm| lcp::solve_in(lcp, &method, warm, solver), check)
                 });
                 method.name()
@@ -179,6 +181,7 @@ impl World {
                 pivots: sol.pivots,
                 residual: isl.residuals.residual,
                 solver_residual: sol.residuals.residual,
+                body_eta: isl.body_eta,
                 zeroed: isl.zeroed,
                 warm: isl.warmed,
             });
