@@ -189,7 +189,7 @@ pub fn solve_on_basis(
     also: Option<Also<'_>>,
     ws: &mut SupportWorkspace,
 ) -> Option<BasisAnswer> {
-    solve_on_basis_ruled(op, basis, BasisTolerances { tight: accept_tol, rule: None, exchange_within: true }, also, ws)
+    solve_on_basis_ruled(op, basis, BasisTolerances { tight: accept_tol, rule: None, exchange_within: true, polish: true }, also, ws)
 }
 
 /// When [`solve_on_basis_ruled`] accepts an answer.
@@ -207,6 +207,12 @@ pub struct BasisTolerances {
     /// Whether violations above [`REPAIR_FRACTION`] of the tight bound are
     /// exchanged also in an answer within it (see the module docs).
     pub exchange_within: bool,
+    /// Whether refinement on a kept factorization applies its last,
+    /// negligible correction too (and forms `w` for it): one product more,
+    /// for answers that need their last digits (a heavy body on a light one:
+    /// skipping it moved a 1e7 kg box-on-box test's energy rise past its
+    /// bound). Without it the answer is the one before that correction.
+    pub polish: bool,
 }
 
 /// [`solve_on_basis`] with a second, looser acceptance ([`BasisTolerances::rule`])
@@ -235,7 +241,7 @@ pub fn solve_on_basis_ruled(
     // left), and the first within the rule while there is none.
     let (mut held, mut ruled) = (None, None);
     for round in 0..=REPAIR_ROUNDS {
-        let reused = round == 0 && ws.factored == ws.mask && refine_on_factor(op, ws);
+        let reused = round == 0 && ws.factored == ws.mask && refine_on_factor(op, ws, tol.polish);
         if !reused && !solve_fresh(op, ws, entered) {
             break;
         }
@@ -342,10 +348,9 @@ const REFINE_STOP: f64 = 1e-15;
 /// `z` on `β` of the kept factorization, for the new `op`: the old factors
 /// precondition iterative refinement against the new block (each step one
 /// product `M z`). Leaves `ws.z`, `ws.w` and returns `true` once the
-/// correction is negligible (applied, and `w` formed for it: skipping both
-/// moved a 1e7 kg box-on-box test's energy rise past its bound); `false`
-/// (factor afresh) otherwise.
-fn refine_on_factor(op: &dyn LcpOperator, ws: &mut SupportWorkspace) -> bool {
+/// correction is negligible (applied, and `w` formed for it, only if
+/// `polish`: see [`BasisTolerances::polish`]); `false` (factor afresh) otherwise.
+fn refine_on_factor(op: &dyn LcpOperator, ws: &mut SupportWorkspace, polish: bool) -> bool {
     if ws.factored.len() != op.n() {
         return false;
     }
@@ -356,11 +361,15 @@ fn refine_on_factor(op: &dyn LcpOperator, ws: &mut SupportWorkspace) -> bool {
         if !(dmax.is_finite() && zmax.is_finite()) {
             return false;
         }
+        let negligible = dmax <= REFINE_STOP * zmax;
+        if negligible && !polish {
+            return true;
+        }
         if step == REFINE_STEPS {
             break;
         }
         apply_correction(ws);
-        if dmax <= REFINE_STOP * zmax {
+        if negligible {
             op.w_of(&ws.z, &mut ws.w);
             return true;
         }

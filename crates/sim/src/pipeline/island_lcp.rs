@@ -232,6 +232,8 @@ fn try_previous_basis(lcp: &ContactLcp, basis: &[bool], accept_tol: f64, ws: &mu
         tight: accept_tol * BASIS_CHECK_TOL,
         rule: stack.then_some(accept_tol),
         exchange_within: stack,
+        // The last digits only where the body-space check will judge them.
+        polish: BodyCheck::applies(lcp),
     };
     let a = lcp::support::solve_on_basis_ruled(&scaled, basis, tol, also, ws)?;
     // At scale 1, z and w are the physical ones (λ·1 and the same products).
