@@ -189,7 +189,13 @@ pub fn solve_on_basis(
     also: Option<Also<'_>>,
     ws: &mut SupportWorkspace,
 ) -> Option<BasisAnswer> {
-    solve_on_basis_ruled(op, basis, BasisTolerances { tight: accept_tol, rule: None, exchange_within: true, polish: true }, also, ws)
+    solve_on_basis_ruled(
+        op,
+        basis,
+        BasisTolerances { tight: accept_tol, rule: None, exchange_within: true, polish: true },
+        also,
+        ws,
+    )
 }
 
 /// When [`solve_on_basis_ruled`] accepts an answer.

@@ -7,7 +7,7 @@ use crate::contact::{BodyCheck, BodySpaceLcp, ContactLcp};
 use crate::geometry::Contact;
 use lcp::contact::ContactLayout;
 use lcp::support::{BasisTolerances, LcpOperator, SupportWorkspace};
-use lcp::{LemkeOptions, Lcp, LcpError, Method, Pivoting, Residuals, Solution, Status};
+use lcp::{Lcp, LcpError, LemkeOptions, Method, Pivoting, Residuals, Solution, Status};
 
 /// A solver for one LCP, started from a basis when one is given.
 pub type IslandSolver<'a> = dyn FnMut(&Lcp, Option<&[bool]>) -> Solution + 'a;
@@ -203,7 +203,9 @@ const BASIS_CHECK_TOL: f64 = 1e-2;
 /// to earlier releases (the seed corpus is made of such LCPs).
 pub fn basis_check_applies(method: &Method) -> Option<f64> {
     match method {
-        Method::Lemke(LemkeOptions { pivoting: Pivoting::Lexicographic, warm_start: true, accept_tol, .. }) => Some(*accept_tol),
+        Method::Lemke(LemkeOptions { pivoting: Pivoting::Lexicographic, warm_start: true, accept_tol, .. }) => {
+            Some(*accept_tol)
+        }
         _ => None,
     }
 }
@@ -217,12 +219,18 @@ type PhysicalZw = (Vec<f64>, Vec<f64>);
 /// Lemke's warm start would accept at 0 pivots (the acceptance rule and
 /// Lemke's bound at `accept_tol`) — the same answer without forming `M`.
 /// With it the physical `z` and `w` it was checked with.
-fn try_previous_basis(lcp: &ContactLcp, basis: &[bool], accept_tol: f64, ws: &mut SupportWorkspace) -> Option<(Solution, PhysicalZw)> {
+fn try_previous_basis(
+    lcp: &ContactLcp,
+    basis: &[bool],
+    accept_tol: f64,
+    ws: &mut SupportWorkspace,
+) -> Option<(Solution, PhysicalZw)> {
     let scaled = BodySpaceLcp::new(lcp);
     let physical = BodySpaceLcp::at_scale(lcp, 1.0);
     let to_physical = |z: &[f64], out: &mut Vec<f64>| lcp.unscale_z(z, out);
     // At scale 1 the physical LCP is the one solved: one check does.
-    let also = (lcp.scale() != 1.0).then_some((&physical as &dyn LcpOperator, &to_physical as &dyn Fn(&[f64], &mut Vec<f64>)));
+    let also =
+        (lcp.scale() != 1.0).then_some((&physical as &dyn LcpOperator, &to_physical as &dyn Fn(&[f64], &mut Vec<f64>)));
     // Exchanges within the bound and the rule's last resort only from three
     // dynamic bodies up: with them a heavy box on a light one
     // (`issue_15_mass_ratio`, 1e8 kg sliding) met a step no Lemke rung
