@@ -234,7 +234,8 @@ fn try_previous_basis(
     // Exchanges within the bound and the rule's last resort only from three
     // dynamic bodies up: with them a heavy box on a light one
     // (`issue_15_mass_ratio`, 1e8 kg sliding) met a step no Lemke rung
-    // solved (chaotic trajectory or cause not found yet: see the report).
+    // solved (a trajectory sensitive to the last digits, or another cause:
+    // not found yet).
     let stack = lcp.dynamic_body_count() >= 3;
     let tol = BasisTolerances {
         tight: accept_tol * BASIS_CHECK_TOL,
