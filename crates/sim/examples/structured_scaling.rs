@@ -9,7 +9,8 @@
 //! at rest; its contacts are detected and their LCP assembled (dt = 1e-3, the
 //! world's defaults otherwise) as one LCP, which both solvers get (the dense
 //! one only up to `DENSE_MAX_N`, default 6,000). Prints one JSON line: n,
-//! contacts, and per solver seconds, pivots, status, accepted; and the peak RSS.
+//! contacts, and per solver seconds, pivots, status, accepted, natural
+//! residual; and the peak RSS.
 
 use sim::contact::assembly::{AssemblyParams, BodyDynamics};
 use sim::contact::structured::structured_lcp;
@@ -94,11 +95,12 @@ fn main() {
     let sol = structured::solve(&op, &so, None);
     let ts = t0.elapsed().as_secs_f64();
     let mut out = format!(
-        "{{\"cubes\": {k}, \"n\": {n}, \"contacts\": {}, \"structured\": {{\"seconds\": {ts}, \"pivots\": {}, \"status\": \"{}\", \"accepted\": {}}}",
+        "{{\"cubes\": {k}, \"n\": {n}, \"contacts\": {}, \"structured\": {{\"seconds\": {ts}, \"pivots\": {}, \"status\": \"{}\", \"accepted\": {}, \"residual\": {:e}}}",
         c.nc(),
         sol.pivots,
         sol.status.as_str(),
-        sol.accepted
+        sol.accepted,
+        sol.residuals.residual
     );
     let rss_structured = peak_rss_mb();
     if n <= dense_max {
@@ -108,10 +110,11 @@ fn main() {
         let d = lemke::solve(&lcp, &LemkeOptions::default());
         let td = t0.elapsed().as_secs_f64();
         out += &format!(
-            ", \"dense\": {{\"seconds\": {td}, \"pivots\": {}, \"status\": \"{}\", \"accepted\": {}}}",
+            ", \"dense\": {{\"seconds\": {td}, \"pivots\": {}, \"status\": \"{}\", \"accepted\": {}, \"residual\": {:e}}}",
             d.pivots,
             d.status.as_str(),
-            d.accepted
+            d.accepted,
+            d.residuals.residual
         );
     }
     println!("{out}, \"peak_rss_mb_structured\": {rss_structured:.1}, \"peak_rss_mb\": {:.1}}}", peak_rss_mb());

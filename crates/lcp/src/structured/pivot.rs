@@ -180,12 +180,14 @@ fn pivot_loop(mut basis: Basis, mut entering: usize, set: &Settings) -> Run {
 /// The lexicographic ratio test: the leaving position and the step, `None` for a ray.
 fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize>) -> Option<(usize, f64)> {
     let n = b.val.len();
+    let (val, y) = (&b.val[..], &y[..n]);
     let thresh = set.piv_tol * ymax;
-    let (mut theta, mut vmax) = (f64::INFINITY, f64::MIN_POSITIVE);
-    for c in 0..n {
-        vmax = vmax.max(b.val[c].abs());
-        if y[c] > thresh {
-            theta = theta.min(b.val[c].max(0.0) / y[c]);
+    // Over slices, no index: these passes are O(n) per pivot.
+    let vmax = val.iter().fold(f64::MIN_POSITIVE, |a, v| a.max(v.abs()));
+    let mut theta = f64::INFINITY;
+    for (&v, &yc) in val.iter().zip(y) {
+        if yc > thresh {
+            theta = theta.min(v.max(0.0) / yc);
         }
     }
     if !theta.is_finite() {
@@ -193,7 +195,8 @@ fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize
     }
     let vtol = set.tie_tol * vmax;
     tied.clear();
-    tied.extend((0..n).filter(|&c| y[c] > thresh && b.val[c].max(0.0) - theta * y[c] <= vtol));
+    let is_tied = |(_, (&v, &yc)): &(usize, (&f64, &f64))| yc > thresh && v.max(0.0) - theta * yc <= vtol;
+    tied.extend(val.iter().zip(y).enumerate().filter(is_tied).map(|(c, _)| c));
     if let Some(&c) = tied.iter().find(|&&c| b.var[c] == 2 * n) {
         return Some((c, theta));
     }
