@@ -72,6 +72,7 @@ impl Etas {
     }
 
     /// `y ← E_k⁻¹ ⋯ E_1⁻¹ y`.
+    #[inline(never)]
     fn apply(&self, y: &mut [f64]) {
         let mut si = 0;
         for e in &self.heads {
@@ -99,7 +100,8 @@ impl Etas {
 
 /// A kept column order is dropped when its factors' fill (nonzeros of
 /// `L + U` over those of the matrix) exceeds this multiple of the fill of
-/// the last fresh order.
+/// the last fresh order. (1.4 cost 8 % more instructions on a 160-cube
+/// heap's LCP, n = 5,360; 1.1 cost 17 % more on a 52-cube one.)
 const FILL_SLACK: f64 = 1.2;
 
 /// Variables are numbered `w_i → i`, `z_j → n + j`, `z0 → 2n`.

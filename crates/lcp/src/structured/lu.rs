@@ -58,10 +58,11 @@ impl Csc {
 
 /// One triangular factor by columns, its diagonal apart: column `j`'s
 /// off-diagonal entries are `idx[ptr[j]..ptr[j + 1]]`, `val` the same range.
+/// Rows as `u32`: the solves stream these arrays once per pivot.
 #[derive(Default)]
 struct Triangle {
     ptr: Vec<usize>,
-    idx: Vec<usize>,
+    idx: Vec<u32>,
     val: Vec<f64>,
 }
 
@@ -76,7 +77,7 @@ impl Triangle {
         self.ptr.push(0);
         for j in 0..m.ncols() {
             let r = if diag_first { ptr[j] + 1..ptr[j + 1] } else { ptr[j]..ptr[j + 1] - 1 };
-            self.idx.extend_from_slice(&idx[r.clone()]);
+            self.idx.extend(idx[r.clone()].iter().map(|&i| i as u32));
             self.val.extend_from_slice(&val[r]);
             self.ptr.push(self.idx.len());
         }
@@ -107,6 +108,7 @@ pub(crate) struct SparseLu {
 
 impl SparseLu {
     pub(crate) fn new(dim: usize) -> Self {
+        assert!(u32::try_from(dim).is_ok(), "rows fit in u32");
         SparseLu {
             dim,
             lu: SimplicialLu::new(),
@@ -174,6 +176,7 @@ impl SparseLu {
     }
 
     /// `x ← A⁻¹ x`.
+    #[inline(never)]
     pub(crate) fn solve_in_place(&self, x: &mut [f64]) {
         assert!(self.factored, "a factored matrix");
         let mut work = self.work.borrow_mut();
@@ -187,7 +190,7 @@ impl SparseLu {
             if tj != 0.0 {
                 let r = l.ptr[j]..l.ptr[j + 1];
                 for (&i, &v) in l.idx[r.clone()].iter().zip(&l.val[r]) {
-                    t[i] -= v * tj;
+                    t[i as usize] -= v * tj;
                 }
             }
         }
@@ -197,7 +200,7 @@ impl SparseLu {
                 t[j] = tj;
                 let r = u.ptr[j]..u.ptr[j + 1];
                 for (&i, &v) in u.idx[r.clone()].iter().zip(&u.val[r]) {
-                    t[i] -= v * tj;
+                    t[i as usize] -= v * tj;
                 }
             }
         }

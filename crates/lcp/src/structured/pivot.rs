@@ -222,19 +222,30 @@ fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize
 fn lex_break(b: &Basis, y: &[f64], tied: &mut Vec<usize>, tie_tol: f64) {
     let n = b.val.len();
     let mut col = Vec::new();
+    // Tied positions marked, so that a basic column of `B₀` costs O(1)
+    // unless it is one of them (a retain per column made this O(n · ties)).
+    let mut is_tied = vec![false; n];
+    tied.iter().for_each(|&t| is_tied[t] = true);
     for j in 0..n {
         if tied.len() <= 1 {
             break;
         }
         let c = b.pos[b.init[j]];
         if c != NONBASIC {
-            tied.retain(|&t| t != c);
+            if is_tied[c] {
+                is_tied[c] = false;
+                tied.retain(|&t| t != c);
+            }
             continue;
         }
         b.column_into(b.init[j], &mut col);
         b.ftran(&mut col);
         let min = tied.iter().map(|&t| col[t] / y[t]).fold(f64::INFINITY, f64::min);
         let scale = tied.iter().fold(0.0f64, |a, &t| a.max((col[t] / y[t]).abs()));
-        tied.retain(|&t| col[t] / y[t] <= min + tie_tol * scale);
+        tied.retain(|&t| {
+            let keep = col[t] / y[t] <= min + tie_tol * scale;
+            is_tied[t] = keep;
+            keep
+        });
     }
 }
