@@ -32,10 +32,12 @@ its sparse factors, never formed) is timed beside it on the same sub-heaps, by
 the Rust example ``structured_scaling`` (built here with cargo; the sub-heap's
 boxes are passed as a text file, the LCP assembled as one LCP of all the
 step's contacts). It goes on past the dense solver's limits, up to every cube
-of the heap; its own table and fitted exponent follow the dense one.
+of the heap; its own table and fitted exponent follow the dense one. Up to
+``--structured-dense-max-n`` the example also times the dense Lemke on the same
+LCP in the same process (the speed-up column when the dense table is not run).
 
     benchmarks/peers/.venv/bin/python benchmarks/lcp_scaling.py [--max-solve-s 300] [--mem-cap-gb 6]
-        [--only dense|structured]
+        [--only dense|structured] [--structured-dense-max-n 3100]
 """
 
 from __future__ import annotations
@@ -59,6 +61,8 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 PEERS = HERE / "peers"
 SIZES = [10, 16, 25, 40, 63, 100, 160, 250, 400, 630, 1000]
+# The structured Lemke also at 52 cubes (n ≈ 1,440): issue 13's "n ≈ 1,500" target.
+STRUCTURED_SIZES = sorted(SIZES + [52])
 
 
 # --------------------------------------------------------------------------- the heaps
@@ -186,9 +190,11 @@ def write_boxes(desc: dict[str, Any], path: str) -> None:
             f.write(" ".join(repr(float(x)) for x in row) + "\n")
 
 
-def run_structured_child(binary: Path, boxes: str, k: int, mem_cap: int, timeout: float) -> dict[str, Any]:
-    """One size by the structured Lemke (its own process, address space capped)."""
-    cmd = [str(binary), boxes, str(k), "0"]  # 0: no dense solve in the example
+def run_structured_child(binary: Path, boxes: str, k: int, mem_cap: int, timeout: float,
+                         dense_max_n: int) -> dict[str, Any]:
+    """One size by the structured Lemke (its own process, address space capped), and by the
+    dense Lemke in the same process after it when n ≤ ``dense_max_n``."""
+    cmd = [str(binary), boxes, str(k), str(dense_max_n)]
     try:
         proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout,
                               preexec_fn=lambda: resource.setrlimit(resource.RLIMIT_AS, (mem_cap, mem_cap)))
@@ -198,11 +204,18 @@ def run_structured_child(binary: Path, boxes: str, k: int, mem_cap: int, timeout
         return {"cubes": k, "error": (proc.stderr.strip().splitlines() or [f"exit {proc.returncode}"])[-1]}
     res = json.loads(proc.stdout.strip().splitlines()[-1])
     s = res.pop("structured")
-    return {"cubes": k, "n": res["n"], "contacts": res["contacts"], "seconds": s["seconds"], "pivots": s["pivots"],
-            "status": s["status"], "accepted": s["accepted"], "peak_rss_mb": res["peak_rss_mb"]}
+    row = {"cubes": k, "n": res["n"], "contacts": res["contacts"], "seconds": s["seconds"],
+           "solve_seconds": s.get("solve_seconds"), "pivots": s["pivots"], "status": s["status"],
+           "accepted": s["accepted"], "residual": s.get("residual"),
+           "peak_rss_mb": res.get("peak_rss_mb_structured", res["peak_rss_mb"])}
+    if "dense" in res:
+        d = res["dense"]
+        row["dense"] = {"seconds": d["seconds"], "pivots": d["pivots"], "status": d["status"],
+                        "residual": d.get("residual")}
+    return row
 
 
-def run_structured(desc: dict[str, Any], max_solve_s: float, mem_cap_gb: float) -> dict[str, Any]:
+def run_structured(desc: dict[str, Any], max_solve_s: float, mem_cap_gb: float, dense_max_n: int) -> dict[str, Any]:
     """Every size up to the whole heap, or until a solve is predicted to exceed ``max_solve_s``."""
     binary = structured_binary()
     cap = int(mem_cap_gb * (1 << 30))
@@ -212,7 +225,7 @@ def run_structured(desc: dict[str, Any], max_solve_s: float, mem_cap_gb: float) 
     with tempfile.TemporaryDirectory() as tmp:
         boxes = os.path.join(tmp, "boxes.txt")
         write_boxes(desc, boxes)
-        for k in [k for k in SIZES if k <= n_dyn]:
+        for k in [k for k in STRUCTURED_SIZES if k <= n_dyn]:
             done = [r for r in rows if "error" not in r and r["n"] > 0]
             p = fit_exponent([(r["n"], r["seconds"]) for r in done if r["n"] >= 100])
             if done and p:
@@ -223,7 +236,7 @@ def run_structured(desc: dict[str, Any], max_solve_s: float, mem_cap_gb: float) 
                     stop = (f"stopped before {k} cubes: n ≈ {n_next:,.0f}, one solve predicted to take "
                             f"{t_next:.3g} s > {max_solve_s:g} s (time ∝ n^{p:.2f})")
                     break
-            row = run_structured_child(binary, boxes, k, cap, timeout=3 * max_solve_s + 120)
+            row = run_structured_child(binary, boxes, k, cap, timeout=3 * max_solve_s + 120, dense_max_n=dense_max_n)
             rows.append(row)
             if "error" in row:
                 print(f"  structured, {k} cubes: {row['error']}", flush=True)
@@ -246,8 +259,10 @@ def error_row(r: dict[str, Any], ncols: int) -> str:
 
 
 def render_structured(res: dict[str, Any], dense: dict[str, Any] | None) -> list[str]:
-    """The structured Lemke's table, with the dense solve's time where both ran."""
-    dense_s = {r["cubes"]: r["seconds"] for r in (dense or {}).get("rows", []) if "error" not in r}
+    """The structured Lemke's table, with the dense solve's time where both ran (the dense
+    table's, else the example's own dense Lemke on the same LCP)."""
+    dense_s = {r["cubes"]: r["dense"]["seconds"] for r in res["rows"] if "dense" in r}
+    dense_s |= {r["cubes"]: r["seconds"] for r in (dense or {}).get("rows", []) if "error" not in r}
     lines = [
         "### Contact LCPs of heaps: the structured Lemke",
         "",
@@ -401,6 +416,8 @@ def main() -> int:
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--out", default=str(HERE / "lcp_scaling.json"))
     ap.add_argument("--only", choices=["dense", "structured"], help="run one solver only")
+    ap.add_argument("--structured-dense-max-n", type=int, default=3100,
+                    help="the structured example also runs the dense Lemke up to this n (speed-up column)")
     args = ap.parse_args()
     found = None if args.block else settled_heap(Path(args.results), args.scene, args.engines.split(","))
     desc, source = found if found else block_heap(max(SIZES))
@@ -409,7 +426,7 @@ def main() -> int:
     if args.only != "structured":
         res = run_all(desc, source, args.max_solve_s, args.mem_cap_gb, args.reps)
     if args.only != "dense":
-        res["structured"] = run_structured(desc, args.max_solve_s, args.mem_cap_gb)
+        res["structured"] = run_structured(desc, args.max_solve_s, args.mem_cap_gb, args.structured_dense_max_n)
     Path(args.out).write_text(json.dumps(res, indent=1))
     lines = render(res) if "rows" in res else []
     if "structured" in res:

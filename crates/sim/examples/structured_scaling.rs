@@ -9,7 +9,10 @@
 //! at rest; its contacts are detected and their LCP assembled (dt = 1e-3, the
 //! world's defaults otherwise) as one LCP, which both solvers get (the dense
 //! one only up to `DENSE_MAX_N`, default 6,000). Prints one JSON line: n,
-//! contacts, and per solver seconds, pivots, status, accepted; and the peak RSS.
+//! contacts, and per solver seconds, pivots, status, accepted, natural
+//! residual; and the peak RSS. The structured solver's `seconds` include
+//! building its operator from the assembled contacts, `solve_seconds` not
+//! (the dense solver's `seconds` do not include assembling its `M`).
 
 use sim::contact::assembly::{AssemblyParams, BodyDynamics};
 use sim::contact::structured::structured_lcp;
@@ -87,18 +90,21 @@ fn main() {
     let n = c.n();
     let t0 = Instant::now();
     let op = structured_lcp(&c, c.scale()).unwrap();
+    let t1 = Instant::now();
     let mut so = StructuredOptions::default();
     if let Some(r) = std::env::var("REFACTOR_EVERY").ok().and_then(|v| v.parse().ok()) {
         so.refactor_every = r;
     }
     let sol = structured::solve(&op, &so, None);
     let ts = t0.elapsed().as_secs_f64();
+    let ts_solve = t1.elapsed().as_secs_f64();
     let mut out = format!(
-        "{{\"cubes\": {k}, \"n\": {n}, \"contacts\": {}, \"structured\": {{\"seconds\": {ts}, \"pivots\": {}, \"status\": \"{}\", \"accepted\": {}}}",
+        "{{\"cubes\": {k}, \"n\": {n}, \"contacts\": {}, \"structured\": {{\"seconds\": {ts}, \"solve_seconds\": {ts_solve}, \"pivots\": {}, \"status\": \"{}\", \"accepted\": {}, \"residual\": {:e}}}",
         c.nc(),
         sol.pivots,
         sol.status.as_str(),
-        sol.accepted
+        sol.accepted,
+        sol.residuals.residual
     );
     let rss_structured = peak_rss_mb();
     if n <= dense_max {
@@ -108,10 +114,11 @@ fn main() {
         let d = lemke::solve(&lcp, &LemkeOptions::default());
         let td = t0.elapsed().as_secs_f64();
         out += &format!(
-            ", \"dense\": {{\"seconds\": {td}, \"pivots\": {}, \"status\": \"{}\", \"accepted\": {}}}",
+            ", \"dense\": {{\"seconds\": {td}, \"pivots\": {}, \"status\": \"{}\", \"accepted\": {}, \"residual\": {:e}}}",
             d.pivots,
             d.status.as_str(),
-            d.accepted
+            d.accepted,
+            d.residuals.residual
         );
     }
     println!("{out}, \"peak_rss_mb_structured\": {rss_structured:.1}, \"peak_rss_mb\": {:.1}}}", peak_rss_mb());

@@ -180,12 +180,14 @@ fn pivot_loop(mut basis: Basis, mut entering: usize, set: &Settings) -> Run {
 /// The lexicographic ratio test: the leaving position and the step, `None` for a ray.
 fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize>) -> Option<(usize, f64)> {
     let n = b.val.len();
+    let (val, y) = (&b.val[..], &y[..n]);
     let thresh = set.piv_tol * ymax;
-    let (mut theta, mut vmax) = (f64::INFINITY, f64::MIN_POSITIVE);
-    for c in 0..n {
-        vmax = vmax.max(b.val[c].abs());
-        if y[c] > thresh {
-            theta = theta.min(b.val[c].max(0.0) / y[c]);
+    // Over slices, no index: these passes are O(n) per pivot.
+    let vmax = val.iter().fold(f64::MIN_POSITIVE, |a, v| a.max(v.abs()));
+    let mut theta = f64::INFINITY;
+    for (&v, &yc) in val.iter().zip(y) {
+        if yc > thresh {
+            theta = theta.min(v.max(0.0) / yc);
         }
     }
     if !theta.is_finite() {
@@ -193,7 +195,8 @@ fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize
     }
     let vtol = set.tie_tol * vmax;
     tied.clear();
-    tied.extend((0..n).filter(|&c| y[c] > thresh && b.val[c].max(0.0) - theta * y[c] <= vtol));
+    let is_tied = |(_, (&v, &yc)): &(usize, (&f64, &f64))| yc > thresh && v.max(0.0) - theta * yc <= vtol;
+    tied.extend(val.iter().zip(y).enumerate().filter(is_tied).map(|(c, _)| c));
     if let Some(&c) = tied.iter().find(|&&c| b.var[c] == 2 * n) {
         return Some((c, theta));
     }
@@ -219,19 +222,30 @@ fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize
 fn lex_break(b: &Basis, y: &[f64], tied: &mut Vec<usize>, tie_tol: f64) {
     let n = b.val.len();
     let mut col = Vec::new();
+    // Tied positions marked, so that a basic column of `B₀` costs O(1)
+    // unless it is one of them (a retain per column made this O(n · ties)).
+    let mut is_tied = vec![false; n];
+    tied.iter().for_each(|&t| is_tied[t] = true);
     for j in 0..n {
         if tied.len() <= 1 {
             break;
         }
         let c = b.pos[b.init[j]];
         if c != NONBASIC {
-            tied.retain(|&t| t != c);
+            if is_tied[c] {
+                is_tied[c] = false;
+                tied.retain(|&t| t != c);
+            }
             continue;
         }
         b.column_into(b.init[j], &mut col);
         b.ftran(&mut col);
         let min = tied.iter().map(|&t| col[t] / y[t]).fold(f64::INFINITY, f64::min);
         let scale = tied.iter().fold(0.0f64, |a, &t| a.max((col[t] / y[t]).abs()));
-        tied.retain(|&t| col[t] / y[t] <= min + tie_tol * scale);
+        tied.retain(|&t| {
+            let keep = col[t] / y[t] <= min + tie_tol * scale;
+            is_tied[t] = keep;
+            keep
+        });
     }
 }
