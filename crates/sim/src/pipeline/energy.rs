@@ -19,9 +19,11 @@
 //! the bodies apart with `S = Σ fn·|b|` that no force did: Baumgarte's
 //! (ODE's ERP's) known energy gain, the price of removing a penetration
 //! through the velocities. It is recorded, not called created: a sphere of
-//! 1e7 kg sliding on a 1 kg box sinks up to 4.7 µm into it over its first
-//! 47 steps (`issue_15_mass_ratio`; why is not found yet) and is then
-//! pushed out with up to 6.8e-7 of its energy in a step, 0.8 of that the
+//! 1e7 kg sliding on a 1 kg cube (`issue_15_mass_ratio`; μ = 0.5, the
+//! cube's tipping limit) throws the cube into a tumble at its second step
+//! (1.3e6 N·s, ω = 2.5 rad/s), and the contact on the turning face, exact
+//! to first order, sinks by O(h²ω²r) a step, up to 4.7 µm; the correction
+//! pushes it out with up to 6.8e-7 of E₀ in a step, 0.8 of that the
 //! next, … — all of it `S`. (Split impulses or post-stabilization — a
 //! position correction that does not touch the velocities — would not add
 //! it; this simulator keeps Stewart–Trinkle's single velocity-level LCP.)
