@@ -175,3 +175,41 @@ def test_trajectory_load_and_lcpsim_view_survive_a_file_that_crashes_hdf5(tmp_pa
     lines = p.stderr.strip().splitlines()
     assert len(lines) == 1 and "crashes the HDF5 library" in lines[0], p.stderr
     assert not (tmp_path / "v.html").exists()
+
+
+def test_open_capture_can_probe_a_file_first(tmp_path, monkeypatch):
+    """``open_capture(path, probe=True)`` opens the corpus in a child first: a
+    sound corpus opens as without it; a crash or a hang of the HDF5 library in
+    the child is a ``DamagedHdf5Error`` (a ``ValueError``) here."""
+    from lcpsim.io import hdf5_check
+
+    s = scenes.box_stack(2)
+    path = tmp_path / "c.h5"
+    s.world.run(5, capture=path)
+    with open_capture(path, probe=True) as c, open_capture(path) as d:
+        assert len(c) == len(d) > 0 and np.array_equal(c[0].M, d[0].M)
+    monkeypatch.setattr(hdf5_check, "_PROBE", "import os, signal; os.kill(os.getpid(), signal.SIGSEGV)")
+    with pytest.raises(hdf5_check.DamagedHdf5Error, match="crashes the HDF5 library"):
+        open_capture(path, probe=True)
+    with open_capture(path) as c:  # without the probe, the file is read as it is
+        assert len(c) > 0
+
+
+@pytest.mark.parametrize("name", sorted(p.name for p in (FOUND.parent / "fuzz_crash").glob("*.gz")))
+def test_open_capture_with_probe_survives_a_file_that_crashes_hdf5(tmp_path, name):
+    """The damaged files on which HDF5 segfaults, opened as corpora with the
+    probe: a clean ``ValueError`` (whichever reader stage refuses them), never
+    a dead interpreter."""
+    path = tmp_path / "crash.h5"
+    path.write_bytes(gzip.decompress((FOUND.parent / "fuzz_crash" / name).read_bytes()))
+    code = f"""
+        import sys
+        sys.path[:0] = {sys.path[:1]!r}
+        from lcpsim import open_capture
+        try:
+            open_capture({str(path)!r}, probe=True)
+        except ValueError as e:
+            print("clean:", type(e).__name__, e)
+    """
+    p = subprocess.run([sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0 and p.stdout.startswith("clean:"), (p.returncode, p.stdout, p.stderr[-2000:])

@@ -116,13 +116,22 @@ class StepRecord:
     (one LCP each): ``island_of_contact`` (nc,), per island ``island_bodies``,
     ``island_lcp_size``/``pivots``/``residual``/``status``; ``status`` is "solved" iff every island
     was, else the first unsolved one's; ``pivots`` total, ``residual`` max.
+    ``island_body_eta``: each island's body-space backward error (every contact
+    row judged on the scale of the velocities it relates; an answer passes
+    when it is ≤ the solver's ``accept_tol``, 1e-9 by default). Only islands
+    where a contact joins two bodies whose mobilities differ 100-fold or more
+    (a heavy body on a light one) are checked, and only with the robust Lemke
+    with warm starts (the default); 0 for the others and for a failed solve.
     ``zeroed``: the solve failed and its answer was not applied as it stood:
     the island applied its admissible part (impulses clipped at 0, friction
     scaled into the cone) times the factor in [0, 1] that minimizes the energy
     after the step, so a failed step adds no energy. Energy audit (J):
     ``energy_before``/``energy_after`` (kinetic + gravitational potential of
     the dynamic bodies), ``external_work`` (applied forces and torques;
-    gravity is in the energies), ``energy_created = after − before − work``.
+    gravity is in the energies), ``stabilization_work`` (what the penetration
+    correction put in: ``Σ fn·erp·|φ|/h`` over the penetrating contacts,
+    Baumgarte's known energy gain), ``energy_created = after − before −
+    external_work − stabilization_work``.
     """
 
     step: int
@@ -143,6 +152,7 @@ class StepRecord:
     energy_before: float
     energy_after: float
     external_work: float
+    stabilization_work: float
     fn: NDArray[np.float64]
     fd: NDArray[np.float64]
     lam: NDArray[np.float64]
@@ -163,6 +173,7 @@ class StepRecord:
     island_lcp_size: NDArray[np.int64]
     island_pivots: NDArray[np.int64]
     island_residual: NDArray[np.float64]
+    island_body_eta: NDArray[np.float64]
     island_status: tuple[str, ...]
     basis: NDArray[np.bool_] | None = None
 
@@ -173,8 +184,8 @@ class StepRecord:
 
     @property
     def energy_created(self) -> float:
-        """Energy the step added (J): ``energy_after − energy_before − external_work``."""
-        return self.energy_after - self.energy_before - self.external_work
+        """Energy the step added (J): ``energy_after − energy_before − external_work − stabilization_work``."""
+        return self.energy_after - self.energy_before - self.external_work - self.stabilization_work
 
     @property
     def total_normal_impulse(self) -> float:

@@ -208,12 +208,27 @@ pub fn snap(lcp: &Lcp, z: &[f64], weights: Option<&[f64]>, tol: f64) -> Option<(
     if accepts(lcp, &clipped, &w, tol) {
         return Some((clipped, w));
     }
+    snap_rejected(lcp, &clipped, weights, tol)
+}
+
+/// [`snap`] for a `z ≥ 0` that the rule has already rejected at `tol` (its
+/// caller formed `w` and judged it, as [`crate::Solution::from_z_tol`] does):
+/// only the variants with small entries set to 0, without forming `w` and
+/// judging `z` itself once more (a product with the dense `M`, on every
+/// rejected round of a Lemke warm start).
+pub(crate) fn snap_rejected(
+    lcp: &Lcp,
+    clipped: &[f64],
+    weights: Option<&[f64]>,
+    tol: f64,
+) -> Option<(Vec<f64>, Vec<f64>)> {
+    debug_assert!(clipped.iter().all(|v| *v >= 0.0), "snap_rejected: z must be clipped at 0");
     let weight = |j: usize| weights.map_or(1.0, |c| c[j]);
-    let top = (0..z.len()).fold(0.0f64, |a, j| a.max(clipped[j] * weight(j)));
-    let mut last = clipped.clone();
+    let top = (0..clipped.len()).fold(0.0f64, |a, j| a.max(clipped[j] * weight(j)));
+    let mut last = clipped.to_vec();
     for tau in SNAP_LEVELS {
         let cand: Vec<f64> =
-            (0..z.len()).map(|j| if clipped[j] * weight(j) <= tau * top { 0.0 } else { clipped[j] }).collect();
+            (0..clipped.len()).map(|j| if clipped[j] * weight(j) <= tau * top { 0.0 } else { clipped[j] }).collect();
         if cand == last {
             continue;
         }
@@ -263,6 +278,9 @@ mod tests {
         // Snapping the unreached zero repairs it.
         let (zs, _) = snap(&p, &[1.0, 1e-16], None, 1e-9).unwrap();
         assert_eq!(zs, vec![1.0, 0.0]);
+        // A caller that has judged z already gets the same repair without the repeated check.
+        assert_eq!(snap_rejected(&p, &[1.0, 1e-16], None, 1e-9), snap(&p, &[1.0, 1e-16], None, 1e-9));
+        assert_eq!(snap_rejected(&p, &[1.0, 1e-3], None, 1e-9), None);
     }
 
     #[test]

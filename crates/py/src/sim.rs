@@ -140,6 +140,7 @@ fn record_to_dict<'py>(py: Python<'py>, r: &StepRecord) -> PyResult<Bound<'py, P
     d.set_item(intern!(py, "energy_before"), r.energy.before)?;
     d.set_item(intern!(py, "energy_after"), r.energy.after)?;
     d.set_item(intern!(py, "external_work"), r.energy.external_work)?;
+    d.set_item(intern!(py, "stabilization_work"), r.energy.stabilization)?;
     // The solver's z, or zeros where it was unusable (then also no friction).
     let lay = r.layout();
     let has_z = r.z.len() == lay.n();
@@ -210,6 +211,8 @@ fn islands_to_dict(py: Python<'_>, r: &StepRecord, d: &Bound<'_, PyDict>) -> PyR
     d.set_item(intern!(py, "island_pivots"), copied(py, &each(|i| i.pivots as i64), &[count]))?;
     let res: Vec<f64> = r.islands.iter().map(|i| i.residual).collect();
     d.set_item(intern!(py, "island_residual"), copied(py, &res, &[count]))?;
+    let eta: Vec<f64> = r.islands.iter().map(|i| i.body_eta).collect();
+    d.set_item(intern!(py, "island_body_eta"), copied(py, &eta, &[count]))?;
     let status = r.islands.iter().map(|i| i.status.as_str());
     d.set_item(intern!(py, "island_status"), pyo3::types::PyTuple::new(py, status)?)?;
     Ok(())
@@ -601,7 +604,8 @@ impl World {
         let limit = max_capture_bytes.filter(|_| self.capturing);
         let w = self.inner();
         // Stop early once the capture holds `limit` bytes, so the caller can drain it.
-        let full = move |_: &sim::World| matches!((limit, capture.as_ref()), (Some(lim), Some(c)) if c.lock().bytes() >= lim);
+        let full =
+            move |_: &sim::World| matches!((limit, capture.as_ref()), (Some(lim), Some(c)) if c.lock().bytes() >= lim);
         let out = py.detach(|| catch_unwind(AssertUnwindSafe(|| w.run_until(steps, full))));
         match out {
             Err(payload) => Err(panic_error(payload)),

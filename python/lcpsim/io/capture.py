@@ -656,8 +656,23 @@ class Capture:
         return f"Capture({str(self.path)!r}, {len(self)} LCPs, scene={self.metadata.get('scene')!r})"
 
 
-def open_capture(path: str | os.PathLike[str]) -> Capture:
-    """Opens a capture for reading (also one whose writer was interrupted)."""
+def open_capture(path: str | os.PathLike[str], probe: bool = False) -> Capture:
+    """Opens a capture for reading (also one whose writer was interrupted).
+
+    With ``probe``, the file is first opened in a child process
+    (:func:`lcpsim.io.hdf5_check.probe`, ``kind="capture"``: attributes,
+    index and the first record): the HDF5 library itself can crash (a
+    segmentation fault on some damaged attributes) or loop on a damaged file,
+    which no Python exception can catch; the probe turns that into a
+    :class:`~lcpsim.io.hdf5_check.DamagedHdf5Error` (a ``ValueError``) at the
+    cost of a Python start-up (about 0.3–0.5 s). Off by default: captures
+    are usually one's own; use it for files from elsewhere. Records read
+    later are not probed (their data are datasets, which the readers check;
+    the crashes found were in attributes)."""
+    if probe:
+        from .hdf5_check import probe as probe_file
+
+        probe_file(path, kind="capture")
     return Capture(path)
 
 

@@ -594,9 +594,12 @@ fn solve_attempt(
 /// only of such terms fails the rule. Those entries are zeroed, judged in the
 /// working units (equilibrated, so a cone-scaled λ does not set the scale),
 /// and the result kept if the rule accepts it (see [`crate::accept::snap`]).
+/// `sol` is a rejected answer of [`frame::Frame::solution`] (clipped, its `w`
+/// formed and judged at `frame.accept_tol`), so only the variants are tried.
 fn snap_in_working_units(lcp: &Lcp, frame: &frame::Frame, sol: &mut Solution) {
+    debug_assert!(!sol.accepted);
     let weights: Vec<f64> = frame.scaling.col.iter().map(|c| frame.qscale / c).collect();
-    if let Some((z, w)) = crate::accept::snap(lcp, &sol.z, Some(&weights), frame.accept_tol) {
+    if let Some((z, w)) = crate::accept::snap_rejected(lcp, &sol.z, Some(&weights), frame.accept_tol) {
         sol.residuals = crate::Residuals::of(&z, &w);
         (sol.z, sol.w, sol.accepted) = (z, w, true);
     }

@@ -20,10 +20,9 @@
 //! The check runs for the robust Lemke with warm starts (the world's
 //! default method; not a caller's solver), at its `accept_tol`, on islands
 //! where a contact joins bodies of very different mobility
-//! ([`BodyCheck::applies`]) and up to [`lcp::lemke::DD_MAX_N`] unknowns.
+//! ([`crate::contact::BodyCheck::applies`]) and up to [`lcp::lemke::DD_MAX_N`] unknowns.
 
 use super::island_lcp::IslandLcp;
-use crate::contact::BodyCheck;
 use lcp::{LemkeOptions, Method, Pivoting, Solution, Status};
 
 /// The options the check re-solves with when `method` gets it.
@@ -41,12 +40,19 @@ impl IslandLcp {
     /// for a failed one); re-solves in double-double an answer that fails, or
     /// a failed solve (from its basis, then from `warm`, the basis the solve
     /// started from), replacing `sol`, `z`, `w` and `residuals` by an answer
-    /// that passes.
-    pub(super) fn check_in_body_space(&mut self, sol: &mut Solution, o: &LemkeOptions, warm: Option<&[bool]>) {
+    /// that passes. Only where `mixed`: [`crate::contact::BodyCheck::applies`] to the island
+    /// (computed once per solve by `IslandLcp::solve`).
+    pub(super) fn check_in_body_space(
+        &mut self,
+        sol: &mut Solution,
+        o: &LemkeOptions,
+        warm: Option<&[bool]>,
+        mixed: bool,
+    ) {
         let tol = o.accept_tol;
         match sol.status {
             Status::MaxPivots => return,
-            _ if !BodyCheck::applies(&self.lcp) => return,
+            _ if !mixed => return,
             Status::Solved => {
                 self.body_eta = self.check.eta(&self.lcp, &self.z, &self.w);
                 if self.body_eta <= tol {

@@ -237,7 +237,11 @@ impl World {
         }
         self.time += h;
         self.steps += 1;
-        self.record.energy = energy::EnergyAudit { before, after: self.energy(), external_work: work };
+        let stab = &self.params.stabilization;
+        let stabilization = (ws.pool[..ws.islands.len()].iter())
+            .map(|isl| energy::stabilization_work(&isl.contacts, &isl.z_apply, isl.lcp.layout(), stab, h))
+            .sum();
+        self.record.energy = energy::EnergyAudit { before, after: self.energy(), external_work: work, stabilization };
     }
 
     /// The failed-solve policy of [`energy`]: each failed island applies its
