@@ -6,7 +6,8 @@
 //! per step the largest LCP, pivots, status, seconds and the files written.
 //!
 //! `cargo run --release -p lcpsim-sim --example heap_replay -- solve START FILE...`
-//! solves each file from `START` (`previous`, `cold` or `guess:SWEEPS`) and
+//! solves each file from `START` (`step`: the step's rule, `previous`, `cold`,
+//! `guess:SWEEPS` or `merged:SWEEPS`) and
 //! prints one line per file: n, pivots, status, accepted, natural residual,
 //! seconds, and for a guess the seconds of its sweeps and how many basis flags
 //! it got wrong against the answer found.
@@ -46,6 +47,7 @@ fn record(cubes: usize, steps: usize, dir: &str) {
 fn solve(start: &str, files: &[String]) {
     let start = match start {
         "previous" => Start::Previous,
+        "step" => Start::Step,
         "cold" => Start::Cold,
         g if g.starts_with("merged:") => Start::Merged { sweeps: g[7..].parse().expect("merged:SWEEPS") },
         g => Start::Guess { sweeps: g.strip_prefix("guess:").and_then(|s| s.parse().ok()).expect("guess:SWEEPS") },

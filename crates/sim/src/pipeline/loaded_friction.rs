@@ -49,7 +49,9 @@ pub(crate) fn solve(
             .collect();
         let sub = op.restrict(&keep).map_err(|_| pivots)?;
         let sub_warm: Option<Vec<bool>> = warm.as_ref().map(|b| keep.iter().map(|&i| b[i]).collect());
-        let sol = structured::solve(&sub, o, sub_warm.as_deref());
+        // A pivot limit is one for all rounds.
+        let left = StructuredOptions { max_pivots: o.max_pivots.map(|m| m.saturating_sub(pivots).max(1)), ..o.clone() };
+        let sol = structured::solve(&sub, &left, sub_warm.as_deref());
         pivots += sol.pivots;
         if !sol.ok() {
             return Err(pivots);
