@@ -185,19 +185,7 @@ fn sliding_contacts_seeded(lcp: &ContactLcp, warm: &[bool]) -> Vec<bool> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scenes::{BoxPile, CubeHeap};
-    use crate::{World, WorldParams};
-
-    /// `w` stepped `steps` times, with this step's contact LCP assembled.
-    fn settled(mut w: World, steps: usize) -> World {
-        for _ in 0..steps {
-            w.step().unwrap();
-        }
-        w.forces_stage().unwrap();
-        w.detect();
-        w.assemble();
-        w
-    }
+    use crate::pipeline::loaded_friction::tests::block_and_heap;
 
     /// The guessed basis is a vertex's: on a resting pile no two bodies have
     /// more normals basic than their contact rows' rank (three for a face on a
@@ -207,14 +195,7 @@ mod tests {
     /// step's rule goes on cold).
     #[test]
     fn lemke_from_the_guessed_basis_ends_at_an_accepted_answer() {
-        let p = WorldParams::default();
-        let worlds = [
-            settled(
-                BoxPile { nx: 3, ny: 3, nz: 2, spacing: 1.0, ..Default::default() }.build(p.clone()).unwrap().world,
-                20,
-            ),
-            settled(CubeHeap { walls: true, ..CubeHeap::new(12, 1) }.build(p.clone()).unwrap().world, 450),
-        ];
+        let worlds = block_and_heap();
         for (case, w) in worlds.iter().enumerate() {
             let lcp = w.contact_lcp();
             let lay = lcp.layout();
