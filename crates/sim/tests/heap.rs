@@ -89,6 +89,25 @@ fn heap_runs_without_failures_or_penetration(n: usize, steps: usize) -> sim::sce
 ///   ~5e-9) and are restarted; in a run without the warm-basis repair, step
 ///   181 (n = 13,060) failed so on the sub-LCP (n = 8,434, 47,380 pivots)
 ///   and on the full LCP after it.
+/// - at d626ab3 (`heap_replay record 200 200 DIR`, which also saves each
+///   large island's LCP for `heap_replay solve`): steps 140–178 take at most
+///   5,396 pivots and 12 s each (30 s for steps 0–171), step 179 (n = 12,130)
+///   12,073 pivots (68 s), step 180 (n = 12,610) 75,323 (397 s), step 181
+///   (n = 13,090) 134,331 (1,217 s; the run was stopped there).
+/// - with a second start from a basis guessed by body-space projected
+///   Gauss–Seidel (`lcp::structured::guess`) once the warm start has taken
+///   max(2,000, n/2) pivots: on those saved LCPs, from the guess (300 sweeps,
+///   0.1–0.8 s) steps 160–174 take 921–3,885 pivots where the warm basis
+///   takes 73–3,885 (so the guess comes second), step 175 6,466 against
+///   3,967, step 179 9,548 against 12,073, step 180 19,383 against 75,323.
+///   The live run: steps 0–178 as before, step 179 15,614 pivots (49 s),
+///   step 180 (n = 12,580: the runs part ways here) 62,347 (368 s), step
+///   181 39,682 (350 s), step 182 49,962 (501 s), step 183 (n = 13,360)
+///   `numerical` after 83,673 (835 s): still failing. The guess is a
+///   vertex's (its normals and friction read out largest first, kept while
+///   independent per contact pair) but misses more normal flags than the
+///   previous basis (step 175: 195 of 990 against 127), and no guess so far
+///   shortens the ordinary steps; it shortens the worst ones 1.3–4×.
 /// Run with `cargo test --release -p lcpsim-sim --test heap -- --ignored --nocapture`.
 #[test]
 #[ignore]

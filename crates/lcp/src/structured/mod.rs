@@ -6,6 +6,7 @@
 //! - [`factor`]: the basis in the augmented space `[w; z; z0; u = H z]`,
 //!   factored by a sparse LU and updated by eta vectors.
 //! - [`pivot`]: the lexicographic pivoting loop.
+//! - [`guess`]: a basis guessed by projected Gauss–Seidel in body space (contact LCPs).
 //!
 //! Every answer is judged by the acceptance rule of [`crate::accept`] on the
 //! operator (each row's scale from its sparse row of `M`); nothing about the
@@ -14,6 +15,7 @@
 //! fall back to the dense [`crate::lemke`] where `n` allows.
 
 mod factor;
+pub mod guess;
 mod lu;
 mod operator;
 mod pivot;
@@ -141,6 +143,19 @@ pub fn solve(op: &StructuredLcp, o: &StructuredOptions, warm: Option<&[bool]>) -
     }
     let sol = within.or(best).expect("at least one run");
     Solution { pivots, ..sol }
+}
+
+/// The factors of `op` as entries: `(p, G, H, K)` (e.g. to save a problem and
+/// rebuild it with [`StructuredLcp::new`]).
+pub fn parts(op: &StructuredLcp) -> (usize, Vec<Entry>, Vec<Entry>, Vec<Entry>) {
+    let n = op.n();
+    let (mut g, mut h, mut k) = (Vec::new(), Vec::new(), Vec::new());
+    for j in 0..n {
+        g.extend(op.g_rows.iter(j).map(|(c, v)| (j, c, v)));
+        h.extend(op.h_cols.iter(j).map(|(r, v)| (r, j, v)));
+        k.extend(op.k_cols.iter(j).map(|(r, v)| (r, j, v)));
+    }
+    (op.p(), g, h, k)
 }
 
 /// A run's answer as a [`Solution`]: `z` clipped at 0, `w` recomputed, judged

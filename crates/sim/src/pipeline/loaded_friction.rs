@@ -49,7 +49,9 @@ pub(crate) fn solve(
             .collect();
         let sub = op.restrict(&keep).map_err(|_| pivots)?;
         let sub_warm: Option<Vec<bool>> = warm.as_ref().map(|b| keep.iter().map(|&i| b[i]).collect());
-        let sol = structured::solve(&sub, o, sub_warm.as_deref());
+        // A pivot limit is one for all rounds.
+        let left = StructuredOptions { max_pivots: o.max_pivots.map(|m| m.saturating_sub(pivots).max(1)), ..o.clone() };
+        let sol = structured::solve(&sub, &left, sub_warm.as_deref());
         pivots += sol.pivots;
         if !sol.ok() {
             return Err(pivots);
@@ -110,7 +112,7 @@ fn extend(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::contact::structured::structured_lcp;
     use crate::scenes::{BoxPile, CubeHeap};
@@ -127,19 +129,24 @@ mod tests {
         w
     }
 
+    /// A 3×3×2 block of cubes at rest and a 12-cube heap settling, each with its step's contact LCP assembled.
+    pub(crate) fn block_and_heap() -> [World; 2] {
+        let p = WorldParams::default();
+        [
+            settled(
+                BoxPile { nx: 3, ny: 3, nz: 2, spacing: 1.0, ..Default::default() }.build(p.clone()).unwrap().world,
+                20,
+            ),
+            settled(CubeHeap { walls: true, ..CubeHeap::new(12, 1) }.build(p).unwrap().world, 450),
+        ]
+    }
+
     /// Cold, friction first only where `q_fn < 0`: the extended answer solves
     /// the full (dense) LCP by the dense rule, with fewer unknowns pivoted on
     /// (side-by-side cubes and speculative contacts carry no load).
     #[test]
     fn the_extended_answer_solves_the_full_lcp() {
-        let p = WorldParams::default();
-        let worlds = [
-            settled(
-                BoxPile { nx: 3, ny: 3, nz: 2, spacing: 1.0, ..Default::default() }.build(p.clone()).unwrap().world,
-                20,
-            ),
-            settled(CubeHeap { walls: true, ..CubeHeap::new(12, 1) }.build(p.clone()).unwrap().world, 450),
-        ];
+        let worlds = block_and_heap();
         for w in worlds {
             let lcp = w.contact_lcp();
             let lay = lcp.layout();

@@ -1,0 +1,99 @@
+//! Issue 13: a forming heap's large-island LCPs, recorded and solved again.
+//!
+//! `cargo run --release -p lcpsim-sim --example heap_replay -- record CUBES STEPS DIR`
+//! runs the walled heap of `CUBES` cubes (seed 0, as `tests/heap.rs`) for
+//! `STEPS` steps with `LCPSIM_DUMP_DIR=DIR` (`sim::pipeline::replay`), printing
+//! per step the largest LCP, pivots, status, seconds and the files written.
+//!
+//! `cargo run --release -p lcpsim-sim --example heap_replay -- solve START FILE...`
+//! solves each file from `START` (`step`: the step's rule, `previous`, `cold`,
+//! `guess:SWEEPS` or `merged:SWEEPS`) and
+//! prints one line per file: n, pivots, status, accepted, natural residual,
+//! seconds, and for a guess the seconds of its sweeps and how many basis flags
+//! it got wrong against the answer found.
+
+use sim::lcp::structured::guess::{self, GuessOptions};
+use sim::pipeline::replay::StructuredProblem;
+use sim::pipeline::structured::Start;
+use sim::scenes::CubeHeap;
+use sim::WorldParams;
+use std::path::Path;
+use std::time::Instant;
+
+fn record(cubes: usize, steps: usize, dir: &str) {
+    std::fs::create_dir_all(dir).expect("a dump directory");
+    std::env::set_var("LCPSIM_DUMP_DIR", dir);
+    let mut s = CubeHeap { walls: true, ..CubeHeap::new(cubes, 0) }.build(WorldParams::default()).unwrap();
+    let files = || std::fs::read_dir(dir).map(|d| d.count()).unwrap_or(0);
+    let t0 = Instant::now();
+    for _ in 0..steps {
+        let (before, ts) = (files(), Instant::now());
+        let r = s.world.step().unwrap();
+        let worst = r.islands.iter().max_by_key(|i| i.lcp_size);
+        let pen = r.contacts.iter().fold(0.0f64, |p, c| p.max(-c.gap));
+        println!(
+            "step {} n {} pivots {} status {:?} secs {:.2} dumps {} pen {pen:.2e} total {:.0}",
+            r.step,
+            worst.map_or(0, |i| i.lcp_size),
+            r.pivots,
+            worst.map(|i| i.status),
+            ts.elapsed().as_secs_f64(),
+            files() - before,
+            t0.elapsed().as_secs_f64()
+        );
+    }
+}
+
+fn solve(start: &str, files: &[String]) {
+    let start = match start {
+        "previous" => Start::Previous,
+        "step" => Start::Step,
+        "cold" => Start::Cold,
+        g if g.starts_with("merged:") => Start::Merged { sweeps: g[7..].parse().expect("merged:SWEEPS") },
+        g => Start::Guess { sweeps: g.strip_prefix("guess:").and_then(|s| s.parse().ok()).expect("guess:SWEEPS") },
+    };
+    for f in files {
+        let p = StructuredProblem::read(Path::new(f)).expect("a structured LCP file");
+        let t = Instant::now();
+        let sol = p.solve(start);
+        let secs = t.elapsed().as_secs_f64();
+        let mut extra = String::new();
+        if let Start::Guess { sweeps } = start {
+            let t = Instant::now();
+            let g = guess::guess_basis(&p.op, p.layout, &GuessOptions { sweeps, ..Default::default() }, None);
+            let gsecs = t.elapsed().as_secs_f64();
+            let wrong = sol.basis.as_ref().map_or("-".into(), |b| wrong_by_kind(&p, &g, b));
+            extra = format!(" guess_secs {gsecs:.3} guess_wrong {wrong}");
+        }
+        let prev_wrong = match (&p.warm, &sol.basis) {
+            (Some(w), Some(b)) => wrong_by_kind(&p, w, b),
+            _ => "-".into(),
+        };
+        println!(
+            "{} n {} pivots {} status {:?} accepted {} residual {:.1e} secs {secs:.2} warm_wrong {prev_wrong}{extra}",
+            Path::new(f).file_name().map_or(f.clone(), |s| s.to_string_lossy().into()),
+            p.op.n(),
+            sol.pivots,
+            sol.status,
+            sol.accepted,
+            sol.residuals.residual,
+        );
+    }
+}
+
+/// Flags of `guess` that differ from `answer`: all, then those of `fn`, `fd` and `λ`.
+fn wrong_by_kind(p: &StructuredProblem, guess: &[bool], answer: &[bool]) -> String {
+    let lay = p.layout;
+    let count = |r: std::ops::Range<usize>| r.filter(|&i| guess[i] != answer[i]).count();
+    let (a, b, c) = (count(lay.fn_range()), count(lay.fd_range()), count(lay.lambda_range()));
+    format!("{}={a}+{b}+{c}", a + b + c)
+}
+
+fn main() {
+    let a: Vec<String> = std::env::args().skip(1).collect();
+    match a.first().map(String::as_str) {
+        Some("record") if a.len() == 4 => record(a[1].parse().unwrap(), a[2].parse().unwrap(), &a[3]),
+        Some("solve") if a.len() >= 3 => solve(&a[1], &a[2..]),
+        _ => eprintln!("usage: heap_replay record CUBES STEPS DIR | heap_replay solve START FILE..."),
+    }
+}
