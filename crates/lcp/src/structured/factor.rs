@@ -12,91 +12,17 @@
 //! columns of `u` fixed) is as sparse as `G`, `H` and `K`, and regular exactly
 //! when the basis is (eliminating `u` leaves `[I_W, −M_S, −d]`). It is factored
 //! by a sparse LU ([`super::lu`]: COLAMD ordering, partial pivoting); each pivot then
-//! replaces one column, kept as an eta vector (product form of the inverse),
-//! until the next refactorization. A solve costs the LU's nonzeros plus the
-//! etas' — never `n²`: nothing here is dense but vectors.
+//! replaces one column by a Forrest–Tomlin update of that LU, until the next
+//! refactorization. A solve costs the LU's nonzeros plus the updates' — never
+//! `n²`: nothing here is dense but vectors.
+//!
+//! (The product form this replaced kept each pivot's `y = B⁻¹ a` as an eta
+//! column: on a heap's basis `y` is dense, every one of them on a 52-cube
+//! heap (n = 1,440), so a solve after `k` pivots cost `k` dense passes on top
+//! of the LU's.)
 
-use super::lu::{Csc, SparseLu};
+use super::lu::{Csc, Order, SparseLu, UpdateError};
 use super::operator::StructuredLcp;
-
-/// One column replacement: position `r` took a column whose solve was `y`
-/// (`piv = y_r`); the other entries of `y` are `Etas::idx`/`Etas::val` in
-/// `start..end`, or, when `dense`, all of `y` in `Etas::val[start..end]`
-/// with 0 at `r`.
-struct Eta {
-    r: usize,
-    piv: f64,
-    start: usize,
-    end: usize,
-    dense: bool,
-}
-
-/// The eta file: the column updates since the last factorization, their
-/// entries in two flat buffers kept across refactorizations.
-///
-/// A basis inverse of a connected heap is dense: on a 52-cube heap
-/// (n = 1,440) every `y` had all its entries nonzero. Such an eta is stored
-/// dense, which halves its bytes and lets its update vectorize; sparse ones
-/// keep their indices.
-#[derive(Default)]
-struct Etas {
-    heads: Vec<Eta>,
-    idx: Vec<usize>,
-    val: Vec<f64>,
-}
-
-impl Etas {
-    fn clear(&mut self) {
-        self.heads.clear();
-        self.idx.clear();
-        self.val.clear();
-    }
-
-    /// Appends position `r`'s update from `y`.
-    fn push(&mut self, r: usize, y: &[f64]) {
-        let nnz = y.iter().filter(|&&v| v != 0.0).count();
-        let start = self.val.len();
-        let dense = 2 * nnz >= y.len();
-        if dense {
-            self.val.extend_from_slice(y);
-            self.val[start + r] = 0.0;
-        } else {
-            for (i, &v) in y.iter().enumerate() {
-                if i != r && v != 0.0 {
-                    self.idx.push(i);
-                    self.val.push(v);
-                }
-            }
-        }
-        self.heads.push(Eta { r, piv: y[r], start, end: self.val.len(), dense });
-    }
-
-    /// `y ← E_k⁻¹ ⋯ E_1⁻¹ y`.
-    #[inline(never)]
-    fn apply(&self, y: &mut [f64]) {
-        let mut si = 0;
-        for e in &self.heads {
-            let yr = y[e.r] / e.piv;
-            let vals = &self.val[e.start..e.end];
-            if e.dense {
-                if yr != 0.0 {
-                    for (yi, &v) in y.iter_mut().zip(vals) {
-                        *yi -= v * yr;
-                    }
-                }
-            } else {
-                let idx = &self.idx[si..si + vals.len()];
-                si += vals.len();
-                if yr != 0.0 {
-                    for (&i, &v) in idx.iter().zip(vals) {
-                        y[i] -= v * yr;
-                    }
-                }
-            }
-            y[e.r] = yr;
-        }
-    }
-}
 
 /// A kept column order is dropped when its factors' fill (nonzeros of
 /// `L + U` over those of the matrix) exceeds this multiple of the fill of
@@ -124,7 +50,6 @@ pub(crate) struct Basis<'a> {
     /// rule's reference (see `pivot::lex_break`).
     pub(crate) init: Vec<usize>,
     lu: SparseLu,
-    etas: Etas,
     /// The augmented matrix of the last factorization (its buffers reused).
     a: Csc,
     /// Fill `nnz(L + U) / nnz(A)` of the last factorization in a fresh order.
@@ -147,11 +72,13 @@ impl<'a> Basis<'a> {
             val: vec![0.0; n],
             init: (0..n).collect(),
             lu: SparseLu::new(n + op.p()),
-            etas: Etas::default(),
             a: Csc::default(),
             fill_fresh: 0.0,
         };
-        b.refactor().then_some(b)
+        // `[I, −G; 0, −I]` is triangular: nothing to order. The next
+        // refactorization orders afresh (`fill_fresh` stays 0).
+        b.build_matrix();
+        (b.lu.factor(&b.a, Order::Natural) && b.values()).then_some(b)
     }
 
     /// The complementary basis `{z_j : j ∈ α} ∪ {w_i : i ∉ α}`, factored; `None` if singular.
@@ -180,7 +107,6 @@ impl<'a> Basis<'a> {
             val: vec![0.0; n],
             init,
             lu: SparseLu::new(n + op.p()),
-            etas: Etas::default(),
             a: Csc::default(),
             fill_fresh: 0.0,
         }
@@ -213,7 +139,7 @@ impl<'a> Basis<'a> {
 
     /// Column updates since the last refactorization.
     pub(crate) fn updates(&self) -> usize {
-        self.etas.heads.len()
+        self.lu.updates()
     }
 
     /// Calls `f(row, value)` for each entry of variable `v`'s augmented column.
@@ -240,11 +166,18 @@ impl<'a> Basis<'a> {
     /// `y ← B⁻¹ y` (augmented).
     pub(crate) fn ftran(&self, y: &mut [f64]) {
         self.lu.solve_in_place(y);
-        self.etas.apply(y);
     }
 
-    /// Variable `e` enters at position `r` with value `theta`, `y = B⁻¹ a_e`.
-    pub(crate) fn pivot(&mut self, e: usize, r: usize, y: &[f64], theta: f64) {
+    /// [`Basis::ftran`] of a column that may enter by the next [`Basis::pivot`].
+    pub(crate) fn ftran_entering(&self, y: &mut [f64]) {
+        self.lu.solve_entering(y);
+    }
+
+    /// Variable `e` enters at position `r` with value `theta`, `y = B⁻¹ a_e`
+    /// from the last [`Basis::ftran_entering`]. The factors are updated, or,
+    /// when the update is refused (round-off grown, or a zero pivot),
+    /// rebuilt; `false` if the new basis is singular.
+    pub(crate) fn pivot(&mut self, e: usize, r: usize, y: &[f64], theta: f64) -> bool {
         for (v, yi) in self.val.iter_mut().zip(y) {
             *v -= theta * yi;
         }
@@ -252,7 +185,10 @@ impl<'a> Basis<'a> {
         self.pos[self.var[r]] = NONBASIC;
         self.var[r] = e;
         self.pos[e] = r;
-        self.etas.push(r, y);
+        match self.lu.replace(r, y) {
+            Ok(()) => true,
+            Err(UpdateError::Singular | UpdateError::Unstable) => self.refactor(),
+        }
     }
 
     /// `B x` (augmented) for the augmented vector `x`, into `out`.
@@ -278,6 +214,21 @@ impl<'a> Basis<'a> {
     /// fill it gives stays within [`FILL_SLACK`] of the fill it gave then;
     /// beyond that, or if the basis is singular in it, COLAMD orders afresh.
     pub(crate) fn refactor(&mut self) -> bool {
+        self.build_matrix();
+        let nnz_a = self.a.idx.len().max(1) as f64;
+        let kept = self.fill_fresh > 0.0
+            && self.lu.factor(&self.a, Order::Kept)
+            && (self.lu.nnz() as f64) <= FILL_SLACK * self.fill_fresh * nnz_a;
+        if !kept && !self.factor_fresh() {
+            return false;
+        }
+        // Values not finite in a kept order (a pivot that partial pivoting
+        // could only take at 0 there): the same from a fresh order.
+        self.values() || (kept && self.factor_fresh() && self.values())
+    }
+
+    /// The augmented matrix of the basis into `self.a`.
+    fn build_matrix(&mut self) {
         let (n, p) = (self.n, self.p);
         // Columns in order, rows ascending: basic variables' (w: a unit; z_j:
         // K's rows < n, then H's at n + k; z0: −d), then u's (G's, −1 at n + k).
@@ -300,22 +251,11 @@ impl<'a> Basis<'a> {
             a.end_column();
         }
         self.a = a;
-        self.etas.clear();
-        let nnz_a = self.a.idx.len().max(1) as f64;
-        let kept = self.fill_fresh > 0.0
-            && self.lu.factor(&self.a, false)
-            && (self.lu.nnz() as f64) <= FILL_SLACK * self.fill_fresh * nnz_a;
-        if !kept && !self.factor_fresh() {
-            return false;
-        }
-        // Values not finite in a kept order (a pivot that partial pivoting
-        // could only take at 0 there): the same from a fresh order.
-        self.values() || (kept && self.factor_fresh() && self.values())
     }
 
     /// Factors `self.a` in a fresh order and records its fill.
     fn factor_fresh(&mut self) -> bool {
-        let ok = self.lu.factor(&self.a, true);
+        let ok = self.lu.factor(&self.a, Order::Fresh);
         self.fill_fresh = if ok { self.lu.nnz() as f64 / self.a.idx.len().max(1) as f64 } else { 0.0 };
         ok
     }

@@ -22,6 +22,10 @@
 //! columns factors about as sparsely in its predecessor's order (an order kept
 //! without looking at the fill made a forming 200-cube heap's steps 1.5–4×
 //! slower: [`super::factor`] watches it).
+//!
+//! A column of the factored matrix is replaced in place by a Forrest–Tomlin
+//! update of `U` ([`upper`]): [`SparseLu::solve_entering`] keeps the spike,
+//! [`SparseLu::replace`] puts it in.
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::perm::PermRef;
@@ -32,6 +36,10 @@ use faer::sparse::linalg::lu::simplicial::{
 use faer::sparse::linalg::LuError;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use std::cell::RefCell;
+pub(crate) use upper::UpdateError;
+use upper::Upper;
+
+mod upper;
 
 /// A square sparse matrix by columns, rows sorted within each column.
 #[derive(Default)]
@@ -56,7 +64,19 @@ impl Csc {
     }
 }
 
-/// One triangular factor by columns, its diagonal apart: column `j`'s
+/// The column order of a factorization.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Order {
+    /// COLAMD's, afresh.
+    Fresh,
+    /// The last factorization's.
+    Kept,
+    /// The matrix's own: for a matrix known to be triangular up to row
+    /// interchanges (no fill, nothing to order), such as the all-slack basis.
+    Natural,
+}
+
+/// The unit lower triangular factor by columns, its diagonal apart: column `j`'s
 /// off-diagonal entries are `idx[ptr[j]..ptr[j + 1]]`, `val` the same range.
 /// Rows as `u32`: the solves stream these arrays once per pivot.
 #[derive(Default)]
@@ -67,16 +87,15 @@ struct Triangle {
 }
 
 impl Triangle {
-    /// The off-diagonal entries of `m`, the diagonal being each column's
-    /// first (`diag_first`) or last stored entry.
-    fn copy_of(&mut self, m: SparseColMatRef<'_, usize, f64>, diag_first: bool) {
+    /// The off-diagonal entries of `m`, the diagonal being each column's first stored entry.
+    fn copy_of(&mut self, m: SparseColMatRef<'_, usize, f64>) {
         let (ptr, idx, val) = (m.col_ptr(), m.row_idx(), m.val());
         self.ptr.clear();
         self.idx.clear();
         self.val.clear();
         self.ptr.push(0);
         for j in 0..m.ncols() {
-            let r = if diag_first { ptr[j] + 1..ptr[j + 1] } else { ptr[j]..ptr[j + 1] - 1 };
+            let r = ptr[j] + 1..ptr[j + 1];
             self.idx.extend(idx[r.clone()].iter().map(|&i| i as u32));
             self.val.extend_from_slice(&val[r]);
             self.ptr.push(self.idx.len());
@@ -88,10 +107,11 @@ impl Triangle {
 pub(crate) struct SparseLu {
     dim: usize,
     lu: SimplicialLu<usize, f64>,
-    /// `L` without its unit diagonal, `U` without its diagonal, and `1 / diag(U)`.
+    /// `L` without its unit diagonal; `U` with its updates.
     l: Triangle,
-    u: Triangle,
-    u_inv_diag: Vec<f64>,
+    u: Upper,
+    /// `R L⁻¹ P a` of the last [`SparseLu::solve_entering`]'s column `a`, and its answer's entry at each column.
+    spike: RefCell<Vec<f64>>,
     row_fwd: Vec<usize>,
     row_inv: Vec<usize>,
     col_fwd: Vec<usize>,
@@ -113,8 +133,8 @@ impl SparseLu {
             dim,
             lu: SimplicialLu::new(),
             l: Triangle::default(),
-            u: Triangle::default(),
-            u_inv_diag: vec![0.0; dim],
+            u: Upper::default(),
+            spike: RefCell::new(vec![0.0; dim]),
             row_fwd: vec![0; dim],
             row_inv: vec![0; dim],
             col_fwd: vec![0; dim],
@@ -126,10 +146,10 @@ impl SparseLu {
         }
     }
 
-    /// Factors `a` (`dim × dim`, rows sorted and distinct in each column),
-    /// with a fresh COLAMD ordering when `fresh` or when there is none yet,
-    /// else in the last one. `false` when it is singular or cannot be built.
-    pub(crate) fn factor(&mut self, a: &Csc, fresh: bool) -> bool {
+    /// Factors `a` (`dim × dim`, rows sorted and distinct in each column)
+    /// in the column order `order` (a kept order when there is none yet is a
+    /// fresh one). `false` when it is singular or cannot be built.
+    pub(crate) fn factor(&mut self, a: &Csc, order: Order) -> bool {
         let n = self.dim;
         self.factored = false;
         self.dependent = None;
@@ -142,7 +162,11 @@ impl SparseLu {
         ]);
         let mut mem = MemBuffer::new(req);
         let stack = MemStack::new(&mut mem);
-        if fresh || !self.ordered {
+        if order == Order::Natural {
+            self.col_fwd.iter_mut().enumerate().for_each(|(j, c)| *c = j);
+            self.col_inv.iter_mut().enumerate().for_each(|(j, c)| *c = j);
+            self.ordered = false;
+        } else if order == Order::Fresh || !self.ordered {
             self.ordered = false;
             let control = colamd::Control::default();
             if colamd::order(&mut self.col_fwd, &mut self.col_inv, a.symbolic(), control, stack).is_err() {
@@ -161,23 +185,45 @@ impl SparseLu {
             return false;
         }
         // faer's L stores its unit diagonal first in each column, U its diagonal last.
-        self.l.copy_of(self.lu.l_factor_unsorted(), true);
+        self.l.copy_of(self.lu.l_factor_unsorted());
         let u = self.lu.u_factor_unsorted();
-        self.u.copy_of(u, false);
-        let (ptr, val) = (u.col_ptr(), u.val());
-        self.u_inv_diag.iter_mut().enumerate().for_each(|(j, d)| *d = val[ptr[j + 1] - 1].recip());
+        self.u.fresh(u.col_ptr(), u.row_idx(), u.val());
         self.factored = true;
         true
     }
 
-    /// Nonzeros of `L` and `U`.
+    /// Nonzeros of `L` and `U` as factored.
     pub(crate) fn nnz(&self) -> usize {
-        self.l.idx.len() + self.u.idx.len() + 2 * self.dim
+        self.l.idx.len() + self.lu.u_factor_unsorted().compute_nnz() + self.dim
+    }
+
+    /// Column replacements since the factorization.
+    pub(crate) fn updates(&self) -> usize {
+        self.u.updates()
     }
 
     /// `x ← A⁻¹ x`.
-    #[inline(never)]
     pub(crate) fn solve_in_place(&self, x: &mut [f64]) {
+        self.solve(x, false);
+    }
+
+    /// `x ← A⁻¹ x` for a column `x` that may enter next ([`SparseLu::replace`]).
+    pub(crate) fn solve_entering(&self, x: &mut [f64]) {
+        self.solve(x, true);
+    }
+
+    /// Column `r` of `A` becomes the column of the last [`SparseLu::solve_entering`],
+    /// whose answer was `y` (`y_r ≠ 0` for a regular result). On an error the
+    /// factors are unchanged (refactor the new matrix instead).
+    pub(crate) fn replace(&mut self, r: usize, y: &[f64]) -> Result<(), UpdateError> {
+        assert!(self.factored, "a factored matrix");
+        let k = self.col_inv[r];
+        self.u.replace(k, &self.spike.borrow(), y[r])
+    }
+
+    /// `x ← A⁻¹ x`, keeping the spike when `keep`.
+    #[inline(never)]
+    fn solve(&self, x: &mut [f64], keep: bool) {
         assert!(self.factored, "a factored matrix");
         let mut work = self.work.borrow_mut();
         let t = &mut work[..];
@@ -194,16 +240,11 @@ impl SparseLu {
                 }
             }
         }
-        for j in (0..self.dim).rev() {
-            if t[j] != 0.0 {
-                let tj = t[j] * self.u_inv_diag[j];
-                t[j] = tj;
-                let r = u.ptr[j]..u.ptr[j + 1];
-                for (&i, &v) in u.idx[r.clone()].iter().zip(&u.val[r]) {
-                    t[i as usize] -= v * tj;
-                }
-            }
+        u.apply_etas(t);
+        if keep {
+            self.spike.borrow_mut().copy_from_slice(t);
         }
+        u.solve(t);
         for (xi, &c) in x.iter_mut().zip(&self.col_inv) {
             *xi = t[c];
         }
