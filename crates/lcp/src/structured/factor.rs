@@ -12,7 +12,7 @@
 //! columns of `u` fixed) is as sparse as `G`, `H` and `K`, and regular exactly
 //! when the basis is (eliminating `u` leaves `[I_W, −M_S, −d]`). It is factored
 //! by a sparse LU ([`super::lu`]: COLAMD ordering, partial pivoting); each pivot then
-//! replaces one column by a Forrest–Tomlin update of that LU, until the next
+//! replaces one column, kept beside the LU as a Schur complement, until the next
 //! refactorization. A solve costs the LU's nonzeros plus the updates' — never
 //! `n²`: nothing here is dense but vectors.
 //!

@@ -23,8 +23,8 @@
 //! without looking at the fill made a forming 200-cube heap's steps 1.5–4×
 //! slower: [`super::factor`] watches it).
 //!
-//! A column of the factored matrix is replaced in place by a Forrest–Tomlin
-//! update of `U` ([`upper`]): [`SparseLu::solve_entering`] keeps the spike,
+//! Column replacements are kept beside the factors ([`schur`]):
+//! [`SparseLu::solve_entering`] keeps the entering column's fresh solve,
 //! [`SparseLu::replace`] puts it in.
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
@@ -35,11 +35,11 @@ use faer::sparse::linalg::lu::simplicial::{
 };
 use faer::sparse::linalg::LuError;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use schur::Schur;
+pub(crate) use schur::UpdateError;
 use std::cell::RefCell;
-pub(crate) use upper::UpdateError;
-use upper::Upper;
 
-mod upper;
+mod schur;
 
 /// A square sparse matrix by columns, rows sorted within each column.
 #[derive(Default)]
@@ -71,12 +71,12 @@ pub(crate) enum Order {
     Fresh,
     /// The last factorization's.
     Kept,
-    /// The matrix's own: for a matrix known to be triangular up to row
-    /// interchanges (no fill, nothing to order), such as the all-slack basis.
+    /// The matrix's own: for a matrix triangular up to row interchanges
+    /// (nothing to order, no fill), such as the all-slack basis.
     Natural,
 }
 
-/// The unit lower triangular factor by columns, its diagonal apart: column `j`'s
+/// One triangular factor by columns, its diagonal apart: column `j`'s
 /// off-diagonal entries are `idx[ptr[j]..ptr[j + 1]]`, `val` the same range.
 /// Rows as `u32`: the solves stream these arrays once per pivot.
 #[derive(Default)]
@@ -87,15 +87,16 @@ struct Triangle {
 }
 
 impl Triangle {
-    /// The off-diagonal entries of `m`, the diagonal being each column's first stored entry.
-    fn copy_of(&mut self, m: SparseColMatRef<'_, usize, f64>) {
+    /// The off-diagonal entries of `m`, the diagonal being each column's
+    /// first (`diag_first`) or last stored entry.
+    fn copy_of(&mut self, m: SparseColMatRef<'_, usize, f64>, diag_first: bool) {
         let (ptr, idx, val) = (m.col_ptr(), m.row_idx(), m.val());
         self.ptr.clear();
         self.idx.clear();
         self.val.clear();
         self.ptr.push(0);
         for j in 0..m.ncols() {
-            let r = ptr[j] + 1..ptr[j + 1];
+            let r = if diag_first { ptr[j] + 1..ptr[j + 1] } else { ptr[j]..ptr[j + 1] - 1 };
             self.idx.extend(idx[r.clone()].iter().map(|&i| i as u32));
             self.val.extend_from_slice(&val[r]);
             self.ptr.push(self.idx.len());
@@ -107,11 +108,14 @@ impl Triangle {
 pub(crate) struct SparseLu {
     dim: usize,
     lu: SimplicialLu<usize, f64>,
-    /// `L` without its unit diagonal; `U` with its updates.
+    /// `L` without its unit diagonal, `U` without its diagonal, and `1 / diag(U)`.
     l: Triangle,
-    u: Upper,
-    /// `R L⁻¹ P a` of the last [`SparseLu::solve_entering`]'s column `a`, and its answer's entry at each column.
-    spike: RefCell<Vec<f64>>,
+    u: Triangle,
+    u_inv_diag: Vec<f64>,
+    /// The replacements since the factorization, and the fresh solve of the
+    /// last [`SparseLu::solve_entering`]'s column.
+    schur: Schur,
+    fresh: RefCell<Vec<f64>>,
     row_fwd: Vec<usize>,
     row_inv: Vec<usize>,
     col_fwd: Vec<usize>,
@@ -133,8 +137,10 @@ impl SparseLu {
             dim,
             lu: SimplicialLu::new(),
             l: Triangle::default(),
-            u: Upper::default(),
-            spike: RefCell::new(vec![0.0; dim]),
+            u: Triangle::default(),
+            u_inv_diag: vec![0.0; dim],
+            schur: Schur::default(),
+            fresh: RefCell::new(vec![0.0; dim]),
             row_fwd: vec![0; dim],
             row_inv: vec![0; dim],
             col_fwd: vec![0; dim],
@@ -152,6 +158,7 @@ impl SparseLu {
     pub(crate) fn factor(&mut self, a: &Csc, order: Order) -> bool {
         let n = self.dim;
         self.factored = false;
+        self.schur.reset(n);
         self.dependent = None;
         // Panics on unsorted or repeated rows: `a` is built sorted (see `Basis::refactor`).
         let sym = SymbolicSparseColMatRef::new_checked(n, n, &a.ptr, None, &a.idx);
@@ -185,45 +192,49 @@ impl SparseLu {
             return false;
         }
         // faer's L stores its unit diagonal first in each column, U its diagonal last.
-        self.l.copy_of(self.lu.l_factor_unsorted());
+        self.l.copy_of(self.lu.l_factor_unsorted(), true);
         let u = self.lu.u_factor_unsorted();
-        self.u.fresh(u.col_ptr(), u.row_idx(), u.val());
+        self.u.copy_of(u, false);
+        let (ptr, val) = (u.col_ptr(), u.val());
+        self.u_inv_diag.iter_mut().enumerate().for_each(|(j, d)| *d = val[ptr[j + 1] - 1].recip());
         self.factored = true;
         true
     }
 
-    /// Nonzeros of `L` and `U` as factored.
+    /// Nonzeros of `L` and `U`.
     pub(crate) fn nnz(&self) -> usize {
-        self.l.idx.len() + self.lu.u_factor_unsorted().compute_nnz() + self.dim
+        self.l.idx.len() + self.u.idx.len() + 2 * self.dim
     }
 
     /// Column replacements since the factorization.
     pub(crate) fn updates(&self) -> usize {
-        self.u.updates()
+        self.schur.updates()
     }
 
     /// `x ← A⁻¹ x`.
     pub(crate) fn solve_in_place(&self, x: &mut [f64]) {
-        self.solve(x, false);
+        self.solve_fresh(x);
+        self.schur.apply(x);
     }
 
     /// `x ← A⁻¹ x` for a column `x` that may enter next ([`SparseLu::replace`]).
     pub(crate) fn solve_entering(&self, x: &mut [f64]) {
-        self.solve(x, true);
+        self.solve_fresh(x);
+        self.fresh.borrow_mut().copy_from_slice(x);
+        self.schur.apply(x);
     }
 
-    /// Column `r` of `A` becomes the column of the last [`SparseLu::solve_entering`],
-    /// whose answer was `y` (`y_r ≠ 0` for a regular result). On an error the
-    /// factors are unchanged (refactor the new matrix instead).
+    /// Column `r` of `A` becomes the column of the last
+    /// [`SparseLu::solve_entering`], whose answer was `y`. On an error the
+    /// matrix is unchanged (refactor the new one instead).
     pub(crate) fn replace(&mut self, r: usize, y: &[f64]) -> Result<(), UpdateError> {
         assert!(self.factored, "a factored matrix");
-        let k = self.col_inv[r];
-        self.u.replace(k, &self.spike.borrow(), y[r])
+        self.schur.replace(r, &self.fresh.borrow(), y[r])
     }
 
-    /// `x ← A⁻¹ x`, keeping the spike when `keep`.
+    /// `x ← A₀⁻¹ x` by the factors of the last factorization `A₀`.
     #[inline(never)]
-    fn solve(&self, x: &mut [f64], keep: bool) {
+    fn solve_fresh(&self, x: &mut [f64]) {
         assert!(self.factored, "a factored matrix");
         let mut work = self.work.borrow_mut();
         let t = &mut work[..];
@@ -240,11 +251,16 @@ impl SparseLu {
                 }
             }
         }
-        u.apply_etas(t);
-        if keep {
-            self.spike.borrow_mut().copy_from_slice(t);
+        for j in (0..self.dim).rev() {
+            if t[j] != 0.0 {
+                let tj = t[j] * self.u_inv_diag[j];
+                t[j] = tj;
+                let r = u.ptr[j]..u.ptr[j + 1];
+                for (&i, &v) in u.idx[r.clone()].iter().zip(&u.val[r]) {
+                    t[i as usize] -= v * tj;
+                }
+            }
         }
-        u.solve(t);
         for (xi, &c) in x.iter_mut().zip(&self.col_inv) {
             *xi = t[c];
         }
