@@ -12,17 +12,91 @@
 //! columns of `u` fixed) is as sparse as `G`, `H` and `K`, and regular exactly
 //! when the basis is (eliminating `u` leaves `[I_W, −M_S, −d]`). It is factored
 //! by a sparse LU ([`super::lu`]: COLAMD ordering, partial pivoting); each pivot then
-//! replaces one column, kept beside the LU as a Schur complement, until the next
-//! refactorization. A solve costs the LU's nonzeros plus the updates' — never
-//! `n²`: nothing here is dense but vectors.
-//!
-//! (The product form this replaced kept each pivot's `y = B⁻¹ a` as an eta
-//! column: on a heap's basis `y` is dense, every one of them on a 52-cube
-//! heap (n = 1,440), so a solve after `k` pivots cost `k` dense passes on top
-//! of the LU's.)
+//! replaces one column, kept as an eta vector (product form of the inverse),
+//! until the next refactorization. A solve costs the LU's nonzeros plus the
+//! etas' — never `n²`: nothing here is dense but vectors.
 
-use super::lu::{Csc, Order, SparseLu, UpdateError};
+use super::lu::{Csc, Order, SparseLu};
 use super::operator::StructuredLcp;
+
+/// One column replacement: position `r` took a column whose solve was `y`
+/// (`piv = y_r`); the other entries of `y` are `Etas::idx`/`Etas::val` in
+/// `start..end`, or, when `dense`, all of `y` in `Etas::val[start..end]`
+/// with 0 at `r`.
+struct Eta {
+    r: usize,
+    piv: f64,
+    start: usize,
+    end: usize,
+    dense: bool,
+}
+
+/// The eta file: the column updates since the last factorization, their
+/// entries in two flat buffers kept across refactorizations.
+///
+/// A basis inverse of a connected heap is dense: on a 52-cube heap
+/// (n = 1,440) every `y` had all its entries nonzero. Such an eta is stored
+/// dense, which halves its bytes and lets its update vectorize; sparse ones
+/// keep their indices.
+#[derive(Default)]
+struct Etas {
+    heads: Vec<Eta>,
+    idx: Vec<usize>,
+    val: Vec<f64>,
+}
+
+impl Etas {
+    fn clear(&mut self) {
+        self.heads.clear();
+        self.idx.clear();
+        self.val.clear();
+    }
+
+    /// Appends position `r`'s update from `y`.
+    fn push(&mut self, r: usize, y: &[f64]) {
+        let nnz = y.iter().filter(|&&v| v != 0.0).count();
+        let start = self.val.len();
+        let dense = 2 * nnz >= y.len();
+        if dense {
+            self.val.extend_from_slice(y);
+            self.val[start + r] = 0.0;
+        } else {
+            for (i, &v) in y.iter().enumerate() {
+                if i != r && v != 0.0 {
+                    self.idx.push(i);
+                    self.val.push(v);
+                }
+            }
+        }
+        self.heads.push(Eta { r, piv: y[r], start, end: self.val.len(), dense });
+    }
+
+    /// `y ← E_k⁻¹ ⋯ E_1⁻¹ y`.
+    #[inline(never)]
+    fn apply(&self, y: &mut [f64]) {
+        let mut si = 0;
+        for e in &self.heads {
+            let yr = y[e.r] / e.piv;
+            let vals = &self.val[e.start..e.end];
+            if e.dense {
+                if yr != 0.0 {
+                    for (yi, &v) in y.iter_mut().zip(vals) {
+                        *yi -= v * yr;
+                    }
+                }
+            } else {
+                let idx = &self.idx[si..si + vals.len()];
+                si += vals.len();
+                if yr != 0.0 {
+                    for (&i, &v) in idx.iter().zip(vals) {
+                        y[i] -= v * yr;
+                    }
+                }
+            }
+            y[e.r] = yr;
+        }
+    }
+}
 
 /// A kept column order is dropped when its factors' fill (nonzeros of
 /// `L + U` over those of the matrix) exceeds this multiple of the fill of
@@ -50,6 +124,7 @@ pub(crate) struct Basis<'a> {
     /// rule's reference (see `pivot::lex_break`).
     pub(crate) init: Vec<usize>,
     lu: SparseLu,
+    etas: Etas,
     /// The augmented matrix of the last factorization (its buffers reused).
     a: Csc,
     /// Fill `nnz(L + U) / nnz(A)` of the last factorization in a fresh order.
@@ -72,10 +147,12 @@ impl<'a> Basis<'a> {
             val: vec![0.0; n],
             init: (0..n).collect(),
             lu: SparseLu::new(n + op.p()),
+            etas: Etas::default(),
             a: Csc::default(),
             fill_fresh: 0.0,
         };
-        // `[I, −G; 0, −I]` is triangular: nothing to order. The next
+        // `[I, −G; 0, −I]` is triangular: no COLAMD (a tenth of a 52-cube
+        // heap's solve, n = 1,440, went to its orderings), and the next
         // refactorization orders afresh (`fill_fresh` stays 0).
         b.build_matrix();
         (b.lu.factor(&b.a, Order::Natural) && b.values()).then_some(b)
@@ -107,6 +184,7 @@ impl<'a> Basis<'a> {
             val: vec![0.0; n],
             init,
             lu: SparseLu::new(n + op.p()),
+            etas: Etas::default(),
             a: Csc::default(),
             fill_fresh: 0.0,
         }
@@ -139,7 +217,7 @@ impl<'a> Basis<'a> {
 
     /// Column updates since the last refactorization.
     pub(crate) fn updates(&self) -> usize {
-        self.lu.updates()
+        self.etas.heads.len()
     }
 
     /// Calls `f(row, value)` for each entry of variable `v`'s augmented column.
@@ -166,18 +244,16 @@ impl<'a> Basis<'a> {
     /// `y ← B⁻¹ y` (augmented).
     pub(crate) fn ftran(&self, y: &mut [f64]) {
         self.lu.solve_in_place(y);
+        self.etas.apply(y);
     }
 
-    /// [`Basis::ftran`] of a column that may enter by the next [`Basis::pivot`].
-    pub(crate) fn ftran_entering(&self, y: &mut [f64]) {
-        self.lu.solve_entering(y);
-    }
-
-    /// Variable `e` enters at position `r` with value `theta`, `y = B⁻¹ a_e`
-    /// from the last [`Basis::ftran_entering`]. The factors are updated, or,
-    /// when the update is refused (round-off grown, or a zero pivot),
-    /// rebuilt; `false` if the new basis is singular.
+    /// Variable `e` enters at position `r` with value `theta`, `y = B⁻¹ a_e`.
+    /// `false`, and nothing changed, when the pivot `y_r` is 0 or not
+    /// finite: the new basis would be singular.
     pub(crate) fn pivot(&mut self, e: usize, r: usize, y: &[f64], theta: f64) -> bool {
+        if y[r] == 0.0 || !y[r].is_finite() {
+            return false;
+        }
         for (v, yi) in self.val.iter_mut().zip(y) {
             *v -= theta * yi;
         }
@@ -185,10 +261,8 @@ impl<'a> Basis<'a> {
         self.pos[self.var[r]] = NONBASIC;
         self.var[r] = e;
         self.pos[e] = r;
-        match self.lu.replace(r, y) {
-            Ok(()) => true,
-            Err(UpdateError::Singular | UpdateError::Unstable) => self.refactor(),
-        }
+        self.etas.push(r, y);
+        true
     }
 
     /// `B x` (augmented) for the augmented vector `x`, into `out`.
@@ -227,7 +301,7 @@ impl<'a> Basis<'a> {
         self.values() || (kept && self.factor_fresh() && self.values())
     }
 
-    /// The augmented matrix of the basis into `self.a`.
+    /// The augmented matrix of the basis into `self.a`, and the eta file emptied.
     fn build_matrix(&mut self) {
         let (n, p) = (self.n, self.p);
         // Columns in order, rows ascending: basic variables' (w: a unit; z_j:
@@ -251,6 +325,7 @@ impl<'a> Basis<'a> {
             a.end_column();
         }
         self.a = a;
+        self.etas.clear();
     }
 
     /// Factors `self.a` in a fresh order and records its fill.
@@ -295,5 +370,108 @@ impl<'a> Basis<'a> {
             }
         }
         z0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::structured::Entry;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// A random `M = G H + K`: each row touches `touch` of `p` dofs, `K` sparse.
+    fn random_op(n: usize, p: usize, touch: usize, seed: u64) -> StructuredLcp {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let (mut g, mut h, mut k): (Vec<Entry>, Vec<Entry>, Vec<Entry>) = (Vec::new(), Vec::new(), Vec::new());
+        for i in 0..n {
+            for _ in 0..touch {
+                let d = rng.random_range(0..p);
+                g.push((i, d, rng.random_range(-1.0..1.0)));
+                h.push((d, i, rng.random_range(-1.0..1.0)));
+            }
+            k.push((i, rng.random_range(0..n), rng.random_range(-1.0..1.0)));
+        }
+        let q = (0..n).map(|_| rng.random_range(-1.0..1.0)).collect();
+        StructuredLcp::new(p, &g, &h, &k, q).unwrap()
+    }
+
+    /// `B x − b` in the max norm over `‖b‖∞ + ‖x‖∞`.
+    fn residual(b: &Basis, x: &[f64], rhs: &[f64]) -> f64 {
+        let mut bx = vec![0.0; x.len()];
+        b.times(x, &mut bx);
+        let r = bx.iter().zip(rhs).fold(0.0f64, |a, (u, v)| a.max((u - v).abs()));
+        r / (rhs.iter().chain(x).fold(0.0f64, |a, v| a.max(v.abs())))
+    }
+
+    /// After `k` column updates the solves equal those of a fresh
+    /// factorization of the same basis, to round-off, and solve `B x = b`.
+    #[test]
+    fn solves_after_updates_equal_fresh_solves() {
+        for seed in 0..12 {
+            let (n, p) = (60, 24);
+            let op = random_op(n, p, 3, seed);
+            let d = vec![1.0; n];
+            let mut rng = ChaCha8Rng::seed_from_u64(1000 + seed);
+            let mut b = Basis::slack(&op, &d).unwrap();
+            let mut y = Vec::new();
+            let mut done = 0;
+            for _ in 0..200 {
+                if done == 40 {
+                    break;
+                }
+                // A nonbasic variable enters where its solve is largest.
+                let e = rng.random_range(0..2 * n + 1);
+                if b.pos[e] != NONBASIC {
+                    continue;
+                }
+                b.column_into(e, &mut y);
+                b.ftran(&mut y);
+                let r = (0..n).max_by(|&i, &j| y[i].abs().total_cmp(&y[j].abs())).unwrap();
+                if y[r].abs() < 1e-3 {
+                    continue;
+                }
+                assert!(b.pivot(e, r, &y, 0.0));
+                done += 1;
+            }
+            assert_eq!(b.updates(), done, "seed {seed}");
+            let rhs: Vec<f64> = (0..n + p).map(|_| rng.random_range(-1.0..1.0)).collect();
+            let mut updated = rhs.clone();
+            b.ftran(&mut updated);
+            assert!(residual(&b, &updated, &rhs) < 1e-10, "seed {seed}: {:e}", residual(&b, &updated, &rhs));
+            assert!(b.refactor(), "seed {seed}: regular");
+            assert_eq!(b.updates(), 0);
+            let mut fresh = rhs.clone();
+            b.ftran(&mut fresh);
+            let scale = fresh.iter().fold(1.0f64, |a, v| a.max(v.abs()));
+            let gap = updated.iter().zip(&fresh).fold(0.0f64, |a, (u, v)| a.max((u - v).abs()));
+            assert!(gap <= 1e-9 * scale, "seed {seed}: {gap:e}");
+        }
+    }
+
+    /// A pivot on a zero entry of the entering column's solve would make the
+    /// basis singular: refused, the basis unchanged, and a refactorization
+    /// of a singular basis says so.
+    #[test]
+    fn a_singular_pivot_is_refused() {
+        let (n, p) = (30, 12);
+        let op = random_op(n, p, 2, 5);
+        let d = vec![1.0; n];
+        let mut b = Basis::slack(&op, &d).unwrap();
+        let mut y = Vec::new();
+        // z_j's solve on the slack basis is column j of −M: sparse, zeros to pivot on.
+        let (e, r) = (0..n)
+            .find_map(|j| {
+                b.column_into(n + j, &mut y);
+                b.ftran(&mut y);
+                (0..n).find(|&i| y[i] == 0.0).map(|i| (n + j, i))
+            })
+            .expect("a zero in some column");
+        let (var, val) = (b.var.clone(), b.val.clone());
+        assert!(!b.pivot(e, r, &y, 1.0));
+        assert_eq!((b.var.clone(), b.val.clone(), b.updates()), (var, val, 0));
+        // Two copies of the same column: singular, refused by the factorization.
+        b.var[1] = b.var[0];
+        assert!(!b.refactor());
     }
 }

@@ -53,7 +53,7 @@ pub(crate) fn run(op: &StructuredLcp, d: &[f64], set: &Settings) -> Run {
     let r = (0..n).rev().find(|&i| (ratio(i) - min) * d[i] <= set.tie_tol * scale).unwrap_or(0);
     let mut y = Vec::new();
     basis.column_into(2 * n, &mut y);
-    basis.ftran_entering(&mut y);
+    basis.ftran(&mut y);
     if !basis.pivot(2 * n, r, &y, basis.val[r] / y[r]) {
         return fail(Status::SingularBasis);
     }
@@ -85,7 +85,7 @@ pub(crate) fn run_warm(op: &StructuredLcp, alpha: &[usize], d: &mut Vec<f64>, se
     }
     let mut y = Vec::new();
     basis.column_into(2 * n, &mut y);
-    basis.ftran_entering(&mut y);
+    basis.ftran(&mut y);
     if !(y[r] < 0.0) {
         return None;
     }
@@ -135,20 +135,20 @@ fn pivot_loop(mut basis: Basis, mut entering: usize, set: &Settings) -> Run {
             break Status::MaxPivots;
         }
         basis.column_into(entering, &mut y);
-        basis.ftran_entering(&mut y);
+        basis.ftran(&mut y);
         let mut ymax = y[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if !ymax.is_finite() {
             break Status::Numerical;
         }
         let mut step = leaving(&basis, &y, ymax, set, &mut tied);
-        // A ray seen through updated factors may be their round-off: look again
+        // A ray seen through eta updates may be their round-off: look again
         // on a fresh factorization before believing it.
         if step.is_none() && basis.updates() > 0 {
             if !basis.refactor() {
                 break Status::SingularBasis;
             }
             basis.column_into(entering, &mut y);
-            basis.ftran_entering(&mut y);
+            basis.ftran(&mut y);
             ymax = y[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
             step = leaving(&basis, &y, ymax, set, &mut tied);
         }
@@ -157,13 +157,12 @@ fn pivot_loop(mut basis: Basis, mut entering: usize, set: &Settings) -> Run {
         };
         let small = y[r].abs() < SMALL_PIVOT * ymax;
         let left = basis.var[r];
-        let regular = basis.pivot(entering, r, &y, theta);
+        if !basis.pivot(entering, r, &y, theta) {
+            break Status::SingularBasis;
+        }
         pivots += 1;
         if left == z0 {
             break Status::Solved;
-        }
-        if !regular {
-            break Status::SingularBasis;
         }
         hash ^= key(entering) ^ key(left);
         if !seen.insert(hash) {
