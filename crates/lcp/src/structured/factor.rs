@@ -151,11 +151,7 @@ impl<'a> Basis<'a> {
             a: Csc::default(),
             fill_fresh: 0.0,
         };
-        // `[I, −G; 0, −I]` is triangular: no COLAMD (a tenth of a 52-cube
-        // heap's solve, n = 1,440, went to its orderings), and the next
-        // refactorization orders afresh (`fill_fresh` stays 0).
-        b.build_matrix();
-        (b.lu.factor(&b.a, Order::Natural) && b.values()).then_some(b)
+        b.refactor().then_some(b)
     }
 
     /// The complementary basis `{z_j : j ∈ α} ∪ {w_i : i ∉ α}`, factored; `None` if singular.

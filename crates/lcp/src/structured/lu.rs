@@ -26,7 +26,7 @@
 //! A fresh order puts the matrix's singleton columns first (a basic slack's
 //! unit column) and asks COLAMD only about the rest: on the whole augmented
 //! matrix COLAMD cost 23M instructions a call at n = 1,440, 15 % of the
-//! solve; on the rest, 1.2M ([`SparseLu::order_fresh`]).
+//! solve; on the rest, about 1M ([`SparseLu::order_fresh`]).
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::perm::PermRef;
@@ -68,9 +68,6 @@ pub(crate) enum Order {
     Fresh,
     /// The last factorization's.
     Kept,
-    /// The matrix's own: for a matrix triangular up to row interchanges
-    /// (nothing to order, no fill), such as the all-slack basis.
-    Natural,
 }
 
 /// One triangular factor by columns, its diagonal apart: column `j`'s
@@ -160,11 +157,7 @@ impl SparseLu {
         ]);
         let mut mem = MemBuffer::new(req);
         let stack = MemStack::new(&mut mem);
-        if order == Order::Natural {
-            self.col_fwd.iter_mut().enumerate().for_each(|(j, c)| *c = j);
-            self.col_inv.iter_mut().enumerate().for_each(|(j, c)| *c = j);
-            self.ordered = false;
-        } else if order == Order::Fresh || !self.ordered {
+        if order == Order::Fresh || !self.ordered {
             self.ordered = false;
             if !self.order_fresh(csc, stack) {
                 return false;
@@ -323,8 +316,7 @@ mod tests {
         a
     }
 
-    /// Fresh (singletons first, then COLAMD), kept and natural orders all
-    /// factor `A` so that `A x = b` to round-off; the fresh order is a
+    /// Fresh (singletons first, then COLAMD) and kept orders both factor `A` so that `A x = b` to round-off; the fresh order is a
     /// permutation with the unit columns first.
     #[test]
     fn every_order_solves() {
@@ -332,7 +324,7 @@ mod tests {
             let (dim, units) = (80, 30);
             let a = random(dim, units, seed);
             let mut lu = SparseLu::new(dim);
-            for order in [Order::Fresh, Order::Kept, Order::Natural] {
+            for order in [Order::Fresh, Order::Kept] {
                 assert!(lu.factor(&a, order), "seed {seed}, {order:?}");
                 if order == Order::Fresh {
                     let mut seen = vec![false; dim];
