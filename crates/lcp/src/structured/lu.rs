@@ -337,9 +337,9 @@ mod tests {
                 let mut x = b.clone();
                 lu.solve_in_place(&mut x);
                 let mut ax = vec![0.0; dim];
-                for j in 0..dim {
+                for (j, &xj) in x.iter().enumerate() {
                     for e in a.ptr[j]..a.ptr[j + 1] {
-                        ax[a.idx[e]] += a.val[e] * x[j];
+                        ax[a.idx[e]] += a.val[e] * xj;
                     }
                 }
                 let err = ax.iter().zip(&b).fold(0.0f64, |m, (u, v)| m.max((u - v).abs()));
