@@ -7,11 +7,15 @@
 //!
 //! `cargo run --release -p lcpsim-sim --example heap_replay -- solve START FILE...`
 //! solves each file from `START` (`step`: the step's rule, `previous`, `cold`,
-//! `guess:SWEEPS` or `merged:SWEEPS`) and
+//! `guess:SWEEPS`, `merged:SWEEPS`, `bpp:previous` or `bpp:guess:SWEEPS`: the
+//! basis improved by block principal pivoting first) and
 //! prints one line per file: n, pivots, status, accepted, natural residual,
 //! seconds, and for a guess the seconds of its sweeps and how many basis flags
-//! it got wrong against the answer found.
+//! it got wrong against the answer found; for a `bpp:` start, block principal
+//! pivoting alone on the full LCP from that basis (infeasible values before
+//! and after, factorizations, seconds).
 
+use sim::lcp::structured::bpp::{self, BppOptions};
 use sim::lcp::structured::guess::{self, GuessOptions};
 use sim::pipeline::replay::StructuredProblem;
 use sim::pipeline::structured::Start;
@@ -49,6 +53,8 @@ fn solve(start: &str, files: &[String]) {
         "previous" => Start::Previous,
         "step" => Start::Step,
         "cold" => Start::Cold,
+        "bpp:previous" => Start::PreviousBpp,
+        g if g.starts_with("bpp:guess:") => Start::GuessBpp { sweeps: g[10..].parse().expect("bpp:guess:SWEEPS") },
         g if g.starts_with("merged:") => Start::Merged { sweeps: g[7..].parse().expect("merged:SWEEPS") },
         g => Start::Guess { sweeps: g.strip_prefix("guess:").and_then(|s| s.parse().ok()).expect("guess:SWEEPS") },
     };
@@ -58,12 +64,27 @@ fn solve(start: &str, files: &[String]) {
         let sol = p.solve(start);
         let secs = t.elapsed().as_secs_f64();
         let mut extra = String::new();
+        if let Some(b) = match start {
+            Start::PreviousBpp => p.warm.clone(),
+            Start::GuessBpp { sweeps } => {
+                Some(guess::guess_basis(&p.op, p.layout, &GuessOptions { sweeps, ..Default::default() }, None))
+            }
+            _ => None,
+        } {
+            // Block principal pivoting alone on the full LCP, from the same basis.
+            let t = Instant::now();
+            let r = bpp::improve(&p.op, &b, &BppOptions::default(), Some(p.layout));
+            let s = t.elapsed().as_secs_f64();
+            extra = r.map_or(" bpp none".into(), |r| {
+                format!(" bpp_infeasible {}->{} rounds {} bpp_secs {s:.2}", r.infeasible_start, r.infeasible, r.rounds)
+            });
+        }
         if let Start::Guess { sweeps } = start {
             let t = Instant::now();
             let g = guess::guess_basis(&p.op, p.layout, &GuessOptions { sweeps, ..Default::default() }, None);
             let gsecs = t.elapsed().as_secs_f64();
             let wrong = sol.basis.as_ref().map_or("-".into(), |b| wrong_by_kind(&p, &g, b));
-            extra = format!(" guess_secs {gsecs:.3} guess_wrong {wrong}");
+            extra += &format!(" guess_secs {gsecs:.3} guess_wrong {wrong}");
         }
         let prev_wrong = match (&p.warm, &sol.basis) {
             (Some(w), Some(b)) => wrong_by_kind(&p, w, b),

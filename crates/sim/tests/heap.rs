@@ -112,6 +112,20 @@ fn heap_runs_without_failures_or_penetration(n: usize, steps: usize) -> sim::sce
 ///   machine, `many_bodies heap:200 200 1`): steps 0–173 under 1 s each,
 ///   176–193 2–95 s (2,793–98,150 pivots), no failure through step 193;
 ///   step 194 (n = 13,620) `ray_termination` after 246,628 pivots (261 s).
+/// - the same at a973d7c on the loaded machine (`heap_replay record 200 195
+///   DIR`): pivots identical step for step (step 190: 98,150, 201 s; steps
+///   0–193 in 1,192 s). Step 194's LCP replayed with the step's rule: the
+///   warm sub-LCP (n = 8,562) hits its cap (6,810); from the guess the
+///   sub-LCP (n = 10,038) ends `cycling` (2,237 pivots), its cold runs a ray
+///   at natural residual 8.0e-9 (15,425) and `numerical` at 1.1e-8 (17,818;
+///   its basis's values refined thrice on the LCP still have z down to
+///   −2.1e-9: a vertex a hair infeasible, not round-off), the restart a ray
+///   (4,369); on the full LCP the guess's basis is all but singular (a ray
+///   after 2 pivots at residual 6.7e36) and the cold runs end `numerical` or
+///   on rays. Block principal pivoting (`lcp::structured::bpp`) from the
+///   previous basis or the guess lowered no infeasible count on steps
+///   175–179; a pivot tolerance of 1e-6 or a tie tolerance of 1e-10 ended
+///   step 194 on cycles and `numerical` runs as well.
 /// Run with `cargo test --release -p lcpsim-sim --test heap -- --ignored --nocapture`.
 #[test]
 #[ignore]

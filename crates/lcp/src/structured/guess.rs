@@ -203,7 +203,7 @@ pub fn read_basis(op: &StructuredLcp, lay: ContactLayout, o: &GuessOptions, z: &
 }
 
 /// An orthonormal basis of the rows of `G` taken so far over a few columns (Gram–Schmidt).
-struct Span {
+pub(crate) struct Span {
     cols: Vec<usize>,
     rows: Vec<Vec<f64>>,
 }
@@ -212,12 +212,12 @@ struct Span {
 const INDEPENDENT: f64 = 1e-6;
 
 impl Span {
-    fn new(cols: Vec<usize>) -> Self {
+    pub(crate) fn new(cols: Vec<usize>) -> Self {
         Span { cols, rows: Vec::new() }
     }
 
     /// Takes row `i` of `G` if it is independent of the rows taken; whether it was.
-    fn add(&mut self, op: &StructuredLcp, i: usize) -> bool {
+    pub(crate) fn add(&mut self, op: &StructuredLcp, i: usize) -> bool {
         if self.rows.len() >= self.cols.len() {
             return false;
         }

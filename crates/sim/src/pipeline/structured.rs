@@ -15,6 +15,7 @@ use super::replay::{self, StructuredProblem};
 use crate::contact::structured::structured_lcp;
 use crate::contact::ContactLcp;
 use lcp::contact::ContactLayout;
+use lcp::structured::bpp::{self, BppOptions};
 use lcp::structured::guess::{self, GuessOptions};
 use lcp::structured::{self, StructuredOptions};
 use lcp::{Solution, Status};
@@ -35,6 +36,10 @@ pub enum Start {
     Merged { sweeps: usize },
     /// Cold.
     Cold,
+    /// As [`Start::Previous`], the basis first improved by block principal pivoting (`lcp::structured::bpp`).
+    PreviousBpp,
+    /// As [`Start::Guess`], the basis first improved by block principal pivoting.
+    GuessBpp { sweeps: usize },
 }
 
 /// Solves `lcp` (its rows assembled) from the basis `warm`, at the acceptance tolerance `tol`.
@@ -96,8 +101,8 @@ fn solve_problem_capped(p: &StructuredProblem, start: Start, cap: Option<usize>)
     let o = StructuredOptions { accept_tol: p.tol, max_pivots: cap, ..Default::default() };
     let basis = match start {
         Start::Step => unreachable!("handled by solve_problem"),
-        Start::Previous => p.warm.clone(),
-        Start::Guess { sweeps } => {
+        Start::Previous | Start::PreviousBpp => p.warm.clone(),
+        Start::Guess { sweeps } | Start::GuessBpp { sweeps } => {
             Some(guess::guess_basis(&p.op, p.layout, &GuessOptions { sweeps, ..Default::default() }, None))
         }
         Start::Merged { sweeps } => {
@@ -105,6 +110,10 @@ fn solve_problem_capped(p: &StructuredProblem, start: Start, cap: Option<usize>)
             p.warm.as_ref().map(|w| merged(p.layout, w, g))
         }
         Start::Cold => None,
+    };
+    let basis = match start {
+        Start::PreviousBpp | Start::GuessBpp { .. } => basis.map(|b| improved(p, b)),
+        _ => basis,
     };
     let mut sol = solve_from(p, &o, basis.as_deref());
     let physical_ok = sol.ok()
@@ -119,6 +128,14 @@ fn solve_problem_capped(p: &StructuredProblem, start: Start, cap: Option<usize>)
         sol.status = Status::Numerical;
     }
     sol
+}
+
+/// `basis` improved by block principal pivoting on the full LCP (`lcp::structured::bpp`), if it was.
+pub(crate) fn improved(p: &StructuredProblem, basis: Vec<bool>) -> Vec<bool> {
+    match bpp::improve(&p.op, &basis, &BppOptions::default(), Some(p.layout)) {
+        Some(r) if r.infeasible < r.infeasible_start => r.basis,
+        _ => basis,
+    }
 }
 
 /// `warm`'s flags for the contacts loaded in it, `guess`'s for the others.
@@ -211,7 +228,12 @@ mod tests {
             let physical = (lcp.scale() != 1.0).then(|| structured_lcp(lcp, 1.0).unwrap());
             let problem = StructuredProblem { op, physical, scale: lcp.scale(), layout: lay, warm: None, tol: 1e-9 };
             let dense = lcp.to_lcp().unwrap();
-            for start in [Start::Guess { sweeps: GUESS_SWEEPS }, Start::Previous, Start::Step] {
+            for start in [
+                Start::Guess { sweeps: GUESS_SWEEPS },
+                Start::GuessBpp { sweeps: GUESS_SWEEPS },
+                Start::Previous,
+                Start::Step,
+            ] {
                 let sol = problem.solve(start);
                 if case == 1 && start != Start::Step {
                     // From the guess Lemke ends a hair outside the rule here.
