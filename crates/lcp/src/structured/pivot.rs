@@ -54,9 +54,7 @@ pub(crate) fn run(op: &StructuredLcp, d: &[f64], set: &Settings) -> Run {
     let mut y = Vec::new();
     basis.column_into(2 * n, &mut y);
     basis.ftran(&mut y);
-    if !basis.pivot(2 * n, r, &y, basis.val[r] / y[r]) {
-        return fail(Status::SingularBasis);
-    }
+    basis.pivot(2 * n, r, &y, basis.val[r] / y[r]);
     pivot_loop(basis, n + r, set)
 }
 
@@ -90,9 +88,7 @@ pub(crate) fn run_warm(op: &StructuredLcp, alpha: &[usize], d: &mut Vec<f64>, se
         return None;
     }
     let left = basis.var[r];
-    if !basis.pivot(2 * n, r, &y, worst / y[r]) {
-        return None;
-    }
+    basis.pivot(2 * n, r, &y, worst / y[r]);
     Some(pivot_loop(basis, complement(left, n), set))
 }
 
@@ -157,9 +153,7 @@ fn pivot_loop(mut basis: Basis, mut entering: usize, set: &Settings) -> Run {
         };
         let small = y[r].abs() < SMALL_PIVOT * ymax;
         let left = basis.var[r];
-        if !basis.pivot(entering, r, &y, theta) {
-            break Status::SingularBasis;
-        }
+        basis.pivot(entering, r, &y, theta);
         pivots += 1;
         if left == z0 {
             break Status::Solved;
