@@ -54,11 +54,7 @@ pub fn sweep(op: &StructuredLcp, lay: ContactLayout, sweeps: usize, z0: Option<&
     let q = op.q();
     let mut z = z0.filter(|z| z.len() == n).map_or_else(|| vec![0.0; n], <[f64]>::to_vec);
     let mut u = vec![0.0; op.p()];
-    for (j, &zj) in z.iter().enumerate() {
-        if zj != 0.0 {
-            op.h_cols.axpy(j, zj, &mut u);
-        }
-    }
+    op.h_times(&z, &mut u);
     // Diagonals of the impulse rows, cone scale s and friction μ per contact.
     let diag: Vec<f64> = (0..lay.impulses()).map(|i| op.at(i, i)).collect();
     let cone: Vec<(f64, f64)> = (0..lay.nc)
@@ -120,11 +116,7 @@ pub fn read_basis(op: &StructuredLcp, lay: ContactLayout, o: &GuessOptions, z: &
     let n = op.n();
     let q = op.q();
     let mut u = vec![0.0; op.p()];
-    for (j, &zj) in z.iter().enumerate().take(lay.impulses()) {
-        if zj != 0.0 {
-            op.h_cols.axpy(j, zj, &mut u);
-        }
-    }
+    op.h_times(&z[..lay.impulses().min(z.len())], &mut u);
     let top = lay.fn_range().map(|i| z[i]).fold(0.0f64, f64::max);
     let load = o.load * top;
     let k = lay.k;

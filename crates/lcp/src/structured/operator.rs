@@ -128,16 +128,21 @@ impl StructuredLcp {
         self.q.iter().fold(0.0f64, |a, v| a.max(v.abs()))
     }
 
-    /// `w = M z + q`: `u = H z`, `w = G u + K z + q`. O(nnz).
-    pub fn w_of(&self, z: &[f64], w: &mut [f64]) {
-        let mut guard = self.scratch.borrow_mut();
-        let u = &mut guard.u;
+    /// `u = H z` over the leading entries of `z` given (the rest taken as 0), `u` of length `p`. O(nnz(H)).
+    pub(crate) fn h_times(&self, z: &[f64], u: &mut [f64]) {
         u.iter_mut().for_each(|v| *v = 0.0);
         for (j, &zj) in z.iter().enumerate() {
             if zj != 0.0 {
                 self.h_cols.axpy(j, zj, u);
             }
         }
+    }
+
+    /// `w = M z + q`: `u = H z`, `w = G u + K z + q`. O(nnz).
+    pub fn w_of(&self, z: &[f64], w: &mut [f64]) {
+        let mut guard = self.scratch.borrow_mut();
+        let u = &mut guard.u;
+        self.h_times(z, u);
         for (i, wi) in w.iter_mut().enumerate() {
             *wi = self.q[i] + self.g_rows.dot(i, u) + self.k_rows.dot(i, z);
         }
