@@ -54,7 +54,9 @@ pub(crate) fn run(op: &StructuredLcp, d: &[f64], set: &Settings) -> Run {
     let mut y = Vec::new();
     basis.column_into(2 * n, &mut y);
     basis.ftran(&mut y);
-    basis.pivot(2 * n, r, &y, basis.val[r] / y[r]);
+    if !basis.pivot(2 * n, r, &y, basis.val[r] / y[r]) {
+        return fail(Status::SingularBasis);
+    }
     pivot_loop(basis, n + r, set)
 }
 
@@ -88,7 +90,9 @@ pub(crate) fn run_warm(op: &StructuredLcp, alpha: &[usize], d: &mut Vec<f64>, se
         return None;
     }
     let left = basis.var[r];
-    basis.pivot(2 * n, r, &y, worst / y[r]);
+    if !basis.pivot(2 * n, r, &y, worst / y[r]) {
+        return None;
+    }
     Some(pivot_loop(basis, complement(left, n), set))
 }
 
@@ -153,7 +157,9 @@ fn pivot_loop(mut basis: Basis, mut entering: usize, set: &Settings) -> Run {
         };
         let small = y[r].abs() < SMALL_PIVOT * ymax;
         let left = basis.var[r];
-        basis.pivot(entering, r, &y, theta);
+        if !basis.pivot(entering, r, &y, theta) {
+            break Status::SingularBasis;
+        }
         pivots += 1;
         if left == z0 {
             break Status::Solved;
