@@ -18,6 +18,8 @@ pub(crate) struct Settings {
     /// Ratios within this fraction of the largest basic value tie.
     pub tie_tol: f64,
     pub max_pivots: usize,
+    /// A warm basis whose least value is `≥ −warm_tol·`(its largest, at least 1) is solved as it stands.
+    pub warm_tol: f64,
     /// Refactor after this many column updates.
     pub refactor_every: usize,
 }
@@ -77,7 +79,7 @@ pub(crate) fn run_warm(op: &StructuredLcp, alpha: &[usize], d: &mut Vec<f64>, se
     let (worst, r) =
         basis.val.iter().enumerate().fold((f64::INFINITY, 0), |a, (c, &v)| if v < a.0 { (v, c) } else { a });
     let top = basis.val.iter().fold(1.0f64, |a, v| a.max(v.abs()));
-    if worst >= -1e-12 * top {
+    if worst >= -set.warm_tol * top {
         let mut z = Vec::new();
         basis.z_into(&mut z);
         let mask = (0..n).map(|j| basis.pos[n + j] != NONBASIC).collect();
