@@ -291,10 +291,12 @@ pub fn solve_on_basis_ruled(
         let tight = within_both(op, also, tol.tight, ws);
         let loose =
             !tight && tol.loose && held.is_none() && ruled.is_none() && within_both(op, also, tol.accept_tol, ws);
-        // The row the acceptance rule rejects (read only for an answer that could be returned).
-        let rejected =
-            if tight || loose { rule_rejects(op, also, tol.accept_tol, worst.1.is_some(), ws) } else { None };
-        let accepted = (tight || loose) && rejected.is_none();
+        // The row the acceptance rule rejects, read only for an answer that
+        // could be returned or held (an exchange round after one is held
+        // needs no verdict unless it is clean).
+        let usable = (tight && (worst.1.is_none() || held.is_none())) || loose;
+        let rejected = if usable { rule_rejects(op, also, tol.accept_tol, worst.1.is_some(), ws) } else { None };
+        let accepted = usable && rejected.is_none();
         if accepted && tight && worst.1.is_none() {
             return Some(answer(ws, dropped, reused, also.is_some(), true));
         }
