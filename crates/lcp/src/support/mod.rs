@@ -128,6 +128,10 @@ pub struct SupportWorkspace {
     /// A basis whose exchanges found nothing better than its answer, and the
     /// violation below which they are not tried again from it.
     retry: Option<(Vec<bool>, f64)>,
+    /// The column of each row's largest entry, for the acceptance rule's
+    /// bound ([`crate::accept::rejected_row_operator`]), in `op`'s units and in the other ones.
+    largest: Vec<usize>,
+    largest_other: Vec<usize>,
 }
 
 /// A copy of [`SupportWorkspace`]'s factorization fields.
@@ -521,11 +525,12 @@ fn rule_rejects(
     also: Option<Also<'_>>,
     accept_tol: f64,
     first: bool,
-    ws: &SupportWorkspace,
+    ws: &mut SupportWorkspace,
 ) -> Option<usize> {
-    crate::accept::rejected_row_operator(op, &ws.z, &ws.w, accept_tol, first).or_else(|| {
+    let SupportWorkspace { z, w, z2, w2, largest, largest_other, .. } = ws;
+    crate::accept::rejected_row_operator(op, z, w, accept_tol, first, largest).or_else(|| {
         let (other, _) = also?;
-        crate::accept::rejected_row_operator(other, &ws.z2, &ws.w2, accept_tol, first)
+        crate::accept::rejected_row_operator(other, z2, w2, accept_tol, first, largest_other)
     })
 }
 
