@@ -132,6 +132,8 @@ pub struct SupportWorkspace {
     /// bound ([`crate::accept::rejected_row_operator`]), in `op`'s units and in the other ones.
     largest: Vec<usize>,
     largest_other: Vec<usize>,
+    /// The indices exchanged in the current call.
+    toggled: Vec<usize>,
 }
 
 /// A copy of [`SupportWorkspace`]'s factorization fields.
@@ -264,6 +266,7 @@ pub fn solve_on_basis_ruled(
     let mut entered = None;
     // The index the last exchange toggled.
     let mut last = None;
+    ws.toggled.clear();
     // The first answer within the tight bound (a violation above `repair`
     // left), and the first within the loose one while there is none.
     let (mut held, mut ruled) = (None, None);
@@ -322,11 +325,14 @@ pub fn solve_on_basis_ruled(
         // (a nonbasic w_i < 0 below the repair threshold but above the row's
         // own bound enters).
         let Some(i) = worst.1.or(rejected) else { break };
-        // Toggling back the index just exchanged would only cycle.
-        if last == Some(i) {
+        // Toggling back the index just exchanged would only cycle; so would
+        // toggling again, for a row only the rule rejects, an index already
+        // exchanged in this call.
+        if last == Some(i) || (worst.1.is_none() && ws.toggled.contains(&i)) {
             break;
         }
         last = Some(i);
+        ws.toggled.push(i);
         ws.mask[i] = !ws.mask[i];
         entered = ws.mask[i].then_some(i);
     }
