@@ -6,6 +6,7 @@
 
 use super::factor::{Basis, NONBASIC};
 use super::operator::StructuredLcp;
+use super::trace::{self, Trace};
 use crate::lemke::basis_hash_key as key;
 use crate::solution::Status;
 use std::collections::HashSet;
@@ -55,7 +56,7 @@ pub(crate) fn run(op: &StructuredLcp, d: &[f64], set: &Settings) -> Run {
     basis.column_into(2 * n, &mut y);
     basis.ftran(&mut y);
     basis.pivot(2 * n, r, &y, basis.val[r] / y[r]);
-    pivot_loop(basis, n + r, set)
+    pivot_loop(op, basis, n + r, set, "cold")
 }
 
 /// Runs Lemke from the complementary basis `alpha` (a warm start) with the
@@ -89,7 +90,7 @@ pub(crate) fn run_warm(op: &StructuredLcp, alpha: &[usize], d: &mut Vec<f64>, se
     }
     let left = basis.var[r];
     basis.pivot(2 * n, r, &y, worst / y[r]);
-    Some(pivot_loop(basis, complement(left, n), set))
+    Some(pivot_loop(op, basis, complement(left, n), set, "warm"))
 }
 
 /// Columns swapped at most to make a singular warm basis regular ([`Basis::regular_alpha`]).
@@ -116,9 +117,10 @@ fn complement(v: usize, n: usize) -> usize {
 }
 
 /// The main loop from an almost-complementary basis with z0 basic.
-fn pivot_loop(mut basis: Basis, mut entering: usize, set: &Settings) -> Run {
+fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &Settings, kind: &str) -> Run {
     let n = basis.val.len();
     let z0 = 2 * n;
+    let mut tr = trace::enabled().then(|| Trace::new(n, basis.val[basis.pos[z0]]));
     let mut pivots = 1;
     let mut y = Vec::new();
     let mut tied = Vec::new();
@@ -136,7 +138,11 @@ fn pivot_loop(mut basis: Basis, mut entering: usize, set: &Settings) -> Run {
         if !ymax.is_finite() {
             break Status::Numerical;
         }
+        let tl = std::time::Instant::now();
         let mut step = leaving(&basis, &y, ymax, set, &mut tied);
+        if let Some(t) = tr.as_mut() {
+            t.lex_time(tl.elapsed());
+        }
         // A ray seen through eta updates may be their round-off: look again
         // on a fresh factorization before believing it.
         if step.is_none() && basis.updates() > 0 {
@@ -153,8 +159,19 @@ fn pivot_loop(mut basis: Basis, mut entering: usize, set: &Settings) -> Run {
         };
         let small = y[r].abs() < SMALL_PIVOT * ymax;
         let left = basis.var[r];
+        let vmax = basis.val.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if let Some(t) = tr.as_mut() {
+            t.drift(&basis.val, &y[..n], theta, set.piv_tol * ymax);
+        }
         basis.pivot(entering, r, &y, theta);
         pivots += 1;
+        if let Some(t) = tr.as_mut() {
+            t.pivot(pivots, entering, left, theta, theta * ymax, vmax, tied.len());
+            t.pivot_size(y[r].abs() / ymax);
+            if left != z0 {
+                t.values(pivots, basis.val[basis.pos[z0]], &basis.val);
+            }
+        }
         if left == z0 {
             break Status::Solved;
         }
@@ -162,14 +179,29 @@ fn pivot_loop(mut basis: Basis, mut entering: usize, set: &Settings) -> Run {
         if !seen.insert(hash) {
             break Status::Cycling;
         }
-        if (small || basis.updates() >= set.refactor_every) && !basis.refactor() {
-            break Status::SingularBasis;
+        if small || basis.updates() >= set.refactor_every {
+            let tf = std::time::Instant::now();
+            if let Some(t) = tr.as_mut() {
+                t.before_refactor(&basis.val, small);
+            }
+            let ok = basis.refactor();
+            if let Some(t) = tr.as_mut() {
+                t.refactored(tf.elapsed());
+                t.fresh(pivots, &basis.val);
+            }
+            if !ok {
+                break Status::SingularBasis;
+            }
         }
         entering = complement(left, n);
     };
     if status == Status::Solved {
         // Shed the updates' round-off: values from a fresh factorization.
         basis.refactor();
+    }
+    if let Some(t) = &tr {
+        t.print(kind, pivots, &format!("{status:?}"));
+        trace::end(op, &basis, 1e-9);
     }
     let mut z = Vec::new();
     basis.z_into(&mut z);
@@ -204,7 +236,31 @@ fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize
         lex_break(b, y, tied, set.tie_tol);
     }
     let best = tied.iter().copied().max_by(|&a, &c| y[a].total_cmp(&y[c]))?;
+    if y[best] < SMALL_PIVOT * ymax {
+        if let Some(delta) = harris_tol() {
+            return Some(harris(val, y, thresh, delta * vmax, best, theta));
+        }
+    }
     Some((best, theta))
+}
+
+fn harris_tol() -> Option<f64> {
+    static T: std::sync::OnceLock<Option<f64>> = std::sync::OnceLock::new();
+    *T.get_or_init(|| std::env::var("LCPSIM_HARRIS").ok().and_then(|v| v.parse().ok()))
+}
+
+/// Harris's two-pass ratio test: the largest pivot among the rows whose
+/// ratio is within what a step may cost feasibility (`delta`): the bound
+/// `θ_H = min (v⁺ + δ)/y`, then the largest `y` with `v⁺/y ≤ θ_H`.
+fn harris(val: &[f64], y: &[f64], thresh: f64, delta: f64, best: usize, theta: f64) -> (usize, f64) {
+    let bound = val.iter().zip(y).filter(|(_, &yc)| yc > thresh).fold(f64::INFINITY, |a, (&v, &yc)| a.min((v.max(0.0) + delta) / yc));
+    let mut pick = (best, theta);
+    for (c, (&v, &yc)) in val.iter().zip(y).enumerate() {
+        if yc > y[pick.0] && v.max(0.0) / yc <= bound {
+            pick = (c, v.max(0.0) / yc);
+        }
+    }
+    pick
 }
 
 /// Keeps the tied positions whose row of `B⁻¹ B₀` over the pivot is
