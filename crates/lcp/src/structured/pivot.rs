@@ -118,6 +118,9 @@ fn complement(v: usize, n: usize) -> usize {
 
 /// The main loop from an almost-complementary basis with z0 basic.
 fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &Settings, kind: &str) -> Run {
+    let mut set = *set;
+    let set = &mut set;
+    let mut harris_on = true;
     let n = basis.val.len();
     let z0 = 2 * n;
     let mut tr = trace::enabled().then(|| Trace::new(n, basis.val[basis.pos[z0]]));
@@ -139,7 +142,7 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
             break Status::Numerical;
         }
         let tl = std::time::Instant::now();
-        let mut step = leaving(&basis, &y, ymax, set, &mut tied);
+        let mut step = leaving(&basis, &y, ymax, set, &mut tied, harris_on);
         if let Some(t) = tr.as_mut() {
             t.lex_time(tl.elapsed());
         }
@@ -152,7 +155,7 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
             basis.column_into(entering, &mut y);
             basis.ftran(&mut y);
             ymax = y[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            step = leaving(&basis, &y, ymax, set, &mut tied);
+            step = leaving(&basis, &y, ymax, set, &mut tied, harris_on);
         }
         let Some((r, theta)) = step else {
             break Status::RayTermination;
@@ -176,8 +179,28 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
             break Status::Solved;
         }
         hash ^= key(entering) ^ key(left);
+        entering = complement(left, n);
         if !seen.insert(hash) {
-            break Status::Cycling;
+            // A cycle: ties decided on values that carry round-off. Once, go
+            // on with a wider tie tolerance, so the lexicographic rule sees them.
+            if harris_on && env_f64("LCPSIM_CYCLE_OFF").is_some() {
+                harris_on = false;
+                if let Some(t) = tr.as_mut() {
+                    t.widened(pivots);
+                }
+                seen.clear();
+                seen.insert(hash);
+            } else { match env_f64("LCPSIM_WIDE") {
+                Some(wide) if set.tie_tol < wide => {
+                    if let Some(t) = tr.as_mut() {
+                        t.widened(pivots);
+                    }
+                    set.tie_tol = wide;
+                    seen.clear();
+                    seen.insert(hash);
+                }
+                _ => break Status::Cycling,
+            } }
         }
         if small || basis.updates() >= set.refactor_every {
             let tf = std::time::Instant::now();
@@ -193,7 +216,14 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
                 break Status::SingularBasis;
             }
         }
-        entering = complement(left, n);
+    };
+    let status = match status {
+        Status::Cycling | Status::MaxPivots | Status::RayTermination
+            if env_f64("LCPSIM_FINISH").is_some_and(|f| finish(&mut basis, entering, f)) =>
+        {
+            Status::Solved
+        }
+        s => s,
     };
     if status == Status::Solved {
         // Shed the updates' round-off: values from a fresh factorization.
@@ -210,7 +240,7 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
 }
 
 /// The lexicographic ratio test: the leaving position and the step, `None` for a ray.
-fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize>) -> Option<(usize, f64)> {
+fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize>, harris_on: bool) -> Option<(usize, f64)> {
     let n = b.val.len();
     let (val, y) = (&b.val[..], &y[..n]);
     let thresh = set.piv_tol * ymax;
@@ -232,13 +262,26 @@ fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize
     if let Some(&c) = tied.iter().find(|&&c| b.var[c] == 2 * n) {
         return Some((c, theta));
     }
+    // z0 within reach of 0 on a pivot that is no small one: it leaves.
+    if let Some(dz) = env_f64("LCPSIM_Z0_EXIT") {
+        let cz = b.pos[2 * n];
+        if cz != NONBASIC && y[cz] >= SMALL_PIVOT * ymax && val[cz] - theta * y[cz] <= dz * vmax {
+            return Some((cz, val[cz].max(0.0) / y[cz]));
+        }
+    }
     if tied.len() > 1 {
         lex_break(b, y, tied, set.tie_tol);
     }
     let best = tied.iter().copied().max_by(|&a, &c| y[a].total_cmp(&y[c]))?;
     if y[best] < SMALL_PIVOT * ymax {
-        if let Some(delta) = harris_tol() {
-            return Some(harris(val, y, thresh, delta * vmax, best, theta));
+        if let Some(delta) = harris_tol().filter(|_| harris_on) {
+            let mut d = delta;
+            let mut pick = harris(val, y, thresh, d * vmax, best, theta);
+            while y[pick.0] < SMALL_PIVOT * ymax && d * 100.0 <= harris_max() {
+                d *= 100.0;
+                pick = harris(val, y, thresh, d * vmax, best, theta);
+            }
+            return Some(pick);
         }
     }
     Some((best, theta))
@@ -247,6 +290,43 @@ fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize
 fn harris_tol() -> Option<f64> {
     static T: std::sync::OnceLock<Option<f64>> = std::sync::OnceLock::new();
     *T.get_or_init(|| std::env::var("LCPSIM_HARRIS").ok().and_then(|v| v.parse().ok()))
+}
+
+/// A failed run whose z0 is within `tol` (of the largest value) of 0:
+/// the next entering variable takes z0's position, if its pivot there is no
+/// small one. `true` when z0 left so.
+fn finish(basis: &mut Basis, e: usize, tol: f64) -> bool {
+    let n = basis.val.len();
+    let cz = basis.pos[2 * n];
+    if cz == NONBASIC || (basis.updates() > 0 && !basis.refactor()) {
+        return false;
+    }
+    let vmax = basis.val.iter().fold(f64::MIN_POSITIVE, |a, v| a.max(v.abs()));
+    if basis.val[cz] > tol * vmax {
+        return false;
+    }
+    let mut y = Vec::new();
+    basis.column_into(e, &mut y);
+    basis.ftran(&mut y);
+    let ymax = y[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    if !(y[cz] > SMALL_PIVOT * ymax) {
+        return false;
+    }
+    let theta = basis.val[cz].max(0.0) / y[cz];
+    basis.pivot(e, cz, &y, theta);
+    if trace::enabled() {
+        eprintln!("lemke_finish z0 {:.1e} pivot {:.1e}", theta * y[cz], y[cz] / ymax);
+    }
+    true
+}
+
+fn env_f64(name: &str) -> Option<f64> {
+    std::env::var(name).ok().and_then(|v| v.parse().ok())
+}
+
+fn harris_max() -> f64 {
+    static T: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
+    *T.get_or_init(|| std::env::var("LCPSIM_HARRIS_MAX").ok().and_then(|v| v.parse().ok()).unwrap_or(0.0))
 }
 
 /// Harris's two-pass ratio test: the largest pivot among the rows whose

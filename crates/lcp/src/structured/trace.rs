@@ -203,6 +203,11 @@ impl Trace {
         self.fresh_min = self.fresh_min.min(m);
     }
 
+    /// The tie tolerance widened at pivot `k` (a cycle seen).
+    pub(crate) fn widened(&mut self, k: usize) {
+        eprintln!("lemke_widened at {k}");
+    }
+
     pub(crate) fn lex_time(&mut self, d: Duration) {
         self.lex += d;
     }
