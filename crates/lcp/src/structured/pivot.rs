@@ -2,7 +2,12 @@
 //! [`crate::lemke`] (relative pivot and tie tolerances, z0 preferred, ties
 //! broken on the rows of `B⁻¹`), with the basis of [`super::factor`].
 //! A tie is broken on the columns of `B⁻¹`, one solve per column that is
-//! not a basic slack's, computed only when a tie occurs.
+//! not a basic slack's, computed only when a tie occurs. A leaving row whose
+//! pivot would be small is traded, where one is near enough, for the largest
+//! pivot of Harris's two-pass test ([`harris`]).
+//!
+//! With `LCPSIM_LEMKE_TRACE` set, each run prints its counts to standard
+//! error ([`super::trace`]).
 
 use super::factor::{Basis, NONBASIC};
 use super::operator::StructuredLcp;
@@ -37,6 +42,19 @@ pub(crate) struct Run {
 /// pivots on a 100-cube heap LCP, n = 3,030, and the symbolic analysis took
 /// 41 % of the solve; 1e-6: 7 refactorizations, answers accepted all the same.)
 const SMALL_PIVOT: f64 = 1e-6;
+
+/// Harris's feasibility tolerance, relative to the largest basic value: how
+/// far below 0 a value may be pushed so that a small pivot is traded for a
+/// larger one ([`harris`]). Measured on the forming 200-cube heap's saved
+/// LCPs (`heap_replay solve step`, steps 174–193, n = 9,400–13,520): the runs
+/// that failed had taken pivots down to 1e-9 of their column (the pivot
+/// tolerance), after which a fresh factorization moved the values by up to
+/// 1e45 of the largest — rays, cycles and `Solved` answers far outside the
+/// rule followed. With this test: 603,027 pivots in all against 699,759
+/// (step 190: 5,165 against 98,150), and step 194, which failed after
+/// 246,628, solved (262,379). 1e-11 and 1e-10 on step 176: 13,750 and 36,298
+/// pivots against 11,118.
+const HARRIS_TOL: f64 = 1e-12;
 
 /// Runs Lemke from the all-slack basis with covering vector `d`.
 pub(crate) fn run(op: &StructuredLcp, d: &[f64], set: &Settings) -> Run {
@@ -116,11 +134,9 @@ fn complement(v: usize, n: usize) -> usize {
     }
 }
 
-/// The main loop from an almost-complementary basis with z0 basic.
+/// The main loop from an almost-complementary basis with z0 basic (`kind`
+/// names the start in the trace).
 fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &Settings, kind: &str) -> Run {
-    let mut set = *set;
-    let set = &mut set;
-    let mut harris_on = true;
     let n = basis.val.len();
     let z0 = 2 * n;
     let mut tr = trace::enabled().then(|| Trace::new(n, basis.val[basis.pos[z0]]));
@@ -141,11 +157,7 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
         if !ymax.is_finite() {
             break Status::Numerical;
         }
-        let tl = std::time::Instant::now();
-        let mut step = leaving(&basis, &y, ymax, set, &mut tied, harris_on);
-        if let Some(t) = tr.as_mut() {
-            t.lex_time(tl.elapsed());
-        }
+        let mut step = leaving(&basis, &y, ymax, set, &mut tied);
         // A ray seen through eta updates may be their round-off: look again
         // on a fresh factorization before believing it.
         if step.is_none() && basis.updates() > 0 {
@@ -155,83 +167,48 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
             basis.column_into(entering, &mut y);
             basis.ftran(&mut y);
             ymax = y[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            step = leaving(&basis, &y, ymax, set, &mut tied, harris_on);
+            step = leaving(&basis, &y, ymax, set, &mut tied);
         }
         let Some((r, theta)) = step else {
             break Status::RayTermination;
         };
         let small = y[r].abs() < SMALL_PIVOT * ymax;
         let left = basis.var[r];
-        let vmax = basis.val.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if let Some(t) = tr.as_mut() {
-            t.drift(&basis.val, &y[..n], theta, set.piv_tol * ymax);
+            t.before_pivot(&basis.val, &y[..n], theta, set.piv_tol * ymax, tied.len(), y[r].abs() / ymax);
         }
         basis.pivot(entering, r, &y, theta);
         pivots += 1;
         if let Some(t) = tr.as_mut() {
-            t.pivot(pivots, entering, left, theta, theta * ymax, vmax, tied.len());
-            t.pivot_size(y[r].abs() / ymax);
-            if left != z0 {
-                t.values(pivots, basis.val[basis.pos[z0]], &basis.val);
-            }
+            t.after_pivot(pivots, entering, left, (left != z0).then(|| basis.val[basis.pos[z0]]), &basis.val);
         }
         if left == z0 {
             break Status::Solved;
         }
         hash ^= key(entering) ^ key(left);
-        entering = complement(left, n);
         if !seen.insert(hash) {
-            // A cycle: ties decided on values that carry round-off. Once, go
-            // on with a wider tie tolerance, so the lexicographic rule sees them.
-            if harris_on && env_f64("LCPSIM_CYCLE_OFF").is_some() {
-                harris_on = false;
-                if let Some(t) = tr.as_mut() {
-                    t.widened(pivots);
-                }
-                seen.clear();
-                seen.insert(hash);
-            } else { match env_f64("LCPSIM_WIDE") {
-                Some(wide) if set.tie_tol < wide => {
-                    if let Some(t) = tr.as_mut() {
-                        t.widened(pivots);
-                    }
-                    set.tie_tol = wide;
-                    seen.clear();
-                    seen.insert(hash);
-                }
-                _ => break Status::Cycling,
-            } }
+            break Status::Cycling;
         }
         if small || basis.updates() >= set.refactor_every {
-            let tf = std::time::Instant::now();
             if let Some(t) = tr.as_mut() {
                 t.before_refactor(&basis.val, small);
             }
-            let ok = basis.refactor();
-            if let Some(t) = tr.as_mut() {
-                t.refactored(tf.elapsed());
-                t.fresh(pivots, &basis.val);
-            }
-            if !ok {
+            if !basis.refactor() {
                 break Status::SingularBasis;
             }
+            if let Some(t) = tr.as_mut() {
+                t.after_refactor(pivots, &basis.val);
+            }
         }
-    };
-    let status = match status {
-        Status::Cycling | Status::MaxPivots | Status::RayTermination
-            if env_f64("LCPSIM_FINISH").is_some_and(|f| finish(&mut basis, entering, f)) =>
-        {
-            Status::Solved
-        }
-        s => s,
+        entering = complement(left, n);
     };
     if status == Status::Solved {
         // Shed the updates' round-off: values from a fresh factorization.
         basis.refactor();
     }
     if let Some(t) = &tr {
-        t.print(kind, pivots, &format!("{status:?}"));
-        trace::end(op, &basis, 1e-9);
+        t.print(kind, pivots, status);
+        trace::end(op, &basis, TRACE_TOL);
     }
     let mut z = Vec::new();
     basis.z_into(&mut z);
@@ -239,8 +216,11 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
     Run { status, pivots, z, mask }
 }
 
+/// The acceptance tolerance the trace measures the final answer against (the solver's default).
+const TRACE_TOL: f64 = 1e-9;
+
 /// The lexicographic ratio test: the leaving position and the step, `None` for a ray.
-fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize>, harris_on: bool) -> Option<(usize, f64)> {
+fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize>) -> Option<(usize, f64)> {
     let n = b.val.len();
     let (val, y) = (&b.val[..], &y[..n]);
     let thresh = set.piv_tol * ymax;
@@ -262,79 +242,28 @@ fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize
     if let Some(&c) = tied.iter().find(|&&c| b.var[c] == 2 * n) {
         return Some((c, theta));
     }
-    // z0 within reach of 0 on a pivot that is no small one: it leaves.
-    if let Some(dz) = env_f64("LCPSIM_Z0_EXIT") {
-        let cz = b.pos[2 * n];
-        if cz != NONBASIC && y[cz] >= SMALL_PIVOT * ymax && val[cz] - theta * y[cz] <= dz * vmax {
-            return Some((cz, val[cz].max(0.0) / y[cz]));
-        }
-    }
     if tied.len() > 1 {
         lex_break(b, y, tied, set.tie_tol);
     }
     let best = tied.iter().copied().max_by(|&a, &c| y[a].total_cmp(&y[c]))?;
     if y[best] < SMALL_PIVOT * ymax {
-        if let Some(delta) = harris_tol().filter(|_| harris_on) {
-            let mut d = delta;
-            let mut pick = harris(val, y, thresh, d * vmax, best, theta);
-            while y[pick.0] < SMALL_PIVOT * ymax && d * 100.0 <= harris_max() {
-                d *= 100.0;
-                pick = harris(val, y, thresh, d * vmax, best, theta);
-            }
-            return Some(pick);
-        }
+        return Some(harris(val, y, thresh, HARRIS_TOL * vmax, (best, theta)));
     }
     Some((best, theta))
 }
 
-fn harris_tol() -> Option<f64> {
-    static T: std::sync::OnceLock<Option<f64>> = std::sync::OnceLock::new();
-    *T.get_or_init(|| std::env::var("LCPSIM_HARRIS").ok().and_then(|v| v.parse().ok()))
-}
-
-/// A failed run whose z0 is within `tol` (of the largest value) of 0:
-/// the next entering variable takes z0's position, if its pivot there is no
-/// small one. `true` when z0 left so.
-fn finish(basis: &mut Basis, e: usize, tol: f64) -> bool {
-    let n = basis.val.len();
-    let cz = basis.pos[2 * n];
-    if cz == NONBASIC || (basis.updates() > 0 && !basis.refactor()) {
-        return false;
-    }
-    let vmax = basis.val.iter().fold(f64::MIN_POSITIVE, |a, v| a.max(v.abs()));
-    if basis.val[cz] > tol * vmax {
-        return false;
-    }
-    let mut y = Vec::new();
-    basis.column_into(e, &mut y);
-    basis.ftran(&mut y);
-    let ymax = y[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    if !(y[cz] > SMALL_PIVOT * ymax) {
-        return false;
-    }
-    let theta = basis.val[cz].max(0.0) / y[cz];
-    basis.pivot(e, cz, &y, theta);
-    if trace::enabled() {
-        eprintln!("lemke_finish z0 {:.1e} pivot {:.1e}", theta * y[cz], y[cz] / ymax);
-    }
-    true
-}
-
-fn env_f64(name: &str) -> Option<f64> {
-    std::env::var(name).ok().and_then(|v| v.parse().ok())
-}
-
-fn harris_max() -> f64 {
-    static T: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
-    *T.get_or_init(|| std::env::var("LCPSIM_HARRIS_MAX").ok().and_then(|v| v.parse().ok()).unwrap_or(0.0))
-}
-
-/// Harris's two-pass ratio test: the largest pivot among the rows whose
-/// ratio is within what a step may cost feasibility (`delta`): the bound
-/// `θ_H = min (v⁺ + δ)/y`, then the largest `y` with `v⁺/y ≤ θ_H`.
-fn harris(val: &[f64], y: &[f64], thresh: f64, delta: f64, best: usize, theta: f64) -> (usize, f64) {
-    let bound = val.iter().zip(y).filter(|(_, &yc)| yc > thresh).fold(f64::INFINITY, |a, (&v, &yc)| a.min((v.max(0.0) + delta) / yc));
-    let mut pick = (best, theta);
+/// Harris's two-pass ratio test, for a leaving row `pick` whose pivot is
+/// small: the bound `θ_H = min (v⁺ + δ)/y` over the rows above the pivot
+/// tolerance, then the row of largest `y` among those with `v⁺/y ≤ θ_H`
+/// (`pick` if none is larger) with its own ratio as the step. Values it
+/// passes over end at most `δ` below 0 (`v⁺ − θ y ≥ −δ`); the ratio test
+/// reads them as 0 from then on, and the acceptance rule judges the end.
+fn harris(val: &[f64], y: &[f64], thresh: f64, delta: f64, mut pick: (usize, f64)) -> (usize, f64) {
+    let bound = val
+        .iter()
+        .zip(y)
+        .filter(|(_, &yc)| yc > thresh)
+        .fold(f64::INFINITY, |a, (&v, &yc)| a.min((v.max(0.0) + delta) / yc));
     for (c, (&v, &yc)) in val.iter().zip(y).enumerate() {
         if yc > y[pick.0] && v.max(0.0) / yc <= bound {
             pick = (c, v.max(0.0) / yc);

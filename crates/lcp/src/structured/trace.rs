@@ -1,10 +1,28 @@
-//! Counts of one Lemke run of the structured loop, printed to standard error
-//! when `LCPSIM_LEMKE_TRACE` is set (a measuring tool: where the pivots of a
-//! hard LCP go). Nothing here changes a run.
+//! Counts of one run of the structured Lemke loop ([`super::pivot`]),
+//! printed to standard error when `LCPSIM_LEMKE_TRACE` is set: a measuring
+//! tool for where the pivots of a hard LCP go (e.g. with `heap_replay solve`
+//! in the simulator's examples). Nothing here changes a run.
+//!
+//! Per run, one `lemke_trace` line: start (`cold`/`warm`), `n`, pivots,
+//! status, seconds; `zero`/`tiny`: pivots whose step moved no value / none
+//! by more than 1e-13 of the largest, `streak` the longest stretch of `θ = 0`;
+//! `ties` and their sizes; `entered_*`: how often variables re-entered,
+//! `back100`/`back1000`: entering variables that had left within that many
+//! pivots; `z0` start..[least, largest], `z0_up` pivots that raised its
+//! maximum; `drift`: values pushed below 0 by rows under the pivot tolerance
+//! (count, least), `ratio`: by rows above it; `fresh`: the least value
+//! (relative to the largest) after a refactorization and the first pivot it
+//! fell below −1e-12; `small`: pivots under 1e-6 of their column (count,
+//! least); `jumps`: refactorizations that moved the values by more than
+//! 1e-6 of the largest (called by a small pivot + by the update count), the
+//! largest move; `samples`: pivot:z0/negative values at powers of two.
+//! Then one `lemke_end` line: the final basis's negative values and how its
+//! answer (z clipped, w recomputed) stands against the acceptance rule.
 
 use super::factor::{Basis, NONBASIC};
 use super::operator::StructuredLcp;
 use crate::accept::ROUND_OFF;
+use crate::solution::Status;
 use std::time::{Duration, Instant};
 
 /// Whether runs are traced (`LCPSIM_LEMKE_TRACE` set), read once.
@@ -13,56 +31,40 @@ pub(crate) fn enabled() -> bool {
     *ON.get_or_init(|| std::env::var_os("LCPSIM_LEMKE_TRACE").is_some())
 }
 
-/// The counts of one run.
+/// The counts of one run (fields as in the module docs).
 pub(crate) struct Trace {
     n: usize,
     t0: Instant,
-    /// Pivots whose step moved no basic value (`θ = 0`).
     zero: usize,
-    /// Pivots whose step moved values by at most `1e-13` of the largest.
     tiny: usize,
-    /// Longest stretch of consecutive `θ = 0` pivots.
     streak: usize,
     cur: usize,
-    /// Pivots with a tie of two or more, the tied positions summed, the largest tie.
     ties: usize,
     tied_sum: usize,
     tied_max: usize,
-    /// Times each variable entered; the pivot it last left at.
     entered: Vec<u32>,
     left_at: Vec<usize>,
-    /// Entering variables that had left within the last 100 / 1,000 pivots.
     back100: usize,
     back1000: usize,
-    /// z0 at the start, its least and largest since, samples along the run.
     z0_start: f64,
     z0_min: f64,
     z0_max: f64,
     z0_up: usize,
     samples: Vec<(usize, f64, usize)>,
-    /// Time in the lexicographic tie break and in refactorizations.
-    lex: Duration,
     refactors: usize,
     refactor_time: Duration,
-    /// Least basic value below 0 (round-off drift).
-    min_val: f64,
-    /// Values driven below 0 by rows under the pivot tolerance (`0 < y ≤ tol`), and the least such value.
+    refactor_t0: Instant,
     drift_rows: usize,
     drift_min: f64,
-    /// Values driven below 0 by rows above it (round-off of the ratio test).
     ratio_rows: usize,
     ratio_min: f64,
-    /// Least basic value, relative to the largest, right after a refactorization; pivot where it first fell below −1e-12.
     fresh_min: f64,
     fresh_first: usize,
-    /// Pivots under 1e-6 of their column's largest entry, the least relative pivot.
     small: usize,
     small_min: f64,
-    /// Values before a refactorization, whether a small pivot called it.
+    /// Values before a refactorization, and whether a small pivot called it.
     old: Vec<f64>,
     old_small: bool,
-    /// Refactorizations whose fresh values moved by more than 1e-6 of the
-    /// largest (called by a small pivot / by the count), the largest move.
     jumps_small: usize,
     jumps_count: usize,
     jump_max: f64,
@@ -89,10 +91,9 @@ impl Trace {
             z0_max: z0,
             z0_up: 0,
             samples: Vec::new(),
-            lex: Duration::ZERO,
             refactors: 0,
             refactor_time: Duration::ZERO,
-            min_val: 0.0,
+            refactor_t0: Instant::now(),
             drift_rows: 0,
             drift_min: 0.0,
             ratio_rows: 0,
@@ -109,10 +110,11 @@ impl Trace {
         }
     }
 
-    /// One pivot: `e` entered, `left` left, step `theta` moving values by
-    /// `moved` (`θ·max|y|`) against the largest value `vmax`, `tied` positions tied.
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn pivot(&mut self, k: usize, e: usize, left: usize, theta: f64, moved: f64, vmax: f64, tied: usize) {
+    /// Before a pivot by `θ` along `y` (`thresh` the pivot tolerance, `tied`
+    /// positions tied, `rel` the pivot over its column's largest entry).
+    pub(crate) fn before_pivot(&mut self, val: &[f64], y: &[f64], theta: f64, thresh: f64, tied: usize, rel: f64) {
+        let vmax = val.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let ymax = y.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if theta == 0.0 {
             self.zero += 1;
             self.cur += 1;
@@ -120,7 +122,7 @@ impl Trace {
         } else {
             self.cur = 0;
         }
-        if moved <= 1e-13 * vmax {
+        if theta * ymax <= 1e-13 * vmax {
             self.tiny += 1;
         }
         if tied > 1 {
@@ -128,33 +130,10 @@ impl Trace {
             self.tied_sum += tied;
             self.tied_max = self.tied_max.max(tied);
         }
-        self.entered[e] += 1;
-        let back = self.left_at[e];
-        if back != usize::MAX {
-            self.back100 += (k - back <= 100) as usize;
-            self.back1000 += (k - back <= 1000) as usize;
+        if rel < 1e-6 {
+            self.small += 1;
         }
-        self.left_at[left] = k;
-    }
-
-    /// z0's value after pivot `k` (while basic) and the least basic value.
-    pub(crate) fn values(&mut self, k: usize, z0: f64, val: &[f64]) {
-        if z0 > self.z0_max {
-            self.z0_up += 1;
-        }
-        self.z0_min = self.z0_min.min(z0);
-        self.z0_max = self.z0_max.max(z0);
-        if k.is_power_of_two() || k % 5000 == 0 {
-            let neg = val.iter().filter(|&&v| v < 0.0).count();
-            self.samples.push((k, z0, neg));
-        }
-        if k % 256 == 0 {
-            self.min_val = val.iter().fold(self.min_val, |a, &v| a.min(v));
-        }
-    }
-
-    /// Before a pivot by `θ` along `y`: values that go below 0 from at or above it.
-    pub(crate) fn drift(&mut self, val: &[f64], y: &[f64], theta: f64, thresh: f64) {
+        self.small_min = self.small_min.min(rel);
         for (&v, &yc) in val.iter().zip(y) {
             let after = v - theta * yc;
             if yc > 0.0 && after < 0.0 && v >= 0.0 {
@@ -169,22 +148,37 @@ impl Trace {
         }
     }
 
-    /// The leaving row's `|y_r| / max|y|`.
-    pub(crate) fn pivot_size(&mut self, rel: f64) {
-        if rel < 1e-6 {
-            self.small += 1;
+    /// After pivot `k`: `e` entered, `left` left; z0's value if still basic.
+    pub(crate) fn after_pivot(&mut self, k: usize, e: usize, left: usize, z0: Option<f64>, val: &[f64]) {
+        self.entered[e] += 1;
+        let back = self.left_at[e];
+        if back != usize::MAX {
+            self.back100 += usize::from(k - back <= 100);
+            self.back1000 += usize::from(k - back <= 1000);
         }
-        self.small_min = self.small_min.min(rel);
+        self.left_at[left] = k;
+        let Some(z0) = z0 else { return };
+        if z0 > self.z0_max {
+            self.z0_up += 1;
+        }
+        self.z0_min = self.z0_min.min(z0);
+        self.z0_max = self.z0_max.max(z0);
+        if k.is_power_of_two() || k % 5000 == 0 {
+            self.samples.push((k, z0, val.iter().filter(|&&v| v < 0.0).count()));
+        }
     }
 
     pub(crate) fn before_refactor(&mut self, val: &[f64], small: bool) {
         self.old.clear();
         self.old.extend_from_slice(val);
         self.old_small = small;
+        self.refactor_t0 = Instant::now();
     }
 
-    /// After a refactorization at pivot `k`, with fresh values.
-    pub(crate) fn fresh(&mut self, k: usize, val: &[f64]) {
+    /// After a refactorization at pivot `k`, with its fresh values.
+    pub(crate) fn after_refactor(&mut self, k: usize, val: &[f64]) {
+        self.refactors += 1;
+        self.refactor_time += self.refactor_t0.elapsed();
         let vmax = val.iter().fold(f64::MIN_POSITIVE, |a, v| a.max(v.abs()));
         let omax = self.old.iter().fold(f64::MIN_POSITIVE, |a, v| a.max(v.abs()));
         let jump = self.old.iter().zip(val).fold(0.0f64, |a, (o, v)| a.max((o - v).abs())) / omax;
@@ -203,22 +197,8 @@ impl Trace {
         self.fresh_min = self.fresh_min.min(m);
     }
 
-    /// The tie tolerance widened at pivot `k` (a cycle seen).
-    pub(crate) fn widened(&mut self, k: usize) {
-        eprintln!("lemke_widened at {k}");
-    }
-
-    pub(crate) fn lex_time(&mut self, d: Duration) {
-        self.lex += d;
-    }
-
-    pub(crate) fn refactored(&mut self, d: Duration) {
-        self.refactors += 1;
-        self.refactor_time += d;
-    }
-
-    /// The summary line.
-    pub(crate) fn print(&self, kind: &str, pivots: usize, status: &str) {
+    /// The `lemke_trace` line.
+    pub(crate) fn print(&self, kind: &str, pivots: usize, status: Status) {
         let n = self.n;
         let distinct = self.entered.iter().filter(|&&c| c > 0).count();
         let max_in = self.entered.iter().copied().max().unwrap_or(0);
@@ -227,10 +207,11 @@ impl Trace {
         let secs = self.t0.elapsed().as_secs_f64();
         let samples: Vec<String> = self.samples.iter().map(|(k, z, neg)| format!("{k}:{z:.2e}/{neg}")).collect();
         eprintln!(
-            "lemke_trace {kind} n {n} pivots {pivots} status {status} secs {secs:.2} us_per_pivot {:.0} \
-             zero {} tiny {} streak {} ties {} tied_mean {:.1} tied_max {} lex_secs {:.2} refactors {} refactor_secs {:.2} \
+            "lemke_trace {kind} n {n} pivots {pivots} status {status:?} secs {secs:.2} us_per_pivot {:.0} \
+             zero {} tiny {} streak {} ties {} tied_mean {:.1} tied_max {} refactors {} refactor_secs {:.2} \
              entered_distinct {distinct} entered_max {max_in} entered_ge10 {over10} w_in {w_in} z_in {z_in} \
-             back100 {} back1000 {} z0 {:.3e}..[{:.3e},{:.3e}] z0_up {} min_val {:.1e} drift {} {:.1e} ratio {} {:.1e} fresh {:.1e} at {} small {} {:.1e} jumps {}+{} {:.1e} samples {}",
+             back100 {} back1000 {} z0 {:.3e}..[{:.3e},{:.3e}] z0_up {} drift {} {:.1e} ratio {} {:.1e} \
+             fresh {:.1e} at {} small {} {:.1e} jumps {}+{} {:.1e} samples {}",
             1e6 * secs / pivots.max(1) as f64,
             self.zero,
             self.tiny,
@@ -238,7 +219,6 @@ impl Trace {
             self.ties,
             self.tied_sum as f64 / self.ties.max(1) as f64,
             self.tied_max,
-            self.lex.as_secs_f64(),
             self.refactors,
             self.refactor_time.as_secs_f64(),
             self.back100,
@@ -247,7 +227,6 @@ impl Trace {
             self.z0_min,
             self.z0_max,
             self.z0_up,
-            self.min_val,
             self.drift_rows,
             self.drift_min,
             self.ratio_rows,
@@ -264,9 +243,9 @@ impl Trace {
     }
 }
 
-/// How the final basis's answer (z clipped at 0, w recomputed) stands
-/// against the acceptance rule: rows over `tol`, the worst row's `η` and
-/// what it is made of, and the basic values below 0.
+/// The `lemke_end` line: the final basis's negative values and how its
+/// answer (z clipped at 0, w recomputed) stands against the acceptance
+/// rule at `tol`: rows over it, the worst row's `η` and what it is made of.
 pub(crate) fn end(op: &StructuredLcp, b: &Basis, tol: f64) {
     let n = op.n();
     let mut z = Vec::new();
@@ -274,14 +253,12 @@ pub(crate) fn end(op: &StructuredLcp, b: &Basis, tol: f64) {
     let (mut zneg, mut zmin, mut wneg, mut wmin) = (0, 0.0f64, 0, 0.0f64);
     for (c, &v) in b.var.iter().enumerate() {
         let x = b.val[c];
-        if x < 0.0 {
-            if v < n {
-                wneg += 1;
-                wmin = wmin.min(x);
-            } else if v < 2 * n {
-                zneg += 1;
-                zmin = zmin.min(x);
-            }
+        if x < 0.0 && v < n {
+            wneg += 1;
+            wmin = wmin.min(x);
+        } else if x < 0.0 && v < 2 * n {
+            zneg += 1;
+            zmin = zmin.min(x);
         }
     }
     let vmax = b.val.iter().fold(0.0f64, |a, v| a.max(v.abs()));
@@ -300,15 +277,19 @@ pub(crate) fn end(op: &StructuredLcp, b: &Basis, tol: f64) {
         let (terms, rmax) = row.iter().fold((0.0, 0.0f64), |(t, m), &(j, x)| (t + x.abs() * zc[j], m.max(x.abs())));
         let s = terms + op.q()[i].abs();
         let eta = (v - ROUND_OFF * rmax * zsum).max(0.0) / s;
-        if eta > tol {
-            over += 1;
-        }
+        over += usize::from(eta > tol);
         if eta > worst.0 {
             worst = (eta, i, s);
         }
     }
     let i = worst.1;
-    let basic = if b.pos[n + i] != NONBASIC { "z" } else if b.pos[i] != NONBASIC { "w" } else { "-" };
+    let basic = if b.pos[n + i] != NONBASIC {
+        "z"
+    } else if b.pos[i] != NONBASIC {
+        "w"
+    } else {
+        "-"
+    };
     eprintln!(
         "lemke_end n {n} z0 {z0:.1e} vmax {vmax:.1e} z_neg {zneg} z_min {zmin:.1e} w_neg {wneg} w_min {wmin:.1e} \
          rows_over {over} worst_eta {:.1e} row {i} basic {basic} z {:.1e} w {:.1e} scale {:.1e}",
