@@ -163,7 +163,7 @@ impl Trace {
         }
         self.z0_min = self.z0_min.min(z0);
         self.z0_max = self.z0_max.max(z0);
-        if k.is_power_of_two() || k % 5000 == 0 {
+        if k.is_power_of_two() || k.is_multiple_of(5000) {
             self.samples.push((k, z0, val.iter().filter(|&&v| v < 0.0).count()));
         }
     }
