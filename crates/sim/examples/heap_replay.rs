@@ -14,6 +14,12 @@
 //! it got wrong against the answer found; for a `bpp:` start, block principal
 //! pivoting alone on the full LCP from that basis (infeasible values before
 //! and after, factorizations, seconds).
+//!
+//! With `LCPSIM_LEMKE_TRACE=1` set, every structured Lemke run prints its
+//! counts to standard error (`lemke_trace` and `lemke_end` lines: degenerate
+//! pivots, ties, re-entries, z0's course, small pivots and the jumps of the
+//! values they cause, how the final answer stands against the acceptance
+//! rule; see `lcp::structured`'s pivot loop).
 
 use sim::lcp::structured::bpp::{self, BppOptions};
 use sim::lcp::structured::guess::{self, GuessOptions};

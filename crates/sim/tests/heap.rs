@@ -126,6 +126,33 @@ fn heap_runs_without_failures_or_penetration(n: usize, steps: usize) -> sim::sce
 ///   previous basis or the guess lowered no infeasible count on steps
 ///   175–179; a pivot tolerance of 1e-6 or a tie tolerance of 1e-10 ended
 ///   step 194 on cycles and `numerical` runs as well.
+/// - where step 190's 98,150 pivots went (main at 5fb3878, replayed with
+///   `LCPSIM_LEMKE_TRACE=1 heap_replay solve step`, which prints each
+///   Lemke run's counts): 22 runs, the answer from three short warm runs
+///   (102–501 pivots) of the last start. Runs end
+///   `Solved` but rejected by the rule (14,279, 19,992 and 19,526 pivots),
+///   on rays (2,368; 15,232) and cycles (2,344; 4,219). Not a stall: on the
+///   runs over 10,000 pivots 0.4–1.7 % of pivots have θ = 0 (up to 15 % on
+///   the short failing ones; longest stretch 78), a tie of two or more rows
+///   occurs once (at the end), z0 never rises, and a variable enters at
+///   most 38 times. On step 176 (16 runs, 31,442 pivots) 6 of the 7 failed
+///   runs of over 100 pivots took pivots down to 1e-9 of their column (the
+///   pivot tolerance), after which a fresh factorization moved the values
+///   by 1e6–1e45 of the largest (the seventh ended 3 rows outside the rule,
+///   η = 1.4e-8); the accepted ones took none below 1e-7. A pivot costs 0.3–0.4 ms at n ≈ 6,200 and 0.5–1.7 ms
+///   at n = 7,770–13,350 (loaded machine), refactorizations 14–44 % of it.
+/// - with Harris's ratio test on small pivots (`lcp::structured`'s pivot
+///   loop; the saved LCPs, `heap_replay solve step`): steps 174–193 take
+///   603,027 pivots against 699,759 (step 190 5,165, 188 3,186, 176 11,118,
+///   181 36,902; but 182 121,277 against 61,780, 186 33,272 against 3,710:
+///   every path is chaotic), step 194 is solved (262,379 pivots, 366 s).
+///   What still fails: runs that cycle half way (z0 ≈ 1e-3; going on
+///   after the cycle with a wider tie tolerance, 1e-10, they cycled again
+///   within 12–38 pivots in 3 of 3 runs, with the plain lexicographic rule
+///   in 1 of 2), and answers rejected at rows whose scale is ~1e-11
+///   (contacts at the edge of touching, `q_i ≈ −1e-11`), where the basis's
+///   values carry ~1e-12 of round-off. Letting z0 leave once it is within
+///   1e-10 of 0 rejected more answers (step 187: 71,803 pivots against 17,399).
 /// Run with `cargo test --release -p lcpsim-sim --test heap -- --ignored --nocapture`.
 #[test]
 #[ignore]

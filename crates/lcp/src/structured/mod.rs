@@ -23,6 +23,7 @@ mod lu;
 mod operator;
 mod pivot;
 mod sparse;
+mod trace;
 
 pub use operator::{Entry, StructuredLcp};
 

@@ -2,10 +2,16 @@
 //! [`crate::lemke`] (relative pivot and tie tolerances, z0 preferred, ties
 //! broken on the rows of `B⁻¹`), with the basis of [`super::factor`].
 //! A tie is broken on the columns of `B⁻¹`, one solve per column that is
-//! not a basic slack's, computed only when a tie occurs.
+//! not a basic slack's, computed only when a tie occurs. A leaving row whose
+//! pivot would be small is traded, where one is near enough, for the largest
+//! pivot of Harris's two-pass test ([`harris`]).
+//!
+//! With `LCPSIM_LEMKE_TRACE` set, each run prints its counts to standard
+//! error ([`super::trace`]).
 
 use super::factor::{Basis, NONBASIC};
 use super::operator::StructuredLcp;
+use super::trace::{self, Trace};
 use crate::lemke::basis_hash_key as key;
 use crate::solution::Status;
 use std::collections::HashSet;
@@ -39,6 +45,19 @@ pub(crate) struct Run {
 /// 41 % of the solve; 1e-6: 7 refactorizations, answers accepted all the same.)
 const SMALL_PIVOT: f64 = 1e-6;
 
+/// Harris's feasibility tolerance, relative to the largest basic value: how
+/// far below 0 a value may be pushed so that a small pivot is traded for a
+/// larger one ([`harris`]). Measured on the forming 200-cube heap's saved
+/// LCPs (`heap_replay solve step`, steps 174–193, n = 9,400–13,520): the runs
+/// that failed had taken pivots down to 1e-9 of their column (the pivot
+/// tolerance), after which a fresh factorization moved the values by up to
+/// 1e45 of the largest — rays, cycles and `Solved` answers far outside the
+/// rule followed. With this test: 603,027 pivots in all against 699,759
+/// (step 190: 5,165 against 98,150), and step 194, which failed after
+/// 246,628, solved (262,379). 1e-11 and 1e-10 on step 176: 13,750 and 36,298
+/// pivots against 11,118.
+const HARRIS_TOL: f64 = 1e-12;
+
 /// Runs Lemke from the all-slack basis with covering vector `d`.
 pub(crate) fn run(op: &StructuredLcp, d: &[f64], set: &Settings) -> Run {
     let n = op.n();
@@ -59,7 +78,7 @@ pub(crate) fn run(op: &StructuredLcp, d: &[f64], set: &Settings) -> Run {
     if !basis.pivot(2 * n, r, &y, basis.val[r] / y[r]) {
         return fail(Status::SingularBasis);
     }
-    pivot_loop(basis, n + r, set)
+    pivot_loop(op, basis, n + r, set, "cold")
 }
 
 /// Runs Lemke from the complementary basis `alpha` (a warm start) with the
@@ -95,7 +114,7 @@ pub(crate) fn run_warm(op: &StructuredLcp, alpha: &[usize], d: &mut Vec<f64>, se
     if !basis.pivot(2 * n, r, &y, worst / y[r]) {
         return None;
     }
-    Some(pivot_loop(basis, complement(left, n), set))
+    Some(pivot_loop(op, basis, complement(left, n), set, "warm"))
 }
 
 /// Columns swapped at most to make a singular warm basis regular ([`Basis::regular_alpha`]).
@@ -121,10 +140,12 @@ fn complement(v: usize, n: usize) -> usize {
     }
 }
 
-/// The main loop from an almost-complementary basis with z0 basic.
-fn pivot_loop(mut basis: Basis, mut entering: usize, set: &Settings) -> Run {
+/// The main loop from an almost-complementary basis with z0 basic (`kind`
+/// names the start in the trace).
+fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &Settings, kind: &str) -> Run {
     let n = basis.val.len();
     let z0 = 2 * n;
+    let mut tr = trace::enabled().then(|| Trace::new(n, basis.val[basis.pos[z0]]));
     let mut pivots = 1;
     let mut y = Vec::new();
     let mut tied = Vec::new();
@@ -159,10 +180,16 @@ fn pivot_loop(mut basis: Basis, mut entering: usize, set: &Settings) -> Run {
         };
         let small = y[r].abs() < SMALL_PIVOT * ymax;
         let left = basis.var[r];
+        if let Some(t) = tr.as_mut() {
+            t.before_pivot(&basis.val, &y[..n], theta, set.piv_tol * ymax, tied.len(), y[r].abs() / ymax);
+        }
         if !basis.pivot(entering, r, &y, theta) {
             break Status::SingularBasis;
         }
         pivots += 1;
+        if let Some(t) = tr.as_mut() {
+            t.after_pivot(pivots, entering, left, (left != z0).then(|| basis.val[basis.pos[z0]]), &basis.val);
+        }
         if left == z0 {
             break Status::Solved;
         }
@@ -170,8 +197,16 @@ fn pivot_loop(mut basis: Basis, mut entering: usize, set: &Settings) -> Run {
         if !seen.insert(hash) {
             break Status::Cycling;
         }
-        if (small || basis.updates() >= set.refactor_every) && !basis.refactor() {
-            break Status::SingularBasis;
+        if small || basis.updates() >= set.refactor_every {
+            if let Some(t) = tr.as_mut() {
+                t.before_refactor(&basis.val, small);
+            }
+            if !basis.refactor() {
+                break Status::SingularBasis;
+            }
+            if let Some(t) = tr.as_mut() {
+                t.after_refactor(pivots, &basis.val);
+            }
         }
         entering = complement(left, n);
     };
@@ -179,11 +214,18 @@ fn pivot_loop(mut basis: Basis, mut entering: usize, set: &Settings) -> Run {
         // Shed the updates' round-off: values from a fresh factorization.
         basis.refactor();
     }
+    if let Some(t) = &tr {
+        t.print(kind, pivots, status);
+        trace::end(op, &basis, TRACE_TOL);
+    }
     let mut z = Vec::new();
     basis.z_into(&mut z);
     let mask = (0..n).map(|j| basis.pos[n + j] != NONBASIC).collect();
     Run { status, pivots, z, mask }
 }
+
+/// The acceptance tolerance the trace measures the final answer against (the solver's default).
+const TRACE_TOL: f64 = 1e-9;
 
 /// The lexicographic ratio test: the leaving position and the step, `None` for a ray.
 fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize>) -> Option<(usize, f64)> {
@@ -212,7 +254,30 @@ fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize
         lex_break(b, y, tied, set.tie_tol);
     }
     let best = tied.iter().copied().max_by(|&a, &c| y[a].total_cmp(&y[c]))?;
+    if y[best] < SMALL_PIVOT * ymax {
+        return Some(harris(val, y, thresh, HARRIS_TOL * vmax, (best, theta)));
+    }
     Some((best, theta))
+}
+
+/// Harris's two-pass ratio test, for a leaving row `pick` whose pivot is
+/// small: the bound `θ_H = min (v⁺ + δ)/y` over the rows above the pivot
+/// tolerance, then the row of largest `y` among those with `v⁺/y ≤ θ_H`
+/// (`pick` if none is larger) with its own ratio as the step. Values it
+/// passes over end at most `δ` below 0 (`v⁺ − θ y ≥ −δ`); the ratio test
+/// reads them as 0 from then on, and the acceptance rule judges the end.
+fn harris(val: &[f64], y: &[f64], thresh: f64, delta: f64, mut pick: (usize, f64)) -> (usize, f64) {
+    let bound = val
+        .iter()
+        .zip(y)
+        .filter(|(_, &yc)| yc > thresh)
+        .fold(f64::INFINITY, |a, (&v, &yc)| a.min((v.max(0.0) + delta) / yc));
+    for (c, (&v, &yc)) in val.iter().zip(y).enumerate() {
+        if yc > y[pick.0] && v.max(0.0) / yc <= bound {
+            pick = (c, v.max(0.0) / yc);
+        }
+    }
+    pick
 }
 
 /// Keeps the tied positions whose row of `B⁻¹ B₀` over the pivot is
