@@ -37,7 +37,7 @@ of the heap; its own table and fitted exponent follow the dense one. Up to
 LCP in the same process (the speed-up column when the dense table is not run).
 
     benchmarks/peers/.venv/bin/python benchmarks/lcp_scaling.py [--max-solve-s 300] [--mem-cap-gb 6]
-        [--only dense|structured] [--structured-dense-max-n 3100]
+        [--only dense|structured] [--structured-dense-max-n 3100] [--structured-binary PATH]
 """
 
 from __future__ import annotations
@@ -174,8 +174,11 @@ def stored_bytes(M: Any) -> int:
 ROOT = HERE.parent
 
 
-def structured_binary() -> Path:
-    """Builds the Rust example ``structured_scaling`` (release) and returns its path."""
+def structured_binary(prebuilt: str | None = None) -> Path:
+    """Builds the Rust example ``structured_scaling`` (release) and returns its path; or
+    ``prebuilt``, an example binary built elsewhere (another commit's, for a before/after)."""
+    if prebuilt:
+        return Path(prebuilt)
     subprocess.run(["cargo", "build", "--release", "-q", "-p", "lcpsim-sim", "--example", "structured_scaling"],
                    cwd=ROOT, check=True)
     target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
@@ -215,9 +218,10 @@ def run_structured_child(binary: Path, boxes: str, k: int, mem_cap: int, timeout
     return row
 
 
-def run_structured(desc: dict[str, Any], max_solve_s: float, mem_cap_gb: float, dense_max_n: int) -> dict[str, Any]:
+def run_structured(desc: dict[str, Any], max_solve_s: float, mem_cap_gb: float, dense_max_n: int,
+                   prebuilt: str | None = None) -> dict[str, Any]:
     """Every size up to the whole heap, or until a solve is predicted to exceed ``max_solve_s``."""
-    binary = structured_binary()
+    binary = structured_binary(prebuilt)
     cap = int(mem_cap_gb * (1 << 30))
     n_dyn = sum(not b["static"] for b in desc["boxes"])
     rows: list[dict[str, Any]] = []
@@ -418,6 +422,7 @@ def main() -> int:
     ap.add_argument("--only", choices=["dense", "structured"], help="run one solver only")
     ap.add_argument("--structured-dense-max-n", type=int, default=3100,
                     help="the structured example also runs the dense Lemke up to this n (speed-up column)")
+    ap.add_argument("--structured-binary", help="a prebuilt structured_scaling example to time instead of building one")
     args = ap.parse_args()
     found = None if args.block else settled_heap(Path(args.results), args.scene, args.engines.split(","))
     desc, source = found if found else block_heap(max(SIZES))
@@ -426,7 +431,8 @@ def main() -> int:
     if args.only != "structured":
         res = run_all(desc, source, args.max_solve_s, args.mem_cap_gb, args.reps)
     if args.only != "dense":
-        res["structured"] = run_structured(desc, args.max_solve_s, args.mem_cap_gb, args.structured_dense_max_n)
+        res["structured"] = run_structured(desc, args.max_solve_s, args.mem_cap_gb, args.structured_dense_max_n,
+                                           args.structured_binary)
     Path(args.out).write_text(json.dumps(res, indent=1))
     lines = render(res) if "rows" in res else []
     if "structured" in res:

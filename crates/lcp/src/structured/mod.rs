@@ -70,16 +70,28 @@ const RUNGS: [Rung; 3] =
 /// Ratios within this fraction of the largest basic value tie (as in [`crate::lemke`]).
 const TIE_TOL: f64 = 1e-13;
 
+/// A warm basis this close to feasible (relative to its largest value) is taken as it stands.
+const WARM_TOL: f64 = 1e-12;
+
 /// Restarts from failed runs' final bases (see [`solve`]).
 const RESTARTS: usize = 4;
+
+/// Polishes at most per solve (see [`solve`]).
+const POLISHES: usize = 3;
 
 /// Where a run starts.
 enum Start {
     /// From a complementary basis (`z_j` basic for `j` in it).
     Basis(Vec<usize>),
+    /// From the complementary basis a run ended on whose answer the rule
+    /// rejects: the polish (see [`solve`]).
+    Polish(Vec<usize>),
     /// Cold, on a rung.
     Cold(Rung),
 }
+
+/// The polish's tie tolerance: none, so the least ratio leaves (see [`solve`]).
+const POLISH_TIE_TOL: f64 = 0.0;
 
 /// Solves `op` by Lemke's method, first from the complementary basis `warm`
 /// (`warm[j]`: `z_j` basic; the previous step's answer; repaired column by
@@ -89,11 +101,25 @@ enum Start {
 /// answer, else the first accepted one, else the closest failure.
 ///
 /// A run that ends on a complementary basis whose answer fails the rule is
-/// restarted from that basis (covering vector `B·1`, fresh factorization),
-/// as the dense ladder does: on heaps a run can end a hair off after
-/// deciding near-ties on values that carry round-off (measured on a 200-cube
-/// heap's LCP, n = 3,820: three cold runs ended at natural residuals 6e-8,
-/// 5e-7 and 1e-10, none accepted). Runs that end on a secondary ray or
+/// *polished*: Lemke goes on from that basis (covering vector `B·1`, fresh
+/// factorization, z0 entering where the least basic value is, however close
+/// to 0) with no tie tolerance, so the least ratio leaves at every pivot.
+/// Such an end is a vertex that is itself infeasible by a hair, not
+/// round-off in its values: the ratio test takes ratios within
+/// `1e-13·max|value|` as ties and may let any of them leave, which leaves the
+/// least one's variable negative by up to that width at the new vertex.
+/// Where such a row's scale is that width (an unloaded contact, `q_i = 0`,
+/// friction `β ≈ 5e-14` just outside its cone) the rule rejects it. Measured
+/// on a 12-cube heap's sub-LCP (n = 593, `loaded_friction`'s test): every
+/// start ended there (min w −1.0e-13; the basis solved in double-double:
+/// w = −5.2486e-14, so no more precision helps); the polish from the warm
+/// basis took 28 pivots to an accepted answer. Polishes are capped at
+/// [`POLISHES`] per solve and one per basis. Past them, and for a run that
+/// ends `Numerical` in the loop itself, the end is restarted from its basis
+/// with the run's tolerances (as the dense ladder does): on heaps a run can end a hair off after deciding near-ties on
+/// values that carry round-off (measured on a 200-cube heap's LCP, n =
+/// 3,820, before the polish: three cold runs ended at natural residuals
+/// 6e-8, 5e-7 and 1e-10, none accepted). Runs that end on a secondary ray or
 /// cycle go on to the cold rungs: restarted from the complementary basis of
 /// their basic `z` instead, a forming 200-cube heap's steps 175 and 176
 /// (n = 9,900 and 10,550) ended `cycling` and `numerical` after 33,562 and
@@ -106,9 +132,11 @@ pub fn solve(op: &StructuredLcp, o: &StructuredOptions, warm: Option<&[bool]>) -
     let settings = |piv_tol, pivots: usize| Settings {
         piv_tol,
         tie_tol: TIE_TOL,
+        warm_tol: WARM_TOL,
         max_pivots: limit.saturating_sub(pivots),
         refactor_every: o.refactor_every,
     };
+    let strict = |pivots| Settings { tie_tol: POLISH_TIE_TOL, warm_tol: 0.0, ..settings(RUNGS[0].piv_tol, pivots) };
     let mask_of = |b: &[bool]| (0..n).filter(|&j| b[j]).collect::<Vec<usize>>();
     // Runs still to do, the next one last.
     let mut todo: Vec<Start> = RUNGS.iter().rev().map(|&r| Start::Cold(r)).collect();
@@ -128,7 +156,7 @@ pub fn solve(op: &StructuredLcp, o: &StructuredOptions, warm: Option<&[bool]>) -
         }
     }
     todo.extend(warm.as_deref().map(mask_of).map(Start::Basis));
-    let (mut d, mut tried) = (Vec::new(), Vec::new());
+    let (mut d, mut tried, mut polished) = (Vec::new(), Vec::new(), Vec::new());
     while let Some(start) = todo.pop() {
         if pivots >= limit && best.is_some() {
             break;
@@ -141,6 +169,13 @@ pub fn solve(op: &StructuredLcp, o: &StructuredOptions, warm: Option<&[bool]>) -
                     None => continue,
                 }
             }
+            Start::Polish(alpha) => {
+                polished.push(alpha.clone());
+                match pivot::run_warm(op, &alpha, &mut d, &strict(pivots)) {
+                    Some(run) => run,
+                    None => continue,
+                }
+            }
             Start::Cold(rung) => {
                 d.clear();
                 d.extend((0..n).map(|i| if rung.cover == 0 { 1.0 } else { crate::lemke::covering(i, rung.cover) }));
@@ -148,6 +183,7 @@ pub fn solve(op: &StructuredLcp, o: &StructuredOptions, warm: Option<&[bool]>) -
             }
         };
         pivots += run.pivots;
+        let ended = run.status;
         let sol = judge(op, run, pivots, o.accept_tol);
         if sol.ok() && sol.residuals.residual <= bound {
             return sol;
@@ -155,9 +191,11 @@ pub fn solve(op: &StructuredLcp, o: &StructuredOptions, warm: Option<&[bool]>) -
         if sol.ok() && within.is_none() {
             within = Some(sol.clone());
         }
-        if sol.status == Status::Numerical && tried.len() < RESTARTS {
+        if sol.status == Status::Numerical {
             let alpha = mask_of(sol.basis.as_deref().unwrap_or(&[]));
-            if !tried.contains(&alpha) {
+            if ended == Status::Solved && polished.len() < POLISHES && !polished.contains(&alpha) {
+                todo.push(Start::Polish(alpha));
+            } else if tried.len() < RESTARTS && !tried.contains(&alpha) {
                 todo.push(Start::Basis(alpha));
             }
         }

@@ -24,6 +24,8 @@ pub(crate) struct Settings {
     /// Ratios within this fraction of the largest basic value tie.
     pub tie_tol: f64,
     pub max_pivots: usize,
+    /// A warm basis whose least value is `≥ −warm_tol·`(its largest, at least 1) is solved as it stands.
+    pub warm_tol: f64,
     /// Refactor after this many column updates.
     pub refactor_every: usize,
 }
@@ -73,7 +75,9 @@ pub(crate) fn run(op: &StructuredLcp, d: &[f64], set: &Settings) -> Run {
     let mut y = Vec::new();
     basis.column_into(2 * n, &mut y);
     basis.ftran(&mut y);
-    basis.pivot(2 * n, r, &y, basis.val[r] / y[r]);
+    if !basis.pivot(2 * n, r, &y, basis.val[r] / y[r]) {
+        return fail(Status::SingularBasis);
+    }
     pivot_loop(op, basis, n + r, set, "cold")
 }
 
@@ -94,7 +98,7 @@ pub(crate) fn run_warm(op: &StructuredLcp, alpha: &[usize], d: &mut Vec<f64>, se
     let (worst, r) =
         basis.val.iter().enumerate().fold((f64::INFINITY, 0), |a, (c, &v)| if v < a.0 { (v, c) } else { a });
     let top = basis.val.iter().fold(1.0f64, |a, v| a.max(v.abs()));
-    if worst >= -1e-12 * top {
+    if worst >= -set.warm_tol * top {
         let mut z = Vec::new();
         basis.z_into(&mut z);
         let mask = (0..n).map(|j| basis.pos[n + j] != NONBASIC).collect();
@@ -107,7 +111,9 @@ pub(crate) fn run_warm(op: &StructuredLcp, alpha: &[usize], d: &mut Vec<f64>, se
         return None;
     }
     let left = basis.var[r];
-    basis.pivot(2 * n, r, &y, worst / y[r]);
+    if !basis.pivot(2 * n, r, &y, worst / y[r]) {
+        return None;
+    }
     Some(pivot_loop(op, basis, complement(left, n), set, "warm"))
 }
 
@@ -177,7 +183,9 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
         if let Some(t) = tr.as_mut() {
             t.before_pivot(&basis.val, &y[..n], theta, set.piv_tol * ymax, tied.len(), y[r].abs() / ymax);
         }
-        basis.pivot(entering, r, &y, theta);
+        if !basis.pivot(entering, r, &y, theta) {
+            break Status::SingularBasis;
+        }
         pivots += 1;
         if let Some(t) = tr.as_mut() {
             t.after_pivot(pivots, entering, left, (left != z0).then(|| basis.val[basis.pos[z0]]), &basis.val);

@@ -32,7 +32,10 @@ impl Compressed {
         let (mut idx, mut val) = (Vec::with_capacity(entries.len()), Vec::with_capacity(entries.len()));
         for a in 0..majors {
             let run = &mut sorted[start[a]..start[a + 1]];
-            run.sort_by_key(|&(b, _)| b);
+            // Contact LCPs come in order: a check is cheaper than a sort.
+            if !run.is_sorted_by_key(|&(b, _)| b) {
+                run.sort_by_key(|&(b, _)| b);
+            }
             let mut last = None;
             for &(b, v) in run.iter() {
                 if last == Some(b) {
