@@ -315,3 +315,33 @@ fn method_dispatch_reaches_these_solvers() {
     let direct = newton_fb::solve(&lcp, &NewtonFbOptions::default());
     assert_eq!(lcp::solve(&lcp, &lcp::Method::NewtonFb(NewtonFbOptions::default())), direct);
 }
+
+/// A case proptest found for `newton_is_robust_to_diagonal_scaling` (n = 5, a
+/// 2^8 row factor): the default Levenberg–Marquardt step on the equilibrated
+/// problem crawls (100 iterations, natural residual 6e-2; plain Newton, `lm_factor`
+/// 0, takes 8). It must say so rather than return a wrong `solved`, and on a
+/// positive definite `M` it must still converge (globally, by theory) given
+/// enough iterations (measured: 113).
+#[test]
+fn newton_scaled_slow_case_is_reported_and_converges() {
+    let (n, seed) = (5usize, 7615288569255258611u64);
+    let exps = [0, 0, 8, 0, 0, 0, 0, 0, -1, 6, -2, 0, 0, 0, 0, 0];
+    let base = spd_lcp(n, seed);
+    let sc = lcp::Scaling {
+        row: exps[..n].iter().map(|&e| 2f64.powi(e)).collect(),
+        col: exps[8..8 + n].iter().map(|&e| 2f64.powi(e)).collect(),
+    };
+    let lcp = sc.apply(&base);
+    let exact = unique_solution(&base);
+    for it in [100, 1000] {
+        let s =
+            newton_fb::solve(&lcp, &NewtonFbOptions { tol: 1e-9, max_iterations: it, ..NewtonFbOptions::default() });
+        if s.status == Status::Solved {
+            assert!(s.residuals.residual <= 1e-9);
+            assert!(max_diff(&sc.z_back(&s.z), &exact) < 1e-4);
+        } else {
+            assert!(s.residuals.residual > 1e-9, "{:?} with residual {:e}", s.status, s.residuals.residual);
+            assert!(it < 1000, "not solved in {it} iterations");
+        }
+    }
+}
