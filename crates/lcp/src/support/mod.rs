@@ -134,8 +134,6 @@ pub struct SupportWorkspace {
     largest_other: Vec<usize>,
     /// The indices exchanged in the current call.
     toggled: Vec<usize>,
-    /// Calls in a row that found no answer (the caller pivoted).
-    failures: usize,
 }
 
 /// A copy of [`SupportWorkspace`]'s factorization fields.
@@ -264,28 +262,6 @@ pub fn solve_on_basis_ruled(
     let repair = REPAIR_FRACTION * tol.tight * (1.0 + norm_inf(op.q()));
     ws.mask.clear();
     ws.mask.extend_from_slice(basis);
-    // After calls in a row that found nothing, the basis comes from the
-    // caller's pivoting: exchanges are tried again only on the 1st, 2nd,
-    // 4th, 8th, … such call (a resting stack's exchanges failed on 25
-    // steps in a row, each ending in the pivoting anyway).
-    let rounds = if ws.failures.is_power_of_two() || ws.failures == 0 { REPAIR_ROUNDS } else { 0 };
-    let found = solve_rounds(op, basis, tol, also, ws, rounds, repair);
-    ws.failures = if found.is_some() { 0 } else { ws.failures.saturating_add(1) };
-    found
-}
-
-/// The rounds of [`solve_on_basis_ruled`] (`rounds` exchanges at most) from
-/// `ws.mask`; `repair`: the violation above which an index is exchanged.
-fn solve_rounds(
-    op: &dyn LcpOperator,
-    basis: &[bool],
-    tol: BasisTolerances,
-    also: Option<Also<'_>>,
-    ws: &mut SupportWorkspace,
-    rounds: usize,
-    repair: f64,
-) -> Option<BasisAnswer> {
-    let n = op.n();
     // The index the last exchange made basic.
     let mut entered = None;
     // The index the last exchange toggled.
@@ -294,7 +270,7 @@ fn solve_rounds(
     // The first answer within the tight bound (a violation above `repair`
     // left), and the first within the loose one while there is none.
     let (mut held, mut ruled) = (None, None);
-    for round in 0..=rounds {
+    for round in 0..=REPAIR_ROUNDS {
         let reused = round == 0 && ws.factored == ws.mask && refine_on_factor(op, ws, tol.polish);
         if !reused && !solve_fresh(op, ws, entered) {
             break;
@@ -413,13 +389,6 @@ const REFINE_STEPS: usize = 4;
 /// Refinement has converged when its correction is below this fraction of `‖z_β‖∞`.
 const REFINE_STOP: f64 = 1e-15;
 
-/// Refinement has also converged when its correction, below this fraction
-/// of `‖z_β‖∞`, did not halve the previous one (it stalls at round-off).
-/// Measured on `stack_steps 2000 10`: from step ~1,100 the stack's basis
-/// (78 basic indices) stalls at 1e-15–7e-15 and was factored afresh on
-/// every step.
-const REFINE_STALL: f64 = 1e-13;
-
 /// `z` on `β` of the kept factorization, for the new `op`: the old factors
 /// precondition iterative refinement against the new block (each step one
 /// product `M z`). Leaves `ws.z`, `ws.w` and returns `true` once the
@@ -430,20 +399,13 @@ fn refine_on_factor(op: &dyn LcpOperator, ws: &mut SupportWorkspace, polish: boo
         return false;
     }
     first_solve(op, ws);
-    let mut previous = f64::INFINITY;
     for step in 0..=REFINE_STEPS {
         op.w_of(&ws.z, &mut ws.w);
         let (dmax, zmax) = correction(ws);
         if !(dmax.is_finite() && zmax.is_finite()) {
             return false;
         }
-        // Converged, or at the accuracy this block attains: a correction at
-        // round-off that no longer halves (an ill-conditioned block stalls
-        // at a few 1e-15 of ‖z‖, where a fresh factorization, refined once,
-        // ends no closer).
-        let stalled = dmax <= REFINE_STALL * zmax && dmax > 0.5 * previous;
-        let negligible = dmax <= REFINE_STOP * zmax || stalled;
-        previous = dmax;
+        let negligible = dmax <= REFINE_STOP * zmax;
         if negligible && !polish {
             return true;
         }
