@@ -25,22 +25,19 @@
 //! when that does not converge in a few steps. Refinement converges to the
 //! solution of the new block itself; nothing about the problem is changed.
 //!
-//! An answer is returned only if the acceptance rule of [`crate::accept`]
-//! accepts it — the rule every solver's `ok` answer meets, read through the
-//! operator: a row's diagonal entry ([`LcpOperator::diag`]) for the cheap
-//! bound that clears nearly every row, the row itself ([`LcpOperator::row`])
-//! for the few it does not — and its natural residual is within
-//! `accept_tol·(1 + ‖q‖∞)`, on the problem as given and, when the caller
-//! passes one, on a second operator in other units (the simulator's
-//! unscaled, physical LCP). No regularization. A row the rule rejects is
-//! exchanged like any violated index. The caller may ask for a tighter
-//! normwise bound ([`BasisTolerances::tight`]); a violation above a tenth of
-//! it is exchanged even when the answer is within it: a resting stack's
-//! nonbasic corner at `w_n = −5e-12` m/s, kept step after step, sinks past
-//! the contact gap floor, whose stabilization term then moves `q` by 2e-10
-//! and costs hundreds of pivots (measured on the 10-box stack: 31 of 2,000
-//! steps pivoting before, 7 after). The answer within the bound is returned
-//! when the exchanges find no cleaner one.
+//! An answer is accepted only if its natural residual is within
+//! `accept_tol·(1 + ‖q‖∞)` on the problem as given and — when the caller
+//! passes one — on a second operator in other units (the simulator's
+//! unscaled, physical LCP). No regularization. A violation above a tenth of
+//! that bound is exchanged even when the answer is within it: a resting
+//! stack's nonbasic corner at `w_n = −5e-12` m/s, kept step after step, sinks
+//! past the contact gap floor, whose stabilization term then moves `q` by
+//! 2e-10 and costs hundreds of pivots (measured on the 10-box stack: 31 of
+//! 2,000 steps pivoting before, 7 after). The answer within the bound is
+//! returned when the exchanges find no cleaner one. The componentwise rule of
+//! [`crate::accept`] (rows of `|M|` read through [`LcpOperator::row`], so
+//! only on steps where the tight bound fails) is the caller's optional last
+//! resort ([`BasisTolerances::rule`]); the tight bound itself stays normwise.
 
 pub(crate) mod principal;
 
@@ -62,13 +59,6 @@ pub trait LcpOperator {
     fn row(&self, i: usize, out: &mut [f64]) {
         let cols: Vec<usize> = (0..self.n()).collect();
         self.block(&[i], &cols, out);
-    }
-    /// The diagonal entry `M_ii`, for the acceptance rule's cheap bound of a
-    /// row's scale. By default one `1 × 1` block.
-    fn diag(&self, i: usize) -> f64 {
-        let mut d = [0.0];
-        self.block(&[i], &[i], &mut d);
-        d[0]
     }
 }
 
@@ -94,9 +84,6 @@ impl LcpOperator for Lcp {
     }
     fn row(&self, i: usize, out: &mut [f64]) {
         out.copy_from_slice(Lcp::row(self, i));
-    }
-    fn diag(&self, i: usize) -> f64 {
-        Lcp::row(self, i)[i]
     }
 }
 
@@ -128,12 +115,6 @@ pub struct SupportWorkspace {
     /// A basis whose exchanges found nothing better than its answer, and the
     /// violation below which they are not tried again from it.
     retry: Option<(Vec<bool>, f64)>,
-    /// The column of each row's largest entry, for the acceptance rule's
-    /// bound ([`crate::accept::rejected_row_operator`]), in `op`'s units and in the other ones.
-    largest: Vec<usize>,
-    largest_other: Vec<usize>,
-    /// The indices exchanged in the current call.
-    toggled: Vec<usize>,
 }
 
 /// A copy of [`SupportWorkspace`]'s factorization fields.
@@ -195,13 +176,12 @@ pub type Also<'a> = (&'a dyn LcpOperator, &'a dyn Fn(&[f64], &mut Vec<f64>));
 /// `M_ββ z_β = −q_β` on a regular principal block `β` of the guess (dependent
 /// indices dropped), refined to convergence, `z` clipped at 0; violated
 /// indices are exchanged one at a time (at most [`REPAIR_ROUNDS`]). Returns
-/// the first answer that the acceptance rule of [`crate::accept`] accepts at
-/// `accept_tol` and whose natural residual is at most `accept_tol·(1 + ‖q‖∞)`,
+/// the first answer whose natural residual is at most `accept_tol·(1 + ‖q‖∞)`
 /// on `op` and, when given, on `also` (the same `z` mapped, e.g. to physical
-/// units), with no violation above [`REPAIR_FRACTION`] of that bound; else
-/// the first answer that meets the rule and the bound; `None` when there is
-/// none (the caller then pivots). The returned `Solution` has status
-/// `Solved`, 0 pivots and the basis `β` used.
+/// units) with no violation above [`REPAIR_FRACTION`] of that bound; else
+/// the first answer within the bound; `None` when there is none (the caller
+/// then pivots). The returned
+/// `Solution` has status `Solved`, 0 pivots and the basis `β` used.
 pub fn solve_on_basis(
     op: &dyn LcpOperator,
     basis: &[bool],
@@ -212,7 +192,7 @@ pub fn solve_on_basis(
     solve_on_basis_ruled(
         op,
         basis,
-        BasisTolerances { accept_tol, tight: accept_tol, loose: false, polish: true },
+        BasisTolerances { tight: accept_tol, rule: None, exchange_within: true, polish: true },
         also,
         ws,
     )
@@ -221,19 +201,18 @@ pub fn solve_on_basis(
 /// When [`solve_on_basis_ruled`] accepts an answer.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BasisTolerances {
-    /// The acceptance rule's tolerance: every answer returned is accepted by
-    /// [`crate::accept`] at it, on `op` and on the other units (`Solution::accepted`).
-    pub accept_tol: f64,
-    /// An answer the rule accepts whose natural residual is within
-    /// `tight·(1 + ‖q‖∞)` (on `op` and on the other units, `tight ≤
-    /// accept_tol`) is returned at once, or, with a violation above
-    /// [`REPAIR_FRACTION`] of that bound, after exchanges find no cleaner one.
+    /// An answer whose natural residual is within `tight·(1 + ‖q‖∞)` (on
+    /// `op` and on the other units) is returned at once.
     pub tight: f64,
-    /// When no round gives such an answer: the first (in round order) the
-    /// rule accepts whose natural residual is within `accept_tol·(1 + ‖q‖∞)`
-    /// — what the dense Lemke's warm start accepts at 0 pivots (its ladder's
-    /// "tight" answer). `false`: `None` then.
-    pub loose: bool,
+    /// When no round gives such an answer: the first answer (in round order)
+    /// that the acceptance rule of [`crate::accept`] accepts at this
+    /// tolerance *and* whose natural residual is within `rule·(1 + ‖q‖∞)`,
+    /// on `op` and on the other units — what the dense Lemke's warm start
+    /// accepts at 0 pivots (its ladder's "tight" answer). `None`: no such answer.
+    pub rule: Option<f64>,
+    /// Whether violations above [`REPAIR_FRACTION`] of the tight bound are
+    /// exchanged also in an answer within it (see the module docs).
+    pub exchange_within: bool,
     /// Whether refinement on a kept factorization applies its last,
     /// negligible correction too (and forms `w` for it): one product more,
     /// for answers that need their last digits (a heavy body on a light one:
@@ -242,10 +221,10 @@ pub struct BasisTolerances {
     pub polish: bool,
 }
 
-/// [`solve_on_basis`] with the tolerances apart ([`BasisTolerances`]): a
-/// normwise bound `tight` below the rule's, and a looser last resort.
-/// Exchanges are tried first: an answer within the tight bound is preferred
-/// (a resting stack accepted at the looser bound step after step creeps).
+/// [`solve_on_basis`] with a second, looser acceptance ([`BasisTolerances::rule`])
+/// for when no round gives an answer within the tight bound. Exchanges are
+/// tried first: an answer within the tight bound is preferred (a resting
+/// stack accepted at the looser bound step after step creeps).
 pub fn solve_on_basis_ruled(
     op: &dyn LcpOperator,
     basis: &[bool],
@@ -264,11 +243,8 @@ pub fn solve_on_basis_ruled(
     ws.mask.extend_from_slice(basis);
     // The index the last exchange made basic.
     let mut entered = None;
-    // The index the last exchange toggled.
-    let mut last = None;
-    ws.toggled.clear();
     // The first answer within the tight bound (a violation above `repair`
-    // left), and the first within the loose one while there is none.
+    // left), and the first within the rule while there is none.
     let (mut held, mut ruled) = (None, None);
     for round in 0..=REPAIR_ROUNDS {
         let reused = round == 0 && ws.factored == ws.mask && refine_on_factor(op, ws, tol.polish);
@@ -294,20 +270,11 @@ pub fn solve_on_basis_ruled(
             op.w_of(&ws.z, &mut ws.w);
         }
         let dropped = if reused { 0 } else { m - rank };
-        // Within the normwise bounds, and whether the answer may be returned at all.
-        let tight = within_both(op, also, tol.tight, ws);
-        let loose =
-            !tight && tol.loose && held.is_none() && ruled.is_none() && within_both(op, also, tol.accept_tol, ws);
-        // The row the acceptance rule rejects, read only for an answer that
-        // could be returned or held (an exchange round after one is held
-        // needs no verdict unless it is clean).
-        let usable = (tight && (worst.1.is_none() || held.is_none())) || loose;
-        let rejected = if usable { rule_rejects(op, also, tol.accept_tol, worst.1.is_some(), ws) } else { None };
-        let accepted = usable && rejected.is_none();
-        if accepted && tight && worst.1.is_none() {
+        let tight = within(op, &ws.z, &ws.w, tol.tight) && accepted_by(also, tol.tight, false, ws);
+        if tight && (worst.1.is_none() || !tol.exchange_within) {
             return Some(answer(ws, dropped, reused, also.is_some(), true));
         }
-        if accepted && tight && held.is_none() {
+        if tight && held.is_none() {
             // Exchanges from this basis found nothing better at the last
             // call, and its violation has not grown much since: keep it.
             let known = ws.retry.as_ref().is_some_and(|(b, level)| round == 0 && b == basis && worst.0 < *level);
@@ -317,22 +284,17 @@ pub fn solve_on_basis_ruled(
             held = Some((answer(ws, dropped, reused, also.is_some(), false), worst.0));
             ws.hold_factors();
         }
-        if accepted && loose {
-            ruled = Some(answer(ws, dropped, reused, also.is_some(), false));
+        if let Some(rule) = tol.rule.filter(|_| ruled.is_none() && held.is_none()) {
+            if within(op, &ws.z, &ws.w, rule)
+                && crate::accept::accepts_operator(op, &ws.z, &ws.w, rule)
+                && accepted_by(also, rule, true, ws)
+            {
+                ruled = Some(answer(ws, dropped, reused, also.is_some(), false));
+            }
         }
         // One exchange at a time (all at once wanders on these degenerate
-        // problems): the most violated index, else the row the rule rejects
-        // (a nonbasic w_i < 0 below the repair threshold but above the row's
-        // own bound enters).
-        let Some(i) = worst.1.or(rejected) else { break };
-        // Toggling back the index just exchanged would only cycle; so would
-        // toggling again, for a row only the rule rejects, an index already
-        // exchanged in this call.
-        if last == Some(i) || (worst.1.is_none() && ws.toggled.contains(&i)) {
-            break;
-        }
-        last = Some(i);
-        ws.toggled.push(i);
+        // problems): the most violated index.
+        let Some(i) = worst.1 else { break };
         ws.mask[i] = !ws.mask[i];
         entered = ws.mask[i].then_some(i);
     }
@@ -508,36 +470,16 @@ fn within(op: &dyn LcpOperator, z: &[f64], w: &[f64], accept_tol: f64) -> bool {
     Residuals::of(z, w).residual <= accept_tol * (1.0 + norm_inf(op.q()))
 }
 
-/// The natural residual is within `accept_tol·(1 + ‖q‖∞)` on `op` and, with
-/// `also`, on `z` mapped into the other units (into `ws.z2`, `ws.w2`).
-fn within_both(op: &dyn LcpOperator, also: Option<Also<'_>>, accept_tol: f64, ws: &mut SupportWorkspace) -> bool {
-    if !within(op, &ws.z, &ws.w, accept_tol) {
-        return false;
-    }
+/// The second check of [`solve_on_basis`]: `z` mapped into the other units
+/// meets the same bound there (and, with `rule`, the acceptance rule).
+fn accepted_by(also: Option<Also<'_>>, accept_tol: f64, rule: bool, ws: &mut SupportWorkspace) -> bool {
     let Some((other, map)) = also else { return true };
     map(&ws.z, &mut ws.z2);
     ws.w2.clear();
     ws.w2.resize(ws.z2.len(), 0.0);
     other.w_of(&ws.z2, &mut ws.w2);
     within(other, &ws.z2, &ws.w2, accept_tol)
-}
-
-/// A row the acceptance rule rejects at `accept_tol`, on `op` or on the other
-/// units (`ws.z2`, `ws.w2` as [`within_both`] left them); `None` when both
-/// accept. `first`: any rejected row does (the caller exchanges another
-/// index), else the worst of the first operator that rejects.
-fn rule_rejects(
-    op: &dyn LcpOperator,
-    also: Option<Also<'_>>,
-    accept_tol: f64,
-    first: bool,
-    ws: &mut SupportWorkspace,
-) -> Option<usize> {
-    let SupportWorkspace { z, w, z2, w2, largest, largest_other, .. } = ws;
-    crate::accept::rejected_row_operator(op, z, w, accept_tol, first, largest).or_else(|| {
-        let (other, _) = also?;
-        crate::accept::rejected_row_operator(other, z2, w2, accept_tol, first, largest_other)
-    })
+        && (!rule || crate::accept::accepts_operator(other, &ws.z2, &ws.w2, accept_tol))
 }
 
 fn norm_inf(v: &[f64]) -> f64 {
