@@ -110,8 +110,9 @@ pub fn backward_error(lcp: &Lcp, z: &[f64], w: &[f64]) -> f64 {
 }
 
 /// Whether `z` is accepted: `η(z) ≤ tol` (see the module docs). Cheaper than
-/// [`backward_error`]: a row whose violation is within `tol·(|q_i| + |M_ii| z_i)`
-/// (a lower bound of its scale) passes without its scale being summed.
+/// [`backward_error`]: a row whose violation is within the lower bound
+/// `tol·(|q_i| + |M_ii| z_i) + ρ·|M_ii|·Σ z` of `tol·s_i + f_i` passes without
+/// its scale being summed.
 ///
 /// # Panics
 /// If `z` or `w` do not have `lcp.n()` entries.
@@ -129,50 +130,130 @@ pub(crate) fn accepts_rows(
     z: &[f64],
     w: &[f64],
     tol: f64,
-    diag: impl Fn(usize) -> f64,
-    mut scale: impl FnMut(usize, f64) -> (f64, f64),
+    diag: impl FnMut(usize) -> f64,
+    scale: impl FnMut(usize, f64) -> (f64, f64),
 ) -> bool {
-    if !z.iter().all(|&v| v >= 0.0 && v.is_finite()) {
-        return false;
+    rejected_rows((q, z, w), tol, diag, |_| None, scale, true).is_none()
+}
+
+/// The row the rule rejects with the largest `η_i` (`first`: the first row
+/// it rejects), `None` when it accepts; a negative or non-finite `z_i` is
+/// rejected before any row is read. `diag` and `scale` as in [`accepts_rows`];
+/// `entry(i)`, when it knows one, another entry `(j, M_ij)` of the row (e.g.
+/// its largest at an earlier read), which sharpens the bound below before
+/// the row is read (`s_i ≥ |q_i| + |M_ii| z_i + |M_ij| z_j`, `max ≥ |M_ij|`).
+/// `M_ii` is read only for a row whose violation is above `tol·|q_i|`, the
+/// scale only for a row the lower bound of the module docs' `tol·s_i + f_i`,
+/// `tol·(|q_i| + |M_ii| z_i) + ρ·|M_ii|·Σ z`, does not clear (`s_i ≥ |q_i| +
+/// |M_ii| z_i` and `max_j |M_ij| ≥ |M_ii|`): reading rows costs where `M` is
+/// not stored, and on a resting stack the unloaded friction rows are many,
+/// with `q_i = 0` and round-off `w_i < 0` that only their floor admits.
+fn rejected_rows(
+    (q, z, w): (&[f64], &[f64], &[f64]),
+    tol: f64,
+    mut diag: impl FnMut(usize) -> f64,
+    mut entry: impl FnMut(usize) -> Option<(usize, f64)>,
+    mut scale: impl FnMut(usize, f64) -> (f64, f64),
+    first: bool,
+) -> Option<usize> {
+    if let Some(j) = z.iter().position(|&v| !(v >= 0.0 && v.is_finite())) {
+        return Some(j);
     }
     let mut zsum = None;
+    let mut worst: Option<(usize, f64)> = None;
     for i in 0..q.len() {
         let v = violation(z[i], w[i]);
-        // Most rows: no violation, or one within `tol·(|q_i| + |M_ii| z_i) ≤ tol·s_i`.
+        // Most rows: no violation, or one within `tol·|q_i|`.
         // (Written `v <= …` so that a NaN falls through to the full check.)
-        // (`M_ii` is read only where `z_i > 0`: a block read costs in body space.)
-        if v == 0.0 || v <= tol * (q[i].abs() + if z[i] > 0.0 { diag(i).abs() * z[i] } else { 0.0 }) {
+        if v == 0.0 || v <= tol * q[i].abs() {
             continue;
         }
-        let zs = *zsum.get_or_insert_with(|| z.iter().sum());
-        if !(v.is_finite() && row_eta(v, scale(i, zs)) <= tol) {
-            return false;
+        let zs = *zsum.get_or_insert_with(|| z.iter().sum::<f64>());
+        let d = diag(i).abs();
+        if v <= tol * (q[i].abs() + d * z[i]) + ROUND_OFF * d * zs {
+            continue;
+        }
+        if let Some((j, mij)) = entry(i).filter(|&(j, _)| j != i) {
+            let a = mij.abs();
+            if v <= tol * (q[i].abs() + d * z[i] + a * z[j]) + ROUND_OFF * d.max(a) * zs {
+                continue;
+            }
+        }
+        let eta = if v.is_finite() { row_eta(v, scale(i, zs)) } else { f64::INFINITY };
+        // (A NaN η is rejected.)
+        if eta > tol || eta.is_nan() {
+            if first {
+                return Some(i);
+            }
+            // (A NaN η counts as the largest.)
+            if worst.is_none_or(|(_, e)| eta > e || eta.is_nan()) {
+                worst = Some((i, eta));
+            }
         }
     }
-    true
+    worst.map(|(i, _)| i)
 }
 
 /// [`accepts`] for an `M` reached through an [`LcpOperator`] (blocks and
 /// products, e.g. a contact LCP in body space): the same rule, row by row.
-/// A row's scale is read with [`LcpOperator::row`], and only for the rows
-/// the cheap lower bound does not clear — meant for occasional checks, not every step.
+/// `M_ii` is read with [`LcpOperator::diag`] and a row's scale with
+/// [`LcpOperator::row`], only for the rows the cheap bounds of
+/// [`accepts`] do not clear.
 ///
 /// # Panics
 /// If `z` or `w` do not have `op.n()` entries.
 pub fn accepts_operator(op: &dyn LcpOperator, z: &[f64], w: &[f64], tol: f64) -> bool {
-    check_sizes(op.n(), z, w);
-    let mut row = vec![0.0; op.n()];
-    let diag = |i: usize| {
-        let mut d = [0.0];
-        op.block(&[i], &[i], &mut d);
-        d[0]
+    rejected_row_operator(op, z, w, tol, true, &mut Vec::new()).is_none()
+}
+
+/// The row of `(z, w)` the rule rejects on `op`: the one with the largest
+/// `η_i`, or with `first` the first one (see [`accepts_operator`]); `None`
+/// when `z` is accepted. An index with `z_i < 0` (or not finite) comes first.
+/// `largest` (`n` entries, or empty: reset to none known) keeps, from call to
+/// call, the column of each row's largest entry found at its last full read:
+/// that one entry, read again, often clears the row without the full read
+/// (on a resting stack, the unloaded corners' friction rows, whose violation
+/// is near their floor). Any column would give a valid bound: the verdict is
+/// exact whatever it holds.
+///
+/// # Panics
+/// If `z` or `w` do not have `op.n()` entries.
+pub fn rejected_row_operator(
+    op: &dyn LcpOperator,
+    z: &[f64],
+    w: &[f64],
+    tol: f64,
+    first: bool,
+    largest: &mut Vec<usize>,
+) -> Option<usize> {
+    let n = op.n();
+    check_sizes(n, z, w);
+    if largest.len() != n {
+        largest.clear();
+        largest.resize(n, NO_COLUMN);
+    }
+    let largest = std::cell::Cell::from_mut(largest.as_mut_slice()).as_slice_of_cells();
+    let mut row = Vec::new();
+    let entry = |i: usize| {
+        let j = largest[i].get();
+        (j < n).then(|| {
+            let mut x = [0.0];
+            op.block(&[i], &[j], &mut x);
+            (j, x[0])
+        })
     };
     let scale = |i: usize, zsum: f64| {
+        row.resize(n, 0.0);
         op.row(i, &mut row);
+        let top = (0..n).fold(0, |t, j| if row[j].abs() > row[t].abs() { j } else { t });
+        largest[i].set(top);
         scale_of_row(&row, op.q()[i], z, zsum)
     };
-    accepts_rows(op.q(), z, w, tol, diag, scale)
+    rejected_rows((op.q(), z, w), tol, |i| op.diag(i), entry, scale, first)
 }
+
+/// No column known in [`rejected_row_operator`]'s `largest`.
+const NO_COLUMN: usize = usize::MAX;
 
 fn check_lengths(lcp: &Lcp, z: &[f64], w: &[f64]) {
     check_sizes(lcp.n(), z, w);
