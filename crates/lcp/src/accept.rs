@@ -139,9 +139,10 @@ pub(crate) fn accepts_rows(
 /// The row the rule rejects with the largest `η_i` (`first`: the first row
 /// it rejects), `None` when it accepts; a negative or non-finite `z_i` is
 /// rejected before any row is read. `diag` and `scale` as in [`accepts_rows`];
-/// `entry(i)`, when it knows one, another entry `(j, M_ij)` of the row (e.g.
-/// its largest at an earlier read), which sharpens the bound below before
-/// the row is read (`s_i ≥ |q_i| + |M_ii| z_i + |M_ij| z_j`, `max ≥ |M_ij|`).
+/// `entry(i)`, when it knows some other entries of the row (e.g. its largest
+/// at an earlier read), their `(Σ_j |M_ij| z_j, max_j |M_ij|)`, which sharpen
+/// the bound below before the row is read (`s_i ≥ |q_i| + |M_ii| z_i + Σ_j
+/// |M_ij| z_j`, `max ≥ max_j |M_ij|`, over those `j ≠ i`).
 /// `M_ii` is read only for a row whose violation is above `tol·|q_i|`, the
 /// scale only for a row the lower bound of the module docs' `tol·s_i + f_i`,
 /// `tol·(|q_i| + |M_ii| z_i) + ρ·|M_ii|·Σ z`, does not clear (`s_i ≥ |q_i| +
@@ -152,7 +153,7 @@ fn rejected_rows(
     (q, z, w): (&[f64], &[f64], &[f64]),
     tol: f64,
     mut diag: impl FnMut(usize) -> f64,
-    mut entry: impl FnMut(usize) -> Option<(usize, f64)>,
+    mut entry: impl FnMut(usize) -> Option<(f64, f64)>,
     mut scale: impl FnMut(usize, f64) -> (f64, f64),
     first: bool,
 ) -> Option<usize> {
@@ -173,9 +174,8 @@ fn rejected_rows(
         if v <= tol * (q[i].abs() + d * z[i]) + ROUND_OFF * d * zs {
             continue;
         }
-        if let Some((j, mij)) = entry(i).filter(|&(j, _)| j != i) {
-            let a = mij.abs();
-            if v <= tol * (q[i].abs() + d * z[i] + a * z[j]) + ROUND_OFF * d.max(a) * zs {
+        if let Some((terms, top)) = entry(i) {
+            if v <= tol * (q[i].abs() + d * z[i] + terms) + ROUND_OFF * d.max(top) * zs {
                 continue;
             }
         }
@@ -209,12 +209,13 @@ pub fn accepts_operator(op: &dyn LcpOperator, z: &[f64], w: &[f64], tol: f64) ->
 /// The row of `(z, w)` the rule rejects on `op`: the one with the largest
 /// `η_i`, or with `first` the first one (see [`accepts_operator`]); `None`
 /// when `z` is accepted. An index with `z_i < 0` (or not finite) comes first.
-/// `largest` (`n` entries, or empty: reset to none known) keeps, from call to
-/// call, the column of each row's largest entry found at its last full read:
-/// that one entry, read again, often clears the row without the full read
-/// (on a resting stack, the unloaded corners' friction rows, whose violation
-/// is near their floor). Any column would give a valid bound: the verdict is
-/// exact whatever it holds.
+/// `kept` (`n` entries, or empty: reset to none known) keeps, from call to
+/// call, [`KEPT`] columns of each row found at its last full read: that of
+/// its largest entry and those of its largest terms `|M_ij| z_j`. Those
+/// entries, read again, often clear the row without the full read (on a
+/// resting stack, the unloaded corners' friction rows, whose violation is
+/// near their floor and whose scale is a few loaded contacts' terms). Any
+/// columns would give valid bounds: the verdict is exact whatever it holds.
 ///
 /// # Panics
 /// If `z` or `w` do not have `op.n()` entries.
@@ -224,36 +225,70 @@ pub fn rejected_row_operator(
     w: &[f64],
     tol: f64,
     first: bool,
-    largest: &mut Vec<usize>,
+    kept: &mut Vec<KeptColumns>,
 ) -> Option<usize> {
     let n = op.n();
     check_sizes(n, z, w);
-    if largest.len() != n {
-        largest.clear();
-        largest.resize(n, NO_COLUMN);
+    if kept.len() != n {
+        kept.clear();
+        kept.resize(n, [NO_COLUMN; KEPT]);
     }
-    let largest = std::cell::Cell::from_mut(largest.as_mut_slice()).as_slice_of_cells();
+    let kept = std::cell::Cell::from_mut(kept.as_mut_slice()).as_slice_of_cells();
     let mut row = Vec::new();
     let entry = |i: usize| {
-        let j = largest[i].get();
-        (j < n).then(|| {
-            let mut x = [0.0];
-            op.block(&[i], &[j], &mut x);
-            (j, x[0])
+        let cols = kept[i].get();
+        let known = cols.iter().take_while(|&&j| j < n).count();
+        (known > 0).then(|| {
+            let mut x = [0.0; KEPT];
+            op.block(&[i], &cols[..known], &mut x[..known]);
+            cols[..known].iter().zip(&x).filter(|&(&j, _)| j != i).fold((0.0, 0.0f64), |(terms, top), (&j, m)| {
+                (terms + m.abs() * z[j], top.max(m.abs()))
+            })
         })
     };
     let scale = |i: usize, zsum: f64| {
         row.resize(n, 0.0);
         op.row(i, &mut row);
-        let top = (0..n).fold(0, |t, j| if row[j].abs() > row[t].abs() { j } else { t });
-        largest[i].set(top);
+        kept[i].set(kept_columns(&row, z, i));
         scale_of_row(&row, op.q()[i], z, zsum)
     };
     rejected_rows((op.q(), z, w), tol, |i| op.diag(i), entry, scale, first)
 }
 
-/// No column known in [`rejected_row_operator`]'s `largest`.
+/// Columns of a row kept by [`rejected_row_operator`] between calls.
+pub const KEPT: usize = 4;
+
+/// The columns [`rejected_row_operator`] keeps of a row.
+pub type KeptColumns = [usize; KEPT];
+
+/// No column known in a [`KeptColumns`] slot (the known ones come first).
 const NO_COLUMN: usize = usize::MAX;
+
+/// Of row `i` (read in full, `row`): the column of its largest entry other
+/// than `M_ii`, then those of its `KEPT − 1` largest terms `|M_ij| z_j`
+/// (`j ≠ i`, `z_j > 0`), each once.
+fn kept_columns(row: &[f64], z: &[f64], i: usize) -> KeptColumns {
+    let mut cols = [NO_COLUMN; KEPT];
+    let others = || (0..row.len()).filter(move |&j| j != i);
+    if let Some(top) = others().max_by(|&a, &b| row[a].abs().total_cmp(&row[b].abs())) {
+        cols[0] = top;
+    }
+    // Insertion into a short list sorted by term, largest first.
+    let mut terms = [(0.0f64, NO_COLUMN); KEPT - 1];
+    for j in others().filter(|&j| z[j] > 0.0 && j != cols[0]) {
+        let t = row[j].abs() * z[j];
+        if let Some(p) = terms.iter().position(|&(u, c)| c == NO_COLUMN || t > u) {
+            terms[p..].rotate_right(1);
+            terms[p] = (t, j);
+        }
+    }
+    let mut k = usize::from(cols[0] != NO_COLUMN);
+    for &(_, j) in terms.iter().filter(|&&(_, j)| j != NO_COLUMN) {
+        cols[k] = j;
+        k += 1;
+    }
+    cols
+}
 
 fn check_lengths(lcp: &Lcp, z: &[f64], w: &[f64]) {
     check_sizes(lcp.n(), z, w);

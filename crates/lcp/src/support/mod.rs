@@ -128,10 +128,10 @@ pub struct SupportWorkspace {
     /// A basis whose exchanges found nothing better than its answer, and the
     /// violation below which they are not tried again from it.
     retry: Option<(Vec<bool>, f64)>,
-    /// The column of each row's largest entry, for the acceptance rule's
-    /// bound ([`crate::accept::rejected_row_operator`]), in `op`'s units and in the other ones.
-    largest: Vec<usize>,
-    largest_other: Vec<usize>,
+    /// Columns of each row kept for the acceptance rule's bounds
+    /// ([`crate::accept::rejected_row_operator`]), in `op`'s units and in the other ones.
+    largest: Vec<crate::accept::KeptColumns>,
+    largest_other: Vec<crate::accept::KeptColumns>,
     /// The indices exchanged in the current call.
     toggled: Vec<usize>,
     /// Calls in a row that found no answer (the caller pivoted).
