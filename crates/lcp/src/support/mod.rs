@@ -173,6 +173,13 @@ impl SupportWorkspace {
     pub fn forget(&mut self) {
         self.factored.clear();
     }
+
+    /// Forgets the calls that found nothing: the next call tries every
+    /// exchange round (for a caller whose other rungs failed, where time
+    /// matters less than an answer).
+    pub fn forget_failures(&mut self) {
+        self.failures = 0;
+    }
 }
 
 /// The answer of [`solve_on_basis`] when it is accepted.

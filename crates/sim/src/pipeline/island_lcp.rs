@@ -226,7 +226,7 @@ type PhysicalZw = (Vec<f64>, Vec<f64>);
 /// would accept at 0 pivots) — the same answer without forming `M`.
 /// With it the physical `z` and `w` it was checked with. `mixed`: the
 /// body-space check will judge the answer ([`BodyCheck::applies`]).
-fn try_previous_basis(
+pub(super) fn try_previous_basis(
     lcp: &ContactLcp,
     basis: &[bool],
     accept_tol: f64,
