@@ -110,8 +110,9 @@ pub fn backward_error(lcp: &Lcp, z: &[f64], w: &[f64]) -> f64 {
 }
 
 /// Whether `z` is accepted: `η(z) ≤ tol` (see the module docs). Cheaper than
-/// [`backward_error`]: a row whose violation is within `tol·(|q_i| + |M_ii| z_i)`
-/// (a lower bound of its scale) passes without its scale being summed.
+/// [`backward_error`]: a row whose violation is within the lower bound
+/// `tol·(|q_i| + |M_ii| z_i) + ρ·|M_ii|·Σ z` of `tol·s_i + f_i` passes without
+/// its scale being summed.
 ///
 /// # Panics
 /// If `z` or `w` do not have `lcp.n()` entries.
@@ -129,49 +130,164 @@ pub(crate) fn accepts_rows(
     z: &[f64],
     w: &[f64],
     tol: f64,
-    diag: impl Fn(usize) -> f64,
-    mut scale: impl FnMut(usize, f64) -> (f64, f64),
+    diag: impl FnMut(usize) -> f64,
+    scale: impl FnMut(usize, f64) -> (f64, f64),
 ) -> bool {
-    if !z.iter().all(|&v| v >= 0.0 && v.is_finite()) {
-        return false;
+    rejected_rows((q, z, w), tol, diag, |_| None, scale, true).is_none()
+}
+
+/// The row the rule rejects with the largest `η_i` (`first`: the first row
+/// it rejects), `None` when it accepts; a negative or non-finite `z_i` is
+/// rejected before any row is read. `diag` and `scale` as in [`accepts_rows`];
+/// `entry(i)`, when it knows some other entries of the row (e.g. its largest
+/// at an earlier read), their `(Σ_j |M_ij| z_j, max_j |M_ij|)`, which sharpen
+/// the bound below before the row is read (`s_i ≥ |q_i| + |M_ii| z_i + Σ_j
+/// |M_ij| z_j`, `max ≥ max_j |M_ij|`, over those `j ≠ i`).
+/// `M_ii` is read only for a row whose violation is above `tol·|q_i|`, the
+/// scale only for a row the lower bound of the module docs' `tol·s_i + f_i`,
+/// `tol·(|q_i| + |M_ii| z_i) + ρ·|M_ii|·Σ z`, does not clear (`s_i ≥ |q_i| +
+/// |M_ii| z_i` and `max_j |M_ij| ≥ |M_ii|`): reading rows costs where `M` is
+/// not stored, and on a resting stack the unloaded friction rows are many,
+/// with `q_i = 0` and round-off `w_i < 0` that only their floor admits.
+fn rejected_rows(
+    (q, z, w): (&[f64], &[f64], &[f64]),
+    tol: f64,
+    mut diag: impl FnMut(usize) -> f64,
+    mut entry: impl FnMut(usize) -> Option<(f64, f64)>,
+    mut scale: impl FnMut(usize, f64) -> (f64, f64),
+    first: bool,
+) -> Option<usize> {
+    if let Some(j) = z.iter().position(|&v| !(v >= 0.0 && v.is_finite())) {
+        return Some(j);
     }
     let mut zsum = None;
+    let mut worst: Option<(usize, f64)> = None;
     for i in 0..q.len() {
         let v = violation(z[i], w[i]);
-        // Most rows: no violation, or one within `tol·(|q_i| + |M_ii| z_i) ≤ tol·s_i`.
+        // Most rows: no violation, or one within `tol·|q_i|`.
         // (Written `v <= …` so that a NaN falls through to the full check.)
-        // (`M_ii` is read only where `z_i > 0`: a block read costs in body space.)
-        if v == 0.0 || v <= tol * (q[i].abs() + if z[i] > 0.0 { diag(i).abs() * z[i] } else { 0.0 }) {
+        if v == 0.0 || v <= tol * q[i].abs() {
             continue;
         }
-        let zs = *zsum.get_or_insert_with(|| z.iter().sum());
-        if !(v.is_finite() && row_eta(v, scale(i, zs)) <= tol) {
-            return false;
+        let zs = *zsum.get_or_insert_with(|| z.iter().sum::<f64>());
+        let d = diag(i).abs();
+        if v <= tol * (q[i].abs() + d * z[i]) + ROUND_OFF * d * zs {
+            continue;
+        }
+        if let Some((terms, top)) = entry(i) {
+            if v <= tol * (q[i].abs() + d * z[i] + terms) + ROUND_OFF * d.max(top) * zs {
+                continue;
+            }
+        }
+        let eta = if v.is_finite() { row_eta(v, scale(i, zs)) } else { f64::INFINITY };
+        // (A NaN η is rejected.)
+        if eta > tol || eta.is_nan() {
+            if first {
+                return Some(i);
+            }
+            // (A NaN η counts as the largest.)
+            if worst.is_none_or(|(_, e)| eta > e || eta.is_nan()) {
+                worst = Some((i, eta));
+            }
         }
     }
-    true
+    worst.map(|(i, _)| i)
 }
 
 /// [`accepts`] for an `M` reached through an [`LcpOperator`] (blocks and
 /// products, e.g. a contact LCP in body space): the same rule, row by row.
-/// A row's scale is read with [`LcpOperator::row`], and only for the rows
-/// the cheap lower bound does not clear — meant for occasional checks, not every step.
+/// `M_ii` is read with [`LcpOperator::diag`] and a row's scale with
+/// [`LcpOperator::row`], only for the rows the cheap bounds of
+/// [`accepts`] do not clear.
 ///
 /// # Panics
 /// If `z` or `w` do not have `op.n()` entries.
 pub fn accepts_operator(op: &dyn LcpOperator, z: &[f64], w: &[f64], tol: f64) -> bool {
-    check_sizes(op.n(), z, w);
-    let mut row = vec![0.0; op.n()];
-    let diag = |i: usize| {
-        let mut d = [0.0];
-        op.block(&[i], &[i], &mut d);
-        d[0]
+    rejected_row_operator(op, z, w, tol, true, &mut Vec::new()).is_none()
+}
+
+/// The row of `(z, w)` the rule rejects on `op`: the one with the largest
+/// `η_i`, or with `first` the first one (see [`accepts_operator`]); `None`
+/// when `z` is accepted. An index with `z_i < 0` (or not finite) comes first.
+/// `kept` (`n` entries, or empty: reset to none known) keeps, from call to
+/// call, [`KEPT`] columns of each row found at its last full read: that of
+/// its largest entry and those of its largest terms `|M_ij| z_j`. Those
+/// entries, read again, often clear the row without the full read (on a
+/// resting stack, the unloaded corners' friction rows, whose violation is
+/// near their floor and whose scale is a few loaded contacts' terms). Any
+/// columns would give valid bounds: the verdict is exact whatever it holds.
+///
+/// # Panics
+/// If `z` or `w` do not have `op.n()` entries.
+pub fn rejected_row_operator(
+    op: &dyn LcpOperator,
+    z: &[f64],
+    w: &[f64],
+    tol: f64,
+    first: bool,
+    kept: &mut Vec<KeptColumns>,
+) -> Option<usize> {
+    let n = op.n();
+    check_sizes(n, z, w);
+    if kept.len() != n {
+        kept.clear();
+        kept.resize(n, [NO_COLUMN; KEPT]);
+    }
+    let kept = std::cell::Cell::from_mut(kept.as_mut_slice()).as_slice_of_cells();
+    let mut row = Vec::new();
+    let entry = |i: usize| {
+        let cols = kept[i].get();
+        let known = cols.iter().take_while(|&&j| j < n).count();
+        (known > 0).then(|| {
+            let mut x = [0.0; KEPT];
+            op.block(&[i], &cols[..known], &mut x[..known]);
+            cols[..known].iter().zip(&x).filter(|&(&j, _)| j != i).fold((0.0, 0.0f64), |(terms, top), (&j, m)| {
+                (terms + m.abs() * z[j], top.max(m.abs()))
+            })
+        })
     };
     let scale = |i: usize, zsum: f64| {
+        row.resize(n, 0.0);
         op.row(i, &mut row);
+        kept[i].set(kept_columns(&row, z, i));
         scale_of_row(&row, op.q()[i], z, zsum)
     };
-    accepts_rows(op.q(), z, w, tol, diag, scale)
+    rejected_rows((op.q(), z, w), tol, |i| op.diag(i), entry, scale, first)
+}
+
+/// Columns of a row kept by [`rejected_row_operator`] between calls.
+pub const KEPT: usize = 4;
+
+/// The columns [`rejected_row_operator`] keeps of a row.
+pub type KeptColumns = [usize; KEPT];
+
+/// No column known in a [`KeptColumns`] slot (the known ones come first).
+const NO_COLUMN: usize = usize::MAX;
+
+/// Of row `i` (read in full, `row`): the column of its largest entry other
+/// than `M_ii`, then those of its `KEPT − 1` largest terms `|M_ij| z_j`
+/// (`j ≠ i`, `z_j > 0`), each once.
+fn kept_columns(row: &[f64], z: &[f64], i: usize) -> KeptColumns {
+    let mut cols = [NO_COLUMN; KEPT];
+    let others = || (0..row.len()).filter(move |&j| j != i);
+    if let Some(top) = others().max_by(|&a, &b| row[a].abs().total_cmp(&row[b].abs())) {
+        cols[0] = top;
+    }
+    // Insertion into a short list sorted by term, largest first.
+    let mut terms = [(0.0f64, NO_COLUMN); KEPT - 1];
+    for j in others().filter(|&j| z[j] > 0.0 && j != cols[0]) {
+        let t = row[j].abs() * z[j];
+        if let Some(p) = terms.iter().position(|&(u, c)| c == NO_COLUMN || t > u) {
+            terms[p..].rotate_right(1);
+            terms[p] = (t, j);
+        }
+    }
+    let mut k = usize::from(cols[0] != NO_COLUMN);
+    for &(_, j) in terms.iter().filter(|&&(_, j)| j != NO_COLUMN) {
+        cols[k] = j;
+        k += 1;
+    }
+    cols
 }
 
 fn check_lengths(lcp: &Lcp, z: &[f64], w: &[f64]) {

@@ -25,19 +25,22 @@
 //! when that does not converge in a few steps. Refinement converges to the
 //! solution of the new block itself; nothing about the problem is changed.
 //!
-//! An answer is accepted only if its natural residual is within
-//! `accept_tol·(1 + ‖q‖∞)` on the problem as given and — when the caller
-//! passes one — on a second operator in other units (the simulator's
-//! unscaled, physical LCP). No regularization. A violation above a tenth of
-//! that bound is exchanged even when the answer is within it: a resting
-//! stack's nonbasic corner at `w_n = −5e-12` m/s, kept step after step, sinks
-//! past the contact gap floor, whose stabilization term then moves `q` by
-//! 2e-10 and costs hundreds of pivots (measured on the 10-box stack: 31 of
-//! 2,000 steps pivoting before, 7 after). The answer within the bound is
-//! returned when the exchanges find no cleaner one. The componentwise rule of
-//! [`crate::accept`] (rows of `|M|` read through [`LcpOperator::row`], so
-//! only on steps where the tight bound fails) is the caller's optional last
-//! resort ([`BasisTolerances::rule`]); the tight bound itself stays normwise.
+//! An answer is returned only if the acceptance rule of [`crate::accept`]
+//! accepts it — the rule every solver's `ok` answer meets, read through the
+//! operator: a row's diagonal entry ([`LcpOperator::diag`]) for the cheap
+//! bound that clears nearly every row, the row itself ([`LcpOperator::row`])
+//! for the few it does not — and its natural residual is within
+//! `accept_tol·(1 + ‖q‖∞)`, on the problem as given and, when the caller
+//! passes one, on a second operator in other units (the simulator's
+//! unscaled, physical LCP). No regularization. A row the rule rejects is
+//! exchanged like any violated index. The caller may ask for a tighter
+//! normwise bound ([`BasisTolerances::tight`]); a violation above a tenth of
+//! it is exchanged even when the answer is within it: a resting stack's
+//! nonbasic corner at `w_n = −5e-12` m/s, kept step after step, sinks past
+//! the contact gap floor, whose stabilization term then moves `q` by 2e-10
+//! and costs hundreds of pivots (measured on the 10-box stack: 31 of 2,000
+//! steps pivoting before, 7 after). The answer within the bound is returned
+//! when the exchanges find no cleaner one.
 
 pub(crate) mod principal;
 
@@ -59,6 +62,13 @@ pub trait LcpOperator {
     fn row(&self, i: usize, out: &mut [f64]) {
         let cols: Vec<usize> = (0..self.n()).collect();
         self.block(&[i], &cols, out);
+    }
+    /// The diagonal entry `M_ii`, for the acceptance rule's cheap bound of a
+    /// row's scale. By default one `1 × 1` block.
+    fn diag(&self, i: usize) -> f64 {
+        let mut d = [0.0];
+        self.block(&[i], &[i], &mut d);
+        d[0]
     }
 }
 
@@ -84,6 +94,9 @@ impl LcpOperator for Lcp {
     }
     fn row(&self, i: usize, out: &mut [f64]) {
         out.copy_from_slice(Lcp::row(self, i));
+    }
+    fn diag(&self, i: usize) -> f64 {
+        Lcp::row(self, i)[i]
     }
 }
 
@@ -115,6 +128,14 @@ pub struct SupportWorkspace {
     /// A basis whose exchanges found nothing better than its answer, and the
     /// violation below which they are not tried again from it.
     retry: Option<(Vec<bool>, f64)>,
+    /// Columns of each row kept for the acceptance rule's bounds
+    /// ([`crate::accept::rejected_row_operator`]), in `op`'s units and in the other ones.
+    largest: Vec<crate::accept::KeptColumns>,
+    largest_other: Vec<crate::accept::KeptColumns>,
+    /// The indices exchanged in the current call.
+    toggled: Vec<usize>,
+    /// Calls in a row that found no answer (the caller pivoted).
+    failures: usize,
 }
 
 /// A copy of [`SupportWorkspace`]'s factorization fields.
@@ -152,6 +173,13 @@ impl SupportWorkspace {
     pub fn forget(&mut self) {
         self.factored.clear();
     }
+
+    /// Forgets the calls that found nothing: the next call tries every
+    /// exchange round (for a caller whose other rungs failed, where time
+    /// matters less than an answer).
+    pub fn forget_failures(&mut self) {
+        self.failures = 0;
+    }
 }
 
 /// The answer of [`solve_on_basis`] when it is accepted.
@@ -176,12 +204,13 @@ pub type Also<'a> = (&'a dyn LcpOperator, &'a dyn Fn(&[f64], &mut Vec<f64>));
 /// `M_ββ z_β = −q_β` on a regular principal block `β` of the guess (dependent
 /// indices dropped), refined to convergence, `z` clipped at 0; violated
 /// indices are exchanged one at a time (at most [`REPAIR_ROUNDS`]). Returns
-/// the first answer whose natural residual is at most `accept_tol·(1 + ‖q‖∞)`
+/// the first answer that the acceptance rule of [`crate::accept`] accepts at
+/// `accept_tol` and whose natural residual is at most `accept_tol·(1 + ‖q‖∞)`,
 /// on `op` and, when given, on `also` (the same `z` mapped, e.g. to physical
-/// units) with no violation above [`REPAIR_FRACTION`] of that bound; else
-/// the first answer within the bound; `None` when there is none (the caller
-/// then pivots). The returned
-/// `Solution` has status `Solved`, 0 pivots and the basis `β` used.
+/// units), with no violation above [`REPAIR_FRACTION`] of that bound; else
+/// the first answer that meets the rule and the bound; `None` when there is
+/// none (the caller then pivots). The returned `Solution` has status
+/// `Solved`, 0 pivots and the basis `β` used.
 pub fn solve_on_basis(
     op: &dyn LcpOperator,
     basis: &[bool],
@@ -192,7 +221,7 @@ pub fn solve_on_basis(
     solve_on_basis_ruled(
         op,
         basis,
-        BasisTolerances { tight: accept_tol, rule: None, exchange_within: true, polish: true },
+        BasisTolerances { accept_tol, tight: accept_tol, loose: false, polish: true },
         also,
         ws,
     )
@@ -201,18 +230,19 @@ pub fn solve_on_basis(
 /// When [`solve_on_basis_ruled`] accepts an answer.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BasisTolerances {
-    /// An answer whose natural residual is within `tight·(1 + ‖q‖∞)` (on
-    /// `op` and on the other units) is returned at once.
+    /// The acceptance rule's tolerance: every answer returned is accepted by
+    /// [`crate::accept`] at it, on `op` and on the other units (`Solution::accepted`).
+    pub accept_tol: f64,
+    /// An answer the rule accepts whose natural residual is within
+    /// `tight·(1 + ‖q‖∞)` (on `op` and on the other units, `tight ≤
+    /// accept_tol`) is returned at once, or, with a violation above
+    /// [`REPAIR_FRACTION`] of that bound, after exchanges find no cleaner one.
     pub tight: f64,
-    /// When no round gives such an answer: the first answer (in round order)
-    /// that the acceptance rule of [`crate::accept`] accepts at this
-    /// tolerance *and* whose natural residual is within `rule·(1 + ‖q‖∞)`,
-    /// on `op` and on the other units — what the dense Lemke's warm start
-    /// accepts at 0 pivots (its ladder's "tight" answer). `None`: no such answer.
-    pub rule: Option<f64>,
-    /// Whether violations above [`REPAIR_FRACTION`] of the tight bound are
-    /// exchanged also in an answer within it (see the module docs).
-    pub exchange_within: bool,
+    /// When no round gives such an answer: the first (in round order) the
+    /// rule accepts whose natural residual is within `accept_tol·(1 + ‖q‖∞)`
+    /// — what the dense Lemke's warm start accepts at 0 pivots (its ladder's
+    /// "tight" answer). `false`: `None` then.
+    pub loose: bool,
     /// Whether refinement on a kept factorization applies its last,
     /// negligible correction too (and forms `w` for it): one product more,
     /// for answers that need their last digits (a heavy body on a light one:
@@ -221,10 +251,10 @@ pub struct BasisTolerances {
     pub polish: bool,
 }
 
-/// [`solve_on_basis`] with a second, looser acceptance ([`BasisTolerances::rule`])
-/// for when no round gives an answer within the tight bound. Exchanges are
-/// tried first: an answer within the tight bound is preferred (a resting
-/// stack accepted at the looser bound step after step creeps).
+/// [`solve_on_basis`] with the tolerances apart ([`BasisTolerances`]): a
+/// normwise bound `tight` below the rule's, and a looser last resort.
+/// Exchanges are tried first: an answer within the tight bound is preferred
+/// (a resting stack accepted at the looser bound step after step creeps).
 pub fn solve_on_basis_ruled(
     op: &dyn LcpOperator,
     basis: &[bool],
@@ -241,12 +271,37 @@ pub fn solve_on_basis_ruled(
     let repair = REPAIR_FRACTION * tol.tight * (1.0 + norm_inf(op.q()));
     ws.mask.clear();
     ws.mask.extend_from_slice(basis);
+    // After calls in a row that found nothing, the basis comes from the
+    // caller's pivoting: exchanges are tried again only on the 1st, 2nd,
+    // 4th, 8th, … such call (a resting stack's exchanges failed on 25
+    // steps in a row, each ending in the pivoting anyway).
+    let rounds = if ws.failures.is_power_of_two() || ws.failures == 0 { REPAIR_ROUNDS } else { 0 };
+    let found = solve_rounds(op, basis, tol, also, ws, rounds, repair);
+    ws.failures = if found.is_some() { 0 } else { ws.failures.saturating_add(1) };
+    found
+}
+
+/// The rounds of [`solve_on_basis_ruled`] (`rounds` exchanges at most) from
+/// `ws.mask`; `repair`: the violation above which an index is exchanged.
+fn solve_rounds(
+    op: &dyn LcpOperator,
+    basis: &[bool],
+    tol: BasisTolerances,
+    also: Option<Also<'_>>,
+    ws: &mut SupportWorkspace,
+    rounds: usize,
+    repair: f64,
+) -> Option<BasisAnswer> {
+    let n = op.n();
     // The index the last exchange made basic.
     let mut entered = None;
+    // The index the last exchange toggled.
+    let mut last = None;
+    ws.toggled.clear();
     // The first answer within the tight bound (a violation above `repair`
-    // left), and the first within the rule while there is none.
+    // left), and the first within the loose one while there is none.
     let (mut held, mut ruled) = (None, None);
-    for round in 0..=REPAIR_ROUNDS {
+    for round in 0..=rounds {
         let reused = round == 0 && ws.factored == ws.mask && refine_on_factor(op, ws, tol.polish);
         if !reused && !solve_fresh(op, ws, entered) {
             break;
@@ -270,11 +325,20 @@ pub fn solve_on_basis_ruled(
             op.w_of(&ws.z, &mut ws.w);
         }
         let dropped = if reused { 0 } else { m - rank };
-        let tight = within(op, &ws.z, &ws.w, tol.tight) && accepted_by(also, tol.tight, false, ws);
-        if tight && (worst.1.is_none() || !tol.exchange_within) {
+        // Within the normwise bounds, and whether the answer may be returned at all.
+        let tight = within_both(op, also, tol.tight, ws);
+        let loose =
+            !tight && tol.loose && held.is_none() && ruled.is_none() && within_both(op, also, tol.accept_tol, ws);
+        // The row the acceptance rule rejects, read only for an answer that
+        // could be returned or held (an exchange round after one is held
+        // needs no verdict unless it is clean).
+        let usable = (tight && (worst.1.is_none() || held.is_none())) || loose;
+        let rejected = if usable { rule_rejects(op, also, tol.accept_tol, worst.1.is_some(), ws) } else { None };
+        let accepted = usable && rejected.is_none();
+        if accepted && tight && worst.1.is_none() {
             return Some(answer(ws, dropped, reused, also.is_some(), true));
         }
-        if tight && held.is_none() {
+        if accepted && tight && held.is_none() {
             // Exchanges from this basis found nothing better at the last
             // call, and its violation has not grown much since: keep it.
             let known = ws.retry.as_ref().is_some_and(|(b, level)| round == 0 && b == basis && worst.0 < *level);
@@ -284,17 +348,22 @@ pub fn solve_on_basis_ruled(
             held = Some((answer(ws, dropped, reused, also.is_some(), false), worst.0));
             ws.hold_factors();
         }
-        if let Some(rule) = tol.rule.filter(|_| ruled.is_none() && held.is_none()) {
-            if within(op, &ws.z, &ws.w, rule)
-                && crate::accept::accepts_operator(op, &ws.z, &ws.w, rule)
-                && accepted_by(also, rule, true, ws)
-            {
-                ruled = Some(answer(ws, dropped, reused, also.is_some(), false));
-            }
+        if accepted && loose {
+            ruled = Some(answer(ws, dropped, reused, also.is_some(), false));
         }
         // One exchange at a time (all at once wanders on these degenerate
-        // problems): the most violated index.
-        let Some(i) = worst.1 else { break };
+        // problems): the most violated index, else the row the rule rejects
+        // (a nonbasic w_i < 0 below the repair threshold but above the row's
+        // own bound enters).
+        let Some(i) = worst.1.or(rejected) else { break };
+        // Toggling back the index just exchanged would only cycle; so would
+        // toggling again, for a row only the rule rejects, an index already
+        // exchanged in this call.
+        if last == Some(i) || (worst.1.is_none() && ws.toggled.contains(&i)) {
+            break;
+        }
+        last = Some(i);
+        ws.toggled.push(i);
         ws.mask[i] = !ws.mask[i];
         entered = ws.mask[i].then_some(i);
     }
@@ -351,6 +420,13 @@ const REFINE_STEPS: usize = 4;
 /// Refinement has converged when its correction is below this fraction of `‖z_β‖∞`.
 const REFINE_STOP: f64 = 1e-15;
 
+/// Refinement has also converged when its correction, below this fraction
+/// of `‖z_β‖∞`, did not halve the previous one (it stalls at round-off).
+/// Measured on `stack_steps 2000 10`: from step ~1,100 the stack's basis
+/// (78 basic indices) stalls at 1e-15–7e-15 and was factored afresh on
+/// every step.
+const REFINE_STALL: f64 = 1e-13;
+
 /// `z` on `β` of the kept factorization, for the new `op`: the old factors
 /// precondition iterative refinement against the new block (each step one
 /// product `M z`). Leaves `ws.z`, `ws.w` and returns `true` once the
@@ -361,13 +437,20 @@ fn refine_on_factor(op: &dyn LcpOperator, ws: &mut SupportWorkspace, polish: boo
         return false;
     }
     first_solve(op, ws);
+    let mut previous = f64::INFINITY;
     for step in 0..=REFINE_STEPS {
         op.w_of(&ws.z, &mut ws.w);
         let (dmax, zmax) = correction(ws);
         if !(dmax.is_finite() && zmax.is_finite()) {
             return false;
         }
-        let negligible = dmax <= REFINE_STOP * zmax;
+        // Converged, or at the accuracy this block attains: a correction at
+        // round-off that no longer halves (an ill-conditioned block stalls
+        // at a few 1e-15 of ‖z‖, where a fresh factorization, refined once,
+        // ends no closer).
+        let stalled = dmax <= REFINE_STALL * zmax && dmax > 0.5 * previous;
+        let negligible = dmax <= REFINE_STOP * zmax || stalled;
+        previous = dmax;
         if negligible && !polish {
             return true;
         }
@@ -470,16 +553,36 @@ fn within(op: &dyn LcpOperator, z: &[f64], w: &[f64], accept_tol: f64) -> bool {
     Residuals::of(z, w).residual <= accept_tol * (1.0 + norm_inf(op.q()))
 }
 
-/// The second check of [`solve_on_basis`]: `z` mapped into the other units
-/// meets the same bound there (and, with `rule`, the acceptance rule).
-fn accepted_by(also: Option<Also<'_>>, accept_tol: f64, rule: bool, ws: &mut SupportWorkspace) -> bool {
+/// The natural residual is within `accept_tol·(1 + ‖q‖∞)` on `op` and, with
+/// `also`, on `z` mapped into the other units (into `ws.z2`, `ws.w2`).
+fn within_both(op: &dyn LcpOperator, also: Option<Also<'_>>, accept_tol: f64, ws: &mut SupportWorkspace) -> bool {
+    if !within(op, &ws.z, &ws.w, accept_tol) {
+        return false;
+    }
     let Some((other, map)) = also else { return true };
     map(&ws.z, &mut ws.z2);
     ws.w2.clear();
     ws.w2.resize(ws.z2.len(), 0.0);
     other.w_of(&ws.z2, &mut ws.w2);
     within(other, &ws.z2, &ws.w2, accept_tol)
-        && (!rule || crate::accept::accepts_operator(other, &ws.z2, &ws.w2, accept_tol))
+}
+
+/// A row the acceptance rule rejects at `accept_tol`, on `op` or on the other
+/// units (`ws.z2`, `ws.w2` as [`within_both`] left them); `None` when both
+/// accept. `first`: any rejected row does (the caller exchanges another
+/// index), else the worst of the first operator that rejects.
+fn rule_rejects(
+    op: &dyn LcpOperator,
+    also: Option<Also<'_>>,
+    accept_tol: f64,
+    first: bool,
+    ws: &mut SupportWorkspace,
+) -> Option<usize> {
+    let SupportWorkspace { z, w, z2, w2, largest, largest_other, .. } = ws;
+    crate::accept::rejected_row_operator(op, z, w, accept_tol, first, largest).or_else(|| {
+        let (other, _) = also?;
+        crate::accept::rejected_row_operator(other, z2, w2, accept_tol, first, largest_other)
+    })
 }
 
 fn norm_inf(v: &[f64]) -> f64 {
