@@ -6,42 +6,14 @@
 //! (cone scale `s`) and on the physical one.
 
 use lcp::accept::accepts;
-use lcp::contact::ContactLayout;
-use lcp::Lcp;
-use sim::contact::ContactLcp;
 use sim::scenes::BoxStack;
-use sim::{ConeScale, StepRecord, World, WorldParams};
+use sim::{ConeScale, World, WorldParams};
+
+#[path = "properties/mod.rs"]
+mod properties;
+use properties::{as_solved, island_z, physical};
 
 const TOL: f64 = lcp::accept::DEFAULT_TOL;
-
-/// Island `i`'s physical `z` (its own contact order) out of the step's record.
-fn island_z(rec: &StepRecord, i: usize) -> Vec<f64> {
-    let ids = rec.island_contacts_of(i);
-    let (isl, step) = (ContactLayout::new(ids.len(), rec.friction_dirs), rec.layout());
-    let mut z = vec![0.0; isl.n()];
-    for (c, &g) in ids.iter().enumerate() {
-        z[isl.fn_index(c)] = rec.z[step.fn_index(g)];
-        z[isl.fd_of(c)].copy_from_slice(&rec.z[step.fd_of(g)]);
-        z[isl.lambda_index(c)] = rec.z[step.lambda_index(g)];
-    }
-    z
-}
-
-/// The dense LCP `D M D, D q` as solved and the physical `M, q` (`D = diag(I, I, s·I)`).
-fn dense_pair(lcp: &ContactLcp) -> (Lcp, Lcp) {
-    let mut lcp = lcp.clone();
-    lcp.assemble_matrix();
-    let scaled = lcp.to_lcp().expect("finite LCP");
-    let (n, s, lay) = (lcp.n(), lcp.scale(), lcp.layout());
-    let d: Vec<f64> = (0..n).map(|i| if is_lambda(&lay, i) { s } else { 1.0 }).collect();
-    let m: Vec<f64> = (0..n * n).map(|e| scaled.m()[e] / (d[e / n] * d[e % n])).collect();
-    let q: Vec<f64> = (0..n).map(|i| scaled.q()[i] / d[i]).collect();
-    (scaled, Lcp::new(m, q).expect("finite LCP"))
-}
-
-fn is_lambda(lay: &ContactLayout, i: usize) -> bool {
-    i == lay.lambda_index(lay.contact_of(i))
-}
 
 /// Steps `world` `steps` times; every island counted `ok` must pass the rule on
 /// both LCPs. Returns how many of the checked answers took no pivot (the
@@ -55,14 +27,9 @@ fn every_ok_answer_passes_the_rule(world: &mut World, steps: usize) -> (usize, u
                 continue;
             }
             let contact_lcp = world.island_lcp(i).expect("the island's LCP");
-            let (scaled, physical) = dense_pair(contact_lcp);
             let z = island_z(&rec, i);
-            let lay = contact_lcp.layout();
-            let zs: Vec<f64> = z
-                .iter()
-                .enumerate()
-                .map(|(j, v)| if is_lambda(&lay, j) { v / contact_lcp.scale() } else { *v })
-                .collect();
+            let (scaled, zs) = as_solved(contact_lcp, &z);
+            let physical = physical(contact_lcp);
             for (lcp, z, which) in [(&physical, &z, "physical LCP"), (&scaled, &zs, "LCP as solved")] {
                 let w = lcp.w_of(z);
                 assert!(

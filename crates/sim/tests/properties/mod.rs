@@ -3,15 +3,18 @@
 //! the input: construction and stepping return `Ok` or a `SimError`, never
 //! panic; every record is consistent (its LCP size is `contacts·(k + 2)`,
 //! islands cover the contacts); a solved step has finite impulses and
-//! residual. Shared by `tests/properties_any_world.rs` (proptest) and the
+//! residual; an island the robust Lemke or PGS reports solved passes the
+//! acceptance rule on its LCP as solved (`M` formed densely for the check:
+//! the body-space answers of the previous basis never form it). Shared by `tests/properties_any_world.rs` (proptest) and the
 //! fuzz target `fuzz/fuzz_targets/world.rs`.
 
 #![allow(dead_code)]
 
-use sim::contact::ConeScale;
-use sim::lcp::{self, Status};
+use sim::contact::{ConeScale, ContactLcp};
+use sim::lcp::contact::ContactLayout;
+use sim::lcp::{self, Lcp, Status};
 use sim::math::{Quat, Vec3};
-use sim::{BodyDesc, BodyId, Restitution, SimError, Stabilization, World, WorldParams};
+use sim::{BodyDesc, BodyId, Restitution, SimError, Stabilization, StepRecord, World, WorldParams};
 
 #[path = "../../../lcp/tests/properties/bytes.rs"]
 mod bytes;
@@ -116,7 +119,7 @@ pub fn check(data: &[u8]) -> Result<Stats, String> {
     let k = world.params().friction_dirs;
     for _ in 0..steps {
         let rec = match world.step() {
-            Ok(rec) => rec,
+            Ok(rec) => rec.clone(),
             Err(SimError::NonFiniteState { .. } | SimError::Lcp(_) | SimError::TooLarge(_)) => return Ok(stats),
             Err(e) => return Err(format!("step failed with an unexpected error: {e}")),
         };
@@ -128,6 +131,7 @@ pub fn check(data: &[u8]) -> Result<Stats, String> {
         if covered != nc {
             return Err(format!("islands cover {covered} of {nc} contacts"));
         }
+        solved_islands_pass_the_rule(&world, &rec)?;
         if rec.status == Some(Status::Solved) {
             let finite = rec.z.iter().all(|v| v.is_finite()) && rec.residuals.residual.is_finite();
             if !finite {
@@ -139,4 +143,77 @@ pub fn check(data: &[u8]) -> Result<Stats, String> {
         stats.contacts += nc;
     }
     Ok(stats)
+}
+
+/// The acceptance rule's tolerance when `method` promises it for `Solved`
+/// (the robust Lemke, PGS; classic pivoting keeps its own `solved`).
+fn rule_tol(method: &lcp::Method) -> Option<f64> {
+    match method {
+        lcp::Method::Lemke(o) if o.pivoting == lcp::Pivoting::Lexicographic => Some(o.accept_tol),
+        lcp::Method::Pgs(_) => Some(lcp::accept::DEFAULT_TOL),
+        _ => None,
+    }
+}
+
+/// Every island of `rec` reported solved passes the acceptance rule on its
+/// LCP as solved (cone-scaled), `M` formed densely from the island's rows.
+pub fn solved_islands_pass_the_rule(world: &World, rec: &StepRecord) -> Result<(), String> {
+    let Some(tol) = rule_tol(&world.params().method) else { return Ok(()) };
+    for (i, isl) in rec.islands.iter().enumerate() {
+        if isl.status != Status::Solved {
+            continue;
+        }
+        let Some(contact_lcp) = world.island_lcp(i) else { return Err(format!("island {i}: no LCP kept")) };
+        let (lcp, z) = as_solved(contact_lcp, &island_z(rec, i));
+        let w = lcp.w_of(&z);
+        if !lcp::accept::accepts(&lcp, &z, &w, tol) {
+            return Err(format!(
+                "step {}: island {i} solved ({} pivots) outside the acceptance rule, η = {:e}",
+                rec.step,
+                isl.pivots,
+                lcp::accept::backward_error(&lcp, &z, &w)
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Island `i`'s physical `z` (its own contact order) out of the step's record.
+pub fn island_z(rec: &StepRecord, i: usize) -> Vec<f64> {
+    let ids = rec.island_contacts_of(i);
+    let (isl, step) = (ContactLayout::new(ids.len(), rec.friction_dirs), rec.layout());
+    let mut z = vec![0.0; isl.n()];
+    for (c, &g) in ids.iter().enumerate() {
+        z[isl.fn_index(c)] = rec.z[step.fn_index(g)];
+        z[isl.fd_of(c)].copy_from_slice(&rec.z[step.fd_of(g)]);
+        z[isl.lambda_index(c)] = rec.z[step.lambda_index(g)];
+    }
+    z
+}
+
+/// The island's LCP as solved, `D M D, D q` (`D = diag(I, I, s·I)`, `M`
+/// formed densely), and the physical `z` mapped to it (`λ / s`).
+pub fn as_solved(contact_lcp: &ContactLcp, z: &[f64]) -> (Lcp, Vec<f64>) {
+    let mut lcp = contact_lcp.clone();
+    lcp.assemble_matrix();
+    let scaled = lcp.to_lcp().expect("a finite island LCP");
+    let lay = lcp.layout();
+    let zs = z.iter().enumerate().map(|(j, v)| if is_lambda(&lay, j) { v / lcp.scale() } else { *v }).collect();
+    (scaled, zs)
+}
+
+/// The physical LCP `M, q` of an island (its LCP as solved with the cone scale undone).
+pub fn physical(contact_lcp: &ContactLcp) -> Lcp {
+    let mut lcp = contact_lcp.clone();
+    lcp.assemble_matrix();
+    let scaled = lcp.to_lcp().expect("a finite island LCP");
+    let (n, s, lay) = (lcp.n(), lcp.scale(), lcp.layout());
+    let d: Vec<f64> = (0..n).map(|i| if is_lambda(&lay, i) { s } else { 1.0 }).collect();
+    let m: Vec<f64> = (0..n * n).map(|e| scaled.m()[e] / (d[e / n] * d[e % n])).collect();
+    let q: Vec<f64> = (0..n).map(|i| scaled.q()[i] / d[i]).collect();
+    Lcp::new(m, q).expect("a finite LCP")
+}
+
+fn is_lambda(lay: &ContactLayout, i: usize) -> bool {
+    i == lay.lambda_index(lay.contact_of(i))
 }
