@@ -28,8 +28,9 @@
 //! An answer is returned only if the acceptance rule of [`crate::accept`]
 //! accepts it — the rule every solver's `ok` answer meets, read through the
 //! operator: a row's diagonal entry ([`LcpOperator::diag`]) for the cheap
-//! bound that clears nearly every row, the row itself ([`LcpOperator::row`])
-//! for the few it does not — and its natural residual is within
+//! bound that clears nearly every row, a few entries kept from the row's
+//! last full read for most of the others, the row itself
+//! ([`LcpOperator::row`]) for the few left — and its natural residual is within
 //! `accept_tol·(1 + ‖q‖∞)`, on the problem as given and, when the caller
 //! passes one, on a second operator in other units (the simulator's
 //! unscaled, physical LCP). No regularization. A row the rule rejects is
@@ -130,8 +131,8 @@ pub struct SupportWorkspace {
     retry: Option<(Vec<bool>, f64)>,
     /// Columns of each row kept for the acceptance rule's bounds
     /// ([`crate::accept::rejected_row_operator`]), in `op`'s units and in the other ones.
-    largest: Vec<crate::accept::KeptColumns>,
-    largest_other: Vec<crate::accept::KeptColumns>,
+    kept: Vec<crate::accept::KeptColumns>,
+    kept_other: Vec<crate::accept::KeptColumns>,
     /// The indices exchanged in the current call.
     toggled: Vec<usize>,
     /// Calls in a row that found no answer (the caller pivoted).
@@ -578,10 +579,10 @@ fn rule_rejects(
     first: bool,
     ws: &mut SupportWorkspace,
 ) -> Option<usize> {
-    let SupportWorkspace { z, w, z2, w2, largest, largest_other, .. } = ws;
-    crate::accept::rejected_row_operator(op, z, w, accept_tol, first, largest).or_else(|| {
+    let SupportWorkspace { z, w, z2, w2, kept, kept_other, .. } = ws;
+    crate::accept::rejected_row_operator(op, z, w, accept_tol, first, kept).or_else(|| {
         let (other, _) = also?;
-        crate::accept::rejected_row_operator(other, z2, w2, accept_tol, first, largest_other)
+        crate::accept::rejected_row_operator(other, z2, w2, accept_tol, first, kept_other)
     })
 }
 
