@@ -138,7 +138,9 @@ pub(crate) fn lu_solve(a: &[f64], n: usize, b: &[f64]) -> Option<Vec<f64>> {
 /// ≤ `o.tol` and the iterate (round-off negatives clipped, unreached zeros
 /// snapped: [`crate::accept::snap`]) passes the acceptance rule at [`crate::accept::DEFAULT_TOL`] (the iteration goes on
 /// until both hold); `Numerical` when the merit function of the current iterate is
-/// not finite (overflow); otherwise `MaxIterations` (also when the line search
+/// not finite (overflow), or when an answer that converged on the equilibrated
+/// problem does not hold on the problem as given (entries near both ends of
+/// the exponent range, which the scaled products round otherwise); otherwise `MaxIterations` (also when the line search
 /// stalls before the limit, at a stationary point of `Ψ` that is no solution).
 pub fn solve(lcp: &Lcp, o: &NewtonFbOptions) -> Solution {
     run(lcp, None, o)
@@ -171,7 +173,15 @@ fn run(lcp: &Lcp, z0: Option<&[f64]>, o: &NewtonFbOptions) -> Solution {
         None => vec![0.0; n],
     };
     let (z_scaled, status, iterations) = iterate(work, &scaling, z_start, o);
-    Solution::from_z(lcp, scaling.z_back(&z_scaled), status, iterations)
+    let mut sol = Solution::from_z(lcp, scaling.z_back(&z_scaled), status, iterations);
+    // Converged on the working problem, the answer must hold as given too:
+    // with entries near both ends of the exponent range the equilibrated
+    // products round otherwise (found by `cargo fuzz`: 1e-300 beside 1e308,
+    // natural residual 1.0 as given, `solved` on the working problem).
+    if sol.status == Status::Solved && !(sol.residuals.residual <= o.tol && sol.accepted) {
+        sol.status = Status::Numerical;
+    }
+    sol
 }
 
 /// `‖min(z, w)‖∞` in the units of the original problem, from scaled `z', w'`:

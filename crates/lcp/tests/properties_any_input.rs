@@ -147,3 +147,18 @@ fn a_non_finite_answer_is_never_solved() {
     let r = lcp::Residuals::of(&[f64::INFINITY, 1.0], &[f64::NAN, 0.0]);
     assert_eq!((r.residual, r.max_complementarity), (f64::INFINITY, f64::INFINITY));
 }
+
+/// Found by `cargo fuzz` (lcp_solvers, 10-minute run): Newton–FB converged on
+/// the Ruiz-equilibrated problem and reported `solved`, but with `M` holding
+/// 1e-300 beside 1e308 the equilibrated products round otherwise and the
+/// answer (z₀ = 1e300) leaves w₁ = −1 on the problem as given. Such an answer
+/// is now `numerical`.
+#[test]
+fn newton_solved_on_the_equilibrated_problem_must_hold_as_given() {
+    let data = [
+        0x0eu8, 0x08, 0x1c, 0x00, 0x00, 0x16, 0x00, 0x72, 0x2d, 0x22, 0x00, 0x7e, 0xe1, 0xcc, 0xf3, 0xb4, 0x2b, 0x00, 0x22,
+        0x22, 0x01, 0x00, 0x22, 0x22, 0x22, 0x23, 0x00, 0x72, 0xff, 0xff, 0xff, 0x2d,
+    ];
+    let case = properties::decode(&data);
+    properties::check(&case).unwrap();
+}
