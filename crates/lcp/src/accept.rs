@@ -241,9 +241,11 @@ pub fn rejected_row_operator(
         (known > 0).then(|| {
             let mut x = [0.0; KEPT];
             op.block(&[i], &cols[..known], &mut x[..known]);
-            cols[..known].iter().zip(&x).filter(|&(&j, _)| j != i).fold((0.0, 0.0f64), |(terms, top), (&j, m)| {
-                (terms + m.abs() * z[j], top.max(m.abs()))
-            })
+            cols[..known]
+                .iter()
+                .zip(&x)
+                .filter(|&(&j, _)| j != i)
+                .fold((0.0, 0.0f64), |(terms, top), (&j, m)| (terms + m.abs() * z[j], top.max(m.abs())))
         })
     };
     let scale = |i: usize, zsum: f64| {
