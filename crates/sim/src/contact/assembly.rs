@@ -91,6 +91,11 @@ pub struct ContactLcp {
     /// entries per product).
     side_slot: Vec<Option<usize>>,
     mu: Vec<f64>,
+    /// Per contact, `J_t M_b⁻¹ J_tᵀ` of its normal and tangents summed over
+    /// its dynamic sides, `[nn, t1t1, t1t2, t2t2]`: the diagonal of `M` for
+    /// the acceptance rule's cheap bound (a direction's is
+    /// `c²·t1t1 + 2cs·t1t2 + s²·t2t2`).
+    delassus: Vec<[f64; 4]>,
     /// Row-major `M` (scaled by `s`) and `q`.
     m: Vec<f64>,
     q: Vec<f64>,
@@ -191,6 +196,22 @@ impl ContactLcp {
         (&self.jac[2 * c + side], &self.minv_jt[2 * c + side])
     }
 
+    /// `(J M_b⁻¹ Jᵀ)_ii` of index `i` (0 for a `λ`), from the contact's
+    /// blocks formed at assembly (to round-off the entry the rows give).
+    pub fn delassus_diag(&self, i: usize) -> f64 {
+        let lay = self.layout;
+        let c = lay.contact_of(i);
+        let d = &self.delassus[c];
+        if i == lay.fn_index(c) {
+            d[0]
+        } else if i == lay.lambda_index(c) {
+            0.0
+        } else {
+            let (cj, sj) = self.trig[i - lay.fd_of(c).start];
+            cj * cj * d[1] + 2.0 * cj * sj * d[2] + sj * sj * d[3]
+        }
+    }
+
     /// `(cos, sin)` of friction direction `j`'s angle `2πj/k`.
     #[inline]
     pub fn cos_sin(&self, j: usize) -> (f64, f64) {
@@ -282,6 +303,22 @@ impl ContactLcp {
                 }
             }
         }
+
+        self.delassus.clear();
+        self.delassus.extend((0..nc).map(|c| {
+            let mut d = [0.0; 4];
+            for side in 0..2 {
+                if self.side_body[2 * c + side].is_none() {
+                    continue;
+                }
+                let (jac, minv) = (&self.jac[2 * c + side], &self.minv_jt[2 * c + side]);
+                d[0] += dot6(&jac[0], &minv[0]);
+                d[1] += dot6(&jac[1], &minv[1]);
+                d[2] += dot6(&jac[1], &minv[2]);
+                d[3] += dot6(&jac[2], &minv[2]);
+            }
+            d
+        }));
 
         self.bodies = dynamics.bodies.len();
         self.matrix_ready = false;

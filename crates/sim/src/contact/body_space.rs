@@ -191,12 +191,8 @@ impl LcpOperator for BodySpaceLcp<'_> {
     }
 
     fn diag(&self, i: usize) -> f64 {
-        // J_i M_b⁻¹ J_iᵀ over the contact's dynamic sides (a λ's is 0).
-        let var = self.var(i);
-        if let Var::Lambda(_) = var {
-            return 0.0;
-        }
-        (0..2).filter_map(|side| self.side_rows(contact(var), var, side)).map(|(_, j, m)| dot6(&j, &m)).sum()
+        // J_i M_b⁻¹ J_iᵀ over the contact's dynamic sides (a λ's is 0), from its blocks.
+        self.lcp.delassus_diag(i)
     }
 
     fn w_of(&self, z: &[f64], w: &mut [f64]) {
