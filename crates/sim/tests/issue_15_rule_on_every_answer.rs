@@ -29,7 +29,7 @@ fn every_ok_answer_passes_the_rule(world: &mut World, steps: usize) -> (usize, u
             let contact_lcp = world.island_lcp(i).expect("the island's LCP");
             let z = island_z(&rec, i);
             let (scaled, zs) = as_solved(contact_lcp, &z).expect("a finite island LCP");
-            let physical = physical(contact_lcp);
+            let physical = physical(contact_lcp, &scaled);
             for (lcp, z, which) in [(&physical, &z, "physical LCP"), (&scaled, &zs, "LCP as solved")] {
                 let w = lcp.w_of(z);
                 assert!(

@@ -76,7 +76,7 @@ impl IslandLcp {
             if let Some((cand, (z, w))) = try_previous_basis(&self.lcp, &basis, tol, true, &mut self.support) {
                 let eta = self.check.eta(&self.lcp, &z, &w);
                 if eta <= tol {
-                    self.adopt(sol, Solution { pivots: 0, ..cand }, z, w, eta);
+                    self.adopt(sol, cand, z, w, eta);
                     return;
                 }
             }

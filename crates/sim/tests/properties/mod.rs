@@ -201,22 +201,17 @@ pub fn as_solved(contact_lcp: &ContactLcp, z: &[f64]) -> Option<(Lcp, Vec<f64>)>
     lcp.assemble_matrix();
     let scaled = lcp.to_lcp().ok()?;
     let lay = lcp.layout();
-    let zs = z.iter().enumerate().map(|(j, v)| if is_lambda(&lay, j) { v / lcp.scale() } else { *v }).collect();
+    let zs =
+        z.iter().enumerate().map(|(j, v)| if lay.lambda_range().contains(&j) { v / lcp.scale() } else { *v }).collect();
     Some((scaled, zs))
 }
 
-/// The physical LCP `M, q` of an island (its LCP as solved with the cone scale undone).
-pub fn physical(contact_lcp: &ContactLcp) -> Lcp {
-    let mut lcp = contact_lcp.clone();
-    lcp.assemble_matrix();
-    let scaled = lcp.to_lcp().expect("a finite island LCP");
-    let (n, s, lay) = (lcp.n(), lcp.scale(), lcp.layout());
-    let d: Vec<f64> = (0..n).map(|i| if is_lambda(&lay, i) { s } else { 1.0 }).collect();
+/// The physical LCP `M, q` of an island from its LCP as solved (`scaled`,
+/// from [`as_solved`]), the cone scale undone.
+pub fn physical(contact_lcp: &ContactLcp, scaled: &Lcp) -> Lcp {
+    let (n, s, lay) = (contact_lcp.n(), contact_lcp.scale(), contact_lcp.layout());
+    let d: Vec<f64> = (0..n).map(|i| if lay.lambda_range().contains(&i) { s } else { 1.0 }).collect();
     let m: Vec<f64> = (0..n * n).map(|e| scaled.m()[e] / (d[e / n] * d[e % n])).collect();
     let q: Vec<f64> = (0..n).map(|i| scaled.q()[i] / d[i]).collect();
     Lcp::new(m, q).expect("a finite LCP")
-}
-
-fn is_lambda(lay: &ContactLayout, i: usize) -> bool {
-    i == lay.lambda_index(lay.contact_of(i))
 }
