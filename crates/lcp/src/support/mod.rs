@@ -181,6 +181,20 @@ impl SupportWorkspace {
     pub fn forget_failures(&mut self) {
         self.failures = 0;
     }
+
+    /// Runs `attempt` (calls from a basis other than the previous answer's)
+    /// with every exchange round; if it finds nothing, the count of failed
+    /// calls is left as it was, so the back-off of the calls from the
+    /// previous answer's basis goes on.
+    pub fn fresh_attempt<R>(&mut self, attempt: impl FnOnce(&mut Self) -> Option<R>) -> Option<R> {
+        let failures = self.failures;
+        self.failures = 0;
+        let found = attempt(self);
+        if found.is_none() {
+            self.failures = failures;
+        }
+        found
+    }
 }
 
 /// The answer of [`solve_on_basis`] when it is accepted.
