@@ -162,6 +162,25 @@ def summarize(desc: dict[str, Any], run: dict[str, Any], steps: int) -> dict[str
     return out
 
 
+def merge_rounds(rs: list[dict[str, Any]]) -> dict[str, Any]:
+    """One engine × scene over its rounds: the first round's summary (the
+    trajectory is the same in every round), with the rates of every round and
+    their median; the outcome and peak RSS of the worst round."""
+    out = dict(rs[0])
+    if len(rs) == 1:
+        return out
+    out["rates"] = [x for r in rs for x in r.get("rates", [])]
+    out["round_rates"] = [r.get("steps_per_second") for r in rs]
+    out["steps_per_second"] = float(np.median(out["rates"])) if out["rates"] else None
+    out["peak_rss_mb"] = max(r["peak_rss_mb"] for r in rs)
+    bad = next((r for r in rs if r["outcome"] != "ok"), None)
+    if bad is not None:
+        out["outcome"], out["steps"] = bad["outcome"], bad["steps"]
+        if "error" in bad:
+            out["error"] = bad["error"]
+    return out
+
+
 def locked_version(crate: str) -> str:
     """The version of ``crate`` in benchmarks/rapier_bench/Cargo.lock."""
     lock = ROOT / "benchmarks" / "rapier_bench" / "Cargo.lock"
@@ -219,15 +238,24 @@ def run_all(scene_keys: list[str], engines: list[str], budget: float, grace: flo
             entry: dict[str, Any] = {"title": spec.title, "built_by": how, "bodies": n_dyn,
                                      "static_boxes": len(desc["boxes"]) - n_dyn, "seconds": spec.seconds,
                                      "steps": steps, "reps": spec.reps, "initial_state": desc, "engines": {}}
-            for eng in engines:
-                if eng == "rapier" and not RAPIER_BIN.exists():
-                    entry["engines"][eng] = {"outcome": "not_run", "error": f"{RAPIER_BIN} not built"}
-                    continue
-                cmd = worker_command(eng, key, path, steps, budget, spec.reps)
-                run = run_worker(cmd, budget + grace, int(mem_cap_gb * (1 << 30)))
-                s = summarize(desc, run, steps)
-                entry["engines"][eng] = s
-                progress(f"  {key} {eng}: {describe_outcome(s)}")
+            entry["rounds"] = spec.rounds
+            # Rounds run engine after engine, so that a change of the shared
+            # machine's speed during the run falls on every engine alike.
+            runs: dict[str, list[dict[str, Any]]] = {eng: [] for eng in engines}
+            for r in range(spec.rounds):
+                for eng in engines:
+                    if eng == "rapier" and not RAPIER_BIN.exists():
+                        entry["engines"][eng] = {"outcome": "not_run", "error": f"{RAPIER_BIN} not built"}
+                        continue
+                    cmd = worker_command(eng, key, path, steps, budget, spec.reps)
+                    run = run_worker(cmd, budget + grace, int(mem_cap_gb * (1 << 30)))
+                    s = summarize(desc, run, steps)
+                    runs[eng].append(s)
+                    tag = f" (round {r + 1} of {spec.rounds})" if spec.rounds > 1 else ""
+                    progress(f"  {key} {eng}{tag}: {describe_outcome(s)}")
+            for eng, rs in runs.items():
+                if rs:
+                    entry["engines"][eng] = merge_rounds(rs)
             res["scenes"][key] = entry
     res["load_average_after"] = os.getloadavg()
     return res

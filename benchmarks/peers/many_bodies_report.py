@@ -41,7 +41,9 @@ def fmt(x: float | None, spec: str = ".3g") -> str:
 def ran(s: dict[str, Any], e: dict[str, Any]) -> str:
     reps = len(s.get("rates", []))
     if s["outcome"] == "ok":
-        return f"{s['steps']} steps × {reps} rep{'s' if reps != 1 else ''}"
+        rounds = len(s.get("round_rates", [])) or 1
+        within = f" in {rounds} rounds" if rounds > 1 else ""
+        return f"{s['steps']} steps × {reps} rep{'s' if reps != 1 else ''}{within}"
     if s["outcome"] in ("timed_out", "killed"):
         how = ", killed mid-call" if s["outcome"] == "killed" else ""
         return f"**timed out** after {s['steps']} of {e['steps']} steps{how}"
@@ -89,7 +91,9 @@ def render(res: dict[str, Any]) -> list[str]:
         "every engine starts from the state exported from the lcpsim world. Each engine × scene runs in its own "
         f"process under a {cfg['mem_cap_gb']:g} GiB address-space cap and a {cfg['budget_s']:g} s wall-clock budget "
         f"(killed {cfg['grace_s']:g} s past it if a stepping call is still running). steps/s counts the stepping "
-        "calls only (median over the repetitions that fit in the budget). "
+        "calls only (median over the repetitions that fit in the budget; for the scenes with several rounds, "
+        "over every repetition of rounds run engine after engine, so a change of the machine's speed falls on "
+        "every engine alike). "
         "Command: `benchmarks/peers/.venv/bin/python benchmarks/peers/many_bodies.py`. The machine is shared "
         f"(1-minute load average {res['load_average_before'][0]:.1f} before the run, "
         f"{res['load_average_after'][0]:.1f} after): rates move by tens of per cent between runs.",

@@ -116,7 +116,8 @@ class SceneSpec:
     title: str
     build: Callable[[], tuple[Any, str]]  # () -> (lcpsim World, how it was built)
     seconds: float  # simulated time per run
-    reps: int
+    reps: int  # repetitions within one worker process
+    rounds: int = 1  # worker processes per engine, interleaved engine after engine (see many_bodies.run_all)
 
 
 def _stack(n: int) -> Callable[[], tuple[Any, str]]:
@@ -142,9 +143,9 @@ def _heap(n: int) -> Callable[[], tuple[Any, str]]:
 
 
 SCENES: list[SceneSpec] = [
-    SceneSpec("stack10", "10-box stack", _stack(10), 2.0, 3),
-    SceneSpec("towers3", "3×3×3 towers (9 stacks of 3)", _towers(3, 3), 2.0, 3),
-    SceneSpec("towers10", "10×10×10 towers (100 stacks of 10)", _towers(10, 10), 1.0, 1),
+    SceneSpec("stack10", "10-box stack", _stack(10), 2.0, 3, rounds=3),
+    SceneSpec("towers3", "3×3×3 towers (9 stacks of 3)", _towers(3, 3), 2.0, 3, rounds=3),
+    SceneSpec("towers10", "10×10×10 towers (100 stacks of 10)", _towers(10, 10), 1.0, 1, rounds=3),
     SceneSpec("heap200", "heap of 200 cubes", _heap(200), 2.0, 3),
     SceneSpec("heap1000", "heap of 1,000 cubes", _heap(1000), 1.5, 1),
 ]

@@ -64,6 +64,23 @@ pub(crate) fn dot4(a: &[f64], b: &[f64]) -> f64 {
     (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
+/// [`dot4`] for a `b` whose nonzero entries below `chunked = len − len % 4`
+/// are `b[j]` for `j` in `nz` (ascending, each `< chunked`): every lane adds
+/// the same products in the same order, and a skipped product `a_j · 0`
+/// (`±0` for a finite `a_j`) would have left its lane unchanged (a lane
+/// starting at `+0` is never `−0`), so the sum is bitwise [`dot4`]'s for a
+/// finite `a`. The tail is summed as [`dot4`] sums it.
+pub(crate) fn dot4_sparse(a: &[f64], b: &[f64], nz: &[usize]) -> f64 {
+    let n = a.len().min(b.len());
+    let chunked = n - n % LANES;
+    let mut acc = [0.0f64; LANES];
+    for &j in nz {
+        acc[j % LANES] += a[j] * b[j];
+    }
+    let tail: f64 = a[chunked..n].iter().zip(&b[chunked..n]).map(|(x, y)| x * y).sum();
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
+}
+
 /// Whether every `a_i` is finite.
 pub(crate) fn all_finite(a: &[f64]) -> bool {
     max_abs_finite(a, 0.0).1
@@ -134,6 +151,37 @@ mod tests {
         assert_eq!(dot4(&a[..3], &b[..3]), a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
         assert_eq!(dot4(&[], &[]), 0.0);
         assert!(dot4(&[1.0, f64::NAN], &[1.0, 1.0]).is_nan());
+    }
+
+    use proptest::strategy::Strategy as _;
+
+    /// A float of magnitude 2^-100 … 2^100 (either sign).
+    fn spread() -> impl proptest::strategy::Strategy<Value = f64> {
+        (-1e3f64..1e3, -100i32..100).prop_map(|(m, e)| m * 2f64.powi(e))
+    }
+
+    proptest::proptest! {
+        /// Bitwise dot4's sum for any finite `a` and a `b` with zeros of both
+        /// signs, values over 200 binary orders, and now and then NaN or ∞.
+        #[test]
+        fn dot4_sparse_is_dot4_bit_for_bit(
+            a in proptest::collection::vec(spread(), 0..40),
+            b in proptest::collection::vec(
+                proptest::prop_oneof![
+                    8 => proptest::strategy::Just(0.0f64),
+                    4 => proptest::strategy::Just(-0.0f64),
+                    1 => proptest::strategy::Just(f64::NAN),
+                    1 => proptest::strategy::Just(f64::INFINITY),
+                    16 => spread(),
+                ],
+                0..40,
+            ),
+        ) {
+            let n = a.len().min(b.len());
+            let nz: Vec<usize> = (0..n - n % LANES).filter(|&j| b[j] != 0.0).collect();
+            let (s, d) = (dot4_sparse(&a, &b, &nz), dot4(&a, &b));
+            proptest::prop_assert!(s.to_bits() == d.to_bits() || (s.is_nan() && d.is_nan()), "{s:e} {d:e}");
+        }
     }
 
     #[test]

@@ -5,7 +5,11 @@
 
 use std::fmt;
 
-use crate::kernels::{all_finite, dot4, max_abs_finite};
+use crate::kernels::{all_finite, dot4, dot4_sparse, max_abs_finite};
+
+/// [`Lcp::w_of`] reads only `z`'s nonzeros when at most `1 /` this fraction
+/// of them is nonzero (the dense sweep vectorizes; the sparse one gathers).
+const SPARSE_FRACTION: usize = 6;
 
 /// A dense linear complementarity problem `(M, q)`.
 #[derive(Clone, Debug, PartialEq)]
@@ -124,8 +128,20 @@ impl Lcp {
     }
 
     /// `w = M z + q` (each row's products summed in four lanes).
+    /// A `z` with few nonzero entries (a pivoting answer: the nonbasic ones
+    /// are 0) is read through its nonzeros only, with the same sums bit for
+    /// bit (`kernels::dot4_sparse`).
     pub fn w_of(&self, z: &[f64]) -> Vec<f64> {
-        (0..self.n).map(|i| dot4(self.row(i), z) + self.q[i]).collect()
+        let n = self.n;
+        let chunked = n - n % 4;
+        if z.len() == n {
+            // (NaN != 0: a NaN in z reaches w as before.)
+            let nz: Vec<usize> = (0..chunked).filter(|&j| z[j] != 0.0).collect();
+            if nz.len() * SPARSE_FRACTION <= chunked {
+                return (0..n).map(|i| dot4_sparse(self.row(i), z, &nz) + self.q[i]).collect();
+            }
+        }
+        (0..n).map(|i| dot4(self.row(i), z) + self.q[i]).collect()
     }
 
     /// Splits into `(M, q)` without copying.

@@ -180,3 +180,27 @@ fn an_answer_within_the_bound_is_kept_with_its_factors_when_exchanges_do_no_bett
     assert!(again.reused, "the kept answer's factors serve the next call");
     assert_eq!(again.solution.z, first.solution.z);
 }
+
+#[test]
+fn an_answer_within_only_the_rules_bound_is_kept_with_its_factors_too() {
+    use lcp::support::{solve_on_basis_ruled, BasisTolerances};
+    // As above with a normwise bound `tight` 100 times below the rule's: w₁ =
+    // −6e-10 is within the rule's bound only (the `loose` last resort), and
+    // no exchange does better. Its factorization is kept, so the next call
+    // from its basis refines on it instead of factoring and exchanging again
+    // (a resting stack met this answer on every step for thousands of steps).
+    let eps = 6e-10;
+    let lcp = Lcp::new(vec![1.0, 1.0, 1.0, 1e-3], vec![-1.0, -1.0 - eps]).unwrap();
+    let tol = BasisTolerances { accept_tol: 1e-9, tight: 1e-11, loose: true, polish: true };
+    let mut ws = SupportWorkspace::default();
+    let first = solve_on_basis_ruled(&lcp, &[true, false], tol, None, &mut ws).expect("within the rule's bound");
+    assert_eq!(first.solution.basis.as_deref(), Some(&[true, false][..]));
+    assert_eq!(first.solution.z, vec![1.0, 0.0]);
+    assert!(first.solution.residuals.residual > 1e-11 * 2.0, "not within the tight bound");
+    let again = solve_on_basis_ruled(&lcp, &[true, false], tol, None, &mut ws).expect("within the rule's bound");
+    assert!(again.reused, "the kept answer's factors serve the next call");
+    assert_eq!(again.solution.z, first.solution.z);
+    // Without the loose last resort there is no answer.
+    let strict = BasisTolerances { loose: false, ..tol };
+    assert!(solve_on_basis_ruled(&lcp, &[true, false], strict, None, &mut SupportWorkspace::default()).is_none());
+}

@@ -63,22 +63,29 @@ fn resting_ten_box_stack_mostly_keeps_its_basis_and_does_not_drift() {
 }
 
 #[test]
-fn resting_ten_box_stack_pivots_on_few_steps_over_two_seconds() {
-    // A corner whose nonbasic w_n sits at −5e-12 m/s is within the acceptance
-    // bound, but kept step after step it sinks the corner past the gap floor
-    // (1e-12 m) and the stabilization term then moves q by 2e-10: hundreds of
-    // pivots. The body-space check exchanges such a violation while it is
-    // small. Measured (`stack_steps 2000 10`): 7 pivoting steps, 2,663
-    // pivots, drift 0 (before: 31 steps, 14,391 pivots, drift 4e-13 m).
-    let (n, steps) = (10, 2000);
-    let mut s = BoxStack::new(n).build(WorldParams::default()).unwrap();
-    let top0 = s.world.body(s.body).unwrap().position();
-    let mut pivoting = 0;
-    for _ in 0..steps {
-        let r = step_ok(&mut s.world);
-        pivoting += usize::from(r.pivots > 0);
+fn resting_stacks_of_6_to_16_boxes_pivot_on_few_steps_over_two_seconds() {
+    // A stack's answer drifts, step by step, to vertices that round-off
+    // leaves a hair infeasible; then its previous basis fails even with
+    // exchanges, and a basis guessed from its previous impulses is tried
+    // before the dense Lemke pivots. Which steps pivot is chaotic (a 10-box
+    // stack once pivoted on 7 steps, without the guess, where 11 boxes
+    // pivoted on 133), so the bound is on a family of stacks. Measured
+    // (`stack_steps 2000 6 8 10 12 14 16`): 4, 10, 19, 31, 36, 40 steps;
+    // before the guessed basis 8, 38, 7, 97, 134, 98.
+    let steps = 2000;
+    let mut total = 0;
+    for n in [6, 8, 10, 12, 14, 16] {
+        let mut s = BoxStack::new(n).build(WorldParams::default()).unwrap();
+        let top0 = s.world.body(s.body).unwrap().position();
+        let mut pivoting = 0;
+        for _ in 0..steps {
+            let r = step_ok(&mut s.world);
+            pivoting += usize::from(r.pivots > 0);
+        }
+        assert!(pivoting * 100 <= 3 * steps, "{n} boxes: {pivoting} of {steps} steps pivoted");
+        total += pivoting;
+        let drift = (s.world.body(s.body).unwrap().position() - top0).norm();
+        assert!(drift <= 1e-9, "{n} boxes: top box drifted {drift:e} m");
     }
-    assert!(pivoting <= 12, "{pivoting} of {steps} steps pivoted");
-    let drift = (s.world.body(s.body).unwrap().position() - top0).norm();
-    assert!(drift <= 1e-9, "top box drifted {drift:e} m");
+    assert!(total * 1000 <= 15 * 6 * steps, "{total} of {} steps pivoted", 6 * steps);
 }

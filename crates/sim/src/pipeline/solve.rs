@@ -46,7 +46,8 @@ impl World {
         for i in 0..count {
             let nc = ws.islands.contacts_of(i).len();
             let by_contact = mapped.get_mut(i).and_then(Option::take);
-            ws.pool[i].warm = ws.warm.take(ws.islands.bodies_of(i), nc).or(by_contact);
+            let isl = &mut ws.pool[i];
+            isl.warm = ws.warm.take(ws.islands.bodies_of(i), nc, &mut isl.warm_z).or(by_contact);
         }
         let method = self.params.method.clone();
         let name = match solver {

@@ -3,7 +3,9 @@
 //! same number of contacts** (hence the same LCP size and layout). Any other
 //! island (new, split, merged, or with contacts gained or lost) starts cold.
 //! For a world whose contacts form one island this is the previous rule (the
-//! basis of the previous step's LCP when the size is unchanged).
+//! basis of the previous step's LCP when the size is unchanged). The island's
+//! physical impulses are kept with its basis: the start of the guessed basis
+//! tried when the previous one fails (`island_lcp::try_guessed_basis`).
 
 use super::island_lcp::IslandLcp;
 use crate::islands::Islands;
@@ -19,18 +21,27 @@ pub struct WarmStarts {
     /// Contacts and final basis per island.
     contacts: Vec<usize>,
     basis: Vec<Option<Vec<bool>>>,
+    /// Physical impulses `z` of every island, island after island, and where each starts.
+    impulses: Vec<f64>,
+    impulse_start: Vec<usize>,
     /// Island of each body (`NONE` if it was in none).
     island_of_body: Vec<usize>,
 }
 
 impl WarmStarts {
-    /// The basis of the previous island with exactly these bodies and `nc` contacts (taken: used once).
-    pub fn take(&mut self, bodies: &[usize], nc: usize) -> Option<Vec<bool>> {
-        let p = *self.island_of_body.get(*bodies.first()?)?;
-        if p == NONE || self.contacts[p] != nc || self.bodies[self.start[p]..self.start[p + 1]] != *bodies {
-            return None;
-        }
+    /// The basis of the previous island with exactly these bodies and `nc`
+    /// contacts (taken: used once), and its impulses copied into `z` (cleared when there is no such island).
+    pub fn take(&mut self, bodies: &[usize], nc: usize, z: &mut Vec<f64>) -> Option<Vec<bool>> {
+        z.clear();
+        let p = self.matching(bodies, nc)?;
+        z.extend_from_slice(&self.impulses[self.impulse_start[p]..self.impulse_start[p + 1]]);
         self.basis[p].take()
+    }
+
+    /// The previous island with exactly these bodies and `nc` contacts.
+    fn matching(&self, bodies: &[usize], nc: usize) -> Option<usize> {
+        let p = *self.island_of_body.get(*bodies.first()?)?;
+        (p != NONE && self.contacts[p] == nc && self.bodies[self.start[p]..self.start[p + 1]] == *bodies).then_some(p)
     }
 
     /// Forgets every island (a step without contacts).
@@ -42,6 +53,8 @@ impl WarmStarts {
         self.start.clear();
         self.contacts.clear();
         self.basis.clear();
+        self.impulses.clear();
+        self.impulse_start.clear();
     }
 
     /// Keeps this step's islands and moves their final bases out of `solved`.
@@ -49,6 +62,7 @@ impl WarmStarts {
         self.clear();
         self.island_of_body.resize(body_count, NONE);
         self.start.push(0);
+        self.impulse_start.push(0);
         for (i, isl) in solved.iter_mut().enumerate().take(islands.len()) {
             for &b in islands.bodies_of(i) {
                 self.island_of_body[b] = i;
@@ -57,6 +71,8 @@ impl WarmStarts {
             self.start.push(self.bodies.len());
             self.contacts.push(isl.contacts.len());
             self.basis.push(isl.sol.as_mut().and_then(|s| s.basis.take()));
+            self.impulses.extend_from_slice(&isl.z);
+            self.impulse_start.push(self.impulses.len());
         }
     }
 }
