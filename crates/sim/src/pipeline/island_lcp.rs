@@ -68,7 +68,8 @@ impl IslandLcp {
     /// With `basis_check` (Lemke's acceptance bound), a coupled island under
     /// [`STRUCTURED_MIN_N`] first tries its previous basis in body space (see
     /// [`basis_check_applies`]), then a basis guessed from its previous
-    /// impulses ([`try_guessed_basis`]); the dense `M` is formed only when both fail.
+    /// impulses ([`try_guessed_basis`]), then the structured Lemke; the dense
+    /// `M` is formed only when all fail (or the island has no previous basis).
     pub fn solve(&mut self, solver: &mut IslandSolver<'_>, basis_check: Option<f64>) {
         let n = self.lcp.n();
         self.sol = None;
@@ -92,9 +93,14 @@ impl IslandLcp {
             }
             _ => None,
         };
-        // A large coupled island: the structured Lemke, without the dense M.
+        // A large coupled island, or a small one whose previous and guessed
+        // bases failed: the structured Lemke, without the dense M (a small
+        // island's failure goes on to the dense Lemke).
         let fast = fast.or_else(|| {
-            let tol = basis_check.filter(|_| self.lcp.dynamic_body_count() >= 2 && n >= STRUCTURED_MIN_N)?;
+            let tol = basis_check.filter(|_| self.lcp.dynamic_body_count() >= 2)?;
+            if n < STRUCTURED_MIN_N && warm.is_none() {
+                return None;
+            }
             super::structured::solve(&self.lcp, warm.as_deref(), tol, n > DENSE_FALLBACK_MAX_N)
         });
         let sol = match fast {
@@ -191,8 +197,16 @@ pub fn scatter<T: Copy>(ids: &[usize], nc: usize, k: usize, src: &[T], dst: &mut
 /// a forming 200-cube heap's time; the structured Lemke's warm run checks the
 /// same basis at 0 pivots). Measured on heap LCPs (`structured_scaling`,
 /// CPU time of a cold solve): n = 1,120 dense 0.09 s, structured 0.07 s;
-/// n = 1,800: 0.73 s, 0.20 s; n = 3,030: 4.9 s, 0.57 s. Below, the dense path
-/// (and its answers) stay as they were.
+/// n = 1,800: 0.73 s, 0.20 s; n = 3,030: 4.9 s, 0.57 s. Below, an island
+/// with a warm basis that neither it nor the guessed basis solves in body
+/// space goes to the structured Lemke too (its warm run, the loaded-friction
+/// sub-LCPs, the guess: `pipeline::structured`), then to the dense Lemke if
+/// that fails. Measured on resting stacks of 4–16 boxes (`stack_steps 2000 4
+/// … 16`): pivoting steps 301 → 200, pivots 114,909 → 49,596 against the
+/// dense Lemke there. A cold island (no warm basis) stays on the dense Lemke:
+/// on the 10×10×10 towers the structured answers of step 0 (each at 0
+/// pivots, from its guess) sent the next steps to other vertices and the
+/// run from 207 to 123 steps/s (`many_bodies -- pile10 300 1`).
 pub const STRUCTURED_MIN_N: usize = 1500;
 
 /// Above this size a failed structured solve is reported as it is: the dense
