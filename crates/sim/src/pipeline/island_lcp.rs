@@ -65,12 +65,13 @@ impl IslandLcp {
     /// admissible part scaled not to add energy (`pipeline::energy`); the
     /// answer is kept for the record.
     ///
-    /// With `basis_check` (Lemke's acceptance bound), a coupled island under
-    /// [`STRUCTURED_MIN_N`] first tries its previous basis in body space (see
-    /// [`basis_check_applies`]), then a basis guessed from its previous
-    /// impulses ([`try_guessed_basis`]), then the structured Lemke; the dense
-    /// `M` is formed only when all fail (or the island has no previous basis).
-    pub fn solve(&mut self, solver: &mut IslandSolver<'_>, basis_check: Option<f64>) {
+    /// With `basis_check` ([`basis_check_applies`]), a coupled island under
+    /// [`STRUCTURED_MIN_N`] first tries its previous basis in body space,
+    /// then (with Lemke's full ladder, [`BasisCheck::rungs`]) a basis guessed
+    /// from its previous impulses ([`try_guessed_basis`]) and the structured
+    /// Lemke; the dense `M` is formed only when all fail (or the island has no
+    /// previous basis).
+    pub fn solve(&mut self, solver: &mut IslandSolver<'_>, basis_check: Option<BasisCheck>) {
         let n = self.lcp.n();
         self.sol = None;
         self.error = None;
@@ -83,9 +84,13 @@ impl IslandLcp {
         // The body-space answer comes with its physical z and w, as checked.
         let mut physical = None;
         let fast = match (basis_check, warm.as_deref()) {
-            (Some(tol), Some(basis)) if self.lcp.dynamic_body_count() >= 2 && n < STRUCTURED_MIN_N => {
+            (Some(BasisCheck { accept_tol: tol, rungs }), Some(basis))
+                if self.lcp.dynamic_body_count() >= 2 && n < STRUCTURED_MIN_N =>
+            {
                 try_previous_basis(&self.lcp, basis, tol, mixed, &mut self.support)
-                    .or_else(|| try_guessed_basis(&self.lcp, &self.warm_z, tol, mixed, &mut self.support))
+                    .or_else(|| {
+                        rungs.then(|| try_guessed_basis(&self.lcp, &self.warm_z, tol, mixed, &mut self.support))?
+                    })
                     .map(|(sol, zw)| {
                         physical = Some(zw);
                         sol
@@ -97,11 +102,11 @@ impl IslandLcp {
         // bases failed: the structured Lemke, without the dense M (a small
         // island's failure goes on to the dense Lemke).
         let fast = fast.or_else(|| {
-            let tol = basis_check.filter(|_| self.lcp.dynamic_body_count() >= 2)?;
-            if n < STRUCTURED_MIN_N && warm.is_none() {
+            let c = basis_check.filter(|_| self.lcp.dynamic_body_count() >= 2)?;
+            if n < STRUCTURED_MIN_N && (warm.is_none() || !c.rungs) {
                 return None;
             }
-            super::structured::solve(&self.lcp, warm.as_deref(), tol, n > DENSE_FALLBACK_MAX_N)
+            super::structured::solve(&self.lcp, warm.as_deref(), c.accept_tol, n > DENSE_FALLBACK_MAX_N)
         });
         let sol = match fast {
             Some(sol) => sol,
@@ -225,13 +230,28 @@ const BASIS_CHECK_TOL: f64 = 1e-2;
 /// seed's did). Only islands of two or more dynamic bodies use it; a single
 /// body's LCP stays on the dense path, where it is fastest and bit-identical
 /// to earlier releases (the seed corpus is made of such LCPs).
-pub fn basis_check_applies(method: &Method) -> Option<f64> {
+pub fn basis_check_applies(method: &Method) -> Option<BasisCheck> {
     match method {
-        Method::Lemke(LemkeOptions { pivoting: Pivoting::Lexicographic, warm_start: true, accept_tol, .. }) => {
-            Some(*accept_tol)
-        }
+        Method::Lemke(LemkeOptions {
+            pivoting: Pivoting::Lexicographic,
+            warm_start: true,
+            accept_tol,
+            fallback,
+            ..
+        }) => Some(BasisCheck { accept_tol: *accept_tol, rungs: *fallback }),
         _ => None,
     }
+}
+
+/// What a coupled island tries before the dense Lemke ([`basis_check_applies`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BasisCheck {
+    /// Lemke's acceptance bound.
+    pub accept_tol: f64,
+    /// Whether a failed previous basis under [`STRUCTURED_MIN_N`] is followed
+    /// by the guessed basis and the structured Lemke: with Lemke's full ladder
+    /// (`fallback`) only, so that its first rung alone stays one rung.
+    pub rungs: bool,
 }
 
 /// Physical `z` and `w` of an island's answer.
