@@ -66,12 +66,13 @@ fn resting_ten_box_stack_mostly_keeps_its_basis_and_does_not_drift() {
 fn resting_stacks_of_6_to_16_boxes_pivot_on_few_steps_over_two_seconds() {
     // A stack's answer drifts, step by step, to vertices that round-off
     // leaves a hair infeasible; then its previous basis fails even with
-    // exchanges, and a basis guessed from its previous impulses is tried
-    // before the dense Lemke pivots. Which steps pivot is chaotic (a 10-box
-    // stack once pivoted on 7 steps, without the guess, where 11 boxes
-    // pivoted on 133), so the bound is on a family of stacks. Measured
-    // (`stack_steps 2000 6 8 10 12 14 16`): 4, 10, 19, 31, 36, 40 steps;
-    // before the guessed basis 8, 38, 7, 97, 134, 98.
+    // exchanges, and a basis guessed from its previous impulses is tried,
+    // then the structured Lemke, before the dense Lemke pivots. Which steps
+    // pivot is chaotic (a 10-box stack once pivoted on 7 steps, without the
+    // guess, where 11 boxes pivoted on 133), so the bound is on a family of
+    // stacks. Measured (`stack_steps 2000 6 8 10 12 14 16`): 4, 5, 21, 23,
+    // 25, 19 steps; with the guess and then the dense Lemke 4, 10, 19, 31,
+    // 36, 40; with the dense Lemke alone 8, 38, 7, 97, 134, 98.
     let steps = 2000;
     let mut total = 0;
     for n in [6, 8, 10, 12, 14, 16] {

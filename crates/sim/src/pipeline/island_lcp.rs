@@ -65,11 +65,13 @@ impl IslandLcp {
     /// admissible part scaled not to add energy (`pipeline::energy`); the
     /// answer is kept for the record.
     ///
-    /// With `basis_check` (Lemke's acceptance bound), a coupled island under
-    /// [`STRUCTURED_MIN_N`] first tries its previous basis in body space (see
-    /// [`basis_check_applies`]), then a basis guessed from its previous
-    /// impulses ([`try_guessed_basis`]); the dense `M` is formed only when both fail.
-    pub fn solve(&mut self, solver: &mut IslandSolver<'_>, basis_check: Option<f64>) {
+    /// With `basis_check` ([`basis_check_applies`]), a coupled island under
+    /// [`STRUCTURED_MIN_N`] first tries its previous basis in body space,
+    /// then (with Lemke's full ladder, [`BasisCheck::rungs`]) a basis guessed
+    /// from its previous impulses ([`try_guessed_basis`]) and the structured
+    /// Lemke; the dense `M` is formed only when all fail (or the island has no
+    /// previous basis).
+    pub fn solve(&mut self, solver: &mut IslandSolver<'_>, basis_check: Option<BasisCheck>) {
         let n = self.lcp.n();
         self.sol = None;
         self.error = None;
@@ -82,9 +84,13 @@ impl IslandLcp {
         // The body-space answer comes with its physical z and w, as checked.
         let mut physical = None;
         let fast = match (basis_check, warm.as_deref()) {
-            (Some(tol), Some(basis)) if self.lcp.dynamic_body_count() >= 2 && n < STRUCTURED_MIN_N => {
+            (Some(BasisCheck { accept_tol: tol, rungs }), Some(basis))
+                if self.lcp.dynamic_body_count() >= 2 && n < STRUCTURED_MIN_N =>
+            {
                 try_previous_basis(&self.lcp, basis, tol, mixed, &mut self.support)
-                    .or_else(|| try_guessed_basis(&self.lcp, &self.warm_z, tol, mixed, &mut self.support))
+                    .or_else(|| {
+                        rungs.then(|| try_guessed_basis(&self.lcp, &self.warm_z, tol, mixed, &mut self.support))?
+                    })
                     .map(|(sol, zw)| {
                         physical = Some(zw);
                         sol
@@ -92,10 +98,15 @@ impl IslandLcp {
             }
             _ => None,
         };
-        // A large coupled island: the structured Lemke, without the dense M.
+        // A large coupled island, or a small one whose previous and guessed
+        // bases failed: the structured Lemke, without the dense M (a small
+        // island's failure goes on to the dense Lemke).
         let fast = fast.or_else(|| {
-            let tol = basis_check.filter(|_| self.lcp.dynamic_body_count() >= 2 && n >= STRUCTURED_MIN_N)?;
-            super::structured::solve(&self.lcp, warm.as_deref(), tol, n > DENSE_FALLBACK_MAX_N)
+            let c = basis_check.filter(|_| self.lcp.dynamic_body_count() >= 2)?;
+            if n < STRUCTURED_MIN_N && (warm.is_none() || !c.rungs) {
+                return None;
+            }
+            super::structured::solve(&self.lcp, warm.as_deref(), c.accept_tol, n > DENSE_FALLBACK_MAX_N)
         });
         let sol = match fast {
             Some(sol) => sol,
@@ -191,8 +202,16 @@ pub fn scatter<T: Copy>(ids: &[usize], nc: usize, k: usize, src: &[T], dst: &mut
 /// a forming 200-cube heap's time; the structured Lemke's warm run checks the
 /// same basis at 0 pivots). Measured on heap LCPs (`structured_scaling`,
 /// CPU time of a cold solve): n = 1,120 dense 0.09 s, structured 0.07 s;
-/// n = 1,800: 0.73 s, 0.20 s; n = 3,030: 4.9 s, 0.57 s. Below, the dense path
-/// (and its answers) stay as they were.
+/// n = 1,800: 0.73 s, 0.20 s; n = 3,030: 4.9 s, 0.57 s. Below, an island
+/// with a warm basis that neither it nor the guessed basis solves in body
+/// space goes to the structured Lemke too (its warm run, the loaded-friction
+/// sub-LCPs, the guess: `pipeline::structured`), then to the dense Lemke if
+/// that fails. Measured on resting stacks of 4–16 boxes (`stack_steps 2000 4
+/// … 16`): pivoting steps 301 → 200, pivots 114,909 → 49,596 against the
+/// dense Lemke there. A cold island (no warm basis) stays on the dense Lemke:
+/// on the 10×10×10 towers the structured answers of step 0 (each at 0
+/// pivots, from its guess) sent the next steps to other vertices and the
+/// run from 207 to 123 steps/s (`many_bodies -- pile10 300 1`).
 pub const STRUCTURED_MIN_N: usize = 1500;
 
 /// Above this size a failed structured solve is reported as it is: the dense
@@ -211,13 +230,28 @@ const BASIS_CHECK_TOL: f64 = 1e-2;
 /// seed's did). Only islands of two or more dynamic bodies use it; a single
 /// body's LCP stays on the dense path, where it is fastest and bit-identical
 /// to earlier releases (the seed corpus is made of such LCPs).
-pub fn basis_check_applies(method: &Method) -> Option<f64> {
+pub fn basis_check_applies(method: &Method) -> Option<BasisCheck> {
     match method {
-        Method::Lemke(LemkeOptions { pivoting: Pivoting::Lexicographic, warm_start: true, accept_tol, .. }) => {
-            Some(*accept_tol)
-        }
+        Method::Lemke(LemkeOptions {
+            pivoting: Pivoting::Lexicographic,
+            warm_start: true,
+            accept_tol,
+            fallback,
+            ..
+        }) => Some(BasisCheck { accept_tol: *accept_tol, rungs: *fallback }),
         _ => None,
     }
+}
+
+/// What a coupled island tries before the dense Lemke ([`basis_check_applies`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BasisCheck {
+    /// Lemke's acceptance bound.
+    pub accept_tol: f64,
+    /// Whether a failed previous basis under [`STRUCTURED_MIN_N`] is followed
+    /// by the guessed basis and the structured Lemke: with Lemke's full ladder
+    /// (`fallback`) only, so that its first rung alone stays one rung.
+    pub rungs: bool,
 }
 
 /// Physical `z` and `w` of an island's answer.
