@@ -266,8 +266,8 @@ type PhysicalZw = (Vec<f64>, Vec<f64>);
 /// when 60 fail, 459 with 60 from zero impulses).
 pub const GUESS_SWEEPS_PREVIOUS: usize = 60;
 
-/// When the previous step's basis fails in body space (every exchange round
-/// tried), the basis read from [`GUESS_SWEEPS_PREVIOUS`] sweeps of body-space
+/// When the previous step's basis fails in body space (after its exchange
+/// rounds, or none when the back-off of `lcp::support` skips them), the basis read from [`GUESS_SWEEPS_PREVIOUS`] sweeps of body-space
 /// projected Gauss–Seidel (`lcp::structured::guess`) started at the previous
 /// step's impulses `z_prev` (physical; from zero when it is not of this
 /// size), solved and checked as the previous one is ([`try_previous_basis`],
