@@ -7,7 +7,7 @@
 //! nearly every row. Results are exactly those of the plain loops: max and
 //! min are order-independent.
 
-const LANES: usize = 4;
+pub(crate) const LANES: usize = 4;
 
 #[inline(always)]
 fn pick_max(m: f64, x: f64) -> f64 {

@@ -5,7 +5,7 @@
 
 use std::fmt;
 
-use crate::kernels::{all_finite, dot4, dot4_sparse, max_abs_finite};
+use crate::kernels::{all_finite, dot4, dot4_sparse, max_abs_finite, LANES};
 
 /// [`Lcp::w_of`] reads only `z`'s nonzeros when at most `1 /` this fraction
 /// of them is nonzero (the dense sweep vectorizes; the sparse one gathers).
@@ -133,7 +133,7 @@ impl Lcp {
     /// bit (`kernels::dot4_sparse`).
     pub fn w_of(&self, z: &[f64]) -> Vec<f64> {
         let n = self.n;
-        let chunked = n - n % 4;
+        let chunked = n - n % LANES;
         if z.len() == n {
             // (NaN != 0: a NaN in z reaches w as before.)
             let nz: Vec<usize> = (0..chunked).filter(|&j| z[j] != 0.0).collect();

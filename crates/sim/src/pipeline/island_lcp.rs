@@ -21,8 +21,9 @@ pub struct IslandLcp {
     pub lcp: ContactLcp,
     /// The basis to start from: the previous step's answer for the same island, if any.
     pub warm: Option<Vec<bool>>,
-    /// That island's physical impulses (empty without one).
-    pub warm_z: Vec<f64>,
+    /// The previous step's island with the same bodies and contact count
+    /// (`pipeline::warm::WarmStarts`), whose impulses start the guessed basis.
+    pub previous: Option<usize>,
     /// Whether this step's solve started from such a basis.
     pub warmed: bool,
     /// The solver's answer (scaled LCP), `None` before the solve or when the LCP was invalid.
@@ -70,8 +71,9 @@ impl IslandLcp {
     /// then (with Lemke's full ladder, [`BasisCheck::rungs`]) a basis guessed
     /// from its previous impulses ([`try_guessed_basis`]) and the structured
     /// Lemke; the dense `M` is formed only when all fail (or the island has no
-    /// previous basis).
-    pub fn solve(&mut self, solver: &mut IslandSolver<'_>, basis_check: Option<BasisCheck>) {
+    /// previous basis). `z_prev`: the previous step's physical impulses of
+    /// this island (empty when there were none).
+    pub fn solve(&mut self, solver: &mut IslandSolver<'_>, basis_check: Option<BasisCheck>, z_prev: &[f64]) {
         let n = self.lcp.n();
         self.sol = None;
         self.error = None;
@@ -88,9 +90,7 @@ impl IslandLcp {
                 if self.lcp.dynamic_body_count() >= 2 && n < STRUCTURED_MIN_N =>
             {
                 try_previous_basis(&self.lcp, basis, tol, mixed, &mut self.support)
-                    .or_else(|| {
-                        rungs.then(|| try_guessed_basis(&self.lcp, &self.warm_z, tol, mixed, &mut self.support))?
-                    })
+                    .or_else(|| rungs.then(|| try_guessed_basis(&self.lcp, z_prev, tol, mixed, &mut self.support))?)
                     .map(|(sol, zw)| {
                         physical = Some(zw);
                         sol
@@ -267,8 +267,9 @@ type PhysicalZw = (Vec<f64>, Vec<f64>);
 pub const GUESS_SWEEPS_PREVIOUS: usize = 60;
 
 /// When the previous step's basis fails in body space (after its exchange
-/// rounds, or none when the back-off of `lcp::support` skips them), the basis read from [`GUESS_SWEEPS_PREVIOUS`] sweeps of body-space
-/// projected Gauss–Seidel (`lcp::structured::guess`) started at the previous
+/// rounds, or none when the back-off of `lcp::support` skips them), the
+/// basis read from [`GUESS_SWEEPS_PREVIOUS`] sweeps of body-space projected
+/// Gauss–Seidel (`lcp::structured::guess`) started at the previous
 /// step's impulses `z_prev` (physical; from zero when it is not of this
 /// size), solved and checked as the previous one is ([`try_previous_basis`],
 /// with every exchange round). On a resting stack the previous basis fails

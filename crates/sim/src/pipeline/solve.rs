@@ -47,14 +47,15 @@ impl World {
             let nc = ws.islands.contacts_of(i).len();
             let by_contact = mapped.get_mut(i).and_then(Option::take);
             let isl = &mut ws.pool[i];
-            isl.warm = ws.warm.take(ws.islands.bodies_of(i), nc, &mut isl.warm_z).or(by_contact);
+            let (previous, basis) = ws.warm.take(ws.islands.bodies_of(i), nc);
+            (isl.previous, isl.warm) = (previous, basis.or(by_contact));
         }
         let method = self.params.method.clone();
         let name = match solver {
             Some(f) => {
                 for isl in &mut ws.pool[..count] {
                     isl.warm = None;
-                    isl.solve(&mut |lcp, _warm| f(lcp), None);
+                    isl.solve(&mut |lcp, _warm| f(lcp), None, &[]);
                 }
                 "custom"
             }
@@ -69,9 +70,11 @@ impl World {
                 // A sink captures every island's dense M: no body-space shortcut then.
                 let check = if self.sink.is_none() { basis_check_applies(&method) } else { None };
                 let body = super::body_check::body_check_applies(&method);
+                let warm = &ws.warm;
                 parallel::for_each(&mut ws.pool[..count], &mut ws.solvers[..threads], |solver, isl| {
                     isl.body_check = body.clone();
-                    isl.solve(&mut |lcp, warm| lcp::solve_in(lcp, &method, warm, solver), check)
+                    let z_prev = isl.previous.map_or(&[][..], |p| warm.impulses(p));
+                    isl.solve(&mut |lcp, warm| lcp::solve_in(lcp, &method, warm, solver), check, z_prev)
                 });
                 method.name()
             }

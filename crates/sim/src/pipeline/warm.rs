@@ -29,13 +29,16 @@ pub struct WarmStarts {
 }
 
 impl WarmStarts {
-    /// The basis of the previous island with exactly these bodies and `nc`
-    /// contacts (taken: used once), and its impulses copied into `z` (cleared when there is no such island).
-    pub fn take(&mut self, bodies: &[usize], nc: usize, z: &mut Vec<f64>) -> Option<Vec<bool>> {
-        z.clear();
-        let p = self.matching(bodies, nc)?;
-        z.extend_from_slice(&self.impulses[self.impulse_start[p]..self.impulse_start[p + 1]]);
-        self.basis[p].take()
+    /// The previous island with exactly these bodies and `nc` contacts, and
+    /// its basis (taken: used once).
+    pub fn take(&mut self, bodies: &[usize], nc: usize) -> (Option<usize>, Option<Vec<bool>>) {
+        let p = self.matching(bodies, nc);
+        (p, p.and_then(|p| self.basis[p].take()))
+    }
+
+    /// The physical impulses of previous island `p` (as [`WarmStarts::take`] gave it).
+    pub fn impulses(&self, p: usize) -> &[f64] {
+        &self.impulses[self.impulse_start[p]..self.impulse_start[p + 1]]
     }
 
     /// The previous island with exactly these bodies and `nc` contacts.
