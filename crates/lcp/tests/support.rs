@@ -191,7 +191,7 @@ fn an_answer_within_only_the_rules_bound_is_kept_with_its_factors_too() {
     // (a resting stack met this answer on every step for thousands of steps).
     let eps = 6e-10;
     let lcp = Lcp::new(vec![1.0, 1.0, 1.0, 1e-3], vec![-1.0, -1.0 - eps]).unwrap();
-    let tol = BasisTolerances { accept_tol: 1e-9, tight: 1e-11, loose: true, polish: true };
+    let tol = BasisTolerances { accept_tol: 1e-9, tight: 1e-11, loose: true, polish: true, more_rounds: true };
     let mut ws = SupportWorkspace::default();
     let first = solve_on_basis_ruled(&lcp, &[true, false], tol, None, &mut ws).expect("within the rule's bound");
     assert_eq!(first.solution.basis.as_deref(), Some(&[true, false][..]));
@@ -203,4 +203,25 @@ fn an_answer_within_only_the_rules_bound_is_kept_with_its_factors_too() {
     // Without the loose last resort there is no answer.
     let strict = BasisTolerances { loose: false, ..tol };
     assert!(solve_on_basis_ruled(&lcp, &[true, false], strict, None, &mut SupportWorkspace::default()).is_none());
+}
+
+#[test]
+fn a_row_rejected_after_clipping_a_negative_z_sends_that_z_out_of_the_basis() {
+    // An unloaded contact's friction in miniature: `a`, `b` two friction
+    // directions, `l` the cone multiplier with the row `w_l = −a − b` (no
+    // normal force). On the basis {a, b, l} the block solves to a = 5e-14,
+    // b = −5e-14 (|b| far below the exchange threshold); clipping b leaves
+    // w_l = −5e-14 on a row whose scale is that small: the rule rejects row l.
+    // Exchanging l is undone by the next solve (the old rule ended there,
+    // "the same index again"); b leaving gives the answer a = b = 0, l = 1e-13.
+    let m = vec![2.0, 0.0, 1.0, 0.0, 2.0, 1.0, -1.0, -1.0, 0.0];
+    let lcp = Lcp::new(m, vec![-1e-13, 1e-13, 0.0]).unwrap();
+    let ans = solve_on_basis(&lcp, &[true, true, true], 1e-9, None, &mut SupportWorkspace::default())
+        .expect("b leaves and the basis {a, l} solves it");
+    assert_eq!(ans.solution.basis.as_deref(), Some(&[true, false, true][..]));
+    assert_eq!(ans.solution.pivots, 0);
+    assert!(ans.solution.accepted && lcp::accept::accepts(&lcp, &ans.solution.z, &lcp.w_of(&ans.solution.z), 1e-9));
+    // The solution set is {a = b = 0, l ≥ 1e-13}, a·w_a = 0 fixing l = 1e-13 once a is basic.
+    let z = &ans.solution.z;
+    assert!(z[0].abs() <= 1e-28 && z[1] == 0.0 && (z[2] - 1e-13).abs() <= 1e-28, "{z:?}");
 }

@@ -70,9 +70,11 @@ fn resting_stacks_of_6_to_16_boxes_pivot_on_few_steps_over_two_seconds() {
     // then the structured Lemke, before the dense Lemke pivots. Which steps
     // pivot is chaotic (a 10-box stack once pivoted on 7 steps, without the
     // guess, where 11 boxes pivoted on 133), so the bound is on a family of
-    // stacks. Measured (`stack_steps 2000 6 8 10 12 14 16`): 4, 5, 21, 23,
-    // 25, 19 steps; with the guess and then the dense Lemke 4, 10, 19, 31,
-    // 36, 40; with the dense Lemke alone 8, 38, 7, 97, 134, 98.
+    // stacks. Measured (`stack_steps 2000 6 8 10 12 14 16`): 2, 4, 7, 2, 2, 3
+    // steps; before the exchanges sent clipped friction out of the basis
+    // (`lcp::support`, up to 32 rounds) 4, 5, 21, 23, 25, 19; with the guess and
+    // then the dense Lemke 4, 10, 19, 31, 36, 40; with the dense Lemke alone
+    // 8, 38, 7, 97, 134, 98.
     let steps = 2000;
     let mut total = 0;
     for n in [6, 8, 10, 12, 14, 16] {
@@ -83,10 +85,10 @@ fn resting_stacks_of_6_to_16_boxes_pivot_on_few_steps_over_two_seconds() {
             let r = step_ok(&mut s.world);
             pivoting += usize::from(r.pivots > 0);
         }
-        assert!(pivoting * 100 <= 3 * steps, "{n} boxes: {pivoting} of {steps} steps pivoted");
+        assert!(pivoting * 100 <= steps, "{n} boxes: {pivoting} of {steps} steps pivoted");
         total += pivoting;
         let drift = (s.world.body(s.body).unwrap().position() - top0).norm();
         assert!(drift <= 1e-9, "{n} boxes: top box drifted {drift:e} m");
     }
-    assert!(total * 1000 <= 15 * 6 * steps, "{total} of {} steps pivoted", 6 * steps);
+    assert!(total * 1000 <= 5 * 6 * steps, "{total} of {} steps pivoted", 6 * steps);
 }

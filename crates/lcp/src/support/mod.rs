@@ -111,6 +111,13 @@ pub struct SupportWorkspace {
     support: Vec<usize>,
     /// `M_SS`, factored in place by [`principal::factor`] (row-major).
     lu: Vec<f64>,
+    /// The block `M_SS` of the last fresh factorization of this call, unfactored,
+    /// and its support ([`form_block`]); `blocked` is false at a call's start.
+    block: Vec<f64>,
+    block_support: Vec<usize>,
+    blocked: bool,
+    /// Each index's position in `block_support` (scratch of [`form_block`]).
+    block_pos: Vec<usize>,
     /// Pivot order (positions in `S`) and rank: `β = S[order[..rank]]`.
     order: Vec<usize>,
     rank: usize,
@@ -135,6 +142,10 @@ pub struct SupportWorkspace {
     kept_other: Vec<crate::accept::KeptColumns>,
     /// The indices exchanged in the current call.
     toggled: Vec<usize>,
+    /// Basic indices whose `z` was negative before clipping, with that value.
+    clipped: Vec<(usize, f64)>,
+    /// One row of `M` (see [`clipped_cause`]).
+    row: Vec<f64>,
     /// Calls in a row that found no answer (the caller pivoted).
     failures: usize,
 }
@@ -218,7 +229,7 @@ pub type Also<'a> = (&'a dyn LcpOperator, &'a dyn Fn(&[f64], &mut Vec<f64>));
 /// Solves `op` on the complementary basis `basis` (`basis[j]`: `z_j` basic):
 /// `M_ββ z_β = −q_β` on a regular principal block `β` of the guess (dependent
 /// indices dropped), refined to convergence, `z` clipped at 0; violated
-/// indices are exchanged one at a time (at most [`REPAIR_ROUNDS`]). Returns
+/// indices are exchanged one at a time (at most [`repair_rounds`]). Returns
 /// the first answer that the acceptance rule of [`crate::accept`] accepts at
 /// `accept_tol` and whose natural residual is at most `accept_tol·(1 + ‖q‖∞)`,
 /// on `op` and, when given, on `also` (the same `z` mapped, e.g. to physical
@@ -236,7 +247,7 @@ pub fn solve_on_basis(
     solve_on_basis_ruled(
         op,
         basis,
-        BasisTolerances { accept_tol, tight: accept_tol, loose: false, polish: true },
+        BasisTolerances { accept_tol, tight: accept_tol, loose: false, polish: true, more_rounds: true },
         also,
         ws,
     )
@@ -264,6 +275,9 @@ pub struct BasisTolerances {
     /// skipping it moved a 1e7 kg box-on-box test's energy rise past its
     /// bound). Without it the answer is the one before that correction.
     pub polish: bool,
+    /// Whether a small basic block gets more exchange rounds than
+    /// [`REPAIR_ROUNDS`] ([`repair_rounds`]); `false`: that many.
+    pub more_rounds: bool,
 }
 
 /// [`solve_on_basis`] with the tolerances apart ([`BasisTolerances`]): a
@@ -290,7 +304,8 @@ pub fn solve_on_basis_ruled(
     // caller's pivoting: exchanges are tried again only on the 1st, 2nd,
     // 4th, 8th, … such call (a resting stack's exchanges failed on 25
     // steps in a row, each ending in the pivoting anyway).
-    let rounds = if ws.failures.is_power_of_two() || ws.failures == 0 { REPAIR_ROUNDS } else { 0 };
+    let most = if tol.more_rounds { repair_rounds(basis) } else { REPAIR_ROUNDS };
+    let rounds = if ws.failures.is_power_of_two() || ws.failures == 0 { most } else { 0 };
     let found = solve_rounds(op, basis, tol, also, ws, rounds, repair);
     ws.failures = if found.is_some() { 0 } else { ws.failures.saturating_add(1) };
     found
@@ -308,6 +323,8 @@ fn solve_rounds(
     repair: f64,
 ) -> Option<BasisAnswer> {
     let n = op.n();
+    // The operator is this call's: no block of an earlier call is reused.
+    ws.blocked = false;
     // The index the last exchange made basic.
     let mut entered = None;
     // The index the last exchange toggled.
@@ -336,7 +353,9 @@ fn solve_rounds(
             }
         }
         // Round-off negatives of z are clipped and w recomputed for the check.
-        if ws.z.iter().any(|&v| v < 0.0) {
+        ws.clipped.clear();
+        ws.clipped.extend(ws.z.iter().enumerate().filter(|&(_, &v)| v < 0.0).map(|(j, &v)| (j, v)));
+        if !ws.clipped.is_empty() {
             ws.z.iter_mut().for_each(|v| *v = v.max(0.0));
             op.w_of(&ws.z, &mut ws.w);
         }
@@ -370,9 +389,11 @@ fn solve_rounds(
             ws.hold_factors();
         }
         // One exchange at a time (all at once wanders on these degenerate
-        // problems): the most violated index, else the row the rule rejects
-        // (a nonbasic w_i < 0 below the repair threshold but above the row's
-        // own bound enters).
+        // problems): the most violated index, else, for a row the rule
+        // rejects, the clipped z that made it so (see [`clipped_cause`]), else
+        // that row's index (a nonbasic w_i < 0 below the repair threshold but
+        // above the row's own bound enters).
+        let rejected = rejected.map(|r| clipped_cause(op, r, ws).unwrap_or(r));
         let Some(i) = worst.1.or(rejected) else { break };
         // Toggling back the index just exchanged would only cycle; so would
         // toggling again, for a row only the rule rejects, an index already
@@ -391,6 +412,36 @@ fn solve_rounds(
     ws.restore_factors();
     ws.retry = Some((ws.factored.clone(), RETRY_GROWTH * violation));
     Some(answer)
+}
+
+/// For a row `r` the acceptance rule rejects: the basic index, not yet
+/// exchanged in this call, whose clipped negative `z_j` moved `w_r` furthest
+/// in the direction of its violation (clipping adds `−M_rj z_j` to `w_r`),
+/// if any did. Such a `z_j` leaves the basis instead of `r` being exchanged.
+///
+/// On a resting stack the basis of an unloaded corner (normal force 0, its
+/// friction degenerate) solves to friction values of ±1e-13 that should be
+/// 0: clipping the negative one leaves the cone row `w_λ = μ f_n − Σ f_d`
+/// at −1e-13, just above its round-off floor. Exchanging `λ` itself was
+/// undone by the next solve's round-off and ended the exchanges ("the same
+/// index again"). Measured on `stack_steps 2000 4 … 16` (26,000 steps):
+/// steps that pivot 200 → 100, pivots 49,596 → 40,204.
+fn clipped_cause(op: &dyn LcpOperator, r: usize, ws: &mut SupportWorkspace) -> Option<usize> {
+    if ws.clipped.is_empty() {
+        return None;
+    }
+    ws.row.clear();
+    ws.row.resize(op.n(), 0.0);
+    op.row(r, &mut ws.row);
+    let sign = if ws.w[r] < 0.0 { -1.0 } else { 1.0 };
+    let SupportWorkspace { clipped, row, toggled, .. } = ws;
+    clipped
+        .iter()
+        .filter(|(j, _)| !toggled.contains(j))
+        .map(|&(j, zj)| (j, sign * -row[j] * zj))
+        .filter(|&(_, share)| share > 0.0)
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(j, _)| j)
 }
 
 /// The accepted answer in `ws`, on the basis `β` factored, with `z`, `w` in
@@ -432,8 +483,34 @@ pub const REPAIR_FRACTION: f64 = 0.1;
 const RETRY_GROWTH: f64 = 2.0;
 
 /// Index exchanges tried after the guessed basis itself (block principal
-/// pivoting on the violated indices); the caller pivots when they do not do.
+/// pivoting on the violated indices), at least; the caller pivots when they
+/// do not do.
 pub const REPAIR_ROUNDS: usize = 8;
+
+/// Exchanges tried at most, for a small basic block ([`repair_rounds`]).
+pub const REPAIR_ROUNDS_MAX: usize = 32;
+
+/// The work of the exchange rounds, in `k³` of a `k`-index basic block
+/// (a round factors it afresh): [`REPAIR_ROUNDS_MAX`] rounds of a block of
+/// 90 indices.
+const REPAIR_WORK: f64 = REPAIR_ROUNDS_MAX as f64 * 90.0 * 90.0 * 90.0;
+
+/// Exchange rounds for a guess with `k` basic indices: as many as
+/// [`REPAIR_WORK`] pays for, between [`REPAIR_ROUNDS`] and [`REPAIR_ROUNDS_MAX`].
+///
+/// Measured on resting stacks (`stack_steps 2000 4 … 16`, 26,000 steps, basic
+/// blocks of 30–90 indices; with [`clipped_cause`]): 8 rounds → 100 steps
+/// pivot (40,204 pivots, 4.3 s), 16 → 56 (17,682, 3.0 s), 32 → 39 (7,561,
+/// 2.5 s), 64 → 38 (6,739, 2.7 s): a round costs one factorization, the
+/// pivoting step it saves a few hundred pivots. On a forming 14-cube heap
+/// (`many_bodies heap:14 400`, blocks of 100–260 indices) 32 rounds nearly
+/// never found an answer 8 had not (2 of ~80 calls) and the run fell from
+/// 142 to 82 steps/s; with this budget 127 (8 rounds: 134; the runs part
+/// ways, 113 against 106 pivots a step).
+fn repair_rounds(basis: &[bool]) -> usize {
+    let k = basis.iter().filter(|&&b| b).count().max(1) as f64;
+    ((REPAIR_WORK / (k * k * k)) as usize).clamp(REPAIR_ROUNDS, REPAIR_ROUNDS_MAX)
+}
 
 /// Refinement steps with a kept factorization before a fresh one is made.
 const REFINE_STEPS: usize = 4;
@@ -547,12 +624,11 @@ fn solve_fresh(op: &dyn LcpOperator, ws: &mut SupportWorkspace, entered: Option<
     ws.support.clear();
     ws.support.extend((0..n).filter(|&j| ws.mask[j]));
     let m = ws.support.len();
-    ws.lu.clear();
-    ws.lu.resize(m * m, 0.0);
-    op.block(&ws.support, &ws.support, &mut ws.lu);
-    if !ws.lu.iter().all(|v| v.is_finite()) {
+    form_block(op, ws);
+    if !ws.block.iter().all(|v| v.is_finite()) {
         return false;
     }
+    ws.lu.clone_from(&ws.block);
     let first = entered.and_then(|i| ws.support.binary_search(&i).ok());
     ws.rank = principal::factor(&mut ws.lu, m, &mut ws.order, first);
     first_solve(op, ws);
@@ -568,6 +644,62 @@ fn solve_fresh(op: &dyn LcpOperator, ws: &mut SupportWorkspace, entered: Option<
     }
     true
 }
+
+/// `ws.block` ← `M_SS` for the support `ws.support`. Within a call, the
+/// entries of the previous block are copied and only the rows and columns of
+/// indices new to the support are formed: an exchange round adds or removes
+/// one index, so a round forms `2k` entries instead of `k²` (on a resting
+/// 10-box stack forming the block was 11 % of the run, a fresh
+/// factorization's share 12 %).
+fn form_block(op: &dyn LcpOperator, ws: &mut SupportWorkspace) {
+    let m = ws.support.len();
+    let SupportWorkspace { support, block, block_support, blocked, block_pos, .. } = ws;
+    if !*blocked {
+        block.clear();
+        block.resize(m * m, 0.0);
+        op.block(support, support, block);
+        block_support.clone_from(support);
+        *blocked = true;
+        return;
+    }
+    let (old, k) = (std::mem::take(block), block_support.len());
+    block_pos.clear();
+    block_pos.resize(op.n(), NOT_IN_BLOCK);
+    block_support.iter().enumerate().for_each(|(p, &j)| block_pos[j] = p);
+    let fresh: Vec<usize> = support.iter().copied().filter(|&j| block_pos[j] == NOT_IN_BLOCK).collect();
+    block.clear();
+    block.resize(m * m, 0.0);
+    for (a, &i) in support.iter().enumerate() {
+        if block_pos[i] != NOT_IN_BLOCK {
+            let row = &old[block_pos[i] * k..(block_pos[i] + 1) * k];
+            for (b, &j) in support.iter().enumerate() {
+                if block_pos[j] != NOT_IN_BLOCK {
+                    block[a * m + b] = row[block_pos[j]];
+                }
+            }
+        }
+    }
+    if !fresh.is_empty() {
+        // Rows of the new indices (every column), then their columns (every row).
+        let mut rows = vec![0.0; fresh.len() * m];
+        op.block(&fresh, support, &mut rows);
+        let mut cols = vec![0.0; m * fresh.len()];
+        op.block(support, &fresh, &mut cols);
+        let f = fresh.len();
+        for (a, &i) in support.iter().enumerate() {
+            for (t, &j) in fresh.iter().enumerate() {
+                block[a * m + support.binary_search(&j).expect("in the support")] = cols[a * f + t];
+                if i == j {
+                    block[a * m..(a + 1) * m].copy_from_slice(&rows[t * m..(t + 1) * m]);
+                }
+            }
+        }
+    }
+    block_support.clone_from(support);
+}
+
+/// [`form_block`]'s mark of an index outside the previous block.
+const NOT_IN_BLOCK: usize = usize::MAX;
 
 /// The natural residual of `(z, w)` is within `accept_tol·(1 + ‖q‖∞)` of `op`.
 fn within(op: &dyn LcpOperator, z: &[f64], w: &[f64], accept_tol: f64) -> bool {
