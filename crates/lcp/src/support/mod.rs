@@ -666,7 +666,8 @@ fn form_block(op: &dyn LcpOperator, ws: &mut SupportWorkspace) {
     block_pos.clear();
     block_pos.resize(op.n(), NOT_IN_BLOCK);
     block_support.iter().enumerate().for_each(|(p, &j)| block_pos[j] = p);
-    let fresh: Vec<usize> = support.iter().copied().filter(|&j| block_pos[j] == NOT_IN_BLOCK).collect();
+    // Positions in the new support of the indices new to it.
+    let fresh_at: Vec<usize> = (0..m).filter(|&a| block_pos[support[a]] == NOT_IN_BLOCK).collect();
     block.clear();
     block.resize(m * m, 0.0);
     for (a, &i) in support.iter().enumerate() {
@@ -679,20 +680,20 @@ fn form_block(op: &dyn LcpOperator, ws: &mut SupportWorkspace) {
             }
         }
     }
-    if !fresh.is_empty() {
-        // Rows of the new indices (every column), then their columns (every row).
-        let mut rows = vec![0.0; fresh.len() * m];
-        op.block(&fresh, support, &mut rows);
-        let mut cols = vec![0.0; m * fresh.len()];
+    if !fresh_at.is_empty() {
+        // The new indices' columns (every row), then their rows (every column).
+        let (f, fresh) = (fresh_at.len(), fresh_at.iter().map(|&a| support[a]).collect::<Vec<_>>());
+        let mut cols = vec![0.0; m * f];
         op.block(support, &fresh, &mut cols);
-        let f = fresh.len();
-        for (a, &i) in support.iter().enumerate() {
-            for (t, &j) in fresh.iter().enumerate() {
-                block[a * m + support.binary_search(&j).expect("in the support")] = cols[a * f + t];
-                if i == j {
-                    block[a * m..(a + 1) * m].copy_from_slice(&rows[t * m..(t + 1) * m]);
-                }
+        for a in 0..m {
+            for (t, &b) in fresh_at.iter().enumerate() {
+                block[a * m + b] = cols[a * f + t];
             }
+        }
+        let mut rows = vec![0.0; f * m];
+        op.block(&fresh, support, &mut rows);
+        for (t, &a) in fresh_at.iter().enumerate() {
+            block[a * m..(a + 1) * m].copy_from_slice(&rows[t * m..(t + 1) * m]);
         }
     }
     block_support.clone_from(support);
@@ -740,4 +741,31 @@ fn rule_rejects(
 
 fn norm_inf(v: &[f64]) -> f64 {
     v.iter().fold(0.0f64, |a, x| a.max(x.abs()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The block grown from the previous one, index by index in and out, is
+    /// the block formed afresh, bit for bit.
+    #[test]
+    fn a_grown_block_is_the_block_formed_afresh() {
+        let lcp = crate::generate::p_matrix_lcp(30, 7);
+        let mut ws = SupportWorkspace::default();
+        let mut mask: Vec<bool> = (0..30).map(|j| j % 3 != 0).collect();
+        for (round, toggle) in [None, Some(0), Some(4), Some(29), Some(3), Some(0), Some(12)].into_iter().enumerate() {
+            if let Some(j) = toggle {
+                mask[j] = !mask[j];
+            }
+            ws.blocked = round > 0;
+            ws.support = (0..30).filter(|&j| mask[j]).collect();
+            form_block(&lcp, &mut ws);
+            let m = ws.support.len();
+            let mut afresh = vec![0.0; m * m];
+            lcp.block(&ws.support, &ws.support, &mut afresh);
+            assert_eq!(ws.block, afresh, "round {round}");
+            assert_eq!(ws.block_support, ws.support);
+        }
+    }
 }
