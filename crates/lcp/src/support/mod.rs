@@ -150,7 +150,9 @@ pub struct SupportWorkspace {
     failures: usize,
 }
 
-/// A copy of [`SupportWorkspace`]'s factorization fields.
+/// A copy of [`SupportWorkspace`]'s factorization fields (also the factors
+/// [`border`] grows): packed LU of `principal::factor` (row-major,
+/// `support.len()` square), support, pivot order, rank, and `β` as a mask.
 #[derive(Clone, Debug, Default)]
 struct HeldFactors {
     support: Vec<usize>,
@@ -631,11 +633,12 @@ fn solve_fresh(op: &dyn LcpOperator, ws: &mut SupportWorkspace, entered: Option<
     let grown = entered.filter(|&i| {
         ws.factored.len() == n && !ws.factored[i] && (0..n).all(|j| ws.mask[j] == (ws.factored[j] || j == i))
     });
-    let old = grown.map(|_| Factors {
+    let old = grown.map(|_| HeldFactors {
+        support: std::mem::take(&mut ws.support),
         lu: std::mem::take(&mut ws.lu),
-        support: ws.support.clone(),
-        order: ws.order.clone(),
+        order: std::mem::take(&mut ws.order),
         rank: ws.rank,
+        factored: std::mem::take(&mut ws.factored),
     });
     ws.factored.clear();
     ws.support.clear();
@@ -665,15 +668,6 @@ fn solve_fresh(op: &dyn LcpOperator, ws: &mut SupportWorkspace, entered: Option<
     true
 }
 
-/// A factorization of [`principal::factor`]: packed LU (row-major, `support.len()`
-/// square), its support, pivot order and rank.
-struct Factors {
-    lu: Vec<f64>,
-    support: Vec<usize>,
-    order: Vec<usize>,
-    rank: usize,
-}
-
 /// The factors of `β ∪ {i}` from those of the regular block `β` (`old`, its
 /// `rank` pivots; the new support `ws.support` is exactly `β` and `i`, its
 /// block in `ws.block`): `i` bordered on as the last pivot, `L⁻¹ M_βi` its
@@ -682,7 +676,7 @@ struct Factors {
 /// factors unset) when that pivot is below the rank tolerance of
 /// [`principal::factor`]: `i` depends on `β`, and the fresh factorization
 /// decides which index leaves.
-fn border(ws: &mut SupportWorkspace, i: usize, old: &Factors) -> bool {
+fn border(ws: &mut SupportWorkspace, i: usize, old: &HeldFactors) -> bool {
     let (m, r, k) = (ws.support.len(), old.rank, old.support.len());
     if m != r + 1 {
         return false;
@@ -839,7 +833,13 @@ mod tests {
             ws.lu.clone_from(&ws.block);
             ws.rank = principal::factor(&mut ws.lu, m, &mut ws.order, None);
             assert_eq!(ws.rank, m, "a P-matrix's principal blocks are regular");
-            let old = Factors { lu: ws.lu.clone(), support: beta.clone(), order: ws.order.clone(), rank: m };
+            let old = HeldFactors {
+                lu: ws.lu.clone(),
+                support: beta.clone(),
+                order: ws.order.clone(),
+                rank: m,
+                ..Default::default()
+            };
             let i = 5;
             ws.support = (0..24).filter(|&j| j % 4 != 1 || j == i).collect();
             ws.blocked = true;
@@ -864,7 +864,13 @@ mod tests {
         form_block(&lcp, &mut ws);
         ws.lu.clone_from(&ws.block);
         ws.rank = principal::factor(&mut ws.lu, 2, &mut ws.order, None);
-        let old = Factors { lu: ws.lu.clone(), support: vec![0, 1], order: ws.order.clone(), rank: 2 };
+        let old = HeldFactors {
+            lu: ws.lu.clone(),
+            support: vec![0, 1],
+            order: ws.order.clone(),
+            rank: 2,
+            ..Default::default()
+        };
         ws.support = vec![0, 1, 2];
         form_block(&lcp, &mut ws);
         assert!(!border(&mut ws, 2, &old), "column 2 is column 0");
