@@ -153,6 +153,32 @@ fn heap_runs_without_failures_or_penetration(n: usize, steps: usize) -> sim::sce
 ///   (contacts at the edge of touching, `q_i ≈ −1e-11`), where the basis's
 ///   values carry ~1e-12 of round-off. Letting z0 leave once it is within
 ///   1e-10 of 0 rejected more answers (step 187: 71,803 pivots against 17,399).
+/// - at 1973259 (`heap_replay record 200 184 DIR`, the test's trajectory):
+///   steps 0–174 in 8 s, 175–182 10,171–193,744 pivots each (4–163 s), step
+///   183 (n = 13,360) `numerical` after 211,742 pivots (this test: failed
+///   there after 653 s). Its 34 runs: warm starts end on rays within 3–78
+///   pivots; cold runs cycle (565–9,134 pivots), end on rays with z0 at
+///   round-off, or end with 1–3 rows outside the rule whose scale is ~1e-11
+///   (cubes falling side by side); the loaded-friction rounds that follow an
+///   answer ended on such a ray start from a numerically singular basis
+///   (`B⁻¹(B·1)` 1,094 where it is 1) and go cold. Tried on the saved LCPs
+///   and dropped (steps 175–182: 172,991 pivots at 1973259): a ray or cycle
+///   with z0 at round-off restarted from its basis (164,615; step 183 still
+///   fails), plus a cycle continued without Harris's test (144,936; fails);
+///   pivoting the entering variable or its complement into z0's place there
+///   (both pivots 0: the ray is one of the LCP's own solutions); numerically
+///   dependent warm columns repaired like structurally dependent ones; the
+///   polish without Harris's test; four refinement steps of the basis values
+///   (the rows stay out: the vertex, not its round-off); a covering vector
+///   on the infeasible values only (step 175: 3,995 → 12,444–17,610 pivots).
+///   Lemke from the basis read back from its own accepted answer
+///   (`guess::read_basis`, or `z_j > 0`) takes 651–17,361 pivots: the
+///   degenerate flags carry what a warm start needs, so no approximate
+///   answer (sweeps, Newton) read into a basis can be a cheap start.
+/// - with the rule's floor `ρ = max(1e-13, n·ε)` (3.0e-12 at n = 13,360;
+///   measured, not adopted: docs/reliability.md): step 183 is solved
+///   (44,041 pivots replayed), the test fails at step 185 (n = 13,460,
+///   `cycling`) after 719 s.
 /// Run with `cargo test --release -p lcpsim-sim --test heap -- --ignored --nocapture`.
 #[test]
 #[ignore]
