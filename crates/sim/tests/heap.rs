@@ -164,7 +164,7 @@ fn heap_runs_without_failures_or_penetration(n: usize, steps: usize) -> sim::sce
 /// - at 1973259 (`heap_replay record 200 184 DIR`, the test's trajectory):
 ///   steps 0–174 in 8 s, 175–182 10,171–193,744 pivots each (4–163 s), step
 ///   183 (n = 13,360) `numerical` after 211,742 pivots (this test: failed
-///   there after 653 s). Its 34 runs: warm starts end on rays within 3–78
+///   there after 653 s). Its 41 runs: warm starts end on rays within 3–78
 ///   pivots; cold runs cycle (565–9,134 pivots), end on rays with z0 at
 ///   round-off, or end with 1–3 rows outside the rule whose scale is ~1e-11
 ///   (cubes falling side by side); the loaded-friction rounds that follow an
