@@ -51,16 +51,15 @@ fn heap_runs_without_failures_or_penetration(n: usize, steps: usize) -> sim::sce
         assert!(r.ok(), "step {}: {:?}", r.step, r.islands.iter().map(|i| (i.lcp_size, i.status)).collect::<Vec<_>>());
         penetration = r.contacts.iter().fold(penetration, |p, c| p.max(-c.gap));
         pivots += r.pivots;
-        let secs = ts.elapsed().as_secs_f64();
+        let (secs, n) = (ts.elapsed().as_secs_f64(), r.islands.iter().map(|i| i.lcp_size).max().unwrap_or(0));
         if secs > 1.0 {
             // Progress of the slow steps (a forming heap's take seconds to minutes each).
-            let n = r.islands.iter().map(|i| i.lcp_size).max().unwrap_or(0);
             eprintln!("step {} (n = {n}): {} pivots, {secs:.1} s", r.step, r.pivots);
         }
         if secs > slowest.0 {
             slowest = (secs, r.step);
         }
-        largest = largest.max(r.islands.iter().map(|i| i.lcp_size).max().unwrap_or(0));
+        largest = largest.max(n);
     }
     eprintln!(
         "heap of {n} cubes, {steps} steps: {:.1} s, {pivots} pivots, largest LCP {largest}, slowest step {} ({:.1} s), \
@@ -169,8 +168,9 @@ fn heap_runs_without_failures_or_penetration(n: usize, steps: usize) -> sim::sce
 ///   round-off, or end with 1–3 rows outside the rule whose scale is ~1e-11
 ///   (cubes falling side by side); the loaded-friction rounds that follow an
 ///   answer ended on such a ray start from a numerically singular basis
-///   (`B⁻¹(B·1)` 1,094 where it is 1) and go cold. Tried on the saved LCPs
-///   and dropped (steps 175–182: 172,991 pivots at 1973259): a ray or cycle
+///   (`B⁻¹(B·1)` 1,094 where it is 1) and go cold. Tried on step 183's LCP
+///   and on steps 175–182 saved from the earlier run above (d626ab3's
+///   trajectory; 172,991 pivots with 1973259's solver) and dropped: a ray or cycle
 ///   with z0 at round-off restarted from its basis (164,615; step 183 still
 ///   fails), plus a cycle continued without Harris's test (144,936; fails);
 ///   pivoting the entering variable or its complement into z0's place there
