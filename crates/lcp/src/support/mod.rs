@@ -116,8 +116,11 @@ pub struct SupportWorkspace {
     block: Vec<f64>,
     block_support: Vec<usize>,
     blocked: bool,
-    /// Each index's position in `block_support` (scratch of [`form_block`]).
+    /// Scratch of [`form_block`]: each index's position in `block_support`
+    /// ([`NOT_IN_BLOCK`] between calls), the block before, the new indices' entries.
     block_pos: Vec<usize>,
+    block_prev: Vec<f64>,
+    block_fresh: Vec<f64>,
     /// Pivot order (positions in `S`) and rank: `β = S[order[..rank]]`.
     order: Vec<usize>,
     rank: usize,
@@ -133,6 +136,8 @@ pub struct SupportWorkspace {
     w2: Vec<f64>,
     /// The factorization of the answer held while exchanges are tried.
     held: HeldFactors,
+    /// The factors [`border`] grew from, their buffers kept for the next exchange.
+    grown_from: HeldFactors,
     /// A basis whose exchanges found nothing better than its answer, and the
     /// violation below which they are not tried again from it.
     retry: Option<(Vec<bool>, f64)>,
@@ -566,7 +571,8 @@ fn refine_on_factor(op: &dyn LcpOperator, ws: &mut SupportWorkspace, polish: boo
     false
 }
 
-/// `z_β = M_ββ⁻¹ (−q_β)` with the factors in `ws`, `z = 0` elsewhere (`w` zeroed).
+/// `z_β = M_ββ⁻¹ (−q_β)` with the factors in `ws`, `z = 0` elsewhere (`w`
+/// sized `n`, its values left for the caller's `w = M z + q`).
 fn first_solve(op: &dyn LcpOperator, ws: &mut SupportWorkspace) {
     let (n, m, q) = (op.n(), ws.support.len(), op.q());
     ws.x.clear();
@@ -577,7 +583,6 @@ fn first_solve(op: &dyn LcpOperator, ws: &mut SupportWorkspace) {
     principal::solve(&ws.lu, m, &ws.order, ws.rank, &mut ws.x, &mut ws.y);
     ws.z.clear();
     ws.z.resize(n, 0.0);
-    ws.w.clear();
     ws.w.resize(n, 0.0);
     scatter_add(&ws.x, &ws.order[..ws.rank], &ws.support, &mut ws.z);
 }
@@ -633,12 +638,15 @@ fn solve_fresh(op: &dyn LcpOperator, ws: &mut SupportWorkspace, entered: Option<
     let grown = entered.filter(|&i| {
         ws.factored.len() == n && !ws.factored[i] && (0..n).all(|j| ws.mask[j] == (ws.factored[j] || j == i))
     });
-    let old = grown.map(|_| HeldFactors {
-        support: std::mem::take(&mut ws.support),
-        lu: std::mem::take(&mut ws.lu),
-        order: std::mem::take(&mut ws.order),
-        rank: ws.rank,
-        factored: std::mem::take(&mut ws.factored),
+    // β's factors move aside (into `grown_from`, whose buffers `ws` takes over).
+    let old = grown.is_some().then(|| {
+        let mut old = std::mem::take(&mut ws.grown_from);
+        std::mem::swap(&mut old.support, &mut ws.support);
+        std::mem::swap(&mut old.lu, &mut ws.lu);
+        std::mem::swap(&mut old.order, &mut ws.order);
+        std::mem::swap(&mut old.factored, &mut ws.factored);
+        old.rank = ws.rank;
+        old
     });
     ws.factored.clear();
     ws.support.clear();
@@ -649,6 +657,9 @@ fn solve_fresh(op: &dyn LcpOperator, ws: &mut SupportWorkspace, entered: Option<
         return false;
     }
     let bordered = matches!((grown, &old), (Some(i), Some(f)) if border(ws, i, f));
+    if let Some(old) = old {
+        ws.grown_from = old;
+    }
     if !bordered {
         ws.lu.clone_from(&ws.block);
         let first = entered.and_then(|i| ws.support.binary_search(&i).ok());
@@ -684,13 +695,14 @@ fn border(ws: &mut SupportWorkspace, i: usize, old: &HeldFactors) -> bool {
     let at = |j: usize| ws.support.binary_search(&j).ok();
     let Some(pi) = at(i) else { return false };
     // The new support's position of each pivot of β, in pivot order.
-    let mut order = Vec::with_capacity(m);
+    let SupportWorkspace { block, lu, order, .. } = ws;
+    order.clear();
     for &p in &old.order[..r] {
         let Some(a) = at(old.support[p]) else { return false };
         order.push(a);
     }
-    let block = &ws.block;
-    let mut lu = vec![0.0; m * m];
+    // (Every entry is written below.)
+    lu.resize(m * m, 0.0);
     for t in 0..r {
         lu[t * m..t * m + r].copy_from_slice(&old.lu[t * k..t * k + r]);
     }
@@ -710,8 +722,6 @@ fn border(ws: &mut SupportWorkspace, i: usize, old: &HeldFactors) -> bool {
     }
     lu[r * m + r] = pivot;
     order.push(pi);
-    ws.lu = lu;
-    ws.order = order;
     ws.rank = m;
     true
 }
@@ -724,22 +734,24 @@ fn border(ws: &mut SupportWorkspace, i: usize, old: &HeldFactors) -> bool {
 /// factorization's share 12 %).
 fn form_block(op: &dyn LcpOperator, ws: &mut SupportWorkspace) {
     let m = ws.support.len();
-    let SupportWorkspace { support, block, block_support, blocked, block_pos, .. } = ws;
+    let SupportWorkspace { support, block, block_support, blocked, block_pos, block_prev, block_fresh, .. } = ws;
+    // (Every entry of the block is written below: it is sized, not cleared.)
     if !*blocked {
-        block.clear();
         block.resize(m * m, 0.0);
         op.block(support, support, block);
         block_support.clone_from(support);
         *blocked = true;
         return;
     }
-    let (old, k) = (std::mem::take(block), block_support.len());
-    block_pos.clear();
-    block_pos.resize(op.n(), NOT_IN_BLOCK);
+    std::mem::swap(block, block_prev);
+    let (old, k) = (&*block_prev, block_support.len());
+    if block_pos.len() != op.n() {
+        block_pos.clear();
+        block_pos.resize(op.n(), NOT_IN_BLOCK);
+    }
     block_support.iter().enumerate().for_each(|(p, &j)| block_pos[j] = p);
     // Positions in the new support of the indices new to it.
     let fresh_at: Vec<usize> = (0..m).filter(|&a| block_pos[support[a]] == NOT_IN_BLOCK).collect();
-    block.clear();
     block.resize(m * m, 0.0);
     for (a, &i) in support.iter().enumerate() {
         if block_pos[i] != NOT_IN_BLOCK {
@@ -754,19 +766,19 @@ fn form_block(op: &dyn LcpOperator, ws: &mut SupportWorkspace) {
     if !fresh_at.is_empty() {
         // The new indices' columns (every row), then their rows (every column).
         let (f, fresh) = (fresh_at.len(), fresh_at.iter().map(|&a| support[a]).collect::<Vec<_>>());
-        let mut cols = vec![0.0; m * f];
-        op.block(support, &fresh, &mut cols);
+        block_fresh.resize(m * f, 0.0);
+        op.block(support, &fresh, block_fresh);
         for a in 0..m {
             for (t, &b) in fresh_at.iter().enumerate() {
-                block[a * m + b] = cols[a * f + t];
+                block[a * m + b] = block_fresh[a * f + t];
             }
         }
-        let mut rows = vec![0.0; f * m];
-        op.block(&fresh, support, &mut rows);
+        op.block(&fresh, support, block_fresh);
         for (t, &a) in fresh_at.iter().enumerate() {
-            block[a * m..(a + 1) * m].copy_from_slice(&rows[t * m..(t + 1) * m]);
+            block[a * m..(a + 1) * m].copy_from_slice(&block_fresh[t * m..(t + 1) * m]);
         }
     }
+    block_support.iter().for_each(|&j| block_pos[j] = NOT_IN_BLOCK);
     block_support.clone_from(support);
 }
 
@@ -786,7 +798,7 @@ fn within_both(op: &dyn LcpOperator, also: Option<Also<'_>>, accept_tol: f64, ws
     }
     let Some((other, map)) = also else { return true };
     map(&ws.z, &mut ws.z2);
-    ws.w2.clear();
+    // (Every entry is written by `w_of`.)
     ws.w2.resize(ws.z2.len(), 0.0);
     other.w_of(&ws.z2, &mut ws.w2);
     within(other, &ws.z2, &ws.w2, accept_tol)
@@ -825,21 +837,9 @@ mod tests {
     fn a_bordered_index_solves_the_grown_block() {
         for seed in 0..10 {
             let lcp = crate::generate::p_matrix_lcp(24, seed);
-            let mut ws = SupportWorkspace::default();
-            let beta: Vec<usize> = (0..24).filter(|j| j % 4 != 1).collect();
-            ws.support.clone_from(&beta);
-            form_block(&lcp, &mut ws);
-            let m = beta.len();
-            ws.lu.clone_from(&ws.block);
-            ws.rank = principal::factor(&mut ws.lu, m, &mut ws.order, None);
+            let (mut ws, old) = factored(&lcp, (0..24).filter(|j| j % 4 != 1).collect());
+            let m = old.support.len();
             assert_eq!(ws.rank, m, "a P-matrix's principal blocks are regular");
-            let old = HeldFactors {
-                lu: ws.lu.clone(),
-                support: beta.clone(),
-                order: ws.order.clone(),
-                rank: m,
-                ..Default::default()
-            };
             let i = 5;
             ws.support = (0..24).filter(|&j| j % 4 != 1 || j == i).collect();
             ws.blocked = true;
@@ -860,20 +860,21 @@ mod tests {
         // An index equal to one of the block's columns is refused.
         let m = vec![2.0, 1.0, 2.0, 1.0, 3.0, 1.0, 2.0, 1.0, 2.0];
         let lcp = Lcp::new(m, vec![-1.0; 3]).unwrap();
-        let mut ws = SupportWorkspace { support: vec![0, 1], ..Default::default() };
-        form_block(&lcp, &mut ws);
-        ws.lu.clone_from(&ws.block);
-        ws.rank = principal::factor(&mut ws.lu, 2, &mut ws.order, None);
-        let old = HeldFactors {
-            lu: ws.lu.clone(),
-            support: vec![0, 1],
-            order: ws.order.clone(),
-            rank: 2,
-            ..Default::default()
-        };
+        let (mut ws, old) = factored(&lcp, vec![0, 1]);
         ws.support = vec![0, 1, 2];
         form_block(&lcp, &mut ws);
         assert!(!border(&mut ws, 2, &old), "column 2 is column 0");
+    }
+
+    /// A workspace holding the factors of `lcp`'s block on `support`, and a copy of them.
+    fn factored(lcp: &Lcp, support: Vec<usize>) -> (SupportWorkspace, HeldFactors) {
+        let mut ws = SupportWorkspace { support: support.clone(), ..Default::default() };
+        form_block(lcp, &mut ws);
+        ws.lu.clone_from(&ws.block);
+        ws.rank = principal::factor(&mut ws.lu, support.len(), &mut ws.order, None);
+        let held =
+            HeldFactors { lu: ws.lu.clone(), support, order: ws.order.clone(), rank: ws.rank, ..Default::default() };
+        (ws, held)
     }
 
     /// The block grown from the previous one, index by index in and out, is
