@@ -530,6 +530,10 @@ impl ContactLcp {
     fn add_impulses(&self, index: &[Option<usize>], z: &[f64], dv: &mut [Vec3], dw: &mut [Vec3]) {
         for c in 0..self.layout.nc {
             let imp = self.frame_impulse(c, z);
+            // (An unloaded contact adds nothing: on a resting stack half the corners.)
+            if imp == [0.0; 3] {
+                continue;
+            }
             for side in 0..2 {
                 let Some(b) = index[2 * c + side] else { continue };
                 for (w, &zi) in self.minv_jt[2 * c + side].iter().zip(&imp) {
