@@ -167,6 +167,22 @@ struct HeldFactors {
     factored: Vec<bool>,
 }
 
+impl HeldFactors {
+    /// Exchanges these factors, buffers and all, with a workspace's (its
+    /// support, LU, order, rank and `β` mask).
+    fn swap(&mut self, (support, lu, order, rank, factored): WorkspaceFactors<'_>) {
+        std::mem::swap(&mut self.support, support);
+        std::mem::swap(&mut self.lu, lu);
+        std::mem::swap(&mut self.order, order);
+        std::mem::swap(&mut self.rank, rank);
+        std::mem::swap(&mut self.factored, factored);
+    }
+}
+
+/// [`SupportWorkspace`]'s factorization fields, borrowed for [`HeldFactors::swap`].
+type WorkspaceFactors<'a> =
+    (&'a mut Vec<usize>, &'a mut Vec<f64>, &'a mut Vec<usize>, &'a mut usize, &'a mut Vec<bool>);
+
 impl SupportWorkspace {
     /// Copies the current factorization aside.
     fn hold_factors(&mut self) {
@@ -180,12 +196,8 @@ impl SupportWorkspace {
 
     /// Makes the factorization copied aside the current one again.
     fn restore_factors(&mut self) {
-        let h = &mut self.held;
-        std::mem::swap(&mut h.support, &mut self.support);
-        std::mem::swap(&mut h.lu, &mut self.lu);
-        std::mem::swap(&mut h.order, &mut self.order);
-        self.rank = h.rank;
-        std::mem::swap(&mut h.factored, &mut self.factored);
+        let SupportWorkspace { held, support, lu, order, rank, factored, .. } = self;
+        held.swap((support, lu, order, rank, factored));
     }
 
     /// Forgets the kept factorization (the next call factors afresh).
@@ -641,11 +653,8 @@ fn solve_fresh(op: &dyn LcpOperator, ws: &mut SupportWorkspace, entered: Option<
     // β's factors move aside (into `grown_from`, whose buffers `ws` takes over).
     let old = grown.is_some().then(|| {
         let mut old = std::mem::take(&mut ws.grown_from);
-        std::mem::swap(&mut old.support, &mut ws.support);
-        std::mem::swap(&mut old.lu, &mut ws.lu);
-        std::mem::swap(&mut old.order, &mut ws.order);
-        std::mem::swap(&mut old.factored, &mut ws.factored);
-        old.rank = ws.rank;
+        let SupportWorkspace { support, lu, order, rank, factored, .. } = ws;
+        old.swap((support, lu, order, rank, factored));
         old
     });
     ws.factored.clear();
