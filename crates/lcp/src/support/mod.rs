@@ -167,22 +167,6 @@ struct HeldFactors {
     factored: Vec<bool>,
 }
 
-impl HeldFactors {
-    /// Exchanges these factors, buffers and all, with a workspace's (its
-    /// support, LU, order, rank and `β` mask).
-    fn swap(&mut self, (support, lu, order, rank, factored): WorkspaceFactors<'_>) {
-        std::mem::swap(&mut self.support, support);
-        std::mem::swap(&mut self.lu, lu);
-        std::mem::swap(&mut self.order, order);
-        std::mem::swap(&mut self.rank, rank);
-        std::mem::swap(&mut self.factored, factored);
-    }
-}
-
-/// [`SupportWorkspace`]'s factorization fields, borrowed for [`HeldFactors::swap`].
-type WorkspaceFactors<'a> =
-    (&'a mut Vec<usize>, &'a mut Vec<f64>, &'a mut Vec<usize>, &'a mut usize, &'a mut Vec<bool>);
-
 impl SupportWorkspace {
     /// Copies the current factorization aside.
     fn hold_factors(&mut self) {
@@ -196,8 +180,18 @@ impl SupportWorkspace {
 
     /// Makes the factorization copied aside the current one again.
     fn restore_factors(&mut self) {
-        let SupportWorkspace { held, support, lu, order, rank, factored, .. } = self;
-        held.swap((support, lu, order, rank, factored));
+        let mut held = std::mem::take(&mut self.held);
+        self.swap_factors(&mut held);
+        self.held = held;
+    }
+
+    /// Exchanges the current factorization, buffers and all, with `h`.
+    fn swap_factors(&mut self, h: &mut HeldFactors) {
+        std::mem::swap(&mut h.support, &mut self.support);
+        std::mem::swap(&mut h.lu, &mut self.lu);
+        std::mem::swap(&mut h.order, &mut self.order);
+        std::mem::swap(&mut h.rank, &mut self.rank);
+        std::mem::swap(&mut h.factored, &mut self.factored);
     }
 
     /// Forgets the kept factorization (the next call factors afresh).
@@ -653,8 +647,7 @@ fn solve_fresh(op: &dyn LcpOperator, ws: &mut SupportWorkspace, entered: Option<
     // β's factors move aside (into `grown_from`, whose buffers `ws` takes over).
     let old = grown.is_some().then(|| {
         let mut old = std::mem::take(&mut ws.grown_from);
-        let SupportWorkspace { support, lu, order, rank, factored, .. } = ws;
-        old.swap((support, lu, order, rank, factored));
+        ws.swap_factors(&mut old);
         old
     });
     ws.factored.clear();
