@@ -21,7 +21,7 @@ JSON_KEYS = {
     "expected_slide", "lcp", "islands", "wall_time", "steps_per_second", "capture", "captured",
 }
 LCP_KEYS = {"steps", "lcps", "failures", "by_status", "max_residual", "pivots_median", "pivots_max",
-            "max_lcp_size", "max_contacts"}
+            "max_lcp_size", "max_contacts", "retaken"}
 
 
 def simulate_json(capsys, *args: str) -> tuple[int, dict]:

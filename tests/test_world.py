@@ -220,7 +220,8 @@ def test_step_record_holds_exactly_its_fields_with_their_types():
     scalars = {"step": int, "time": float, "dt": float, "contacts": int, "friction_dirs": int, "lcp_size": int,
                "scale": float, "status": str, "pivots": int, "residual": float, "solver_residual": float,
                "min_z": float, "min_w": float, "max_complementarity": float, "zeroed": bool, "islands": int,
-               "energy_before": float, "energy_after": float, "external_work": float, "stabilization_work": float}
+               "energy_before": float, "energy_after": float, "external_work": float, "stabilization_work": float,
+               "parts": int}
     dtypes = {"body_a": np.int64, "body_b": np.int64, "island_of_contact": np.int64, "island_lcp_size": np.int64,
               "island_pivots": np.int64}
     for r in records:
@@ -231,6 +232,8 @@ def test_step_record_holds_exactly_its_fields_with_their_types():
                 assert type(v) is scalars[name], (name, type(v))
             elif name == "basis":
                 assert v is None or (isinstance(v, np.ndarray) and v.dtype == np.bool_ and v.shape == (r.lcp_size,))
+            elif name == "retakes":
+                assert v == ()
             elif name == "island_status":
                 assert type(v) is tuple and len(v) == r.islands and all(type(x) is str for x in v)
             elif name == "island_bodies":

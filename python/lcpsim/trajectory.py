@@ -112,6 +112,7 @@ class LcpStats:
     pivots_max: int
     max_lcp_size: int
     max_contacts: int
+    retaken: int = 0  # steps taken again in parts after a failed LCP (``World(max_halvings=)``)
 
     def to_dict(self) -> dict[str, Any]:
         return fields_dict(self)
@@ -135,7 +136,8 @@ class Trajectory:
     ``pivots``, ``residual`` (physical units), ``solver_residual``, ``lcp_size``, ``contacts``,
     ``normal_impulse`` (Σ fn, N·s), ``friction_impulse`` (T, 3) (Σ over contacts of the friction
     impulse on body A), ``max_lambda`` (largest physical λ, m/s), ``islands`` and
-    ``max_island_size`` (largest island LCP). ``initial_*`` hold the state before the first step.
+    ``max_island_size`` (largest island LCP), ``parts`` (1, or more where a failed LCP had the
+    step taken again in halves: ``World(max_halvings=)``; the status is then the last part's). ``initial_*`` hold the state before the first step.
     ``config`` is the world's :meth:`World.config` when the run started (its bodies' shapes, the
     parameters, the scene); ``contact_log`` every step's contacts when the run recorded them
     (``World.run(..., record_contacts=True)``), else None.
@@ -157,6 +159,7 @@ class Trajectory:
     max_lambda: NDArray[np.float64]
     islands: NDArray[np.int64]
     max_island_size: NDArray[np.int64]
+    parts: NDArray[np.int64]
     initial_positions: NDArray[np.float64]
     initial_orientations: NDArray[np.float64]
     initial_velocities: NDArray[np.float64]
@@ -219,6 +222,7 @@ class Trajectory:
             pivots_max=int(piv.max(initial=0)),
             max_lcp_size=int(self.lcp_size.max(initial=0)),
             max_contacts=int(self.contacts.max(initial=0)),
+            retaken=int((self.parts > 1).sum()),
         )
 
     def save(self, path: str | os.PathLike[str]) -> str:
@@ -270,6 +274,7 @@ class Trajectory:
             max_lambda=cat("max_lambda"),
             islands=cat("islands"),
             max_island_size=cat("max_island_size"),
+            parts=cat("parts"),
             initial_positions=initial["position"],
             initial_orientations=initial["orientation"],
             initial_velocities=np.concatenate([initial["velocity"], initial["angular_velocity"]], axis=1),

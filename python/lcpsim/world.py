@@ -122,6 +122,12 @@ class StepRecord:
     where a contact joins two bodies whose mobilities differ 100-fold or more
     (a heavy body on a light one) are checked, and only with the robust Lemke
     with warm starts (the default); 0 for the others and for a failed solve.
+    ``parts``: 1, or the parts the step was taken in when a failed LCP had
+    (a part of) it taken again as two halves (``World(max_halvings=)``); the
+    contact fields, ``time``, ``dt`` and islands are then the last part's,
+    ``pivots`` counts every attempt and the energy audit spans the step.
+    ``retakes``: the failed attempts, each a dict of ``time``, ``h``,
+    ``pivots`` and its islands' ``lcp_size`` and ``status`` (tuples).
     ``zeroed``: the solve failed and its answer was not applied as it stood:
     the island applied its admissible part (impulses clipped at 0, friction
     scaled into the cone) times the factor in [0, 1] that minimizes the energy
@@ -149,6 +155,8 @@ class StepRecord:
     min_w: float
     max_complementarity: float
     zeroed: bool
+    parts: int
+    retakes: tuple[dict[str, Any], ...]
     energy_before: float
     energy_after: float
     external_work: float
@@ -258,6 +266,13 @@ class World:
         If set, every contact uses this μ.
     threads:
         Threads for the islands' LCPs (0: one per core); results do not depend on it.
+    max_halvings:
+        A step whose contact LCP fails is taken again from its start as two
+        steps of h/2, each of which may be halved again, at most this many
+        halvings deep (0 to 10; default 0: a failure is recorded as it
+        happened). Every part solves its own exact LCP; the step record's
+        ``parts`` and ``retakes`` and the trajectory's ``parts`` say where it
+        happened.
     """
 
     def __init__(
@@ -276,6 +291,7 @@ class World:
         mu_combine: str = _WORLD["mu_combine"],
         mu_override: float | None = _WORLD["mu_override"],
         threads: int = _WORLD["threads"],
+        max_halvings: int = _WORLD["max_halvings"],
         **solver_options: Any,
     ) -> None:
         # The compiled World validates every parameter (messages name the field and
@@ -302,6 +318,7 @@ class World:
             "mu_combine": mu_combine,
             "mu_override": mu_override,
             "threads": threads,
+            "max_halvings": max_halvings,
         }
         self._core = _core.World(params, **solver_options)
         self._method = method

@@ -22,6 +22,11 @@ fn bounded(value: &Bound<'_, PyAny>, field: &str, max: u64) -> PyResult<u64> {
     })
 }
 
+/// A non-negative int of at most `max` (a small setting such as `max_halvings`).
+pub fn at_most(value: &Bound<'_, PyAny>, field: &str, max: u32) -> PyResult<u32> {
+    Ok(bounded(value, field, u64::from(max))? as u32)
+}
+
 /// A count or index ≥ 0 that fits in `usize`.
 pub fn count(value: &Bound<'_, PyAny>, field: &str) -> PyResult<usize> {
     Ok(bounded(value, field, usize::MAX as u64)? as usize)

@@ -111,6 +111,26 @@ fn copied<'py, T: numpy::Element + Copy>(py: Python<'py>, v: &[T], shape: &[usiz
     }
 }
 
+/// The record's failed attempts (`sim::Retake`), each a dict: `time`, `h`,
+/// `pivots`, and its islands' `lcp_size` and `status` (tuples, island order).
+fn retakes_to_py<'py>(py: Python<'py>, r: &StepRecord) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+    r.retakes
+        .iter()
+        .map(|t| {
+            let d = PyDict::new(py);
+            d.set_item("time", t.time)?;
+            d.set_item("h", t.h)?;
+            d.set_item("pivots", t.pivots)?;
+            let sizes: Vec<usize> = t.islands.iter().map(|i| i.lcp_size).collect();
+            let status: Vec<&str> = t.islands.iter().map(|i| i.status.as_str()).collect();
+            d.set_item("lcp_size", pyo3::types::PyTuple::new(py, sizes)?)?;
+            d.set_item("status", pyo3::types::PyTuple::new(py, status)?)?;
+            Ok(d)
+        })
+        .collect::<PyResult<Vec<_>>>()
+        .and_then(|v| pyo3::types::PyTuple::new(py, v))
+}
+
 /// Status of a step without contacts (`lcpsim.world.NO_CONTACT`).
 const NO_CONTACT: &str = "no_contact";
 
@@ -137,6 +157,8 @@ fn record_to_dict<'py>(py: Python<'py>, r: &StepRecord) -> PyResult<Bound<'py, P
     d.set_item(intern!(py, "max_complementarity"), r.residuals.max_complementarity)?;
     d.set_item(intern!(py, "solver_residual"), r.solver_residuals.residual)?;
     d.set_item(intern!(py, "zeroed"), r.zeroed)?;
+    d.set_item(intern!(py, "parts"), r.parts)?;
+    d.set_item(intern!(py, "retakes"), retakes_to_py(py, r)?)?;
     d.set_item(intern!(py, "energy_before"), r.energy.before)?;
     d.set_item(intern!(py, "energy_after"), r.energy.after)?;
     d.set_item(intern!(py, "external_work"), r.energy.external_work)?;
@@ -228,6 +250,7 @@ fn trajectory_to_dict(py: Python<'_>, t: Trajectory) -> PyResult<Bound<'_, PyDic
     d.set_item("pivots", ints(&t.pivots))?;
     d.set_item("islands", ints(&t.islands))?;
     d.set_item("max_island_size", ints(&t.max_island_size))?;
+    d.set_item("parts", ints(&t.parts))?;
     d.set_item("status", PyArray1::from_vec(py, status))?;
     d.set_item("time", PyArray1::from_vec(py, t.time))?;
     d.set_item("position", shaped(py, t.position, [n, b, 3])?)?;
@@ -244,7 +267,7 @@ fn trajectory_to_dict(py: Python<'_>, t: Trajectory) -> PyResult<Bound<'_, PyDic
 
 /// The parameters `World(params)` takes: the keys of `params_dict` less the
 /// derived `scale` and `method_config`.
-const WORLD_FIELDS: [&str; 16] = [
+const WORLD_FIELDS: [&str; 17] = [
     "dt",
     "gravity",
     "friction_dirs",
@@ -261,6 +284,7 @@ const WORLD_FIELDS: [&str; 16] = [
     "mu_combine",
     "mu_override",
     "threads",
+    "max_halvings",
 ];
 
 /// World parameters as a dict (cone_scale: "none", "dt" or the number): a
@@ -284,6 +308,7 @@ pub fn params_dict<'py>(py: Python<'py>, p: &WorldParams) -> PyResult<Bound<'py,
     d.set_item("mu_combine", mu_combine_name(p.mu_combine))?;
     d.set_item("mu_override", p.mu_override)?;
     d.set_item("threads", p.threads)?;
+    d.set_item("max_halvings", p.max_halvings)?;
     d.set_item("method", p.method.name())?;
     d.set_item("method_config", format!("{:?}", p.method))?;
     Ok(d)
@@ -335,6 +360,11 @@ impl World {
             mu_override: p.or("mu_override", |v, f| real(v, f).map(Some), d.mu_override)?,
             method: method_from_py(&p.or("method", text, d.method.name().to_string())?, options)?,
             threads: p.or("threads", convert::count, d.threads)?,
+            max_halvings: p.or(
+                "max_halvings",
+                |v, f| convert::at_most(v, f, sim::limits::MAX_HALVINGS),
+                d.max_halvings,
+            )?,
         };
         guarded(|| sim::World::new(params)).map(World::wrap)
     }

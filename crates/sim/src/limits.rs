@@ -16,6 +16,9 @@ use lcp::limits::{check_dense, SizeError};
 /// contact; 1024 already gives 134 MiB for one box's four contacts).
 pub const MAX_FRICTION_DIRS: usize = 1024;
 
+/// The deepest a failed step is halved (`WorldParams::max_halvings`): parts of `h/1024`.
+pub const MAX_HALVINGS: u32 = 10;
+
 /// The most bodies a scene builds.
 pub const MAX_SCENE_BODIES: usize = 1_000_000;
 

@@ -1,7 +1,7 @@
 //! `WorldParams`: every knob of the simulation, with its default documented on the field.
 
 use crate::contact::{ConeScale, MuCombine, Restitution, Stabilization};
-use crate::error::{finite_vec, non_negative, positive, SimError};
+use crate::error::{finite_vec, in_range, non_negative, positive, SimError};
 use crate::math::Vec3;
 use lcp::Method;
 
@@ -39,6 +39,13 @@ pub struct WorldParams {
     /// island is solved on its own, bit for bit the same on any thread); steps
     /// with little work stay on this thread anyway. Default 1.
     pub threads: usize,
+    /// A step whose contact LCP fails is taken again from its start as two
+    /// steps of `h/2`, each of which may be halved again, at most this many
+    /// halvings deep (`pipeline::retake`); at the end of the halvings the
+    /// failed-solve policy applies. Every part solves its own exact LCP. In
+    /// `[0, limits::MAX_HALVINGS]`; default 0 (never: a failure is recorded as
+    /// it happened, which the experiments that count failures rely on).
+    pub max_halvings: u32,
 }
 
 impl Default for WorldParams {
@@ -56,6 +63,7 @@ impl Default for WorldParams {
             mu_override: None,
             method: Method::default(),
             threads: 1,
+            max_halvings: 0,
         }
     }
 }
@@ -75,6 +83,8 @@ impl WorldParams {
         if let Some(mu) = self.mu_override {
             non_negative("mu_override", mu)?;
         }
+        let most = crate::limits::MAX_HALVINGS;
+        in_range("max_halvings", f64::from(self.max_halvings), 0.0, f64::from(most), "[0, 10]")?;
         Ok(())
     }
 

@@ -13,6 +13,7 @@ use crate::islands::Islands;
 use crate::math::{Mat3, Quat, Vec3};
 use crate::params::WorldParams;
 use crate::pipeline::island_lcp::IslandLcp;
+use crate::pipeline::retake::Parts;
 use crate::pipeline::warm::WarmStarts;
 use crate::pipeline::{LcpSink, StepRecord};
 
@@ -81,6 +82,11 @@ pub(crate) struct Workspace {
     /// Velocity changes from the contact impulses.
     pub dv: Vec<Vec3>,
     pub dw: Vec<Vec3>,
+    /// The `h` of the part being taken while a failed step is retaken in
+    /// parts (`pipeline::retake`); `None` otherwise (`h = dt`).
+    pub part_h: Option<f64>,
+    /// The parts of the step being taken.
+    pub parts: Parts,
 }
 
 impl std::fmt::Debug for World {

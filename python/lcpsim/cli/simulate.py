@@ -202,7 +202,8 @@ def _text(s: dict[str, Any]) -> str:
         exp = f"   (analytic: {s['expected_slide']:.6g} m)" if s["expected_slide"] is not None else ""
         lines.append(f"slide:         {s['slide']:.6g} m along {_fmt_vec(s['direction'], 4)}{exp}")
     lines += [
-        f"LCPs:          {lcp['lcps']} in {lcp['steps']} steps, failures {lcp['failures']} ({fails})",
+        f"LCPs:          {lcp['lcps']} in {lcp['steps']} steps, failures {lcp['failures']} ({fails})"
+        + (f", {lcp['retaken']} steps retaken in parts" if lcp["retaken"] else ""),
         f"residual:      max {lcp['max_residual']:.3e} (physical units, ‖min(z, w)‖∞)",
         f"pivots:        median {lcp['pivots_median']:g}, max {lcp['pivots_max']}",
         f"LCP size:      max {lcp['max_lcp_size']} ({lcp['max_contacts']} contacts)",

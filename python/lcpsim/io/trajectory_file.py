@@ -7,7 +7,7 @@
     traj.save("slope.h5")
     same = Trajectory.load("slope.h5")          # or: lcpsim view slope.h5 --out slope.html
 
-Layout (format ``lcpsim-trajectory``, version 1; ``T`` steps, ``B`` bodies,
+Layout (format ``lcpsim-trajectory``, version 2; ``T`` steps, ``B`` bodies,
 ``N`` contacts over the whole run):
 
 - root attributes ``format``, ``format_version``, ``lcpsim_version``, ``dt``,
@@ -18,7 +18,8 @@ Layout (format ``lcpsim-trajectory``, version 1; ``T`` steps, ``B`` bodies,
   ``status`` (T,) int8 indices into ``status_names``, ``pivots``,
   ``residual``, ``solver_residual``, ``lcp_size``, ``contacts``,
   ``normal_impulse``, ``friction_impulse`` (T, 3), ``max_lambda``,
-  ``islands``, ``max_island_size``;
+  ``islands``, ``max_island_size``, ``parts`` (new in version 2: files of
+  version 1 read as one part per step);
 - the state before the first step: ``initial_positions`` (B, 3),
   ``initial_orientations`` (B, 4), ``initial_velocities`` (B, 6);
 - optional group ``contact_log`` (when the run recorded contacts):
@@ -50,7 +51,7 @@ __all__ = ["FORMAT", "FORMAT_VERSION", "TrajectoryFileError", "save_trajectory",
 #: Value of the root attribute ``format``.
 FORMAT = "lcpsim-trajectory"
 #: Value of the root attribute ``format_version``.
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
 
 # Per-step datasets: name → (dtype, shape after T; "B" = bodies).
 _PER_STEP: dict[str, tuple[str, tuple[Any, ...]]] = {
@@ -68,6 +69,7 @@ _PER_STEP: dict[str, tuple[str, tuple[Any, ...]]] = {
     "max_lambda": ("f8", ()),
     "islands": ("i8", ()),
     "max_island_size": ("i8", ()),
+    "parts": ("i8", ()),
 }
 _INITIAL: dict[str, int] = {"initial_positions": 3, "initial_orientations": 4, "initial_velocities": 6}
 _CONTACT_TAIL: dict[str, tuple[str, tuple[int, ...]]] = {
@@ -181,12 +183,12 @@ def _checked(f: Any, path: str | os.PathLike[str]) -> Trajectory:
     if version > FORMAT_VERSION:
         raise TrajectoryFileError(f"{path}: trajectory format version {version} is newer than this lcpsim reads")
     try:
-        return _read(f, path)
+        return _read(f, path, version)
     except (KeyError, OSError, json.JSONDecodeError) as e:
         raise TrajectoryFileError(f"{path}: damaged trajectory file ({_reason(e)})") from None
 
 
-def _read(f: Any, path: str | os.PathLike[str]) -> Trajectory:
+def _read(f: Any, path: str | os.PathLike[str], version: int) -> Trajectory:
     names = np.array(json.loads(f.attrs["status_names"]))
     codes = f["status"][()].astype(np.int64)
     T = codes.shape[0]
@@ -195,6 +197,9 @@ def _read(f: Any, path: str | os.PathLike[str]) -> Trajectory:
     B = f["initial_positions"].shape[0]
     data: dict[str, Any] = {}
     for name, (dtype, tail) in _PER_STEP.items():
+        if name == "parts" and version < 2:
+            data[name] = np.ones(T, dtype=np.int64)  # before retakes every step was one part
+            continue
         a = f[name][()].astype(dtype)
         want = (T, *(B if d == "B" else d for d in tail))
         if a.shape != want:

@@ -156,7 +156,7 @@ pub fn downhill(name: &str) -> PyResult<sim::Downhill> {
     }
 }
 
-pub use crate::args::count;
+pub use crate::args::{at_most, count};
 
 /// A slope angle in degrees, in [0, 90).
 pub fn angle_deg(value: f64) -> PyResult<f64> {

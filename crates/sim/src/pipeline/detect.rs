@@ -21,16 +21,14 @@ impl World {
             self.ws.contacts.clear();
             return;
         }
+        let h = self.h();
         let ws = &mut self.ws;
         ws.contacts.clear();
         // How far each body can move within the step (for the velocity margins).
         ws.reach.clear();
         ws.reach.extend(self.bodies.iter().enumerate().map(|(k, b)| reach(b, ws.v_free[k], ws.w_free[k])));
-        let margin = PairMargin {
-            base: self.params.margin,
-            h: self.params.dt,
-            reach: self.params.velocity_margin.then_some(&ws.reach[..]),
-        };
+        let margin =
+            PairMargin { base: self.params.margin, h, reach: self.params.velocity_margin.then_some(&ws.reach[..]) };
         ws.broad.find(&self.bodies, &margin);
         for &(i, j) in ws.broad.pairs() {
             let (bi, bj) = (&self.bodies[i], &self.bodies[j]);

@@ -11,7 +11,9 @@
 //! ```
 //!
 //! Every stage is a public method of [`World`] so a caller can run them one by
-//! one (and look at the contacts or the LCP in between); `step` runs them all.
+//! one (and look at the contacts or the LCP in between); `step` runs them all,
+//! and takes a step whose LCP failed again in halves where
+//! `WorldParams::max_halvings` allows (`retake`).
 
 mod body_check;
 mod capture;
@@ -21,6 +23,7 @@ pub(crate) mod island_lcp;
 mod loaded_friction;
 mod record;
 pub mod replay;
+pub(crate) mod retake;
 mod solve;
 pub mod structured;
 mod trajectory;
@@ -29,7 +32,7 @@ mod warm_map;
 
 pub use capture::{Captured, CapturedLcp, LcpBuffer, LcpSink, OwnedLcp};
 pub use energy::EnergyAudit;
-pub use record::{IslandRecord, StepRecord};
+pub use record::{IslandRecord, Retake, StepRecord};
 pub use trajectory::Trajectory;
 
 use crate::contact::assembly::{AssemblyParams, BodyDynamics};
@@ -55,6 +58,27 @@ impl World {
     }
 
     fn step_inner(&mut self, solver: Option<&mut dyn FnMut(&Lcp) -> Solution>) -> Result<&StepRecord, SimError> {
+        let (step, time) = (self.steps, self.time);
+        self.ws.parts.begin();
+        let taken = self.take_part(solver, self.params.dt, self.params.max_halvings);
+        self.ws.part_h = None;
+        taken?;
+        // However many parts it took, it is one step of `dt`.
+        (self.steps, self.time) = (step + 1, time + self.params.dt);
+        self.ws.parts.finish(&mut self.record, step);
+        Ok(&self.record)
+    }
+
+    /// The stages over a part of length `h` of the step (the whole step at
+    /// first); a part whose LCP fails is taken again as two halves while
+    /// `halvings` allow (`retake`).
+    fn take_part(
+        &mut self,
+        mut solver: Option<&mut dyn FnMut(&Lcp) -> Solution>,
+        h: f64,
+        halvings: u32,
+    ) -> Result<(), SimError> {
+        self.ws.part_h = (h != self.params.dt).then_some(h);
         // external forces → free velocities v*
         self.forces_stage()?;
         // contacts with φ ≤ margin
@@ -64,11 +88,27 @@ impl World {
         self.reserve_islands()?;
         // the Stewart–Trinkle LCP of DESIGN §1, per island
         self.assemble_islands(false);
+        if halvings > 0 {
+            self.ws.parts.keep_start(&self.ws.warm, &self.record);
+        }
         // solve the islands, map to physical units, fill the step record, capture
-        self.solve(solver)?;
+        self.solve(reborrow(&mut solver))?;
+        if halvings > 0 && !self.record.ok() {
+            // undone (nothing has moved yet) and taken again in halves
+            self.ws.parts.undo_failed(&mut self.ws.warm, &mut self.record, h);
+            self.take_part(reborrow(&mut solver), h / 2.0, halvings - 1)?;
+            return self.take_part(solver, h / 2.0, halvings - 1);
+        }
         // contact impulses → v⁺, then positions
         self.integrate();
-        Ok(&self.record)
+        self.ws.parts.add(&self.record);
+        Ok(())
+    }
+
+    /// The `h` of the step being taken: `params.dt`, or a part of it while a
+    /// failed step is retaken (`retake`).
+    pub(crate) fn h(&self) -> f64 {
+        self.ws.part_h.unwrap_or(self.params.dt)
     }
 
     /// Runs `steps` steps and returns the trajectory (state after each step
@@ -107,7 +147,7 @@ impl World {
     /// Stage `forces`: sums gravity, applied forces and torques per body and
     /// forms the free velocities `v* = v + h f/m`, `ω* = ω + h I⁻¹ τ`.
     pub fn forces_stage(&mut self) -> Result<(), SimError> {
-        let h = self.params.dt;
+        let h = self.h();
         let nb = self.bodies.len();
         let ws = &mut self.ws;
         // gravity on every dynamic body
@@ -186,9 +226,9 @@ impl World {
             self.islands();
         }
         let p = AssemblyParams {
-            h: self.params.dt,
+            h: self.h(),
             k: self.params.friction_dirs,
-            s: self.params.scale(),
+            s: self.params.cone_scale.value(self.h()),
             stabilization: self.params.stabilization,
             restitution: self.params.restitution,
         };
@@ -210,7 +250,7 @@ impl World {
     /// Stage `integrate`: `v⁺ = v* + M⁻¹ Jᵀ z` with the impulses chosen by
     /// `solve`, then `x += h v⁺` and the quaternion update (renormalized).
     pub fn integrate(&mut self) {
-        let h = self.params.dt;
+        let h = self.h();
         let nb = self.bodies.len();
         let before = self.energy();
         let ws = &mut self.ws;
@@ -237,7 +277,8 @@ impl World {
             integrate_positions(b, h);
         }
         self.time += h;
-        self.steps += 1;
+        // the parts of a retaken step count as one (`step_inner` counts it)
+        self.steps += u64::from(ws.part_h.is_none());
         let stab = &self.params.stabilization;
         let stabilization = (ws.pool[..ws.islands.len()].iter())
             .map(|isl| energy::stabilization_work(&isl.contacts, &isl.z_apply, isl.lcp.layout(), stab, h))
@@ -249,7 +290,7 @@ impl World {
     /// answer's admissible part times the energy-minimizing `α ∈ [0, 1]`
     /// (recorded as its `z_apply`).
     fn fallback_impulses(&mut self) {
-        let (h, g, nb) = (self.params.dt, self.params.gravity, self.bodies.len());
+        let (h, g, nb) = (self.h(), self.params.gravity, self.bodies.len());
         let ws = &mut self.ws;
         for i in 0..ws.islands.len() {
             let isl = &mut ws.pool[i];
@@ -310,4 +351,11 @@ impl World {
     pub fn inv_inertias(&self) -> &[Mat3] {
         &self.ws.inv_inertia
     }
+}
+
+/// The caller's solver again, for one more part of a step.
+fn reborrow<'a>(
+    solver: &'a mut Option<&mut dyn FnMut(&Lcp) -> Solution>,
+) -> Option<&'a mut dyn FnMut(&Lcp) -> Solution> {
+    solver.as_mut().map(|f| &mut **f as &mut dyn FnMut(&Lcp) -> Solution)
 }

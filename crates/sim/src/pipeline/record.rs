@@ -56,6 +56,27 @@ pub struct StepRecord {
     pub island_bodies: Vec<usize>,
     /// Contact indices of every island, island after island (see [`IslandRecord::contacts`]).
     pub island_contacts: Vec<usize>,
+    /// Parts the step was taken in: 1, or more when a failed LCP had a part
+    /// taken again in halves (`WorldParams::max_halvings`). Then the fields
+    /// above (`time`, `dt`, contacts, impulses, islands) are the last part's,
+    /// except that `status` and `zeroed` tell a failure left in any part (the
+    /// step is solved only if every part was), `pivots` counts every attempt
+    /// and `energy` spans the whole step.
+    pub parts: usize,
+    /// The attempts that failed and were taken again in halves, in the order they were made.
+    pub retakes: Vec<Retake>,
+}
+
+/// An attempt at (a part of) a step whose LCP failed, taken again as two parts of `h/2`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Retake {
+    /// Its start (s) and its `h` (s).
+    pub time: f64,
+    pub h: f64,
+    /// Pivots of its solves.
+    pub pivots: usize,
+    /// Its islands, as they ended (at least one not solved).
+    pub islands: Vec<IslandRecord>,
 }
 
 /// One island of a step: which bodies and contacts, and how its LCP went.

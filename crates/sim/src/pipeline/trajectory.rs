@@ -46,6 +46,9 @@ pub struct Trajectory {
     pub islands: Vec<usize>,
     /// Largest island LCP per step (0 without contacts).
     pub max_island_size: Vec<usize>,
+    /// Parts each step was taken in: 1, or more where a failed LCP had a
+    /// part taken again in halves (`WorldParams::max_halvings`).
+    pub parts: Vec<usize>,
     /// The friction directions' cosines and sines, built once per run.
     basis: Option<FrictionBasis>,
 }
@@ -70,6 +73,7 @@ impl Trajectory {
             max_lambda: Vec::with_capacity(steps),
             islands: Vec::with_capacity(steps),
             max_island_size: Vec::with_capacity(steps),
+            parts: Vec::with_capacity(steps),
             basis: None,
         }
     }
@@ -92,6 +96,7 @@ impl Trajectory {
         self.solver_residual.push(r.solver_residuals.residual);
         self.islands.push(r.islands.len());
         self.max_island_size.push(r.islands.iter().map(|i| i.lcp_size).max().unwrap_or(0));
+        self.parts.push(r.parts);
         self.push_impulses(r);
     }
 
