@@ -13,8 +13,17 @@ fn stack(params: WorldParams) -> World {
     BoxStack::new(3).build(params).unwrap().world
 }
 
-fn failed(l: &Lcp) -> Solution {
-    Solution::from_z(l, vec![0.0; l.n()], Status::Numerical, 5)
+/// A solver whose first `fails` calls end `Numerical` after 5 pivots and whose
+/// later ones are the robust Lemke's; `calls` counts them.
+fn failing_first(fails: usize, calls: &mut usize) -> impl FnMut(&Lcp) -> Solution + '_ {
+    move |l: &Lcp| {
+        *calls += 1;
+        if *calls <= fails {
+            Solution::from_z(l, vec![0.0; l.n()], Status::Numerical, 5)
+        } else {
+            lcp::solve(l, &lcp::Method::default())
+        }
+    }
 }
 
 #[test]
@@ -24,15 +33,7 @@ fn a_failed_step_is_taken_again_as_two_steps_of_half_the_length() {
     let energy = retaken.energy();
     // The first solve fails, every later one is the robust Lemke's.
     let mut calls = 0;
-    let mut fails_once = |l: &Lcp| {
-        calls += 1;
-        if calls == 1 {
-            failed(l)
-        } else {
-            lcp::solve(l, &lcp::Method::default())
-        }
-    };
-    let r = retaken.step_with(&mut fails_once).unwrap().clone();
+    let r = retaken.step_with(&mut failing_first(1, &mut calls)).unwrap().clone();
     assert_eq!(calls, 3, "the failed attempt, then one solve per half");
     let mut solve = |l: &Lcp| lcp::solve(l, &lcp::Method::default());
     let first = halves.step_with(&mut solve).unwrap().pivots;
@@ -57,11 +58,7 @@ fn a_failed_step_is_taken_again_as_two_steps_of_half_the_length() {
 fn a_step_that_keeps_failing_is_halved_as_deep_as_allowed_then_left_to_the_failed_solve_policy() {
     let mut w = stack(WorldParams { max_halvings: 2, ..WorldParams::default() });
     let mut calls = 0;
-    let mut always = |l: &Lcp| {
-        calls += 1;
-        failed(l)
-    };
-    let r = w.step_with(&mut always).unwrap().clone();
+    let r = w.step_with(&mut failing_first(usize::MAX, &mut calls)).unwrap().clone();
     // 1 attempt at h, 2 at h/2, then 4 parts of h/4 that keep their failure.
     assert_eq!(calls, 7);
     assert_eq!((r.parts, r.dt, r.time), (4, DT / 4.0, 3.0 * DT / 4.0));
@@ -81,15 +78,7 @@ fn a_part_left_failed_makes_the_step_failed_though_the_last_part_solved() {
     let mut w = stack(WorldParams { max_halvings: 1, ..WorldParams::default() });
     // The attempt at h and the first half fail, the second half is solved.
     let mut calls = 0;
-    let mut fails_twice = |l: &Lcp| {
-        calls += 1;
-        if calls <= 2 {
-            failed(l)
-        } else {
-            lcp::solve(l, &lcp::Method::default())
-        }
-    };
-    let r = w.step_with(&mut fails_twice).unwrap().clone();
+    let r = w.step_with(&mut failing_first(2, &mut calls)).unwrap().clone();
     assert_eq!((calls, r.parts, r.retakes.len()), (3, 2, 1));
     assert!(r.islands.iter().all(|i| i.status == Status::Solved), "the last part's islands");
     assert_eq!(r.status, Some(Status::Numerical));
@@ -100,13 +89,7 @@ fn a_part_left_failed_makes_the_step_failed_though_the_last_part_solved() {
 fn without_halvings_a_failure_is_recorded_as_it_happened() {
     let mut w = stack(WorldParams::default());
     let mut calls = 0;
-    let r = w
-        .step_with(&mut |l: &Lcp| {
-            calls += 1;
-            failed(l)
-        })
-        .unwrap()
-        .clone();
+    let r = w.step_with(&mut failing_first(usize::MAX, &mut calls)).unwrap().clone();
     assert_eq!((calls, r.parts, r.dt, r.status), (1, 1, DT, Some(Status::Numerical)));
     assert!(r.retakes.is_empty() && r.zeroed);
 }
