@@ -54,3 +54,14 @@ def test_a_version_1_trajectory_file_reads_as_one_part_per_step(tmp_path):
 def test_bad_max_halvings_is_refused_by_name(bad):
     with pytest.raises(ValueError, match="max_halvings"):
         World(max_halvings=bad)
+
+
+def test_a_capture_holds_the_failed_attempts_and_the_parts(tmp_path):
+    from lcpsim import open_capture
+
+    w = resting_cube(method="pgs", max_iterations=1, max_halvings=1)
+    w.run(2, capture=tmp_path / "c.h5")
+    with open_capture(tmp_path / "c.h5") as c:
+        assert c.step.tolist() == [0, 0, 0, 1, 1, 1]
+        assert [rec.time for rec in c] == pytest.approx([0, 0, H / 2, H, H, 1.5 * H])
+
