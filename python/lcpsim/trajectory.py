@@ -138,7 +138,8 @@ class Trajectory:
     impulse on body A), ``max_lambda`` (largest physical λ, m/s), ``islands`` and
     ``max_island_size`` (largest island LCP), ``parts`` (1, or more where a failed LCP had the
     step taken again in halves: ``World(max_halvings=)``; the step is solved only if every part
-    was, its other figures are the last part's). ``initial_*`` hold the state before the first step.
+    was, ``pivots`` counts every attempt, the other per-step figures are the last part's).
+    ``initial_*`` hold the state before the first step.
     ``config`` is the world's :meth:`World.config` when the run started (its bodies' shapes, the
     parameters, the scene); ``contact_log`` every step's contacts when the run recorded them
     (``World.run(..., record_contacts=True)``), else None.
