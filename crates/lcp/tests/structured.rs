@@ -198,3 +198,19 @@ fn block_principal_pivoting_improves_a_wrong_basis() {
         }
     }
 }
+
+#[test]
+fn cold_runs_kept_are_not_made_again() {
+    let op = random(60, 30, 3, 0.1, 10, 7);
+    let o = StructuredOptions::default();
+    let mut cold = structured::ColdRuns::default();
+    let first = structured::solve_reusing(&op, &o, None, &mut cold);
+    assert!(first.ok() && first.pivots > 0, "{:?}", first.status);
+    // The same LCP again: its cold run is taken from `cold`, for no pivots.
+    let again = structured::solve_reusing(&op, &o, None, &mut cold);
+    assert!(again.ok());
+    assert_eq!((&again.z, again.pivots), (&first.z, 0));
+    // Under a cap the kept run did not end below, it is made again.
+    let capped = StructuredOptions { max_pivots: Some(first.pivots), ..o };
+    assert!(structured::solve_reusing(&op, &capped, None, &mut cold).pivots > 0);
+}

@@ -86,8 +86,24 @@ enum Start {
     /// From the complementary basis a run ended on whose answer the rule
     /// rejects: the polish (see [`solve`]).
     Polish(Vec<usize>),
-    /// Cold, on a rung.
-    Cold(Rung),
+    /// Cold, on rung `RUNGS[k]`.
+    Cold(usize),
+}
+
+/// The cold runs made on one LCP, for later solves of the same LCP from other
+/// starts ([`solve_reusing`]): a cold run depends on nothing but the problem,
+/// its rung and its pivot cap, so a run that ended before its cap ends the
+/// same under any larger one and need not be made again.
+#[derive(Default)]
+pub struct ColdRuns {
+    runs: [Option<pivot::Run>; RUNGS.len()],
+}
+
+impl ColdRuns {
+    /// Rung `k`'s run, if it was made and ended below `cap` pivots.
+    fn reuse(&self, k: usize, cap: usize) -> Option<pivot::Run> {
+        self.runs[k].as_ref().filter(|r| r.status != Status::MaxPivots && r.pivots < cap).cloned()
+    }
 }
 
 /// The polish's tie tolerance: none, so the least ratio leaves (see [`solve`]).
@@ -125,6 +141,18 @@ const POLISH_TIE_TOL: f64 = 0.0;
 /// (n = 9,900 and 10,550) ended `cycling` and `numerical` after 33,562 and
 /// 45,110 pivots, where the cold rungs solve them in 25,934 and 3,815.
 pub fn solve(op: &StructuredLcp, o: &StructuredOptions, warm: Option<&[bool]>) -> Solution {
+    solve_reusing(op, o, warm, &mut ColdRuns::default())
+}
+
+/// [`solve`], taking the cold runs from `cold` where an earlier solve of the
+/// same `op` made them (they cost no pivots then) and keeping those it makes.
+/// `cold` must hold runs of this `op` only.
+pub fn solve_reusing(
+    op: &StructuredLcp,
+    o: &StructuredOptions,
+    warm: Option<&[bool]>,
+    cold: &mut ColdRuns,
+) -> Solution {
     let n = op.n();
     let limit = o.max_pivots.unwrap_or_else(|| (50 * n).max(1000));
     let bound = o.accept_tol * (1.0 + op.q_norm_inf());
@@ -139,7 +167,7 @@ pub fn solve(op: &StructuredLcp, o: &StructuredOptions, warm: Option<&[bool]>) -
     let strict = |pivots| Settings { tie_tol: POLISH_TIE_TOL, warm_tol: 0.0, ..settings(RUNGS[0].piv_tol, pivots) };
     let mask_of = |b: &[bool]| (0..n).filter(|&j| b[j]).collect::<Vec<usize>>();
     // Runs still to do, the next one last.
-    let mut todo: Vec<Start> = RUNGS.iter().rev().map(|&r| Start::Cold(r)).collect();
+    let mut todo: Vec<Start> = (0..RUNGS.len()).rev().map(Start::Cold).collect();
     let mut warm = warm.filter(|b| o.warm_start && b.len() == n).map(<[bool]>::to_vec);
     if let (Some(b), Some(bo)) = (&warm, &o.bpp) {
         if let Some(r) = bpp::improve(op, b, bo, None) {
@@ -176,11 +204,18 @@ pub fn solve(op: &StructuredLcp, o: &StructuredOptions, warm: Option<&[bool]>) -
                     None => continue,
                 }
             }
-            Start::Cold(rung) => {
-                d.clear();
-                d.extend((0..n).map(|i| if rung.cover == 0 { 1.0 } else { crate::lemke::covering(i, rung.cover) }));
-                pivot::run(op, &d, &settings(rung.piv_tol, pivots))
-            }
+            Start::Cold(k) => match cold.reuse(k, limit.saturating_sub(pivots)) {
+                // made before: the same end, judged and followed up as then, for no pivots now
+                Some(run) => pivot::Run { pivots: 0, ..run },
+                None => {
+                    let rung = RUNGS[k];
+                    d.clear();
+                    d.extend((0..n).map(|i| if rung.cover == 0 { 1.0 } else { crate::lemke::covering(i, rung.cover) }));
+                    let run = pivot::run(op, &d, &settings(rung.piv_tol, pivots));
+                    cold.runs[k] = Some(run.clone());
+                    run
+                }
+            },
         };
         pivots += run.pivots;
         let ended = run.status;

@@ -32,6 +32,7 @@ pub(crate) struct Settings {
 
 /// How a run ended: status, pivots, and `z` with its basis mask when the
 /// run got as far as a basis.
+#[derive(Clone)]
 pub(crate) struct Run {
     pub status: Status,
     pub pivots: usize,

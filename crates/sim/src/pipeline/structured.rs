@@ -17,7 +17,7 @@ use crate::contact::ContactLcp;
 use lcp::contact::ContactLayout;
 use lcp::structured::bpp::{self, BppOptions};
 use lcp::structured::guess::{self, GuessOptions};
-use lcp::structured::{self, StructuredOptions};
+use lcp::structured::{self, ColdRuns, StructuredOptions};
 use lcp::{Solution, Status};
 
 /// Where the structured path starts pivoting.
@@ -56,12 +56,19 @@ pub fn solve(lcp: &ContactLcp, warm: Option<&[bool]>, tol: f64, keep_failure: bo
 /// Solves `p` from `start`; a `Solved` answer is one accepted on the LCP as
 /// scaled and in physical units (else `Numerical`).
 pub(crate) fn solve_problem(p: &StructuredProblem, start: Start) -> Solution {
+    solve_problem_reusing(p, start, &mut ColdRuns::default())
+}
+
+/// [`solve_problem`], the full LCP's cold runs shared by its starts through
+/// `cold` (the step's rule tries up to three starts, each ending, when its
+/// sub-LCPs fail, in the same cold runs on the full LCP).
+fn solve_problem_reusing(p: &StructuredProblem, start: Start, cold: &mut ColdRuns) -> Solution {
     if start == Start::Step {
         let n = p.op.n();
         let first = match &p.warm {
             Some(_) => {
                 let cap = ((WARM_PIVOTS * n as f64) as usize).max(WARM_PIVOTS_MIN);
-                let sol = solve_problem_capped(p, Start::Previous, Some(cap));
+                let sol = solve_problem_capped(p, Start::Previous, Some(cap), cold);
                 if sol.ok() {
                     return sol;
                 }
@@ -69,18 +76,18 @@ pub(crate) fn solve_problem(p: &StructuredProblem, start: Start) -> Solution {
             }
             None => 0,
         };
-        let sol = solve_problem(p, Start::Guess { sweeps: GUESS_SWEEPS });
+        let sol = solve_problem_reusing(p, Start::Guess { sweeps: GUESS_SWEEPS }, cold);
         if sol.ok() {
             return Solution { pivots: sol.pivots + first, ..sol };
         }
         // Lemke from the guess can fail too (a 12-cube heap, n = 800: an
         // answer a hair outside the acceptance rule): the warm basis uncapped (cold without one).
-        let again = solve_problem(p, Start::Previous);
+        let again = solve_problem_reusing(p, Start::Previous, cold);
         let pivots = first + sol.pivots + again.pivots;
         let best = if again.ok() || again.residuals.residual <= sol.residuals.residual { again } else { sol };
         return Solution { pivots, ..best };
     }
-    solve_problem_capped(p, start, None)
+    solve_problem_capped(p, start, None, cold)
 }
 
 /// Pivots allowed from the warm basis before the guess is tried, per unknown.
@@ -97,7 +104,7 @@ pub const WARM_PIVOTS_MIN: usize = 2000;
 pub const GUESS_SWEEPS: usize = 300;
 
 /// [`solve_problem`] for a start other than [`Start::Step`], within `cap` pivots (all rounds) if given.
-fn solve_problem_capped(p: &StructuredProblem, start: Start, cap: Option<usize>) -> Solution {
+fn solve_problem_capped(p: &StructuredProblem, start: Start, cap: Option<usize>, cold: &mut ColdRuns) -> Solution {
     let o = StructuredOptions { accept_tol: p.tol, max_pivots: cap, ..Default::default() };
     let basis = match start {
         Start::Step => unreachable!("handled by solve_problem"),
@@ -115,7 +122,7 @@ fn solve_problem_capped(p: &StructuredProblem, start: Start, cap: Option<usize>)
         Start::PreviousBpp | Start::GuessBpp { .. } => basis.map(|b| improved(p, b)),
         _ => basis,
     };
-    let mut sol = solve_from(p, &o, basis.as_deref());
+    let mut sol = solve_from(p, &o, basis.as_deref(), cold);
     let physical_ok = sol.ok()
         && p.physical.as_ref().is_none_or(|phys| {
             let mut z = sol.z.clone();
@@ -149,7 +156,7 @@ fn merged(lay: ContactLayout, warm: &[bool], mut guess: Vec<bool>) -> Vec<bool> 
 }
 
 /// The loaded-friction sub-LCPs from `warm`, then the full LCP when they fail.
-fn solve_from(p: &StructuredProblem, o: &StructuredOptions, warm: Option<&[bool]>) -> Solution {
+fn solve_from(p: &StructuredProblem, o: &StructuredOptions, warm: Option<&[bool]>, cold: &mut ColdRuns) -> Solution {
     let (op, lay) = (&p.op, p.layout);
     // Friction first for the contacts loaded on the previous step or about to touch (q_fn < 0).
     let active = (0..lay.nc).map(|c| warm.is_some_and(|b| b[lay.fn_index(c)]) || op.q()[lay.fn_index(c)] < 0.0);
@@ -158,7 +165,7 @@ fn solve_from(p: &StructuredProblem, o: &StructuredOptions, warm: Option<&[bool]
         Ok(Solution { pivots, .. }) | Err(pivots) => {
             let left =
                 StructuredOptions { max_pivots: o.max_pivots.map(|m| m.saturating_sub(pivots).max(1)), ..o.clone() };
-            let sol = structured::solve(op, &left, warm);
+            let sol = structured::solve_reusing(op, &left, warm, cold);
             Solution { pivots: sol.pivots + pivots, ..sol }
         }
     }
