@@ -59,6 +59,19 @@ pub struct EnergyAudit {
 }
 
 impl EnergyAudit {
+    /// The audit of this interval followed by `next` (from this one's start
+    /// to `next`'s end): the parts of a retaken step as one step.
+    pub fn then(self, next: EnergyAudit) -> EnergyAudit {
+        EnergyAudit {
+            before: self.before,
+            after: next.after,
+            external_work: self.external_work + next.external_work,
+            stabilization: self.stabilization + next.stabilization,
+        }
+    }
+}
+
+impl EnergyAudit {
     /// Energy the step created: `after − before − external_work − stabilization`
     /// (≤ 0 when it only dissipates).
     pub fn created(&self) -> f64 {

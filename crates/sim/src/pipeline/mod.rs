@@ -111,6 +111,11 @@ impl World {
         self.ws.part_h.unwrap_or(self.params.dt)
     }
 
+    /// The friction-cone scale `s` of the step being taken (it may follow `h`).
+    pub(crate) fn scale(&self) -> f64 {
+        self.params.cone_scale.value(self.h())
+    }
+
     /// Runs `steps` steps and returns the trajectory (state after each step
     /// plus per-step contact physics and LCP statistics).
     pub fn run(&mut self, steps: usize) -> Result<Trajectory, SimError> {
@@ -228,7 +233,7 @@ impl World {
         let p = AssemblyParams {
             h: self.h(),
             k: self.params.friction_dirs,
-            s: self.params.cone_scale.value(self.h()),
+            s: self.scale(),
             stabilization: self.params.stabilization,
             restitution: self.params.restitution,
         };

@@ -57,7 +57,8 @@ impl Parts {
     /// puts back the warm starts and record it started from.
     pub fn undo_failed(&mut self, warm: &mut WarmStarts, record: &mut StepRecord, h: f64) {
         self.pivots += record.pivots;
-        let islands = record.islands.clone();
+        // the failed record is dropped below (its buffers become the kept start's): its islands move out
+        let islands = std::mem::take(&mut record.islands);
         self.retakes.push(Retake { time: record.time, h, pivots: record.pivots, islands });
         std::mem::swap(warm, &mut self.warm);
         std::mem::swap(record, &mut self.record);
@@ -71,16 +72,7 @@ impl Parts {
             self.failed = record.status;
         }
         self.zeroed |= record.zeroed;
-        let e = record.energy;
-        self.energy = Some(match self.energy {
-            None => e,
-            Some(s) => EnergyAudit {
-                before: s.before,
-                after: e.after,
-                external_work: s.external_work + e.external_work,
-                stabilization: s.stabilization + e.stabilization,
-            },
-        });
+        self.energy = Some(self.energy.map_or(record.energy, |s| s.then(record.energy)));
     }
 
     /// Writes the step's totals into the last part's record: its index, the

@@ -100,14 +100,14 @@ impl World {
 
     /// The record's header and contacts, and an empty answer.
     fn record_header(&mut self) {
-        let h = self.h();
+        let (h, s) = (self.h(), self.scale());
         let rec = &mut self.record;
         let nc = self.ws.contacts.len();
         rec.step = self.steps;
         rec.time = self.time;
         rec.dt = h;
         rec.friction_dirs = self.params.friction_dirs;
-        rec.scale = self.params.cone_scale.value(h);
+        rec.scale = s;
         rec.contacts.clear();
         rec.contacts.extend_from_slice(&self.ws.contacts);
         rec.lcp_size = lcp::contact::ContactLayout::new(nc, self.params.friction_dirs).n();
