@@ -85,10 +85,10 @@ fn heap_runs_without_failures_or_penetration(n: usize, steps: usize, params: Wor
 /// Issue 13 item 7: a 200-cube heap runs 200 steps with no failed step and
 /// penetration ≤ 1 mm, a step whose LCP fails taken again in halves up to
 /// three halvings deep (`WorldParams::max_halvings`; every part's LCP solved
-/// exactly). Too slow for the suite (~40 min). Passes at 3d65efb: 200 steps
-/// in 2,353 s, 3,157,073 pivots, largest LCP n = 15,320, penetration
+/// exactly). Too slow for the suite (~30 min). Passes at e545440: 200 steps
+/// in 1,814 s, 2,777,670 pivots, largest LCP n = 15,320, penetration
 /// 6.1e-4 m; steps 183, 194, 196 and 198 retaken (4, 2, 2 and 3 parts; their
-/// failed attempts 130,000–290,000 pivots each), 1,685 s of the run; with two
+/// failed attempts 95,000–215,000 pivots each), 1,247 s of the run; with two
 /// halvings step 183 stays failed (docs/reliability.md, "Retaking a failed
 /// step in halves"). The history below is of the LCPs themselves, at `h`:
 /// the cubes
