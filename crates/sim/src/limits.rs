@@ -19,6 +19,9 @@ pub const MAX_FRICTION_DIRS: usize = 1024;
 /// The deepest a failed step is halved (`WorldParams::max_halvings`): parts of `h/1024`.
 pub const MAX_HALVINGS: u32 = 10;
 
+/// [`MAX_HALVINGS`]'s range as an error message spells it (a test holds the two together).
+pub const HALVINGS_RANGE: &str = "[0, 10]";
+
 /// The most bodies a scene builds.
 pub const MAX_SCENE_BODIES: usize = 1_000_000;
 

@@ -83,8 +83,8 @@ impl WorldParams {
         if let Some(mu) = self.mu_override {
             non_negative("mu_override", mu)?;
         }
-        let most = crate::limits::MAX_HALVINGS;
-        in_range("max_halvings", f64::from(self.max_halvings), 0.0, f64::from(most), "[0, 10]")?;
+        let (most, range) = (crate::limits::MAX_HALVINGS, crate::limits::HALVINGS_RANGE);
+        in_range("max_halvings", f64::from(self.max_halvings), 0.0, f64::from(most), range)?;
         Ok(())
     }
 

@@ -96,8 +96,17 @@ impl World {
         if halvings > 0 && !self.record.ok() {
             // undone (nothing has moved yet) and taken again in halves
             self.ws.parts.undo_failed(&mut self.ws.warm, &mut self.record, h);
-            self.take_part(reborrow(&mut solver), h / 2.0, halvings - 1)?;
-            return self.take_part(solver, h / 2.0, halvings - 1);
+            // An error in a later part (a body's state no longer finite, an
+            // island too large) leaves the bodies where the step began, as an
+            // error in a step taken whole does: the outermost retake keeps them.
+            let start = (h == self.params.dt).then(|| (self.bodies.clone(), self.time));
+            let taken = self
+                .take_part(reborrow(&mut solver), h / 2.0, halvings - 1)
+                .and_then(|()| self.take_part(solver, h / 2.0, halvings - 1));
+            if let (Err(_), Some((bodies, time))) = (&taken, start) {
+                (self.bodies, self.time) = (bodies, time);
+            }
+            return taken;
         }
         // contact impulses → v⁺, then positions
         self.integrate();
