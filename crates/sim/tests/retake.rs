@@ -113,3 +113,29 @@ fn too_many_halvings_are_refused_by_name() {
     let e = World::new(WorldParams { max_halvings: most + 1, ..WorldParams::default() }).unwrap_err().to_string();
     assert!(e.contains("max_halvings") && e.contains("11") && e.contains(&format!("[0, {most}]")), "{e}");
 }
+
+#[test]
+fn an_error_in_a_later_part_leaves_the_bodies_where_the_step_began() {
+    use sim::math::Vec3;
+    let mut w = stack(WorldParams { max_halvings: 1, ..WorldParams::default() });
+    // A free box near the largest f64, flying on: the first half moves it
+    // past f64::MAX, so the second half's free velocities see a position
+    // that is no longer finite.
+    let far = w.add_box(Vec3::new(0.5, 0.5, 0.5), 1.0, Vec3::new(1.7976e308, 0.0, 10.0), 0.5).unwrap();
+    w.set_velocity(far, Vec3::new(1e308, 0.0, 0.0)).unwrap();
+    let before = (w.bodies().to_vec(), w.steps(), w.time());
+    let mut first = true;
+    let mut solver = |l: &Lcp| {
+        let fail = std::mem::take(&mut first);
+        if fail {
+            Solution::from_z(l, vec![0.0; l.n()], Status::Numerical, 5)
+        } else {
+            lcp::solve(l, &lcp::Method::default())
+        }
+    };
+    let e = w.step_with(&mut solver).map(|_| ()).unwrap_err().to_string();
+    assert!(e.contains("non-finite"), "{e}");
+    // The first half had moved every body (the stack by h/2, the far box to
+    // infinity) and the clock: all put back.
+    assert_eq!((w.bodies().to_vec(), w.steps(), w.time()), before);
+}
