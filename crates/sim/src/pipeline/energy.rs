@@ -69,9 +69,7 @@ impl EnergyAudit {
             stabilization: self.stabilization + next.stabilization,
         }
     }
-}
 
-impl EnergyAudit {
     /// Energy the step created: `after − before − external_work − stabilization`
     /// (≤ 0 when it only dissipates).
     pub fn created(&self) -> f64 {
