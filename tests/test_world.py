@@ -206,6 +206,36 @@ def test_step_record_of_a_resting_cube():
     assert w.last_record.step == 0 and w.steps == 1 and w.time == pytest.approx(H)
 
 
+def test_entered_counts_what_had_to_enter_the_basis():
+    """Two stacked boxes sliding at different speeds until friction stops
+    them. The first contact step starts cold (every w basic): every positive
+    z had to enter, at least the loaded normals, and Lemke took at least one
+    pivot each. Later steps start from the previous basis: what entered is
+    the positive z it had nonbasic, and the stops bring some in."""
+    w = World()
+    w.add_ground(mu=0.5)
+    for i in range(2):
+        w.add_box(size=1.0, mass=1.0, position=(0, 0, 0.5 + i), velocity=(0.2 + 0.3 * i, 0, 0))
+
+    def positive(r: StepRecord) -> np.ndarray:
+        return np.concatenate([r.fn, r.fd.ravel(), r.lam]) > 0
+
+    first = w.step()
+    assert first.islands == 1 and first.basis is not None
+    e = int(first.island_entered[0])
+    assert e == int(positive(first).sum()) and e >= int((first.fn > 0).sum()) >= 2
+    assert first.pivots >= e
+    prev, moved = first, 0
+    for _ in range(120):
+        r = w.step()
+        assert r.islands == 1 and r.basis is not None and r.contacts == prev.contacts
+        assert not (positive(r) & ~r.basis).any()
+        assert int(r.island_entered[0]) == int((positive(r) & ~prev.basis).sum())
+        moved += int(r.island_entered[0] > 0)
+        prev = r
+    assert moved >= 2 and int(prev.island_entered[0]) == 0 and np.abs(w.velocities).max() < 1e-9
+
+
 def test_step_record_holds_exactly_its_fields_with_their_types():
     """The compiled step's dict becomes the record's __dict__: it must hold
     every dataclass field and nothing else, each of the declared type."""
@@ -223,7 +253,7 @@ def test_step_record_holds_exactly_its_fields_with_their_types():
                "energy_before": float, "energy_after": float, "external_work": float, "stabilization_work": float,
                "parts": int}
     dtypes = {"body_a": np.int64, "body_b": np.int64, "island_of_contact": np.int64, "island_lcp_size": np.int64,
-              "island_pivots": np.int64}
+              "island_pivots": np.int64, "island_entered": np.int64}
     for r in records:
         assert set(vars(r)) == set(names)
         for name in names:

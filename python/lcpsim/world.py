@@ -116,6 +116,12 @@ class StepRecord:
     (one LCP each): ``island_of_contact`` (nc,), per island ``island_bodies``,
     ``island_lcp_size``/``pivots``/``residual``/``status``; ``status`` is "solved" iff every island
     was, else the first unsolved one's; ``pivots`` total, ``residual`` max.
+    ``island_entered``: how many ``z`` of the island's answer are positive that
+    the basis its step started from (the previous step's, or every ``w``
+    basic when cold) had nonbasic; each had to enter, one per pivot, so any
+    pivoting run from that start takes at least that many pivots: beside
+    ``island_pivots`` it shows how straight the solve went (−1 when not
+    solved).
     ``island_body_eta``: each island's body-space backward error (every contact
     row judged on the scale of the velocities it relates; an answer passes
     when it is ≤ the solver's ``accept_tol``, 1e-9 by default). Only islands
@@ -180,6 +186,7 @@ class StepRecord:
     island_bodies: tuple[NDArray[np.int64], ...]
     island_lcp_size: NDArray[np.int64]
     island_pivots: NDArray[np.int64]
+    island_entered: NDArray[np.int64]
     island_residual: NDArray[np.float64]
     island_body_eta: NDArray[np.float64]
     island_status: tuple[str, ...]

@@ -231,6 +231,8 @@ fn islands_to_dict(py: Python<'_>, r: &StepRecord, d: &Bound<'_, PyDict>) -> PyR
     d.set_item(intern!(py, "island_bodies"), pyo3::types::PyTuple::new(py, bodies)?)?;
     d.set_item(intern!(py, "island_lcp_size"), copied(py, &each(|i| i.lcp_size as i64), &[count]))?;
     d.set_item(intern!(py, "island_pivots"), copied(py, &each(|i| i.pivots as i64), &[count]))?;
+    let entered = each(|i| i.entered.map_or(-1, |e| e as i64));
+    d.set_item(intern!(py, "island_entered"), copied(py, &entered, &[count]))?;
     let res: Vec<f64> = r.islands.iter().map(|i| i.residual).collect();
     d.set_item(intern!(py, "island_residual"), copied(py, &res, &[count]))?;
     let eta: Vec<f64> = r.islands.iter().map(|i| i.body_eta).collect();

@@ -15,6 +15,14 @@
 //! pivoting alone on the full LCP from that basis (infeasible values before
 //! and after, factorizations, seconds).
 //!
+//! `cargo run --release -p lcpsim-sim --example heap_replay -- distance CUBES STEPS HALVINGS [SEED]`
+//! runs the walled heap (`max_halvings = HALVINGS`) and prints per step the
+//! largest LCP, pivots, the islands' summed `entered` (the fewest pivots
+//! that could have reached the answers found from the bases the step started
+//! from), seconds, and at the end the totals with the seconds the
+//! steps would have taken at their own cost per pivot had every island gone
+//! straight to its basis: what warm starts could save at best.
+//!
 //! With `LCPSIM_LEMKE_TRACE=1` set, every structured Lemke run prints its
 //! counts to standard error (`lemke_trace` and `lemke_end` lines: degenerate
 //! pivots, ties, re-entries, z0's course, small pivots and the jumps of the
@@ -108,6 +116,34 @@ fn solve(start: &str, files: &[String]) {
     }
 }
 
+fn distance(cubes: usize, steps: usize, halvings: u32, seed: u64) {
+    let p = WorldParams { max_halvings: halvings, ..WorldParams::default() };
+    let mut s = CubeHeap { walls: true, ..CubeHeap::new(cubes, seed) }.build(p).unwrap();
+    let (mut pivots, mut dist, mut secs, mut straight, mut failed) = (0usize, 0usize, 0.0f64, 0.0f64, 0usize);
+    for _ in 0..steps {
+        let ts = Instant::now();
+        let r = s.world.step().unwrap();
+        let t = ts.elapsed().as_secs_f64();
+        let d: usize = r.islands.iter().filter_map(|i| i.entered).sum();
+        let n = r.islands.iter().map(|i| i.lcp_size).max().unwrap_or(0);
+        (pivots, dist, secs) = (pivots + r.pivots, dist + d, secs + t);
+        // At this step's cost per pivot (a step without pivots costs what it cost).
+        straight += if r.pivots > 0 { t * (d.min(r.pivots) as f64 / r.pivots as f64) } else { t };
+        failed += usize::from(!r.ok());
+        println!(
+            "step {} n {n} islands {} parts {} pivots {} entered {d} secs {t:.3} ok {}",
+            r.step,
+            r.islands.len(),
+            r.parts,
+            r.pivots,
+            r.ok()
+        );
+    }
+    println!(
+        "done: {steps} steps, {secs:.1} s, {pivots} pivots, {dist} entered, {straight:.1} s going straight, {failed} failed"
+    );
+}
+
 /// Flags of `guess` that differ from `answer`: all, then those of `fn`, `fd` and `λ`.
 fn wrong_by_kind(p: &StructuredProblem, guess: &[bool], answer: &[bool]) -> String {
     let lay = p.layout;
@@ -121,6 +157,12 @@ fn main() {
     match a.first().map(String::as_str) {
         Some("record") if a.len() == 4 => record(a[1].parse().unwrap(), a[2].parse().unwrap(), &a[3]),
         Some("solve") if a.len() >= 3 => solve(&a[1], &a[2..]),
-        _ => eprintln!("usage: heap_replay record CUBES STEPS DIR | heap_replay solve START FILE..."),
+        Some("distance") if a.len() >= 4 => {
+            let seed = a.get(4).map_or(0, |x| x.parse().unwrap());
+            distance(a[1].parse().unwrap(), a[2].parse().unwrap(), a[3].parse().unwrap(), seed)
+        }
+        _ => eprintln!(
+            "usage: heap_replay record CUBES STEPS DIR | solve START FILE... | distance CUBES STEPS HALVINGS [SEED]"
+        ),
     }
 }

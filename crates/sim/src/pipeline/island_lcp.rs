@@ -26,6 +26,8 @@ pub struct IslandLcp {
     pub previous: Option<usize>,
     /// Whether this step's solve started from such a basis.
     pub warmed: bool,
+    /// Unknowns the answer had to bring into the basis (`IslandRecord::entered`).
+    pub entered: Option<usize>,
     /// The solver's answer (scaled LCP), `None` before the solve or when the LCP was invalid.
     pub sol: Option<Solution>,
     /// Set when the LCP could not be handed to the solver (non-finite data).
@@ -77,6 +79,7 @@ impl IslandLcp {
         let n = self.lcp.n();
         self.sol = None;
         self.error = None;
+        self.entered = None;
         let warm = self.warm.take().filter(|b| b.len() == n);
         self.warmed = warm.is_some();
         // Whether the body-space check judges this island's answer (bodies of
@@ -179,6 +182,11 @@ impl IslandLcp {
             self.zeroed = true;
             self.z_apply.resize(n, 0.0);
         }
+        // Positive z_j that the start basis (the warm one, or every w basic) had nonbasic.
+        self.entered = (sol.status == Status::Solved).then(|| {
+            let outside = |j: usize| warm.as_deref().is_none_or(|b| !b[j]);
+            self.z.iter().enumerate().filter(|&(j, &v)| v > 0.0 && outside(j)).count()
+        });
         self.sol = Some(sol);
     }
 }

@@ -105,6 +105,13 @@ pub struct IslandRecord {
     pub zeroed: bool,
     /// The solve started from the previous step's basis of the same island.
     pub warm: bool,
+    /// When solved: how many `z_j` are positive in the answer that the basis
+    /// the solve started from (the previous step's, or every `w_j` basic)
+    /// had nonbasic. Each had to enter the basis, and a complementary pivot
+    /// brings one variable in, so any pivoting run from that start to that
+    /// answer takes at least this many pivots: the distance the island had
+    /// to go, beside `pivots`, the way it went (a guessed basis jumps).
+    pub entered: Option<usize>,
 }
 
 impl StepRecord {

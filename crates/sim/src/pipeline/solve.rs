@@ -189,6 +189,7 @@ impl World {
                 body_eta: isl.body_eta,
                 zeroed: isl.zeroed,
                 warm: isl.warmed,
+                entered: isl.entered,
             });
         }
         rec.residuals = Residuals::of(&rec.z, &rec.w);
