@@ -299,6 +299,8 @@ def main() -> int:
     ap.add_argument("--mem-cap-gb", type=float, default=4.0, help="address-space cap of each worker")
     ap.add_argument("--out", default=str(HERE / "many_bodies.json.gz"))
     ap.add_argument("--render", action="store_true", help="don't run: render the saved --out file")
+    ap.add_argument("--windows", default=None,
+                    help="with --render: each engine's seconds between these steps (comma-separated)")
     ap.add_argument("--merge", action="store_true", help="replace only the scenes run in the saved --out file")
     ap.add_argument("--write-results", action="store_true",
                     help=f"replace the section of {RESULTS_MD.relative_to(ROOT)} from '{many_bodies_report.MARKER}' on")
@@ -317,6 +319,9 @@ def main() -> int:
             res = old
         with open(args.out, "wb") as raw, gzip.GzipFile(fileobj=raw, mode="wb", mtime=0) as gz:
             gz.write(json.dumps(res).encode())
+    if args.windows:
+        print("\n".join(many_bodies_report.windows(res, [int(x) for x in args.windows.split(",")])))
+        return 0
     lines = section(res)
     print("\n".join(lines))
     if args.write_results:

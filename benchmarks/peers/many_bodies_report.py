@@ -77,6 +77,27 @@ def same_steps_ratio(s: dict[str, Any], mj: dict[str, Any]) -> float | None:
     return t_mj / prog[-1][1] if prog[-1][1] > 0 else None
 
 
+def windows(res: dict[str, Any], bounds: list[int]) -> list[str]:
+    """Each engine's stepping seconds between successive ``bounds`` (steps), read
+    from its progress points (interpolated inside a stepping call, which the
+    line marks): where in a heap's course the time goes."""
+    lines = []
+    for key, sc in res["scenes"].items():
+        for eng, s in sc["engines"].items():
+            prog = s.get("progress") or []
+            if not prog:
+                continue
+            steps, secs = [0] + [p[0] for p in prog], [0.0] + [p[1] for p in prog]
+            for a, b in zip(bounds, bounds[1:]):
+                if b > steps[-1]:
+                    break
+                t = float(np.interp(b, steps, secs) - np.interp(a, steps, secs))
+                exact = a in steps and b in steps
+                lines.append(f"{key} {eng} steps {a}-{b}: {t:.1f} s, {t / (b - a):.3f} s/step"
+                             + ("" if exact else " (interpolated)"))
+    return lines
+
+
 def render(res: dict[str, Any]) -> list[str]:
     cfg = res["config"]
     v = res["versions"]
