@@ -21,7 +21,7 @@
 //! that could have reached the answers found from the bases the step started
 //! from), seconds, and at the end the totals with the seconds the
 //! steps would have taken at their own cost per pivot had every island gone
-//! straight to its basis: what warm starts could save at best.
+//! straight to its answer: what a shorter path could save at best.
 //!
 //! With `LCPSIM_LEMKE_TRACE=1` set, every structured Lemke run prints its
 //! counts to standard error (`lemke_trace` and `lemke_end` lines: degenerate
@@ -119,14 +119,14 @@ fn solve(start: &str, files: &[String]) {
 fn distance(cubes: usize, steps: usize, halvings: u32, seed: u64) {
     let p = WorldParams { max_halvings: halvings, ..WorldParams::default() };
     let mut s = CubeHeap { walls: true, ..CubeHeap::new(cubes, seed) }.build(p).unwrap();
-    let (mut pivots, mut dist, mut secs, mut straight, mut failed) = (0usize, 0usize, 0.0f64, 0.0f64, 0usize);
+    let (mut pivots, mut entered, mut secs, mut straight, mut failed) = (0usize, 0usize, 0.0f64, 0.0f64, 0usize);
     for _ in 0..steps {
         let ts = Instant::now();
         let r = s.world.step().unwrap();
         let t = ts.elapsed().as_secs_f64();
         let d: usize = r.islands.iter().filter_map(|i| i.entered).sum();
         let n = r.islands.iter().map(|i| i.lcp_size).max().unwrap_or(0);
-        (pivots, dist, secs) = (pivots + r.pivots, dist + d, secs + t);
+        (pivots, entered, secs) = (pivots + r.pivots, entered + d, secs + t);
         // At this step's cost per pivot (a step without pivots costs what it cost).
         straight += if r.pivots > 0 { t * (d.min(r.pivots) as f64 / r.pivots as f64) } else { t };
         failed += usize::from(!r.ok());
@@ -140,7 +140,7 @@ fn distance(cubes: usize, steps: usize, halvings: u32, seed: u64) {
         );
     }
     println!(
-        "done: {steps} steps, {secs:.1} s, {pivots} pivots, {dist} entered, {straight:.1} s going straight, {failed} failed"
+        "done: {steps} steps, {secs:.1} s, {pivots} pivots, {entered} entered, {straight:.1} s going straight, {failed} failed"
     );
 }
 

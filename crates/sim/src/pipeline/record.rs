@@ -110,7 +110,8 @@ pub struct IslandRecord {
     /// had nonbasic. Each had to enter the basis, and a complementary pivot
     /// brings one variable in, so any pivoting run from that start to that
     /// answer takes at least this many pivots: the distance the island had
-    /// to go, beside `pivots`, the way it went (a guessed basis jumps).
+    /// to go, beside `pivots`, the way it went (`pivots` can be fewer when a
+    /// basis guessed from the previous impulses was the start that solved).
     pub entered: Option<usize>,
 }
 
