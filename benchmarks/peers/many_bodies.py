@@ -303,7 +303,8 @@ def main() -> int:
                     help="with --render: each engine's seconds between these steps (comma-separated)")
     ap.add_argument("--merge", action="store_true", help="replace only the scenes run in the saved --out file")
     ap.add_argument("--write-results", action="store_true",
-                    help=f"replace the section of {RESULTS_MD.relative_to(ROOT)} from '{many_bodies_report.MARKER}' on")
+                    help=f"rewrite the section '{many_bodies_report.MARKER}' of {RESULTS_MD.relative_to(ROOT)} "
+                         "(the subsections this run does not write are kept)")
     args = ap.parse_args()
     if args.render:
         with gzip.open(args.out, "rt") as f:

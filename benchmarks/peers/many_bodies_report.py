@@ -161,7 +161,7 @@ def render(res: dict[str, Any]) -> list[str]:
 
 # --------------------------------------------------------------------------- the other two benchmarks
 
-#: RESULTS.md's "Many bodies" section runs from this heading to the end of the file.
+#: RESULTS.md's "Many bodies" section runs from this heading to the next "## " heading or the end.
 MARKER = "## Many bodies"
 
 
@@ -192,13 +192,27 @@ def render_broadphase(bp: dict[str, Any]) -> list[str]:
     return lines + [""]
 
 
+def _subsections(text: str) -> tuple[str, list[tuple[str, str]]]:
+    """``text`` as what precedes its first "### " heading and its (heading, block) pairs."""
+    parts = ("\n" + text).split("\n### ")
+    blocks = [("### " + p).rstrip("\n") for p in parts[1:]]
+    return parts[0].strip("\n"), [(b.split("\n", 1)[0], b) for b in blocks]
+
+
 def splice(md: str, section: list[str]) -> str:
     """``md`` with its "Many bodies" section (from :data:`MARKER` to the next top-level
-    heading, such as fclib_siconos.py's, or the end) replaced by ``section``."""
+    heading, such as fclib_siconos.py's, or the end) rewritten from ``section``: its
+    text before the first subsection and every subsection it has are replaced (a
+    subsection by the one of the same heading, in place; new ones after the rest),
+    and the subsections it does not have — earlier runs, written by hand — are kept."""
     head, _, rest = md.partition("\n" + MARKER)
     later = rest.split("\n## ", 1)
     keep = "\n## " + later[1].rstrip("\n") + "\n" if len(later) == 2 else ""
-    return head.rstrip("\n") + "\n\n" + "\n".join(section).rstrip("\n") + "\n" + keep
+    _, old = _subsections(MARKER + later[0]) if rest else ("", [])
+    top, new = _subsections("\n".join(section))
+    fresh = dict(new)
+    blocks = [top] + [fresh.get(h, b) for h, b in old] + [b for h, b in new if h not in dict(old)]
+    return head.rstrip("\n") + "\n\n" + "\n\n".join(blocks) + "\n" + keep
 
 
 def tail(md: str) -> str:
