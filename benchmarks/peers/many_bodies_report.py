@@ -210,8 +210,8 @@ def splice(md: str, section: list[str]) -> str:
     keep = "\n## " + later[1].rstrip("\n") + "\n" if len(later) == 2 else ""
     _, old = _subsections(MARKER + later[0]) if rest else ("", [])
     top, new = _subsections("\n".join(section))
-    fresh = dict(new)
-    blocks = [top] + [fresh.get(h, b) for h, b in old] + [b for h, b in new if h not in dict(old)]
+    fresh, had = dict(new), {h for h, _ in old}
+    blocks = [top] + [fresh.get(h, b) for h, b in old] + [b for h, b in new if h not in had]
     return head.rstrip("\n") + "\n\n" + "\n\n".join(blocks) + "\n" + keep
 
 
