@@ -109,7 +109,10 @@ fn lexicographic(basis: &Basis, x: &Column, sc: &mut Scratch, thresh: f64, tie_t
     if !theta.is_finite() {
         return None;
     }
-    let vtol = tie_tol * vmax;
+    // Never narrower than the rounding of `v − θ·x` (a few ulps of the
+    // largest value): at `zero_tol = 0` the least ratio's row could round
+    // to a positive remainder, tie with nothing, and end the run on a false ray.
+    let vtol = tie_tol.max(4.0 * f64::EPSILON) * vmax;
     // Rows that reach zero within vtol at this step; z0 among them ends the run.
     sc.tied.clear();
     sc.hits.clear();
@@ -173,5 +176,25 @@ pub(crate) fn first_leaving(q: &[f64], d: &[f64], rule: Rule) -> usize {
             let scale = q.iter().fold(0.0f64, |a, v| a.max(v.abs()));
             (0..q.len()).rev().find(|&i| (ratio(i) - min) * d[i] <= tie_tol * scale).unwrap_or(0)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::problem::Lcp;
+
+    /// With a zero tie tolerance (`zero_tol = 0`) the least ratio's row
+    /// leaves even where `v − (v/x)·x` rounds above 0; no false ray.
+    #[test]
+    fn a_least_ratio_rounding_above_zero_still_leaves() {
+        let (v, x) = (0.30742957079546274, 0.5191046212719266);
+        assert!(v - (v / x) * x > 0.0, "the rounding guarded against");
+        let lcp = Lcp::from_fn(1, |_, _| 1.0, vec![v]).unwrap();
+        let d = [1.0];
+        let basis = Basis::slack(&lcp, &d, Default::default());
+        let col = Column { xs: Vec::new(), xw: vec![x] };
+        let got = lexicographic(&basis, &col, &mut Scratch::default(), 1e-12, 0.0);
+        assert!(matches!(got, Some((Leaving::W(0), t)) if t == v / x), "{:?}", got.map(|g| g.1));
     }
 }
