@@ -85,12 +85,14 @@ fn heap_runs_without_failures_or_penetration(n: usize, steps: usize, params: Wor
 /// Issue 13 item 7: a 200-cube heap runs 200 steps with no failed step and
 /// penetration ≤ 1 mm, a step whose LCP fails taken again in halves up to
 /// three halvings deep (`WorldParams::max_halvings`; every part's LCP solved
-/// exactly). Too slow for the suite (~30 min). Passes at e545440: 200 steps
-/// in 1,814 s, 2,777,670 pivots, largest LCP n = 15,320, penetration
-/// 6.1e-4 m; steps 183, 194, 196 and 198 retaken (4, 2, 2 and 3 parts; their
-/// failed attempts 95,000–215,000 pivots each), 1,247 s of the run; with two
-/// halvings step 183 stays failed (docs/reliability.md, "Retaking a failed
-/// step in halves"). The history below is of the LCPs themselves, at `h`:
+/// exactly). Too slow for the suite (~20 min). Passes at 3686991: 200
+/// steps in 1,171 s, 1,994,683 pivots, largest LCP n = 15,210, penetration
+/// 6.1e-4 m; steps 194 and 199 retaken (3 and 2 parts; their failed attempts
+/// 197,000–278,000 pivots each), 787 s of the run. At e545440, before the
+/// polish's false ray was mended: 1,814 s, 2,777,670 pivots, steps 183, 194,
+/// 196 and 198 retaken, and with two halvings step 183 stayed failed
+/// (docs/reliability.md, "Retaking a failed step in halves" and "A false ray
+/// in the polish"). The history below is of the LCPs themselves, at `h`:
 /// the cubes
 /// land at steps 140–200 and the heap is one island of n = 4,000–13,000 whose
 /// contacts change every step. Measured in release on the loaded 2-core
