@@ -4,7 +4,8 @@
 //! A tie is broken on the columns of `B⁻¹`, one solve per column that is
 //! not a basic slack's, computed only when a tie occurs. A leaving row whose
 //! pivot would be small is traded, where one is near enough, for the largest
-//! pivot of Harris's two-pass test ([`harris`]).
+//! pivot of Harris's two-pass test ([`harris`]). Once z0 is near 0, a run
+//! ends where its answer already stands accepted ([`stands_accepted`]).
 //!
 //! With `LCPSIM_LEMKE_TRACE` set, each run prints its counts to standard
 //! error ([`super::trace`]).
@@ -137,14 +138,14 @@ fn cover_into(op: &StructuredLcp, alpha: &[usize], d: &mut Vec<f64>) {
 }
 
 /// Whether the basic `z` of `b` (clipped at 0) is an answer the acceptance
-/// rule takes at `tol`, with a natural residual within `tol·(1 + ‖q‖∞)`.
-fn stands_accepted(op: &StructuredLcp, b: &Basis, tol: f64) -> bool {
+/// rule takes at `tol`, with a natural residual within `bound`.
+fn stands_accepted(op: &StructuredLcp, b: &Basis, tol: f64, bound: f64) -> bool {
     let mut z = Vec::new();
     b.z_into(&mut z);
     z.iter_mut().for_each(|v| *v = v.max(0.0));
     let mut w = vec![0.0; z.len()];
     op.w_of(&z, &mut w);
-    crate::solution::Residuals::of(&z, &w).residual <= tol * (1.0 + op.q_norm_inf()) && super::accepts(op, &z, &w, tol)
+    crate::solution::Residuals::of(&z, &w).residual <= bound && super::accepts(op, &z, &w, tol)
 }
 
 /// `w_i ↔ z_i`.
@@ -169,6 +170,7 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
     let mut seen: HashSet<u64> = HashSet::new();
     let mut hash = basis.var.iter().fold(0u64, |h, &v| h ^ key(v));
     seen.insert(hash);
+    // Also the natural residual's bound of an answer (as in `super::solve`).
     let near_end = set.accept_tol * (1.0 + op.q_norm_inf());
     let status = loop {
         if pivots >= set.max_pivots {
@@ -213,7 +215,7 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
         // Near z0 = 0 the run may stand at an accepted answer already; going
         // on (through degenerate pivots, or to a false ray or cycle where
         // round-off decides the ties) costs pivots and can lose it.
-        if basis.val[basis.pos[z0]] <= near_end && stands_accepted(op, &basis, set.accept_tol) {
+        if basis.val[basis.pos[z0]] <= near_end && stands_accepted(op, &basis, set.accept_tol, near_end) {
             break Status::Solved;
         }
         hash ^= key(entering) ^ key(left);
@@ -257,10 +259,10 @@ fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize
     let thresh = set.piv_tol * ymax;
     // Over slices, no index: these passes are O(n) per pivot.
     let vmax = val.iter().fold(f64::MIN_POSITIVE, |a, v| a.max(v.abs()));
-    let (mut theta, mut first) = (f64::INFINITY, 0);
+    let (mut theta, mut least) = (f64::INFINITY, 0);
     for (c, (&v, &yc)) in val.iter().zip(y).enumerate() {
         if yc > thresh && v.max(0.0) / yc < theta {
-            (theta, first) = (v.max(0.0) / yc, c);
+            (theta, least) = (v.max(0.0) / yc, c);
         }
     }
     if !theta.is_finite() {
@@ -276,7 +278,7 @@ fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize
     // its polish ended on one after 198 pivots and cold runs took 13,385
     // more; so mended, it passed 17 such pivots to an accepted answer.)
     if tied.is_empty() {
-        tied.push(first);
+        tied.push(least);
     }
     if let Some(&c) = tied.iter().find(|&&c| b.var[c] == 2 * n) {
         return Some((c, theta));
