@@ -85,10 +85,10 @@ fn heap_runs_without_failures_or_penetration(n: usize, steps: usize, params: Wor
 /// Issue 13 item 7: a 200-cube heap runs 200 steps with no failed step and
 /// penetration ≤ 1 mm, a step whose LCP fails taken again in halves up to
 /// three halvings deep (`WorldParams::max_halvings`; every part's LCP solved
-/// exactly). Too slow for the suite (~20 min). Passes at 3686991: 200
-/// steps in 1,171 s, 1,994,683 pivots, largest LCP n = 15,210, penetration
-/// 6.1e-4 m; steps 194 and 199 retaken (3 and 2 parts; their failed attempts
-/// 197,000–278,000 pivots each), 787 s of the run. At e545440, before the
+/// exactly). Too slow for the suite (~15 min). Passes at b125512: 200
+/// steps in 914 s, 1,500,472 pivots, largest LCP n = 15,450, penetration
+/// 6.1e-4 m; step 198 retaken (2 parts; its failed attempt at `h` 299,985
+/// pivots), 317 s of the run. At e545440, before the
 /// polish's false ray was mended: 1,814 s, 2,777,670 pivots, steps 183, 194,
 /// 196 and 198 retaken, and with two halvings step 183 stayed failed
 /// (docs/reliability.md, "Retaking a failed step in halves" and "A false ray

@@ -116,10 +116,6 @@ const POLISH_TIE_TOL: f64 = 0.0;
 /// with a natural residual ≤ `accept_tol·(1 + ‖q‖∞)`. Returns the first such
 /// answer, else the first accepted one, else the closest failure.
 ///
-/// A run also ends where its answer stands accepted once z0 is within
-/// `accept_tol·(1 + ‖q‖∞)` of 0, before z0 leaves (the degenerate pivots
-/// that would follow are decided by round-off).
-///
 /// A run that ends on a complementary basis whose answer fails the rule is
 /// *polished*: Lemke goes on from that basis (covering vector `B·1`, fresh
 /// factorization, z0 entering where the least basic value is, however close
@@ -167,7 +163,6 @@ pub fn solve_reusing(
         warm_tol: WARM_TOL,
         max_pivots: limit.saturating_sub(pivots),
         refactor_every: o.refactor_every,
-        accept_tol: o.accept_tol,
     };
     let strict = |pivots| Settings { tie_tol: POLISH_TIE_TOL, warm_tol: 0.0, ..settings(RUNGS[0].piv_tol, pivots) };
     let mask_of = |b: &[bool]| (0..n).filter(|&j| b[j]).collect::<Vec<usize>>();

@@ -4,8 +4,7 @@
 //! A tie is broken on the columns of `B⁻¹`, one solve per column that is
 //! not a basic slack's, computed only when a tie occurs. A leaving row whose
 //! pivot would be small is traded, where one is near enough, for the largest
-//! pivot of Harris's two-pass test ([`harris`]). Once z0 is near 0, a run
-//! ends where its answer already stands accepted ([`stands_accepted`]).
+//! pivot of Harris's two-pass test ([`harris`]).
 //!
 //! With `LCPSIM_LEMKE_TRACE` set, each run prints its counts to standard
 //! error ([`super::trace`]).
@@ -29,10 +28,6 @@ pub(crate) struct Settings {
     pub warm_tol: f64,
     /// Refactor after this many column updates.
     pub refactor_every: usize,
-    /// The acceptance rule's tolerance: a run also ends `Solved` at a pivot
-    /// that leaves z0 within `accept_tol·(1 + ‖q‖∞)` of 0 if its answer
-    /// stands accepted there ([`stands_accepted`]).
-    pub accept_tol: f64,
 }
 
 /// How a run ended: status, pivots, and `z` with its basis mask when the
@@ -137,17 +132,6 @@ fn cover_into(op: &StructuredLcp, alpha: &[usize], d: &mut Vec<f64>) {
     d.extend((0..n).map(|i| (ones[i] == 0.0) as u8 as f64 - (m1[i] - op.q()[i])));
 }
 
-/// Whether the basic `z` of `b` (clipped at 0) is an answer the acceptance
-/// rule takes at `tol`, with a natural residual within `bound`.
-fn stands_accepted(op: &StructuredLcp, b: &Basis, tol: f64, bound: f64) -> bool {
-    let mut z = Vec::new();
-    b.z_into(&mut z);
-    z.iter_mut().for_each(|v| *v = v.max(0.0));
-    let mut w = vec![0.0; z.len()];
-    op.w_of(&z, &mut w);
-    crate::solution::Residuals::of(&z, &w).residual <= bound && super::accepts(op, &z, &w, tol)
-}
-
 /// `w_i ↔ z_i`.
 fn complement(v: usize, n: usize) -> usize {
     if v < n {
@@ -170,8 +154,6 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
     let mut seen: HashSet<u64> = HashSet::new();
     let mut hash = basis.var.iter().fold(0u64, |h, &v| h ^ key(v));
     seen.insert(hash);
-    // Also the natural residual's bound of an answer (as in `super::solve`).
-    let near_end = set.accept_tol * (1.0 + op.q_norm_inf());
     let status = loop {
         if pivots >= set.max_pivots {
             break Status::MaxPivots;
@@ -210,12 +192,6 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
             t.after_pivot(pivots, entering, left, (left != z0).then(|| basis.val[basis.pos[z0]]), &basis.val);
         }
         if left == z0 {
-            break Status::Solved;
-        }
-        // Near z0 = 0 the run may stand at an accepted answer already; going
-        // on (through degenerate pivots, or to a false ray or cycle where
-        // round-off decides the ties) costs pivots and can lose it.
-        if basis.val[basis.pos[z0]] <= near_end && stands_accepted(op, &basis, set.accept_tol, near_end) {
             break Status::Solved;
         }
         hash ^= key(entering) ^ key(left);
@@ -370,43 +346,7 @@ mod tests {
         let d = [1.0];
         let b = Basis::slack(&op, &d).unwrap();
         assert_eq!(b.val, [v]);
-        let set = Settings {
-            piv_tol: 1e-9,
-            tie_tol: 0.0,
-            max_pivots: 10,
-            warm_tol: 0.0,
-            refactor_every: 100,
-            accept_tol: 1e-9,
-        };
+        let set = Settings { piv_tol: 1e-9, tie_tol: 0.0, max_pivots: 10, warm_tol: 0.0, refactor_every: 100 };
         assert_eq!(leaving(&b, &[y], y, &set, &mut Vec::new()), Some((0, v / y)));
-    }
-
-    /// `M = [1 −1; −1 1]`, `q = (−1, 1 − 2e-12)`: infeasible by 2e-12, so
-    /// Lemke's path ends on a ray; but its second basis stands at
-    /// `z = (1 − 1e-12, 0)`, `w = (−1e-12, 0)` with z0 = 1e-12, an answer the
-    /// acceptance rule takes at 1e-9. The run ends there, `Solved`.
-    #[test]
-    fn a_run_ends_where_its_answer_stands_accepted_near_z0_0() {
-        let op = StructuredLcp::new(
-            1,
-            &[(0, 0, 1.0), (1, 0, -1.0)],
-            &[(0, 0, 1.0), (0, 1, -1.0)],
-            &[],
-            vec![-1.0, 1.0 - 2e-12],
-        )
-        .unwrap();
-        let set = |accept_tol| Settings {
-            piv_tol: 1e-9,
-            tie_tol: 1e-13,
-            max_pivots: 10,
-            warm_tol: 0.0,
-            refactor_every: 100,
-            accept_tol,
-        };
-        let stopped = run(&op, &[1.0, 1.0], &set(1e-9));
-        assert_eq!((stopped.status, stopped.pivots), (Status::Solved, 2));
-        assert!((stopped.z[0] - 1.0).abs() < 1e-11 && stopped.z[1] == 0.0, "{:?}", stopped.z);
-        // With no tolerance to stop at, the path goes on to its ray.
-        assert_eq!(run(&op, &[1.0, 1.0], &set(0.0)).status, Status::RayTermination);
     }
 }
