@@ -237,8 +237,11 @@ fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize
     let vmax = val.iter().fold(f64::MIN_POSITIVE, |a, v| a.max(v.abs()));
     let (mut theta, mut least) = (f64::INFINITY, 0);
     for (c, (&v, &yc)) in val.iter().zip(y).enumerate() {
-        if yc > thresh && v.max(0.0) / yc < theta {
-            (theta, least) = (v.max(0.0) / yc, c);
+        if yc > thresh {
+            let ratio = v.max(0.0) / yc;
+            if ratio < theta {
+                (theta, least) = (ratio, c);
+            }
         }
     }
     if !theta.is_finite() {
