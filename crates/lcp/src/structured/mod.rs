@@ -135,11 +135,19 @@ const POLISH_TIE_TOL: f64 = 0.0;
 /// with the run's tolerances (as the dense ladder does): on heaps a run can end a hair off after deciding near-ties on
 /// values that carry round-off (measured on a 200-cube heap's LCP, n =
 /// 3,820, before the polish: three cold runs ended at natural residuals
-/// 6e-8, 5e-7 and 1e-10, none accepted). Runs that end on a secondary ray or
-/// cycle go on to the cold rungs: restarted from the complementary basis of
-/// their basic `z` instead, a forming 200-cube heap's steps 175 and 176
-/// (n = 9,900 and 10,550) ended `cycling` and `numerical` after 33,562 and
-/// 45,110 pivots, where the cold rungs solve them in 25,934 and 3,815.
+/// 6e-8, 5e-7 and 1e-10, none accepted). Cold runs that end on a secondary
+/// ray or cycle go on to the next cold rung: restarted from the complementary
+/// basis of their basic `z` instead, a forming 200-cube heap's steps 175 and
+/// 176 (n = 9,900 and 10,550) ended `cycling` and `numerical` after 33,562
+/// and 45,110 pivots, where the cold rungs solve them in 25,934 and 3,815.
+/// A warm run (from a basis or a polish) that ends on a ray goes on instead
+/// from the complementary basis its entering variable completes in z0's
+/// place, within [`RESTARTS`] starts: its covering vector `B·1` is not
+/// positive, so the ray says nothing about the LCP (Lemke's theorem on rays
+/// needs `d > 0`), and the run stopped near the previous answer. On the
+/// 200-cube heap test's saved LCPs of steps 138–185 (`heap_replay solve
+/// step`): 466,387 → 347,125 pivots; cold runs' rays followed the same way,
+/// 392,471.
 pub fn solve(op: &StructuredLcp, o: &StructuredOptions, warm: Option<&[bool]>) -> Solution {
     solve_reusing(op, o, warm, &mut ColdRuns::default())
 }
@@ -172,7 +180,8 @@ pub fn solve_reusing(
     if let (Some(b), Some(bo)) = (&warm, &o.bpp) {
         if let Some(r) = bpp::improve(op, b, bo, None) {
             if r.infeasible == 0 {
-                let run = pivot::Run { status: Status::Solved, pivots: 0, z: r.z.clone(), mask: r.basis.clone() };
+                let run =
+                    pivot::Run { status: Status::Solved, pivots: 0, z: r.z.clone(), mask: r.basis.clone(), ray: None };
                 let sol = judge(op, run, 0, o.accept_tol);
                 if sol.ok() && sol.residuals.residual <= bound {
                     return sol;
@@ -189,6 +198,7 @@ pub fn solve_reusing(
         if pivots >= limit && best.is_some() {
             break;
         }
+        let warm_run = !matches!(start, Start::Cold(_));
         let run = match start {
             Start::Basis(alpha) => {
                 tried.push(alpha.clone());
@@ -219,6 +229,12 @@ pub fn solve_reusing(
         };
         pivots += run.pivots;
         let ended = run.status;
+        // A warm run's ray: on from the complementary basis where it stopped.
+        if let Some(alpha) = run.ray_basis().filter(|_| warm_run) {
+            if tried.len() < RESTARTS && !tried.contains(&alpha) {
+                todo.push(Start::Basis(alpha));
+            }
+        }
         let sol = judge(op, run, pivots, o.accept_tol);
         if sol.ok() && sol.residuals.residual <= bound {
             return sol;

@@ -38,6 +38,20 @@ pub(crate) struct Run {
     pub pivots: usize,
     pub z: Vec<f64>,
     pub mask: Vec<bool>,
+    /// At a ray: the entering variable (`w_i`: `i`, `z_j`: `n + j`), which
+    /// in z0's place completes a complementary basis ([`Run::ray_basis`]).
+    pub ray: Option<usize>,
+}
+
+impl Run {
+    /// At a ray, the complementary basis (`z_j` basic for `j` in it) the
+    /// entering variable completes in z0's place: the run's basic `z`, and
+    /// the entering one if it is a `z`.
+    pub(crate) fn ray_basis(&self) -> Option<Vec<usize>> {
+        let n = self.mask.len();
+        let e = self.ray?;
+        Some((0..n).filter(|&j| self.mask[j] || e == n + j).collect())
+    }
 }
 
 /// Pivots below this fraction of their column's largest entry trigger a
@@ -63,7 +77,7 @@ const HARRIS_TOL: f64 = 1e-12;
 pub(crate) fn run(op: &StructuredLcp, d: &[f64], set: &Settings) -> Run {
     let n = op.n();
     let q = op.q();
-    let fail = |status| Run { status, pivots: 0, z: vec![0.0; n], mask: vec![false; n] };
+    let fail = |status| Run { status, pivots: 0, z: vec![0.0; n], mask: vec![false; n], ray: None };
     if q.iter().all(|&v| v >= 0.0) {
         return Run { status: Status::Solved, ..fail(Status::Solved) };
     }
@@ -103,7 +117,7 @@ pub(crate) fn run_warm(op: &StructuredLcp, alpha: &[usize], d: &mut Vec<f64>, se
         let mut z = Vec::new();
         basis.z_into(&mut z);
         let mask = (0..n).map(|j| basis.pos[n + j] != NONBASIC).collect();
-        return Some(Run { status: Status::Solved, pivots: 0, z, mask });
+        return Some(Run { status: Status::Solved, pivots: 0, z, mask, ray: None });
     }
     let mut y = Vec::new();
     basis.column_into(2 * n, &mut y);
@@ -222,7 +236,8 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
     let mut z = Vec::new();
     basis.z_into(&mut z);
     let mask = (0..n).map(|j| basis.pos[n + j] != NONBASIC).collect();
-    Run { status, pivots, z, mask }
+    let ray = (status == Status::RayTermination).then_some(entering);
+    Run { status, pivots, z, mask, ray }
 }
 
 /// The acceptance tolerance the trace measures the final answer against (the solver's default).
@@ -351,5 +366,44 @@ mod tests {
         assert_eq!(b.val, [v]);
         let set = Settings { piv_tol: 1e-9, tie_tol: 0.0, max_pivots: 10, warm_tol: 0.0, refactor_every: 100 };
         assert_eq!(leaving(&b, &[y], y, &set, &mut Vec::new()), Some((0, v / y)));
+    }
+
+    /// A warm run that ends on a ray goes on from the complementary basis
+    /// its entering variable completes in z0's place, not cold. (`M = G Gᵀ`,
+    /// positive semidefinite: Lemke's covering `d = B·1` of a warm start is
+    /// not positive, so its ray says nothing about the LCP.)
+    #[test]
+    fn a_warm_ray_goes_on_from_where_it_stopped() {
+        let g = [
+            (0, 0, -1.0),
+            (0, 1, 0.5),
+            (0, 2, 0.5),
+            (0, 3, 2.0),
+            (1, 0, -1.0),
+            (1, 1, -1.0),
+            (2, 0, -1.5),
+            (2, 1, -1.5),
+            (3, 0, 2.0),
+            (3, 2, 1.0),
+            (4, 0, -1.5),
+            (4, 1, 2.0),
+            (4, 3, 2.0),
+            (5, 1, -1.0),
+            (5, 2, -1.5),
+        ];
+        let h: Vec<_> = g.iter().map(|&(i, d, v)| (d, i, v)).collect();
+        let op = StructuredLcp::new(4, &g, &h, &[], vec![-1.0, 1.0, -2.0, -1.0, 0.5, -0.5]).unwrap();
+        let set = Settings { piv_tol: 1e-9, tie_tol: 1e-13, max_pivots: 100, warm_tol: 1e-12, refactor_every: 100 };
+        let mut d = Vec::new();
+        let ray = run_warm(&op, &[0, 1, 2, 3], &mut d, &set).unwrap();
+        assert_eq!((ray.status, ray.pivots, ray.ray), (Status::RayTermination, 1, Some(2)), "w_2 enters unblocked");
+        assert_eq!(ray.ray_basis(), Some(vec![0, 1, 3]));
+        let on = run_warm(&op, &[0, 1, 3], &mut d, &set).unwrap();
+        assert_eq!(on.status, Status::Solved);
+        let o = super::super::StructuredOptions::default();
+        let sol = super::super::solve(&op, &o, Some(&[true, true, true, true, false, false]));
+        assert!(sol.ok() && sol.accepted);
+        assert_eq!(sol.pivots, ray.pivots + on.pivots, "no cold run after the ray");
+        assert_eq!(sol.z, on.z);
     }
 }
