@@ -85,14 +85,15 @@ fn heap_runs_without_failures_or_penetration(n: usize, steps: usize, params: Wor
 /// Issue 13 item 7: a 200-cube heap runs 200 steps with no failed step and
 /// penetration ≤ 1 mm, a step whose LCP fails taken again in halves up to
 /// three halvings deep (`WorldParams::max_halvings`; every part's LCP solved
-/// exactly). Too slow for the suite (~15 min). Passes at b125512: 200
-/// steps in 914 s, 1,500,472 pivots, largest LCP n = 15,450, penetration
-/// 6.1e-4 m; step 198 retaken (2 parts; its failed attempt at `h` 299,985
-/// pivots), 317 s of the run. At e545440, before the
-/// polish's false ray was mended: 1,814 s, 2,777,670 pivots, steps 183, 194,
-/// 196 and 198 retaken, and with two halvings step 183 stayed failed
-/// (docs/reliability.md, "Retaking a failed step in halves" and "A false ray
-/// in the polish"). The history below is of the LCPs themselves, at `h`:
+/// exactly). Too slow for the suite (~11 min). Passes at 1d556a4: 200
+/// steps in 653 s, 1,312,633 pivots, largest LCP n = 15,340, penetration
+/// 6.1e-4 m, no step retaken; the slowest, step 199, 145 s. At b125512,
+/// before a warm run's ray went on from where it stopped: 914 s, 1,500,472
+/// pivots, step 198 retaken. At e545440, before the polish's false ray was
+/// mended: 1,814 s, 2,777,670 pivots, steps 183, 194, 196 and 198 retaken,
+/// and with two halvings step 183 stayed failed (docs/reliability.md,
+/// "Retaking a failed step in halves", "A false ray in the polish" and "A
+/// warm run's ray"). The history below is of the LCPs themselves, at `h`:
 /// the cubes
 /// land at steps 140–200 and the heap is one island of n = 4,000–13,000 whose
 /// contacts change every step. Measured in release on the loaded 2-core
