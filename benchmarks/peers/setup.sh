@@ -36,8 +36,14 @@ if [ ! -x "$venv/bin/python" ]; then
 fi
 py="$venv/bin/python"
 # Keep Debian's numpy 1.x: Siconos' extension modules are built against it.
+# Pinned to the system Python's numpy (not the venv's: a numpy 2 once pulled
+# into the venv by a peer would otherwise pin itself and break Siconos), and
+# any other numpy in the venv removed so that the system one is used.
 constraints="$here/.constraints.txt"
-"$py" -c "import numpy; print(f'numpy=={numpy.__version__}')" >"$constraints"
+/usr/bin/python3 -c "import numpy; print(f'numpy=={numpy.__version__}')" >"$constraints"
+if ! "$py" -m pip freeze --local 2>/dev/null | grep -qxF "$(cat "$constraints")"; then
+    "$py" -m pip uninstall --quiet -y numpy >/dev/null 2>&1 || true
+fi
 echo "==> pip: drake, mujoco, pybullet (numpy pinned to $(cat "$constraints"))"
 "$py" -m pip install --quiet --upgrade pip
 "$py" -m pip install --quiet -c "$constraints" \
