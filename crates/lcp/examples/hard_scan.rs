@@ -1,8 +1,8 @@
 //! Scans the hard corpus (issue 5) with the default Lemke and prints every
 //! failure: `hard_scan [count] [scales,..] [families,..]` (corpus seed `CORPUS_SEED`, default
 //! 2026 as in the ignored corpus test; `ORDINARY=1` scans `contact_lcp` instead, nc ∈ {1, 2, 4, 8}).
-use sim::generate::{hard_corpus_item, HardScene};
 use lcp::{lemke, Lcp, LemkeOptions, Solution, Status};
+use sim::generate::{hard_corpus_item, HardScene};
 
 /// Issue 5's criterion: solved, natural residual ≤ 1e-9·(1 + ‖q‖∞).
 fn solved(p: &Lcp, sol: &Solution) -> bool {

@@ -6,8 +6,8 @@ use std::time::Instant;
 
 use lcp::certify::{certify, certify_against, certify_z, CertStatus, Certificate, ViolationKind};
 use lcp::generate::{p_matrix_lcp, spd_lcp};
-use sim::generate::contact_lcp;
 use lcp::{lemke, Lcp, LemkeOptions};
+use sim::generate::contact_lcp;
 
 fn lcp(m: &[f64], q: &[f64]) -> Lcp {
     Lcp::new(m.to_vec(), q.to_vec()).unwrap()

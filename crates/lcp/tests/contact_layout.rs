@@ -42,7 +42,8 @@ fn cone_scaling_is_the_explicit_d_m_d_and_unscaling_undoes_it() {
     for s in [1.0, 0.5, 1e-3, 1e-8, 0.0] {
         let d: Vec<f64> = (0..n).map(|i| if i >= nc * (k + 1) { s } else { 1.0 }).collect();
         assert_eq!(l.cone_diagonal(s), d);
-        let explicit = Lcp::from_fn(n, |i, j| d[i] * lcp.at(i, j) * d[j], (0..n).map(|i| d[i] * lcp.q()[i]).collect()).unwrap();
+        let explicit =
+            Lcp::from_fn(n, |i, j| d[i] * lcp.at(i, j) * d[j], (0..n).map(|i| d[i] * lcp.q()[i]).collect()).unwrap();
         assert_eq!(l.scale_lcp(&lcp, s).unwrap(), explicit, "s = {s}");
         // A solution z' of the scaled problem is D⁻¹ z: unscaling multiplies λ by s only.
         let zs: Vec<f64> = (0..n).map(|i| 1.0 + i as f64).collect();

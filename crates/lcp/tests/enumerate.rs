@@ -1,12 +1,12 @@
 //! Brute-force enumeration: problems whose solution sets are known in closed
 //! form, P-matrix uniqueness, infeasibility with Farkas certificates.
 
-use lcp::enumerate::{all_solutions, is_solution, MAX_N};
 use lcp::contact::ContactLayout;
-use sim::generate::contact_lcp;
+use lcp::enumerate::{all_solutions, is_solution, MAX_N};
 use lcp::generate::{infeasible_examples, murty, murty_unit, p_matrix_lcp, spd_lcp};
 use lcp::Lcp;
 use proptest::prelude::*;
+use sim::generate::contact_lcp;
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]

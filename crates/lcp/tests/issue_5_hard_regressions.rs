@@ -6,8 +6,8 @@
 mod common;
 
 use common::assert_solves_case;
-use sim::generate::{HardKind, HardScene};
 use lcp::{lemke, LemkeOptions, Status};
+use sim::generate::{HardKind, HardScene};
 
 /// `(family, k, seed, scales)` as `hard_scan` / the ignored corpus test print them.
 const CASES: [(HardKind, usize, u64, &[f64]); 8] = [

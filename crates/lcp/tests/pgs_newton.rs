@@ -2,10 +2,10 @@
 //! n ≤ 8), on degenerate and hopeless problems, and their never-NaN contract.
 
 use lcp::enumerate::{all_solutions, is_solution};
-use sim::generate::contact_lcp;
 use lcp::generate::{infeasible_examples, murty, murty_unit, p_matrix_lcp, spd_lcp};
 use lcp::{newton_fb, pgs, Lcp, NewtonFbOptions, PgsOptions, Solution, Status};
 use proptest::prelude::*;
+use sim::generate::contact_lcp;
 
 fn max_diff(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).fold(0.0, |m, (x, y)| m.max((x - y).abs()))

@@ -2,14 +2,14 @@
 //! the cone scaling of DESIGN §1, and the one fact everything rests on — a
 //! positive diagonal scaling maps the solution set onto itself.
 
-use lcp::enumerate::{all_solutions, is_solution};
 use lcp::contact::ContactLayout;
+use lcp::enumerate::{all_solutions, is_solution};
 use lcp::generate::{p_matrix_lcp, spd_lcp};
-use sim::generate::contact_lcp;
 use lcp::{newton_fb, Lcp, NewtonFbOptions, Scaling};
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use sim::generate::contact_lcp;
 
 fn is_power_of_two(f: f64) -> bool {
     f.is_finite() && f > 0.0 && f.to_bits() & ((1u64 << 52) - 1) == 0

@@ -44,7 +44,11 @@ fn thresholds(ob: &Bound<'_, PyAny>, field: &str, batch: &[usize]) -> PyResult<V
     Ok(v)
 }
 
-fn new_array<'py, T: numpy::Element + Copy>(py: Python<'py>, v: Vec<T>, shape: &[usize]) -> PyResult<Bound<'py, PyAny>> {
+fn new_array<'py, T: numpy::Element + Copy>(
+    py: Python<'py>,
+    v: Vec<T>,
+    shape: &[usize],
+) -> PyResult<Bound<'py, PyAny>> {
     Ok(PyArray::from_vec(py, v).reshape(shape.to_vec())?.into_any())
 }
 

@@ -11,10 +11,10 @@
 use crate::args::integer;
 use crate::errors::value_error;
 use lcp::generate;
-use sim::generate::{self as scenes, HardKind};
 use lcp::Lcp;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
+use sim::generate::{self as scenes, HardKind};
 
 /// Every hard-contact family by its snake_case name.
 pub fn hard_kinds() -> Vec<&'static str> {

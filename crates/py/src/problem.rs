@@ -14,10 +14,7 @@ macro_rules! extract_array {
     ($ob:expr, $ty:ty, $field:expr, $ndim:expr) => {
         $ob.extract::<$ty>().map_err(|e| {
             let shape = describe_shape($ob);
-            value_error(format!(
-                "{} must be a {}-D array of real numbers, got {}: {}",
-                $field, $ndim, shape, e
-            ))
+            value_error(format!("{} must be a {}-D array of real numbers, got {}: {}", $field, $ndim, shape, e))
         })
     };
 }
@@ -59,10 +56,7 @@ pub fn lcp_from_views(m: ArrayView2<'_, f64>, q: ArrayView1<'_, f64>, prefix: &s
         return Err(value_error(format!("{prefix}M must be square, got shape ({rows}, {cols})")));
     }
     if q.len() != rows {
-        return Err(value_error(format!(
-            "{prefix}q has length {} but M has shape ({rows}, {cols})",
-            q.len()
-        )));
+        return Err(value_error(format!("{prefix}q has length {} but M has shape ({rows}, {cols})", q.len())));
     }
     if rows == 0 {
         return Err(value_error(format!("{prefix}the LCP is empty: M has shape (0, 0) and q has length 0")));
@@ -96,7 +90,11 @@ pub fn lcps_from_py(ms: &Bound<'_, PyAny>, qs: &Bound<'_, PyAny>) -> PyResult<Ve
     (0..ms_shape[0])
         .map(|b| {
             let prefix = format!("problem {b}: ");
-            lcp_from_views(ms.index_axis(numpy::ndarray::Axis(0), b), qs.index_axis(numpy::ndarray::Axis(0), b), &prefix)
+            lcp_from_views(
+                ms.index_axis(numpy::ndarray::Axis(0), b),
+                qs.index_axis(numpy::ndarray::Axis(0), b),
+                &prefix,
+            )
         })
         .collect()
 }

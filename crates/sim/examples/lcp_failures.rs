@@ -40,7 +40,13 @@ fn run(name: &str, mut scene: Scene, steps: usize, dir: &str) {
                     }
                     _ => f64::NAN,
                 };
-                println!("  {name} step {}: {} (n = {}), previous z residual {prev_res:.1e}, |q|∞ {:.1e}", c.step, c.status.as_str(), c.q.len(), c.q.iter().fold(0.0f64, |a, v| a.max(v.abs())));
+                println!(
+                    "  {name} step {}: {} (n = {}), previous z residual {prev_res:.1e}, |q|∞ {:.1e}",
+                    c.step,
+                    c.status.as_str(),
+                    c.q.len(),
+                    c.q.iter().fold(0.0f64, |a, v| a.max(v.abs()))
+                );
                 let path = format!("{dir}/{name}_step{}.json", c.step);
                 let body = format!(
                     "{{\"scene\":\"{name}\",\"step\":{},\"status\":\"{}\",\"n\":{},\"M\":{},\"q\":{},\"prev_z_residual\":{}}}\n",

@@ -11,7 +11,10 @@ fn main() {
     let steps: usize = args.next().map(|s| s.parse().expect("steps")).unwrap_or(2000);
     let sizes: Vec<usize> = args.map(|s| s.parse().expect("n")).collect();
     let sizes = if sizes.is_empty() { vec![1, 2, 3, 5, 10] } else { sizes };
-    println!("{:>3} {:>10} {:>8} {:>14} {:>10} {:>9} {:>11}", "n", "steps/s", "LCP n", "pivoting steps", "pivots", "failures", "top drift");
+    println!(
+        "{:>3} {:>10} {:>8} {:>14} {:>10} {:>9} {:>11}",
+        "n", "steps/s", "LCP n", "pivoting steps", "pivots", "failures", "top drift"
+    );
     for n in sizes {
         let mut s = sim::scenes::box_stack(n).expect("scene");
         let top = *s.bodies.last().expect("a box");

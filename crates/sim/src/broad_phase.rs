@@ -140,7 +140,9 @@ impl Span {
     fn overlaps(&self, o: &Span) -> bool {
         let (c, d, e, f) = (&self.centre, &o.centre, &self.ext, &o.ext);
         // Non-short-circuit `&`: one hard-to-predict branch instead of three.
-        ((c[0] - d[0]).abs() <= e[0] + f[0]) & ((c[1] - d[1]).abs() <= e[1] + f[1]) & ((c[2] - d[2]).abs() <= e[2] + f[2])
+        ((c[0] - d[0]).abs() <= e[0] + f[0])
+            & ((c[1] - d[1]).abs() <= e[1] + f[1])
+            & ((c[2] - d[2]).abs() <= e[2] + f[2])
     }
 }
 

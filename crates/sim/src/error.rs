@@ -112,7 +112,13 @@ pub(crate) fn finite_vec(field: &'static str, v: crate::math::Vec3) -> Result<cr
     Ok(v)
 }
 
-pub(crate) fn in_range(field: &'static str, value: f64, lo: f64, hi: f64, range: &'static str) -> Result<f64, SimError> {
+pub(crate) fn in_range(
+    field: &'static str,
+    value: f64,
+    lo: f64,
+    hi: f64,
+    range: &'static str,
+) -> Result<f64, SimError> {
     finite(field, value)?;
     if value >= lo && value <= hi {
         Ok(value)

@@ -49,7 +49,9 @@ pub use dynamics::{Body, BodyDesc, BodyId};
 pub use error::SimError;
 pub use geometry::{Contact, Downhill, Plane, Shape};
 pub use params::WorldParams;
-pub use pipeline::{Captured, CapturedLcp, EnergyAudit, IslandRecord, LcpBuffer, LcpSink, OwnedLcp, Retake, StepRecord, Trajectory};
+pub use pipeline::{
+    Captured, CapturedLcp, EnergyAudit, IslandRecord, LcpBuffer, LcpSink, OwnedLcp, Retake, StepRecord, Trajectory,
+};
 pub use world::World;
 
 /// The LCP core this crate builds on (re-exported for `Method`, `Status`, …).

@@ -73,7 +73,10 @@ impl WorldParams {
     pub fn validate(&self) -> Result<(), SimError> {
         positive("dt", self.dt)?;
         finite_vec("gravity", self.gravity)?;
-        if self.friction_dirs < 2 || self.friction_dirs % 2 == 1 || self.friction_dirs > crate::limits::MAX_FRICTION_DIRS {
+        if self.friction_dirs < 2
+            || self.friction_dirs % 2 == 1
+            || self.friction_dirs > crate::limits::MAX_FRICTION_DIRS
+        {
             return Err(SimError::FrictionDirs { k: self.friction_dirs });
         }
         self.cone_scale.validate()?;

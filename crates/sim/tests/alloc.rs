@@ -43,7 +43,10 @@ static GLOBAL: Counting = Counting;
 
 #[test]
 fn warm_stages_do_not_allocate() {
-    for mut scene in [CubeOnSlope::new(30.0, 0.7).build(WorldParams::default()).unwrap(), BoxStack::new(3).build(WorldParams::default()).unwrap()] {
+    for mut scene in [
+        CubeOnSlope::new(30.0, 0.7).build(WorldParams::default()).unwrap(),
+        BoxStack::new(3).build(WorldParams::default()).unwrap(),
+    ] {
         let w = &mut scene.world;
         for _ in 0..3 {
             w.step().unwrap();

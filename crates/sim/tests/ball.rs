@@ -55,7 +55,8 @@ fn first_impact(drop: BallDrop, params: WorldParams) -> (f64, sim::scenes::Scene
 fn ball_drop_impact_time() {
     for (height, e) in [(1.0, 0.0), (1.0, 0.5), (0.3, 0.9), (2.0, 0.0)] {
         let h = 1e-3;
-        let (t, mut s) = first_impact(BallDrop { height, restitution: Some(e), ..Default::default() }, WorldParams::default());
+        let (t, mut s) =
+            first_impact(BallDrop { height, restitution: Some(e), ..Default::default() }, WorldParams::default());
         let expect = (2.0 * height / G).sqrt();
         assert!((t - expect).abs() <= 2.0 * h, "H {height} e {e}: impact at {t} s, expected {expect}");
         // With restitution it leaves at ≈ e times the impact speed; without, it stays.

@@ -131,7 +131,10 @@ fn the_broad_phase_drops_no_pair_the_narrow_phase_would_touch() {
                 }
                 let m = margin.of(i, j);
                 out.clear();
-                let (pa, pb) = (Placement { center: a.position(), rotation: a.rotation() }, Placement { center: b.position(), rotation: b.rotation() });
+                let (pa, pb) = (
+                    Placement { center: a.position(), rotation: a.rotation() },
+                    Placement { center: b.position(), rotation: b.rotation() },
+                );
                 match (a.shape(), b.shape()) {
                     (Shape::Box(x), Shape::Box(y)) => box_box(x, &pa, y, &pb, m, &mut out),
                     (Shape::Sphere { radius }, Shape::Box(x)) => sphere_box(a.position(), *radius, x, &pb, m, &mut out),
@@ -146,7 +149,8 @@ fn the_broad_phase_drops_no_pair_the_narrow_phase_would_touch() {
                     touching += 1;
                     assert!(kept, "seed {seed}: pair ({i}, {j}) has {} contacts but no broad-phase pair", out.len());
                 }
-                let sphere_near = (a.position() - b.position()).norm() <= a.shape().bounding_radius() + b.shape().bounding_radius() + m;
+                let sphere_near = (a.position() - b.position()).norm()
+                    <= a.shape().bounding_radius() + b.shape().bounding_radius() + m;
                 dropped += usize::from(sphere_near && !kept);
             }
         }

@@ -31,7 +31,12 @@ fn rests_when_tan_theta_below_min_mu_one() {
     for (angle, mu) in [(30.0, 0.7), (40.0, 1.5), (44.0, 1.0), (20.0, 0.5)] {
         let o = simulate(angle, mu, 2.0, WorldParams::default());
         assert_eq!(o.failures, 0);
-        assert!(o.downhill.abs() < 1e-6 && o.tilt < 1e-6, "θ {angle} μ {mu}: moved {} m, tilted {} rad", o.downhill, o.tilt);
+        assert!(
+            o.downhill.abs() < 1e-6 && o.tilt < 1e-6,
+            "θ {angle} μ {mu}: moved {} m, tilted {} rad",
+            o.downhill,
+            o.tilt
+        );
     }
 }
 
@@ -64,7 +69,12 @@ fn knife_edge_45_2_degrees_slides_at_every_scale() {
     for scale in [ConeScale::Unscaled, ConeScale::Value(0.1), ConeScale::TimeStep, ConeScale::Value(1e-6)] {
         let o = simulate(45.2, 1.0, 2.0, WorldParams { cone_scale: scale, ..Default::default() });
         assert_eq!(o.failures, 0, "{scale:?}");
-        assert!(rel(o.downhill, expect) < 0.01 && o.tilt < 1e-3, "{scale:?}: slid {} m (expected {expect}), tilted {} rad", o.downhill, o.tilt);
+        assert!(
+            rel(o.downhill, expect) < 0.01 && o.tilt < 1e-3,
+            "{scale:?}: slid {} m (expected {expect}), tilted {} rad",
+            o.downhill,
+            o.tilt
+        );
     }
 }
 
@@ -77,6 +87,11 @@ fn knife_edge_45_plus_1e4_degrees_slides_at_every_scale() {
     for scale in [ConeScale::Unscaled, ConeScale::Value(4e-3), ConeScale::TimeStep, ConeScale::Value(1e-6)] {
         let o = simulate(angle, 1.0, 2.0, WorldParams { cone_scale: scale, ..Default::default() });
         assert_eq!(o.failures, 0, "{scale:?}");
-        assert!(rel(o.downhill, expect) < 0.05 && o.tilt < 1e-6, "{scale:?}: slid {:e} m (expected {expect:e}), tilted {:e} rad", o.downhill, o.tilt);
+        assert!(
+            rel(o.downhill, expect) < 0.05 && o.tilt < 1e-6,
+            "{scale:?}: slid {:e} m (expected {expect:e}), tilted {:e} rad",
+            o.downhill,
+            o.tilt
+        );
     }
 }

@@ -11,11 +11,11 @@ use std::collections::BTreeMap;
 
 use lcp::certify::certify_against;
 use lcp::contact::ContactLayout;
-use sim::generate::{
-    hard_contact_lcp, hard_contact_lcp_k, hard_corpus, hard_corpus_item, HardKind, HardScene,
-    HARD_MAX_CONTACTS, TWIN_OFFSET,
-};
 use lcp::{lemke, LemkeOptions, Scaling, Status};
+use sim::generate::{
+    hard_contact_lcp, hard_contact_lcp_k, hard_corpus, hard_corpus_item, HardKind, HardScene, HARD_MAX_CONTACTS,
+    TWIN_OFFSET,
+};
 
 fn row(a: &[f64], r: usize, cols: usize) -> &[f64] {
     &a[r * cols..(r + 1) * cols]

@@ -18,7 +18,13 @@ fn resting(params: WorldParams, steps: usize) {
         let total = r.total_normal_impulse();
         assert!(rel(total, mgh) < 1e-12, "step {}: Σfn = {total:e}, m g h = {mgh:e}", r.step);
         let b = s.world.body(s.body).unwrap();
-        assert!(b.velocity().norm() < 1e-9 && b.angular_velocity().norm() < 1e-9, "step {}: v {:?} ω {:?}", r.step, b.velocity(), b.angular_velocity());
+        assert!(
+            b.velocity().norm() < 1e-9 && b.angular_velocity().norm() < 1e-9,
+            "step {}: v {:?} ω {:?}",
+            r.step,
+            b.velocity(),
+            b.angular_velocity()
+        );
     }
     let (p, q) = pose(&s, s.body);
     assert!((p - p0).norm() < 1e-9, "drift {:?}", p - p0);

@@ -29,7 +29,12 @@ fn rests(w: &mut World, top: sim::BodyId, mass: f64) {
         }
         // Degenerate contact sets (8 coplanar points) are solved to Lemke's
         // acceptance, ~1e-9 relative, not to round-off: allow 1e-6.
-        assert!((on_top - Vec3::new(0.0, 0.0, mass * G * 1e-3)).norm() < 1e-6 * mass * G * 1e-3, "step {}: {:?}", r.step, on_top);
+        assert!(
+            (on_top - Vec3::new(0.0, 0.0, mass * G * 1e-3)).norm() < 1e-6 * mass * G * 1e-3,
+            "step {}: {:?}",
+            r.step,
+            on_top
+        );
     }
     let b = w.body(top).unwrap();
     assert!((b.position() - p0).norm() < 1e-9 && b.velocity().norm() < 1e-9);
@@ -77,7 +82,13 @@ fn box_on_static_box_and_turned_box_on_box() {
     let mut w = World::new(WorldParams::default()).unwrap();
     w.add_ground(0.5).unwrap();
     w.add_box(Vec3::splat(0.5), 1.0, Vec3::new(0.0, 0.0, 0.5), 0.5).unwrap();
-    let top = w.add_body(BodyDesc::cuboid(Vec3::splat(0.5)).position(Vec3::new(0.0, 0.0, 1.5)).orientation(Quat::from_axis_angle(Vec3::Z, 30f64.to_radians()))).unwrap();
+    let top = w
+        .add_body(
+            BodyDesc::cuboid(Vec3::splat(0.5))
+                .position(Vec3::new(0.0, 0.0, 1.5))
+                .orientation(Quat::from_axis_angle(Vec3::Z, 30f64.to_radians())),
+        )
+        .unwrap();
     let r = step_ok(&mut w);
     assert_eq!(r.contacts.iter().filter(|c| c.body_b == top.0 || c.body_a == top.0).count(), 8);
     rests(&mut w, top, 1.0);

@@ -12,7 +12,6 @@ use sim::lcp::{lemke, LemkeOptions, Status};
 use sim::scenes::{BoxPile, BoxStack, CubeHeap};
 use sim::{ConeScale, World, WorldParams};
 
-
 fn worlds(params: &WorldParams) -> Vec<World> {
     vec![
         settled(BoxPile::default().build(params.clone()).unwrap().world, 30),

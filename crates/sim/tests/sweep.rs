@@ -21,7 +21,10 @@ fn cube_on_slope_grid_has_no_lcp_failure() {
                 for (step, st) in traj.status.iter().enumerate() {
                     if let Some(st) = st {
                         if *st != sim::lcp::Status::Solved {
-                            failures.push(format!("{scale:?} θ {angle} μ {mu} step {step}: {st:?} (LCP size {})", traj.lcp_size[step]));
+                            failures.push(format!(
+                                "{scale:?} θ {angle} μ {mu} step {step}: {st:?} (LCP size {})",
+                                traj.lcp_size[step]
+                            ));
                         }
                     }
                 }

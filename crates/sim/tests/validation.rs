@@ -12,18 +12,39 @@ fn world() -> World {
 fn world_parameters_are_validated() {
     let bad = |p: WorldParams| World::new(p).unwrap_err();
     assert_eq!(bad(WorldParams { dt: 0.0, ..Default::default() }), SimError::NotPositive { field: "dt", value: 0.0 });
-    assert_eq!(bad(WorldParams { dt: -1e-3, ..Default::default() }), SimError::NotPositive { field: "dt", value: -1e-3 });
+    assert_eq!(
+        bad(WorldParams { dt: -1e-3, ..Default::default() }),
+        SimError::NotPositive { field: "dt", value: -1e-3 }
+    );
     assert!(matches!(bad(WorldParams { dt: f64::NAN, ..Default::default() }), SimError::NonFinite { field: "dt", .. }));
-    assert!(matches!(bad(WorldParams { gravity: Vec3::new(0.0, f64::INFINITY, 0.0), ..Default::default() }), SimError::NonFinite { field: "gravity", .. }));
+    assert!(matches!(
+        bad(WorldParams { gravity: Vec3::new(0.0, f64::INFINITY, 0.0), ..Default::default() }),
+        SimError::NonFinite { field: "gravity", .. }
+    ));
     for k in [0, 1, 3, 7] {
         assert_eq!(bad(WorldParams { friction_dirs: k, ..Default::default() }), SimError::FrictionDirs { k });
     }
     assert!(World::new(WorldParams { friction_dirs: 2, ..Default::default() }).is_ok());
-    assert_eq!(bad(WorldParams { cone_scale: ConeScale::Value(0.0), ..Default::default() }), SimError::NotPositive { field: "cone_scale", value: 0.0 });
-    assert_eq!(bad(WorldParams { margin: -1.0, ..Default::default() }), SimError::Negative { field: "margin", value: -1.0 });
-    assert!(matches!(bad(WorldParams { stabilization: Stabilization { erp: 1.5, ..Default::default() }, ..Default::default() }), SimError::OutOfRange { field: "stabilization.erp", .. }));
-    assert!(matches!(bad(WorldParams { restitution: Restitution::new(-0.1), ..Default::default() }), SimError::OutOfRange { field: "restitution", .. }));
-    assert_eq!(bad(WorldParams { mu_override: Some(-0.5), ..Default::default() }), SimError::Negative { field: "mu_override", value: -0.5 });
+    assert_eq!(
+        bad(WorldParams { cone_scale: ConeScale::Value(0.0), ..Default::default() }),
+        SimError::NotPositive { field: "cone_scale", value: 0.0 }
+    );
+    assert_eq!(
+        bad(WorldParams { margin: -1.0, ..Default::default() }),
+        SimError::Negative { field: "margin", value: -1.0 }
+    );
+    assert!(matches!(
+        bad(WorldParams { stabilization: Stabilization { erp: 1.5, ..Default::default() }, ..Default::default() }),
+        SimError::OutOfRange { field: "stabilization.erp", .. }
+    ));
+    assert!(matches!(
+        bad(WorldParams { restitution: Restitution::new(-0.1), ..Default::default() }),
+        SimError::OutOfRange { field: "restitution", .. }
+    ));
+    assert_eq!(
+        bad(WorldParams { mu_override: Some(-0.5), ..Default::default() }),
+        SimError::Negative { field: "mu_override", value: -0.5 }
+    );
     // set_params validates and leaves the world unchanged on error.
     let mut w = world();
     assert!(w.set_params(WorldParams { dt: 0.0, ..Default::default() }).is_err());
@@ -34,26 +55,56 @@ fn world_parameters_are_validated() {
 fn bodies_are_validated() {
     let mut w = world();
     let unit = Vec3::splat(0.5);
-    assert_eq!(w.add_box(unit, -1.0, Vec3::ZERO, 0.5).unwrap_err(), SimError::NotPositive { field: "mass", value: -1.0 });
+    assert_eq!(
+        w.add_box(unit, -1.0, Vec3::ZERO, 0.5).unwrap_err(),
+        SimError::NotPositive { field: "mass", value: -1.0 }
+    );
     assert_eq!(w.add_box(unit, 0.0, Vec3::ZERO, 0.5).unwrap_err(), SimError::NotPositive { field: "mass", value: 0.0 });
     assert_eq!(w.add_box(unit, 1.0, Vec3::ZERO, -0.1).unwrap_err(), SimError::Negative { field: "mu", value: -0.1 });
-    assert_eq!(w.add_box(Vec3::new(0.5, 0.0, 0.5), 1.0, Vec3::ZERO, 0.5).unwrap_err(), SimError::NotPositive { field: "half_extents.y", value: 0.0 });
-    assert_eq!(w.add_box(Vec3::new(0.5, 0.5, -2.0), 1.0, Vec3::ZERO, 0.5).unwrap_err(), SimError::NotPositive { field: "half_extents.z", value: -2.0 });
-    assert_eq!(w.add_sphere(0.0, 1.0, Vec3::ZERO, 0.5).unwrap_err(), SimError::NotPositive { field: "radius", value: 0.0 });
-    assert!(matches!(w.add_sphere(0.1, 1.0, Vec3::new(f64::NAN, 0.0, 0.0), 0.5).unwrap_err(), SimError::NonFinite { field: "position", .. }));
-    assert!(matches!(w.add_sphere(0.1, f64::INFINITY, Vec3::ZERO, 0.5).unwrap_err(), SimError::NonFinite { field: "mass", .. }));
+    assert_eq!(
+        w.add_box(Vec3::new(0.5, 0.0, 0.5), 1.0, Vec3::ZERO, 0.5).unwrap_err(),
+        SimError::NotPositive { field: "half_extents.y", value: 0.0 }
+    );
+    assert_eq!(
+        w.add_box(Vec3::new(0.5, 0.5, -2.0), 1.0, Vec3::ZERO, 0.5).unwrap_err(),
+        SimError::NotPositive { field: "half_extents.z", value: -2.0 }
+    );
+    assert_eq!(
+        w.add_sphere(0.0, 1.0, Vec3::ZERO, 0.5).unwrap_err(),
+        SimError::NotPositive { field: "radius", value: 0.0 }
+    );
+    assert!(matches!(
+        w.add_sphere(0.1, 1.0, Vec3::new(f64::NAN, 0.0, 0.0), 0.5).unwrap_err(),
+        SimError::NonFinite { field: "position", .. }
+    ));
+    assert!(matches!(
+        w.add_sphere(0.1, f64::INFINITY, Vec3::ZERO, 0.5).unwrap_err(),
+        SimError::NonFinite { field: "mass", .. }
+    ));
     // Quaternions: normalized when possible, rejected when zero.
-    assert_eq!(w.add_body(BodyDesc::cuboid(unit).orientation(Quat::new(0.0, 0.0, 0.0, 0.0))).unwrap_err(), SimError::ZeroLength { field: "orientation" });
+    assert_eq!(
+        w.add_body(BodyDesc::cuboid(unit).orientation(Quat::new(0.0, 0.0, 0.0, 0.0))).unwrap_err(),
+        SimError::ZeroLength { field: "orientation" }
+    );
     let id = w.add_body(BodyDesc::cuboid(unit).orientation(Quat::new(2.0, 0.0, 0.0, 0.0))).unwrap();
     assert_eq!(w.body(id).unwrap().orientation(), Quat::IDENTITY);
-    assert_eq!(w.set_orientation(id, Quat::new(0.0, 0.0, 0.0, 0.0)).unwrap_err(), SimError::ZeroLength { field: "orientation" });
+    assert_eq!(
+        w.set_orientation(id, Quat::new(0.0, 0.0, 0.0, 0.0)).unwrap_err(),
+        SimError::ZeroLength { field: "orientation" }
+    );
     // Inertia must be symmetric positive definite.
     let bad_inertia = sim::math::Mat3::diagonal(Vec3::new(1.0, -1.0, 1.0));
-    assert!(matches!(w.add_body(BodyDesc::cuboid(unit).inertia(bad_inertia)).unwrap_err(), SimError::BadInertia { .. }));
+    assert!(matches!(
+        w.add_body(BodyDesc::cuboid(unit).inertia(bad_inertia)).unwrap_err(),
+        SimError::BadInertia { .. }
+    ));
     // Planes: static only, non-zero normal.
     assert_eq!(w.add_body(BodyDesc::plane(Plane::ground()).fixed(false)).unwrap_err(), SimError::DynamicPlane);
     assert_eq!(Plane::new(Vec3::ZERO, 1.0).unwrap_err(), SimError::ZeroLength { field: "normal" });
-    assert!(matches!(Plane::slope_deg(90.0, sim::Downhill::PlusX).unwrap_err(), SimError::OutOfRange { field: "angle", .. }));
+    assert!(matches!(
+        Plane::slope_deg(90.0, sim::Downhill::PlusX).unwrap_err(),
+        SimError::OutOfRange { field: "angle", .. }
+    ));
     // Nothing invalid was added.
     assert_eq!(w.body_count(), 1);
 }
@@ -69,16 +120,28 @@ fn unknown_and_static_bodies_are_errors() {
     assert_eq!(w.set_velocity(missing, Vec3::X).unwrap_err(), SimError::UnknownBody { index: 7, bodies: 2 });
     assert_eq!(w.apply_force(ground, Vec3::X, None).unwrap_err(), SimError::StaticBody { index: 0 });
     assert_eq!(w.set_velocity(ground, Vec3::X).unwrap_err(), SimError::StaticBody { index: 0 });
-    assert!(matches!(w.apply_force(cube, Vec3::new(f64::NAN, 0.0, 0.0), None).unwrap_err(), SimError::NonFinite { field: "force", .. }));
-    assert!(matches!(w.apply_force(cube, Vec3::X, Some(Vec3::splat(f64::INFINITY))).unwrap_err(), SimError::NonFinite { field: "point", .. }));
+    assert!(matches!(
+        w.apply_force(cube, Vec3::new(f64::NAN, 0.0, 0.0), None).unwrap_err(),
+        SimError::NonFinite { field: "force", .. }
+    ));
+    assert!(matches!(
+        w.apply_force(cube, Vec3::X, Some(Vec3::splat(f64::INFINITY))).unwrap_err(),
+        SimError::NonFinite { field: "point", .. }
+    ));
     assert!(matches!(w.set_mu(cube, -1.0).unwrap_err(), SimError::Negative { field: "mu", .. }));
     assert!(w.applied_forces().is_empty());
 }
 
 #[test]
 fn scene_parameters_are_validated() {
-    assert!(matches!(CubeOnSlope::new(30.0, -0.5).build(WorldParams::default()).unwrap_err(), SimError::Negative { field: "mu", .. }));
-    assert!(matches!(CubeOnSlope::new(f64::NAN, 0.5).build(WorldParams::default()).unwrap_err(), SimError::NonFinite { field: "angle_deg", .. }));
+    assert!(matches!(
+        CubeOnSlope::new(30.0, -0.5).build(WorldParams::default()).unwrap_err(),
+        SimError::Negative { field: "mu", .. }
+    ));
+    assert!(matches!(
+        CubeOnSlope::new(f64::NAN, 0.5).build(WorldParams::default()).unwrap_err(),
+        SimError::NonFinite { field: "angle_deg", .. }
+    ));
     let mut c = CubeOnSlope::new(30.0, 0.5);
     c.size = 0.0;
     assert!(matches!(c.build(WorldParams::default()).unwrap_err(), SimError::NotPositive { field: "size", .. }));

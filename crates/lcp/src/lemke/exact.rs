@@ -231,7 +231,20 @@ mod tests {
         assert!(matches!(end, ExactEnd::Limit), "expected the work budget to end the rung");
         assert!(pivots < 10 * n, "stopped by the budget, not the pivot limit ({pivots} pivots)");
         // The same structure with entries of a few bits is solved exactly.
-        let small = Lcp::from_fn(n, |i, j| if i == j { 1.0 } else if j < i { 0.5 } else { 0.0 }, vec![-1.0; n]).unwrap();
+        let small = Lcp::from_fn(
+            n,
+            |i, j| {
+                if i == j {
+                    1.0
+                } else if j < i {
+                    0.5
+                } else {
+                    0.0
+                }
+            },
+            vec![-1.0; n],
+        )
+        .unwrap();
         assert!(matches!(solve(&small, 10 * n).0, ExactEnd::Solved(..)));
     }
 }

@@ -174,7 +174,10 @@ impl ContactLcp {
     }
     /// Jacobian rows (`n`, `t1`, `t2`) of contact `i`.
     pub fn rows(&self, i: usize) -> ContactRows {
-        ContactRows { body: [self.side_body[2 * i], self.side_body[2 * i + 1]], rows: [self.jac[2 * i], self.jac[2 * i + 1]] }
+        ContactRows {
+            body: [self.side_body[2 * i], self.side_body[2 * i + 1]],
+            rows: [self.jac[2 * i], self.jac[2 * i + 1]],
+        }
     }
 
     /// The dynamic body on `side` (0 = A, 1 = B) of contact `c`, `None` if static.

@@ -22,7 +22,15 @@ impl FrictionBasis {
         let trig = (0..k)
             .map(|j| {
                 let a = 2.0 * std::f64::consts::PI * j as f64 / k as f64;
-                let clean = |v: f64| if v.abs() < 1e-15 { 0.0 } else if (v.abs() - 1.0).abs() < 1e-15 { v.signum() } else { v };
+                let clean = |v: f64| {
+                    if v.abs() < 1e-15 {
+                        0.0
+                    } else if (v.abs() - 1.0).abs() < 1e-15 {
+                        v.signum()
+                    } else {
+                        v
+                    }
+                };
                 (clean(a.cos()), clean(a.sin()))
             })
             .collect();

@@ -138,7 +138,8 @@ impl Body {
         let orientation = normalize_quat(d.orientation)?;
         if d.is_static {
             // Static bodies: infinite mass, zero velocity; a plane lives in world coordinates.
-            let (position, orientation) = if is_plane { (Vec3::ZERO, Quat::IDENTITY) } else { (d.position, orientation) };
+            let (position, orientation) =
+                if is_plane { (Vec3::ZERO, Quat::IDENTITY) } else { (d.position, orientation) };
             return Ok(Body {
                 shape: d.shape,
                 mass: f64::INFINITY,

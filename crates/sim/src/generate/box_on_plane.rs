@@ -90,7 +90,15 @@ impl BoxOnPlane {
         let [v0, v1, v2, w0, w1, w2] = self.velocity;
         let axes = [Vec3::X, Vec3::Y, Vec3::Z];
         let shape = Shape::cuboid(Vec3::splat(0.5)).expect("a unit cube is valid");
-        let cube = principal_body(shape, Vec3::ZERO, axes, BOX_MASS, [BOX_MOMENT; 3], Vec3::new(v0, v1, v2), Vec3::new(w0, w1, w2));
+        let cube = principal_body(
+            shape,
+            Vec3::ZERO,
+            axes,
+            BOX_MASS,
+            [BOX_MOMENT; 3],
+            Vec3::new(v0, v1, v2),
+            Vec3::new(w0, w1, w2),
+        );
         scene.push_body(cube);
         let ground = scene.push_ground();
         let [t1, _, normal] = self.frame;

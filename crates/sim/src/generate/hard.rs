@@ -106,7 +106,10 @@ impl Block {
 
     /// A point of the bottom (`side = −1`) or top (`side = 1`) face, `(u, v)` in [−1, 1]².
     fn face_point(&self, u: f64, v: f64, side: f64) -> Vec3 {
-        self.x + self.axes[0] * (u * self.half.x) + self.axes[1] * (v * self.half.y) + self.axes[2] * (side * self.half.z)
+        self.x
+            + self.axes[0] * (u * self.half.x)
+            + self.axes[1] * (v * self.half.y)
+            + self.axes[2] * (side * self.half.z)
     }
 
     /// The dynamic body, moving with `[v; ω]`.
@@ -291,8 +294,10 @@ impl Draw {
             HardKind::MassRatio => {
                 let ratio = 10f64.powf(rng.random_range(0.0..=4.0));
                 let (lower_mass, upper_mass) = if rng.random_bool(0.5) { (ratio, 1.0) } else { (1.0, ratio) };
-                let half_l = Vec3::new(rng.random_range(0.3..=1.0), rng.random_range(0.3..=1.0), rng.random_range(0.1..=0.5));
-                let half_u = Vec3::new(rng.random_range(0.1..=0.5), rng.random_range(0.1..=0.5), rng.random_range(0.1..=0.5));
+                let half_l =
+                    Vec3::new(rng.random_range(0.3..=1.0), rng.random_range(0.3..=1.0), rng.random_range(0.1..=0.5));
+                let half_u =
+                    Vec3::new(rng.random_range(0.1..=0.5), rng.random_range(0.1..=0.5), rng.random_range(0.1..=0.5));
                 let lower = Block::cuboid(Vec3::ZERO, self.axes, half_l, lower_mass);
                 let top = lower.face_point(rng.random_range(-0.5..=0.5), rng.random_range(-0.5..=0.5), 1.0);
                 let upper = Block::cuboid(top, self.axes, half_u, upper_mass);
@@ -325,9 +330,15 @@ impl Draw {
                 let thin = 10f64.powf(rng.random_range(-3.0..=-1.0));
                 let ratio = 10f64.powf(rng.random_range(0.0..=4.0));
                 let (lower_mass, upper_mass) = if rng.random_bool(0.5) { (ratio, 1.0) } else { (1.0, ratio) };
-                let board = Block::cuboid(Vec3::ZERO, self.axes, Vec3::new(1.0, rng.random_range(0.05..=1.0), thin), lower_mass);
+                let board = Block::cuboid(
+                    Vec3::ZERO,
+                    self.axes,
+                    Vec3::new(1.0, rng.random_range(0.05..=1.0), thin),
+                    lower_mass,
+                );
                 let top = board.face_point(rng.random_range(-0.5..=0.5), rng.random_range(-0.5..=0.5), 1.0);
-                let half_u = Vec3::new(rng.random_range(0.05..=0.5), rng.random_range(0.05..=0.5), rng.random_range(0.05..=0.5));
+                let half_u =
+                    Vec3::new(rng.random_range(0.05..=0.5), rng.random_range(0.05..=0.5), rng.random_range(0.05..=0.5));
                 let upper = Block::cuboid(top, self.axes, half_u, upper_mass);
                 for (u, v) in CORNERS {
                     contacts.push(HardContact { b: Some(0), ..self.ground(rng, upper.face_point(u, v, -1.0), 1) });
@@ -379,7 +390,8 @@ fn twin_of(rng: &mut ChaCha8Rng, c: HardContact, t1: Vec3, t2: Vec3, mu: f64) ->
 
 /// Bodies with their velocities, the ground, and the contacts between them.
 fn scene_from(kind: HardKind, k: usize, rng: &mut ChaCha8Rng, blocks: &[Block], contacts: &[HardContact]) -> HardScene {
-    let diag: Vec<f64> = blocks.iter().flat_map(|b| [b.mass, b.mass, b.mass, b.inertia[0], b.inertia[1], b.inertia[2]]).collect();
+    let diag: Vec<f64> =
+        blocks.iter().flat_map(|b| [b.mass, b.mass, b.mass, b.inertia[0], b.inertia[1], b.inertia[2]]).collect();
     let mass_cond = diag.iter().fold(0.0f64, |a, &v| a.max(v)) / diag.iter().fold(f64::INFINITY, |a, &v| a.min(v));
     // Velocities: resting, sliding in the plane, approaching it, spinning — independently per body.
     let normal = contacts.first().map_or(Vec3::Z, |c| c.normal);

@@ -78,8 +78,12 @@ impl Scene {
     /// by the simulator (stabilization `0.2·φ/h` for penetrating contacts, no restitution).
     pub fn assemble(&self, k: usize, scale: f64) -> ContactLcp {
         let inv_inertia: Vec<Mat3> = self.bodies.iter().map(Body::inv_inertia_world).collect();
-        let dynamics =
-            BodyDynamics { bodies: &self.bodies, inv_inertia_world: &inv_inertia, v_free: &self.v_free, w_free: &self.w_free };
+        let dynamics = BodyDynamics {
+            bodies: &self.bodies,
+            inv_inertia_world: &inv_inertia,
+            v_free: &self.v_free,
+            w_free: &self.w_free,
+        };
         let params = AssemblyParams {
             h: CONTACT_H,
             k,
@@ -140,7 +144,9 @@ impl Scene {
 
     /// `v* = [v + h g; ω]` of the dynamic bodies, length `6·dynamic()`.
     pub fn vstar(&self) -> Vec<f64> {
-        (0..self.dynamic()).flat_map(|b| self.v_free[b].to_array().into_iter().chain(self.w_free[b].to_array())).collect()
+        (0..self.dynamic())
+            .flat_map(|b| self.v_free[b].to_array().into_iter().chain(self.w_free[b].to_array()))
+            .collect()
     }
 }
 
@@ -149,7 +155,15 @@ impl Scene {
 /// so the inertia tensor is given in world axes, `Σ_k I_k a_k a_kᵀ`, and
 /// `M_b⁻¹`'s rotational block is `Σ_k a_k a_kᵀ / I_k` entry for entry
 /// (computed on and above the diagonal and mirrored: exactly symmetric).
-fn principal_body(shape: Shape, position: Vec3, axes: [Vec3; 3], mass: f64, moments: [f64; 3], velocity: Vec3, angular: Vec3) -> Body {
+fn principal_body(
+    shape: Shape,
+    position: Vec3,
+    axes: [Vec3; 3],
+    mass: f64,
+    moments: [f64; 3],
+    velocity: Vec3,
+    angular: Vec3,
+) -> Body {
     let outer = |op: fn(f64, f64) -> f64| {
         let mut m = [[0.0; 3]; 3];
         for i in 0..3 {

@@ -81,20 +81,44 @@ pub fn box_box(a: &BoxShape, pa: &Placement, b: &BoxShape, pb: &Placement, margi
             let fc = pb.center + n * hb[j];
             let (u1, e1, u2, e2) = side_axes(&axes_b, &hb, j);
             let poly = incident_face(&axes_a, &ha, pa.center, -n);
-            clip_and_emit(&poly, fc, u1, e1, u2, e2, margin, scale, out, |p| {
-                let gap = n.dot(p - fc);
-                (gap, p - n * (0.5 * gap))
-            }, n);
+            clip_and_emit(
+                &poly,
+                fc,
+                u1,
+                e1,
+                u2,
+                e2,
+                margin,
+                scale,
+                out,
+                |p| {
+                    let gap = n.dot(p - fc);
+                    (gap, p - n * (0.5 * gap))
+                },
+                n,
+            );
         }
         Axis::FaceA(i) => {
             // Reference face on A facing B (outward normal −n); incident face on B facing +n.
             let fc = pa.center - n * ha[i];
             let (u1, e1, u2, e2) = side_axes(&axes_a, &ha, i);
             let poly = incident_face(&axes_b, &hb, pb.center, n);
-            clip_and_emit(&poly, fc, u1, e1, u2, e2, margin, scale, out, |p| {
-                let gap = n.dot(fc - p);
-                (gap, p + n * (0.5 * gap))
-            }, n);
+            clip_and_emit(
+                &poly,
+                fc,
+                u1,
+                e1,
+                u2,
+                e2,
+                margin,
+                scale,
+                out,
+                |p| {
+                    let gap = n.dot(fc - p);
+                    (gap, p + n * (0.5 * gap))
+                },
+                n,
+            );
         }
         Axis::Edge(i, j) => {
             // The edge of A deepest towards B and the edge of B deepest towards A.
@@ -246,7 +270,14 @@ mod tests {
     fn stacked_cubes_touch_at_four_corners() {
         let b = BoxShape::cube(1.0).unwrap();
         let mut out = Vec::new();
-        box_box(&b, &place(Vec3::new(0.0, 0.0, 1.5), Quat::IDENTITY), &b, &place(Vec3::new(0.0, 0.0, 0.5), Quat::IDENTITY), 1e-3, &mut out);
+        box_box(
+            &b,
+            &place(Vec3::new(0.0, 0.0, 1.5), Quat::IDENTITY),
+            &b,
+            &place(Vec3::new(0.0, 0.0, 0.5), Quat::IDENTITY),
+            1e-3,
+            &mut out,
+        );
         assert_eq!(out.len(), 4, "{out:?}");
         for c in &out {
             assert_eq!(c.normal, Vec3::Z);
@@ -260,7 +291,14 @@ mod tests {
         let b = BoxShape::cube(1.0).unwrap();
         let q = Quat::from_axis_angle(Vec3::Z, std::f64::consts::FRAC_PI_4);
         let mut out = Vec::new();
-        box_box(&b, &place(Vec3::new(0.0, 0.0, 1.5), q), &b, &place(Vec3::new(0.0, 0.0, 0.5), Quat::IDENTITY), 1e-3, &mut out);
+        box_box(
+            &b,
+            &place(Vec3::new(0.0, 0.0, 1.5), q),
+            &b,
+            &place(Vec3::new(0.0, 0.0, 0.5), Quat::IDENTITY),
+            1e-3,
+            &mut out,
+        );
         assert_eq!(out.len(), 8, "{out:?}");
         assert!(out.iter().all(|c| (c.normal - Vec3::Z).max_abs() < 1e-12 && c.gap.abs() < 1e-12));
     }
@@ -269,7 +307,14 @@ mod tests {
     fn lower_box_first_gives_downward_normal() {
         let b = BoxShape::cube(1.0).unwrap();
         let mut out = Vec::new();
-        box_box(&b, &place(Vec3::new(0.2, 0.0, 0.5), Quat::IDENTITY), &b, &place(Vec3::new(0.0, 0.0, 1.49), Quat::IDENTITY), 1e-3, &mut out);
+        box_box(
+            &b,
+            &place(Vec3::new(0.2, 0.0, 0.5), Quat::IDENTITY),
+            &b,
+            &place(Vec3::new(0.0, 0.0, 1.49), Quat::IDENTITY),
+            1e-3,
+            &mut out,
+        );
         assert_eq!(out.len(), 4);
         for c in &out {
             assert_eq!(c.normal, -Vec3::Z);
@@ -301,7 +346,14 @@ mod tests {
         let qb = Quat::new(1.0, -2e-14, 2e-14, 2e-13).try_normalize().unwrap();
         for (dx, dy) in [(0.0, 0.0), (-3e-13, -2.5e-12), (1e-12, -1e-12), (2e-10, 3e-10)] {
             let mut out = Vec::new();
-            box_box(&b, &place(Vec3::new(-1.6e-13, -1.0e-12, 0.5), qa), &b, &place(Vec3::new(dx, dy, 1.5), qb), 1e-3, &mut out);
+            box_box(
+                &b,
+                &place(Vec3::new(-1.6e-13, -1.0e-12, 0.5), qa),
+                &b,
+                &place(Vec3::new(dx, dy, 1.5), qb),
+                1e-3,
+                &mut out,
+            );
             assert_eq!(out.len(), 4, "offset ({dx}, {dy}): {out:?}");
         }
     }
@@ -310,7 +362,14 @@ mod tests {
     fn separated_boxes_give_nothing() {
         let b = BoxShape::cube(1.0).unwrap();
         let mut out = Vec::new();
-        box_box(&b, &place(Vec3::new(1.1, 0.0, 0.0), Quat::IDENTITY), &b, &Placement { center: Vec3::ZERO, rotation: Mat3::IDENTITY }, 1e-3, &mut out);
+        box_box(
+            &b,
+            &place(Vec3::new(1.1, 0.0, 0.0), Quat::IDENTITY),
+            &b,
+            &Placement { center: Vec3::ZERO, rotation: Mat3::IDENTITY },
+            1e-3,
+            &mut out,
+        );
         assert!(out.is_empty());
     }
 }

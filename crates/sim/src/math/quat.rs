@@ -190,7 +190,9 @@ mod tests {
 
     #[test]
     fn from_mat3_inverts_to_mat3() {
-        for (axis, angle) in [(Vec3::X, 0.3), (Vec3::new(1.0, 2.0, 3.0), 2.9), (Vec3::Y, -3.0), (Vec3::Z, 3.1), (Vec3::X, 3.14)] {
+        for (axis, angle) in
+            [(Vec3::X, 0.3), (Vec3::new(1.0, 2.0, 3.0), 2.9), (Vec3::Y, -3.0), (Vec3::Z, 3.1), (Vec3::X, 3.14)]
+        {
             let q = Quat::from_axis_angle(axis, angle);
             let back = Quat::from_mat3(&q.to_mat3());
             // q and −q are the same rotation.
