@@ -19,9 +19,14 @@
 //! runs the walled heap (`max_halvings = HALVINGS`) and prints per step the
 //! largest LCP, pivots, the islands' summed `entered` (the fewest pivots
 //! that could have reached the answers found from the bases the step started
-//! from), seconds, and at the end the totals with the seconds the
+//! from), seconds, penetration, each failed attempt of a step retaken in
+//! parts, and at the end the totals (failed and retaken steps, the deepest
+//! penetration) with the seconds the
 //! steps would have taken at their own cost per pivot had every island gone
-//! straight to its answer: what a shorter path could save at best.
+//! straight to its answer: what a shorter path could save at best. A change
+//! to the structured Lemke is judged on such whole heaps of several seeds
+//! (`distance 200 200 3 SEED`), not on saved LCPs alone: every LCP of a heap
+//! has many answers, and the trajectories part.
 //!
 //! With `LCPSIM_LEMKE_TRACE=1` set, every structured Lemke run prints its
 //! counts to standard error (`lemke_trace` and `lemke_end` lines: degenerate
@@ -119,7 +124,8 @@ fn solve(start: &str, files: &[String]) {
 fn distance(cubes: usize, steps: usize, halvings: u32, seed: u64) {
     let p = WorldParams { max_halvings: halvings, ..WorldParams::default() };
     let mut s = CubeHeap { walls: true, ..CubeHeap::new(cubes, seed) }.build(p).unwrap();
-    let (mut pivots, mut entered, mut secs, mut straight, mut failed) = (0usize, 0usize, 0.0f64, 0.0f64, 0usize);
+    let (mut pivots, mut entered, mut secs, mut straight) = (0usize, 0usize, 0.0f64, 0.0f64);
+    let (mut failed, mut retaken, mut pen) = (0usize, 0usize, 0.0f64);
     for _ in 0..steps {
         let ts = Instant::now();
         let r = s.world.step().unwrap();
@@ -130,8 +136,21 @@ fn distance(cubes: usize, steps: usize, halvings: u32, seed: u64) {
         // At this step's cost per pivot (a step without pivots costs what it cost).
         straight += if r.pivots > 0 { t * (d.min(r.pivots) as f64 / r.pivots as f64) } else { t };
         failed += usize::from(!r.ok());
+        retaken += usize::from(r.parts > 1);
+        let step_pen = r.contacts.iter().fold(0.0f64, |p, c| p.max(-c.gap));
+        pen = pen.max(step_pen);
+        // Each failed attempt before the parts that stood: where it was, and its unsolved islands.
+        for a in &r.retakes {
+            let unsolved: Vec<_> = a
+                .islands
+                .iter()
+                .filter(|i| i.status != sim::lcp::Status::Solved)
+                .map(|i| (i.lcp_size, i.status, i.pivots))
+                .collect();
+            println!("  step {} attempt at t = {:.5}, h = {:.2e}: unsolved {unsolved:?}", r.step, a.time, a.h);
+        }
         println!(
-            "step {} n {n} islands {} parts {} pivots {} entered {d} secs {t:.3} ok {}",
+            "step {} n {n} islands {} parts {} pivots {} entered {d} secs {t:.3} ok {} pen {step_pen:.2e}",
             r.step,
             r.islands.len(),
             r.parts,
@@ -140,7 +159,8 @@ fn distance(cubes: usize, steps: usize, halvings: u32, seed: u64) {
         );
     }
     println!(
-        "done: {steps} steps, {secs:.1} s, {pivots} pivots, {entered} entered, {straight:.1} s going straight, {failed} failed"
+        "done: {steps} steps, {secs:.1} s, {pivots} pivots, {entered} entered, {straight:.1} s going straight, \
+         {failed} failed, {retaken} retaken, penetration {pen:.2e} m"
     );
 }
 
