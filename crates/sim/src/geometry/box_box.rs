@@ -75,75 +75,52 @@ pub fn box_box(a: &BoxShape, pa: &Placement, b: &BoxShape, pb: &Placement, margi
     }
 
     let (sep, n, axis) = best;
-    match axis {
+    // The reference face (its centre, side axes and outward normal s·n: s = 1
+    // for B's face facing A, −1 for A's facing B) and the other box's
+    // incident face, facing −s·n.
+    let (fc, (u1, e1, u2, e2), poly, s) = match axis {
         Axis::FaceB(j) => {
-            // Reference face on B facing A (outward normal +n); incident face on A facing −n.
-            let fc = pb.center + n * hb[j];
-            let (u1, e1, u2, e2) = side_axes(&axes_b, &hb, j);
-            let poly = incident_face(&axes_a, &ha, pa.center, -n);
-            clip_and_emit(
-                &poly,
-                fc,
-                u1,
-                e1,
-                u2,
-                e2,
-                margin,
-                scale,
-                out,
-                |p| {
-                    let gap = n.dot(p - fc);
-                    (gap, p - n * (0.5 * gap))
-                },
-                n,
-            );
+            (pb.center + n * hb[j], side_axes(&axes_b, &hb, j), incident_face(&axes_a, &ha, pa.center, -n), 1.0)
         }
         Axis::FaceA(i) => {
-            // Reference face on A facing B (outward normal −n); incident face on B facing +n.
-            let fc = pa.center - n * ha[i];
-            let (u1, e1, u2, e2) = side_axes(&axes_a, &ha, i);
-            let poly = incident_face(&axes_b, &hb, pb.center, n);
-            clip_and_emit(
-                &poly,
-                fc,
-                u1,
-                e1,
-                u2,
-                e2,
-                margin,
-                scale,
-                out,
-                |p| {
-                    let gap = n.dot(fc - p);
-                    (gap, p + n * (0.5 * gap))
-                },
-                n,
-            );
+            (pa.center - n * ha[i], side_axes(&axes_a, &ha, i), incident_face(&axes_b, &hb, pb.center, n), -1.0)
         }
         Axis::Edge(i, j) => {
-            // The edge of A deepest towards B and the edge of B deepest towards A.
-            let mut pa0 = pa.center;
-            let mut pb0 = pb.center;
-            for k in 0..3 {
-                if k != i {
-                    pa0 -= axes_a[k] * (ha[k] * sign(axes_a[k].dot(n)));
-                }
-                if k != j {
-                    pb0 += axes_b[k] * (hb[k] * sign(axes_b[k].dot(n)));
-                }
-            }
-            let (ea, eb) = (axes_a[i], axes_b[j]);
-            // Closest points of the two edge lines, clamped to the edges.
-            let r = pa0 - pb0;
-            let bb = ea.dot(eb);
-            let (c, f) = (ea.dot(r), eb.dot(r));
-            let denom = (1.0 - bb * bb).max(1e-12);
-            let s = ((bb * f - c) / denom).clamp(-ha[i], ha[i]);
-            let t = (f + s * bb).clamp(-hb[j], hb[j]);
-            let point = (pa0 + ea * s + pb0 + eb * t) * 0.5;
+            let point = edge_point((pa.center, &axes_a, &ha, i), (pb.center, &axes_b, &hb, j), n);
             out.push(GeomContact { point, normal: n, gap: sep });
+            return;
+        }
+    };
+    let gap_point = |p: Vec3| {
+        let gap = s * n.dot(p - fc);
+        (gap, p - n * (s * 0.5 * gap))
+    };
+    clip_and_emit(&poly, fc, u1, e1, u2, e2, margin, scale, out, gap_point, n);
+}
+
+/// Edge `i` of box A and edge `j` of box B (each given as centre, axes, half
+/// extents and edge axis), for the separating direction `n` from B to A: the
+/// midpoint of their closest points, each clamped to its edge.
+fn edge_point(a: (Vec3, &[Vec3; 3], &[f64; 3], usize), b: (Vec3, &[Vec3; 3], &[f64; 3], usize), n: Vec3) -> Vec3 {
+    let ((mut pa0, axes_a, ha, i), (mut pb0, axes_b, hb, j)) = (a, b);
+    // The edge of A deepest towards B and the edge of B deepest towards A.
+    for k in 0..3 {
+        if k != i {
+            pa0 -= axes_a[k] * (ha[k] * sign(axes_a[k].dot(n)));
+        }
+        if k != j {
+            pb0 += axes_b[k] * (hb[k] * sign(axes_b[k].dot(n)));
         }
     }
+    let (ea, eb) = (axes_a[i], axes_b[j]);
+    // Closest points of the two edge lines, clamped to the edges.
+    let r = pa0 - pb0;
+    let bb = ea.dot(eb);
+    let (c, f) = (ea.dot(r), eb.dot(r));
+    let denom = (1.0 - bb * bb).max(1e-12);
+    let s = ((bb * f - c) / denom).clamp(-ha[i], ha[i]);
+    let t = (f + s * bb).clamp(-hb[j], hb[j]);
+    (pa0 + ea * s + pb0 + eb * t) * 0.5
 }
 
 #[inline]
