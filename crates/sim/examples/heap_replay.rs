@@ -141,12 +141,7 @@ fn distance(cubes: usize, steps: usize, halvings: u32, seed: u64) {
         pen = pen.max(step_pen);
         // Each failed attempt before the parts that stood: where it was, and its unsolved islands.
         for a in &r.retakes {
-            let unsolved: Vec<_> = a
-                .islands
-                .iter()
-                .filter(|i| i.status != sim::lcp::Status::Solved)
-                .map(|i| (i.lcp_size, i.status, i.pivots))
-                .collect();
+            let unsolved: Vec<_> = a.unsolved().map(|i| (i.lcp_size, i.status, i.pivots)).collect();
             println!("  step {} attempt at t = {:.5}, h = {:.2e}: unsolved {unsolved:?}", r.step, a.time, a.h);
         }
         println!(

@@ -50,8 +50,7 @@ fn heap_runs_without_failures_or_penetration(n: usize, steps: usize, params: Wor
         let ts = std::time::Instant::now();
         let r = s.world.step().unwrap();
         for t in &r.retakes {
-            let failed = t.islands.iter().filter(|i| i.status != lcp::Status::Solved);
-            let failed: Vec<_> = failed.map(|i| (i.lcp_size, i.status, i.pivots)).collect();
+            let failed: Vec<_> = t.unsolved().map(|i| (i.lcp_size, i.status, i.pivots)).collect();
             eprintln!(
                 "step {} retaken in halves: part at t = {:.4} s, h = {:.2e} s, failed {failed:?}",
                 r.step, t.time, t.h

@@ -243,18 +243,18 @@ mod tests {
         Placement { center: c, rotation: q.to_mat3() }
     }
 
-    #[test]
-    fn stacked_cubes_touch_at_four_corners() {
+    /// The contacts of two unit cubes placed so, within a margin of 1 mm.
+    fn cubes(pa: Placement, pb: Placement) -> Vec<GeomContact> {
         let b = BoxShape::cube(1.0).unwrap();
         let mut out = Vec::new();
-        box_box(
-            &b,
-            &place(Vec3::new(0.0, 0.0, 1.5), Quat::IDENTITY),
-            &b,
-            &place(Vec3::new(0.0, 0.0, 0.5), Quat::IDENTITY),
-            1e-3,
-            &mut out,
-        );
+        box_box(&b, &pa, &b, &pb, 1e-3, &mut out);
+        out
+    }
+
+    #[test]
+    fn stacked_cubes_touch_at_four_corners() {
+        let out =
+            cubes(place(Vec3::new(0.0, 0.0, 1.5), Quat::IDENTITY), place(Vec3::new(0.0, 0.0, 0.5), Quat::IDENTITY));
         assert_eq!(out.len(), 4, "{out:?}");
         for c in &out {
             assert_eq!(c.normal, Vec3::Z);
@@ -265,33 +265,16 @@ mod tests {
 
     #[test]
     fn rotated_cube_on_cube_gives_octagon() {
-        let b = BoxShape::cube(1.0).unwrap();
         let q = Quat::from_axis_angle(Vec3::Z, std::f64::consts::FRAC_PI_4);
-        let mut out = Vec::new();
-        box_box(
-            &b,
-            &place(Vec3::new(0.0, 0.0, 1.5), q),
-            &b,
-            &place(Vec3::new(0.0, 0.0, 0.5), Quat::IDENTITY),
-            1e-3,
-            &mut out,
-        );
+        let out = cubes(place(Vec3::new(0.0, 0.0, 1.5), q), place(Vec3::new(0.0, 0.0, 0.5), Quat::IDENTITY));
         assert_eq!(out.len(), 8, "{out:?}");
         assert!(out.iter().all(|c| (c.normal - Vec3::Z).max_abs() < 1e-12 && c.gap.abs() < 1e-12));
     }
 
     #[test]
     fn lower_box_first_gives_downward_normal() {
-        let b = BoxShape::cube(1.0).unwrap();
-        let mut out = Vec::new();
-        box_box(
-            &b,
-            &place(Vec3::new(0.2, 0.0, 0.5), Quat::IDENTITY),
-            &b,
-            &place(Vec3::new(0.0, 0.0, 1.49), Quat::IDENTITY),
-            1e-3,
-            &mut out,
-        );
+        let out =
+            cubes(place(Vec3::new(0.2, 0.0, 0.5), Quat::IDENTITY), place(Vec3::new(0.0, 0.0, 1.49), Quat::IDENTITY));
         assert_eq!(out.len(), 4);
         for c in &out {
             assert_eq!(c.normal, -Vec3::Z);
@@ -302,12 +285,10 @@ mod tests {
     #[test]
     fn crossed_edges_give_one_contact() {
         // Two cubes balanced edge on edge, edges crossing at right angles.
-        let b = BoxShape::cube(1.0).unwrap();
         let r = 0.5 * 2f64.sqrt();
         let qa = Quat::from_axis_angle(Vec3::X, std::f64::consts::FRAC_PI_4);
         let qb = Quat::from_axis_angle(Vec3::Y, std::f64::consts::FRAC_PI_4);
-        let mut out = Vec::new();
-        box_box(&b, &place(Vec3::new(0.0, 0.0, 2.0 * r - 1e-4), qa), &b, &place(Vec3::ZERO, qb), 1e-3, &mut out);
+        let out = cubes(place(Vec3::new(0.0, 0.0, 2.0 * r - 1e-4), qa), place(Vec3::ZERO, qb));
         assert_eq!(out.len(), 1, "{out:?}");
         assert!((out[0].normal - Vec3::Z).max_abs() < 1e-9);
         assert!((out[0].gap + 1e-4).abs() < 1e-9);
@@ -318,34 +299,19 @@ mod tests {
     fn nearly_coincident_faces_give_exactly_four_corners() {
         // Stacked cubes off by round-off (the state of a resting stack after
         // many steps): the clipping must not invent points along the edges.
-        let b = BoxShape::cube(1.0).unwrap();
         let qa = Quat::new(1.0, 5e-14, -5e-14, -7e-14).try_normalize().unwrap();
         let qb = Quat::new(1.0, -2e-14, 2e-14, 2e-13).try_normalize().unwrap();
         for (dx, dy) in [(0.0, 0.0), (-3e-13, -2.5e-12), (1e-12, -1e-12), (2e-10, 3e-10)] {
-            let mut out = Vec::new();
-            box_box(
-                &b,
-                &place(Vec3::new(-1.6e-13, -1.0e-12, 0.5), qa),
-                &b,
-                &place(Vec3::new(dx, dy, 1.5), qb),
-                1e-3,
-                &mut out,
-            );
+            let out = cubes(place(Vec3::new(-1.6e-13, -1.0e-12, 0.5), qa), place(Vec3::new(dx, dy, 1.5), qb));
             assert_eq!(out.len(), 4, "offset ({dx}, {dy}): {out:?}");
         }
     }
 
     #[test]
     fn separated_boxes_give_nothing() {
-        let b = BoxShape::cube(1.0).unwrap();
-        let mut out = Vec::new();
-        box_box(
-            &b,
-            &place(Vec3::new(1.1, 0.0, 0.0), Quat::IDENTITY),
-            &b,
-            &Placement { center: Vec3::ZERO, rotation: Mat3::IDENTITY },
-            1e-3,
-            &mut out,
+        let out = cubes(
+            place(Vec3::new(1.1, 0.0, 0.0), Quat::IDENTITY),
+            Placement { center: Vec3::ZERO, rotation: Mat3::IDENTITY },
         );
         assert!(out.is_empty());
     }

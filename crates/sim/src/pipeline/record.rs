@@ -79,6 +79,13 @@ pub struct Retake {
     pub islands: Vec<IslandRecord>,
 }
 
+impl Retake {
+    /// Its islands that were not solved.
+    pub fn unsolved(&self) -> impl Iterator<Item = &IslandRecord> {
+        self.islands.iter().filter(|i| i.status != Status::Solved)
+    }
+}
+
 /// One island of a step: which bodies and contacts, and how its LCP went.
 #[derive(Clone, Debug, PartialEq)]
 pub struct IslandRecord {
