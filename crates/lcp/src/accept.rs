@@ -157,8 +157,10 @@ fn rejected_rows(
     mut scale: impl FnMut(usize, f64) -> (f64, f64),
     first: bool,
 ) -> Option<usize> {
-    if let Some(j) = z.iter().position(|&v| !(v >= 0.0 && v.is_finite())) {
-        return Some(j);
+    // (One pass without an early exit, which vectorizes; the index only when one is bad.)
+    let bad = |v: f64| !(v >= 0.0 && v.is_finite());
+    if z.iter().fold(false, |any, &v| any | bad(v)) {
+        return z.iter().position(|&v| bad(v));
     }
     let mut zsum = None;
     let mut worst: Option<(usize, f64)> = None;

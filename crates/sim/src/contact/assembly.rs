@@ -221,6 +221,12 @@ impl ContactLcp {
         self.trig[j]
     }
 
+    /// `(cos, sin)` of every friction direction, `j = 0..k`.
+    #[inline]
+    pub fn trig(&self) -> &[(f64, f64)] {
+        &self.trig
+    }
+
     /// Number of bodies of the world the rows index into.
     pub fn body_count(&self) -> usize {
         self.bodies

@@ -27,11 +27,21 @@ enum Var {
 }
 
 /// One index of `z` for [`LcpOperator::block`]: its kind and, per dynamic
-/// side, `(body, J row, M_b⁻¹ Jᵀ row)` (none for a λ).
+/// side, `(body, row)` (none for a λ) — its `J` row as a row of the block,
+/// its `M_b⁻¹ Jᵀ` row as a column (an entry is `J_i M_b⁻¹ J_jᵀ`).
 #[derive(Clone, Copy)]
 struct IndexRows {
     var: Var,
-    sides: [Option<(usize, Row6, Row6)>; 2],
+    sides: [Option<(usize, Row6)>; 2],
+}
+
+/// Which of an index's rows [`IndexRows`] holds.
+#[derive(Clone, Copy)]
+enum Role {
+    /// `J` (a row of the block).
+    Row,
+    /// `M_b⁻¹ Jᵀ` (a column).
+    Col,
 }
 
 /// A [`ContactLcp`]'s rows seen as an LCP operator at cone scale `s`
@@ -74,33 +84,36 @@ impl<'a> BodySpaceLcp<'a> {
         }
     }
 
-    /// `(body, J row, M_b⁻¹ Jᵀ row)` of variable `v` on `side`, if that side is dynamic.
-    fn side_rows(&self, c: usize, v: Var, side: usize) -> Option<(usize, Row6, Row6)> {
+    /// `(body, J row)` or `(body, M_b⁻¹ Jᵀ row)` (`role`) of variable `v` on
+    /// `side`, if that side is dynamic.
+    fn side_rows(&self, c: usize, v: Var, side: usize, role: Role) -> Option<(usize, Row6)> {
         let body = self.lcp.side_body(c, side)?;
         let (jac, minv) = self.lcp.side_rows(c, side);
-        let pick = |rows: &[Row6; 3]| -> Row6 {
-            match v {
-                Var::Normal(_) => rows[0],
-                Var::Dir(_, j) => {
-                    let (cj, sj) = self.lcp.cos_sin(j);
-                    std::array::from_fn(|m| cj * rows[1][m] + sj * rows[2][m])
-                }
-                Var::Lambda(_) => [0.0; 6],
-            }
+        let rows = match role {
+            Role::Row => jac,
+            Role::Col => minv,
         };
-        Some((body, pick(jac), pick(minv)))
+        let picked = match v {
+            Var::Normal(_) => rows[0],
+            Var::Dir(_, j) => {
+                let (cj, sj) = self.lcp.cos_sin(j);
+                std::array::from_fn(|m| cj * rows[1][m] + sj * rows[2][m])
+            }
+            Var::Lambda(_) => [0.0; 6],
+        };
+        Some((body, picked))
     }
 }
 
 impl BodySpaceLcp<'_> {
-    /// [`IndexRows`] of every index in `idx`, into `out`.
-    fn index_rows(&self, idx: &[usize], out: &mut Vec<IndexRows>) {
+    /// [`IndexRows`] of every index in `idx` in `role`, into `out`.
+    fn index_rows(&self, idx: &[usize], role: Role, out: &mut Vec<IndexRows>) {
         out.clear();
         out.extend(idx.iter().map(|&i| {
             let var = self.var(i);
             let sides = match var {
                 Var::Lambda(_) => [None, None],
-                _ => std::array::from_fn(|side| self.side_rows(contact(var), var, side)),
+                _ => std::array::from_fn(|side| self.side_rows(contact(var), var, side, role)),
             };
             IndexRows { var, sides }
         }));
@@ -127,8 +140,8 @@ impl LcpOperator for BodySpaceLcp<'_> {
         // one or two 6-term dots (bodies shared by the two contacts).
         let mut guard = self.sides.borrow_mut();
         let (rs, cs) = &mut *guard;
-        self.index_rows(rows, rs);
-        self.index_rows(cols, cs);
+        self.index_rows(rows, Role::Row, rs);
+        self.index_rows(cols, Role::Col, cs);
         let width = cols.len();
         for (r, ri) in rs.iter().enumerate() {
             let line = &mut out[r * width..(r + 1) * width];
@@ -140,8 +153,8 @@ impl LcpOperator for BodySpaceLcp<'_> {
                     (Var::Lambda(_), _) | (_, Var::Lambda(_)) => 0.0,
                     _ => {
                         let mut sum = 0.0;
-                        for (bi, jrow, _) in ri.sides.iter().flatten() {
-                            for (bj, _, mrow) in ci.sides.iter().flatten() {
+                        for (bi, jrow) in ri.sides.iter().flatten() {
+                            for (bj, mrow) in ci.sides.iter().flatten() {
                                 if bi == bj {
                                     sum += dot6(jrow, mrow);
                                 }
@@ -167,7 +180,8 @@ impl LcpOperator for BodySpaceLcp<'_> {
         }
         let c = contact(var);
         for side in 0..2 {
-            let (Some(slot), Some((_, _, m6))) = (self.lcp.side_slot(c, side), self.side_rows(c, var, side)) else {
+            let (Some(slot), Some((_, m6))) = (self.lcp.side_slot(c, side), self.side_rows(c, var, side, Role::Col))
+            else {
                 continue;
             };
             for c2 in 0..lay.nc {
@@ -219,10 +233,12 @@ impl LcpOperator for BodySpaceLcp<'_> {
             let lambda = z[lay.lambda_index(c)];
             w[lay.fn_index(c)] = q[lay.fn_index(c)] + jv[0];
             let mut sum_fd = 0.0;
-            for (j, f) in lay.fd_of(c).enumerate() {
-                let (cj, sj) = self.lcp.cos_sin(j);
-                w[f] = q[f] + (cj * jv[1] + sj * jv[2]) + s * lambda;
-                sum_fd += z[f];
+            // (Zipped slices: no bounds check per direction.)
+            let fd = lay.fd_of(c);
+            let dirs = w[fd.clone()].iter_mut().zip(&q[fd.clone()]).zip(&z[fd]).zip(self.lcp.trig());
+            for (((wf, &qf), &zf), &(cj, sj)) in dirs {
+                *wf = qf + (cj * jv[1] + sj * jv[2]) + s * lambda;
+                sum_fd += zf;
             }
             w[lay.lambda_index(c)] = s * (self.lcp.mu()[c] * z[lay.fn_index(c)] - sum_fd);
         }
