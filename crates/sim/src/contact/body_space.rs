@@ -86,7 +86,7 @@ impl<'a> BodySpaceLcp<'a> {
 
     /// `(body, J row)` or `(body, M_b⁻¹ Jᵀ row)` (`role`) of variable `v` on
     /// `side`, if that side is dynamic.
-    fn side_rows(&self, c: usize, v: Var, side: usize, role: Role) -> Option<(usize, Row6)> {
+    fn side_row(&self, c: usize, v: Var, side: usize, role: Role) -> Option<(usize, Row6)> {
         let body = self.lcp.side_body(c, side)?;
         let (jac, minv) = self.lcp.side_rows(c, side);
         let rows = match role {
@@ -113,7 +113,7 @@ impl BodySpaceLcp<'_> {
             let var = self.var(i);
             let sides = match var {
                 Var::Lambda(_) => [None, None],
-                _ => std::array::from_fn(|side| self.side_rows(contact(var), var, side, role)),
+                _ => std::array::from_fn(|side| self.side_row(contact(var), var, side, role)),
             };
             IndexRows { var, sides }
         }));
@@ -180,7 +180,7 @@ impl LcpOperator for BodySpaceLcp<'_> {
         }
         let c = contact(var);
         for side in 0..2 {
-            let (Some(slot), Some((_, m6))) = (self.lcp.side_slot(c, side), self.side_rows(c, var, side, Role::Col))
+            let (Some(slot), Some((_, m6))) = (self.lcp.side_slot(c, side), self.side_row(c, var, side, Role::Col))
             else {
                 continue;
             };
