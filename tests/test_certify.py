@@ -11,7 +11,8 @@ import pytest
 
 import lcpsim
 from lcpsim import Certificate, certify, solve_lcp
-from lcpsim.certification import ETA_CERTIFIED, certify_batch
+from lcpsim.certification import certify_batch
+from lcpsim.result import ETA_CERTIFIED
 from lcpsim.experiments.seed_corpus import generate, scaled
 from lcpsim.generate import contact_lcp, hard_corpus, spd_lcp
 

@@ -13,7 +13,8 @@ import pytest
 import lcpsim
 from lcpsim import solve_lcp
 from lcpsim.cli import main
-from lcpsim.io.forensics import DUMP_FORMAT, TRACE_FIELDS, load_dump, replay, variable_name
+from lcpsim.io.dump import DUMP_FORMAT, TRACE_FIELDS, load_dump, variable_name
+from lcpsim.io.forensics import replay
 from lcpsim.generate import hard_corpus, spd_lcp
 from lcpsim.io import is_dump, load_lcp
 

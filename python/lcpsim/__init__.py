@@ -29,14 +29,13 @@ from .lcp import (
     METHODS,
     PIVOTINGS,
     STATUSES,
-    LcpBatchResult,
-    LcpResult,
     lcp_residual,
     lcp_residuals,
     solve_lcp,
     solve_lcp_batch,
 )
-from .certification import Certificate, certify
+from .certification import certify
+from .result import Certificate, LcpBatchResult, LcpResult
 from . import world
 from .world import *  # noqa: F403 (its __all__: World, StepRecord, Trajectory, … joins ours below)
 from . import scenes

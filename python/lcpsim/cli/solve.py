@@ -11,7 +11,8 @@ from typing import Any
 import numpy as np
 
 from .. import __version__, _core
-from ..lcp import METHODS, PIVOTINGS, LcpResult, solve_lcp
+from ..lcp import METHODS, PIVOTINGS, solve_lcp
+from ..result import LcpResult
 from .command import EXIT_NOT_SOLVED, EXIT_OK, CliError, Command, lemke_options, register_command
 
 __all__: list[str] = []
@@ -74,7 +75,8 @@ def _summary(path: str, res: LcpResult, pivoting: str | None) -> str:
 
 
 def _run_replay(args: argparse.Namespace) -> int:
-    from ..io.forensics import load_dump, replay
+    from ..io.dump import load_dump
+    from ..io.forensics import replay
 
     if getattr(args, "index", None) is not None:
         raise CliError(f"{args.file}: a failure dump holds one LCP; --index does not apply")
@@ -114,8 +116,9 @@ def _run_replay(args: argparse.Namespace) -> int:
 
 def _run_solve(args: argparse.Namespace) -> int:
     from ..io.fclib import fclib_kind
+    from ..io.dump import is_dump
     from ..io.hdf5_check import probe
-    from ..io.lcp_file import file_format, is_dump, load_lcp
+    from ..io.lcp_file import file_format, load_lcp
 
     # The HDF5 library can crash or loop on a damaged file: read it in a child first.
     if os.path.isfile(args.file) and file_format(args.file) == "hdf5":

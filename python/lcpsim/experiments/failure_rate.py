@@ -53,7 +53,8 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from ..certification import ETA_CERTIFIED, Certificate, certify_batch
+from ..certification import certify_batch
+from ..result import ETA_CERTIFIED, Certificate
 from ._common import envelope, merge_config, parse_scale, parse_scales, scale_label, scale_value
 from .presets import Solver, parse_solver
 from .seed_corpus import DEFAULTS as CORPUS_DEFAULTS

@@ -30,7 +30,8 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from ..lcp import METHODS, LcpBatchResult, LcpResult, solve_lcp, solve_lcp_batch
+from ..lcp import METHODS, solve_lcp, solve_lcp_batch
+from ..result import LcpBatchResult, LcpResult
 
 __all__ = ["Solver", "PRESETS", "parse_solver", "solver_from_dict"]
 

@@ -5,7 +5,8 @@
                     :func:`load_lcp`, :func:`save_lcp`
 :mod:`.capture`     the HDF5 stream of every LCP a simulation solved
                     (``World.run(capture=...)``)
-:mod:`.forensics`   failure dumps (``solve_lcp(..., dump=DIR)``) and replay
+:mod:`.dump`        failure dumps (``solve_lcp(..., dump=DIR)``)
+:mod:`.forensics`   a failure dump re-solved (replay)
 :mod:`.fclib`       FCLib local problems (the math around them: :mod:`lcpsim.fclib`)
 ==================  ==========================================================
 """
@@ -13,8 +14,9 @@
 from __future__ import annotations
 
 from .capture import Capture, CaptureRecord, CaptureWriter, load_captured_lcp, open_capture
-from .forensics import load_dump, replay, write_dump
-from .lcp_file import LcpFileError, file_format, is_dump, load_lcp, save_lcp
+from .dump import is_dump, load_dump, write_dump
+from .forensics import replay
+from .lcp_file import LcpFileError, file_format, load_lcp, save_lcp
 
 __all__ = [
     "LcpFileError", "load_lcp", "save_lcp", "file_format", "is_dump",

@@ -37,8 +37,8 @@ from .. import _core
 from .._deprecated import deprecated_names
 from .._json import jsonable
 from .limits import human_bytes
+from .hdf5 import HDF5_ERRORS, HDF5_MAGIC
 from .hdf5_check import DamagedHdf5Error, check_global_heaps
-from .lcp_file import HDF5_ERRORS
 from .safe_file import SafeTarget, partial_path
 
 __all__ = [
@@ -695,7 +695,7 @@ def is_capture(path: str | os.PathLike[str]) -> bool:
     if not p.is_file():
         return False
     with open(p, "rb") as fh:
-        if fh.read(8) != b"\x89HDF\r\n\x1a\n":
+        if fh.read(8) != HDF5_MAGIC:
             return False
     try:
         f = _open_read(p)

@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .lcp_file import _HDF5_MAGIC
+from .hdf5 import HDF5_ERRORS, HDF5_MAGIC, open_hdf5
 
 __all__ = [
     "FclibError",
@@ -149,10 +149,8 @@ def fclib_kind(path: str | os.PathLike[str]) -> str | None:
     if not p.is_file():
         return None
     with open(p, "rb") as fh:
-        if fh.read(8) != _HDF5_MAGIC:
+        if fh.read(8) != HDF5_MAGIC:
             return None
-    from .lcp_file import HDF5_ERRORS, open_hdf5
-
     try:
         with open_hdf5(p) as f:
             if "fclib_local" in f:
@@ -287,8 +285,6 @@ def read_fclib(path: str | os.PathLike[str]) -> FclibLocal:
 
 
 def _read_local(p: Path, where: str) -> FclibLocal:
-    from .lcp_file import open_hdf5
-
     with open_hdf5(p, FclibError) as f:
         g = f["fclib_local"]
         spacedim = _int(g, "spacedim", where)

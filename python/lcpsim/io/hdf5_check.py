@@ -100,7 +100,7 @@ try:
                 c[0 if index is None else index]
     else:
         from lcpsim.io import load_dump, load_lcp
-        from lcpsim.io.lcp_file import is_dump
+        from lcpsim.io.dump import is_dump
         load_dump(path) if is_dump(path) else load_lcp(path, index)
 except (ValueError, OSError):
     pass

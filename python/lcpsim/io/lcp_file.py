@@ -1,7 +1,7 @@
 """Reading and writing LCPs: ``.npz`` (arrays ``M``, ``q``) or HDF5 (datasets
 ``/M``, ``/q``), and single problems out of a capture (HDF5 written by
-:mod:`lcpsim.io.capture`; choose the problem with ``index``); :func:`is_dump` recognizes a failure dump
-(:mod:`lcpsim.io.forensics`), which also reads as an LCP. Every problem with a file is a :class:`LcpFileError` (a
+:mod:`lcpsim.io.capture`; choose the problem with ``index``); a failure dump
+(:mod:`lcpsim.io.dump`) also reads as an LCP. Every problem with a file is a :class:`LcpFileError` (a
 ``ValueError``) whose message names the file and what is wrong; a missing file
 is a :class:`FileNotFoundError`."""
 
@@ -15,13 +15,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .hdf5 import HDF5_ERRORS, HDF5_MAGIC, hdf5_dataset, open_hdf5
 from .limits import SizeLimitError, array_bytes, check_bytes, human_bytes
 
-__all__ = ["LcpFileError", "load_lcp", "save_lcp", "file_format", "is_dump"]
+__all__ = ["LcpFileError", "load_lcp", "save_lcp", "file_format", "validate_lcp"]
 
 _NPZ_SUFFIXES = {".npz"}
 _HDF5_SUFFIXES = {".h5", ".hdf5", ".hdf", ".he5"}
-_HDF5_MAGIC = b"\x89HDF\r\n\x1a\n"
 _ZIP_MAGIC = b"PK"
 
 
@@ -40,7 +40,7 @@ def file_format(path: str | os.PathLike[str]) -> str:
     if p.is_file():
         with open(p, "rb") as f:
             head = f.read(8)
-        if head.startswith(_HDF5_MAGIC):
+        if head.startswith(HDF5_MAGIC):
             return "hdf5"
         if head.startswith(_ZIP_MAGIC):
             return "npz"
@@ -98,63 +98,6 @@ def _read_npz(path: Path) -> tuple[Any, Any]:
             raise LcpFileError(f"{path}: cannot read arrays M, q ({e})") from None
 
 
-#: What h5py raises on a damaged file (RuntimeError: e.g. a bad superblock
-#: version; KeyError: an object whose header fails its checksum).
-HDF5_ERRORS: tuple[type[Exception], ...] = (OSError, ValueError, RuntimeError, KeyError)
-
-
-def open_hdf5(path: Path, error: type[ValueError] = ValueError) -> Any:
-    """An HDF5 file opened for reading without HDF5's file locking (a reader
-    never waits for, or is refused by, a writer's lock), once
-    :func:`~lcpsim.io.hdf5_check.check_global_heaps` has found nothing that
-    would hang HDF5; ``error`` for a file that is not readable HDF5."""
-    import h5py  # type: ignore[import-untyped]
-
-    from .hdf5_check import check_global_heaps
-
-    try:
-        check_global_heaps(path)
-        return h5py.File(path, "r", locking=False)
-    except HDF5_ERRORS as e:
-        raise error(f"{path}: not a readable HDF5 file ({e})") from None
-
-
-def hdf5_dataset(path: Path, f: Any, key: str, error: type[ValueError] = ValueError) -> Any:
-    """Dataset ``/key`` of ``f`` once it is safe to read: a dataset in this
-    file (external links, external storage and virtual datasets are refused),
-    whose shape fits in memory."""
-    import h5py
-
-    try:
-        link = f.get(key, getlink=True)
-    except HDF5_ERRORS as e:
-        raise error(f"{path}: cannot read the link '/{key}' ({e})") from None
-    if link is None:
-        try:
-            # (a damaged name comes back as bytes)
-            found = ", ".join("/" + (k.decode(errors="replace") if isinstance(k, bytes) else k) for k in f.keys()) or "none"
-        except HDF5_ERRORS:
-            found = "an unreadable group"
-        raise error(f"{path}: no dataset '/{key}' (found: {found})")
-    if isinstance(link, h5py.ExternalLink):
-        raise error(f"{path}: '/{key}' is an external link (to {link.filename}:{link.path}); lcpsim reads only data in the file itself")
-    try:
-        ds = f[key]
-    except (KeyError, *HDF5_ERRORS) as e:
-        raise error(f"{path}: cannot open '/{key}' ({e})") from None
-    if not isinstance(ds, h5py.Dataset):
-        raise error(f"{path}: '/{key}' is a group, not a dataset")
-    if ds.external or ds.is_virtual:
-        raise error(f"{path}: '/{key}' keeps its data outside the file (external or virtual dataset); refused")
-    if ds.dtype.kind not in "biuf" or ds.shape is None:
-        raise error(f"{path}: '/{key}' must hold real numbers, got dtype {ds.dtype}")
-    try:
-        check_bytes(f"{path}: dataset '/{key}' of shape {ds.shape}", array_bytes(ds.shape, ds.dtype))
-    except SizeLimitError as e:
-        raise error(str(e)) from None
-    return ds
-
-
 def _read_hdf5(path: Path) -> tuple[Any, Any]:
     with open_hdf5(path, LcpFileError) as f:
         out = []
@@ -167,31 +110,9 @@ def _read_hdf5(path: Path) -> tuple[Any, Any]:
         return out[0], out[1]
 
 
-def is_dump(path: str | os.PathLike[str]) -> bool:
-    """Whether ``path`` is a failure dump (:mod:`lcpsim.io.forensics`): an HDF5
-    file whose ``format`` attribute is ``"lcpsim-failure-dump"``. A dump also
-    holds ``/M`` and ``/q``, so :func:`load_lcp` reads it like any LCP file."""
-    p = Path(path)
-    if not p.is_file():
-        return False
-    try:
-        if file_format(p) != "hdf5":
-            return False
-    except LcpFileError:
-        return False
-    from .forensics import DUMP_FORMAT
-
-    try:
-        with open_hdf5(p) as f:
-            fmt = f.attrs.get("format")
-    except (TypeError, *HDF5_ERRORS):
-        return False
-    if isinstance(fmt, bytes):
-        fmt = fmt.decode(errors="replace")
-    return bool(fmt == DUMP_FORMAT)
-
-
-def _validate(path: Path, M: Any, q: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def validate_lcp(path: Path, M: Any, q: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``(M, q)`` as float64 arrays once they make an LCP (real, square, matching,
+    non-empty, finite), else a :class:`LcpFileError` naming ``path`` and what is wrong."""
     M = np.asarray(M)
     q = np.asarray(q)
     for name, a in (("M", M), ("q", q)):
@@ -246,11 +167,11 @@ def load_lcp(
                     rec = c[index]
             except capture.CaptureError as e:
                 raise LcpFileError(str(e)) from None
-            return _validate(p, rec.M, rec.q)
+            return validate_lcp(p, rec.M, rec.q)
     if index is not None:
         raise LcpFileError(f"{path}: holds a single LCP, not a corpus (no index {index} to choose)")
     M, q = _read_npz(p) if fmt == "npz" else _read_hdf5(p)
-    return _validate(p, M, q)
+    return validate_lcp(p, M, q)
 
 
 def save_lcp(

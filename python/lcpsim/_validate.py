@@ -1,0 +1,46 @@
+"""Input checks shared by the solver wrappers (:mod:`lcpsim.lcp`) and the
+exact check (:mod:`lcpsim.certification`): every mistake is a
+:class:`ValueError` naming the argument and its value."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+# dtype kinds that convert to float64 without loss of meaning:
+# bool, signed and unsigned integers, floats.
+REAL_KINDS = frozenset("biuf")
+
+
+def as_real_array(x: ArrayLike, name: str, ndim: int) -> NDArray[np.float64]:
+    """``x`` as a float64 array with ``ndim`` dimensions, or a ValueError naming ``name``."""
+    if isinstance(x, np.ndarray) and x.dtype == np.float64 and x.ndim == ndim:
+        return x  # fast path: the compiled module copies what it needs
+    try:
+        a = np.asarray(x)
+    except Exception as e:  # ragged lists and the like
+        raise ValueError(f"{name} must be a {ndim}-D array of real numbers, got {short_repr(x)}: {e}") from None
+    if a.dtype.kind not in REAL_KINDS:
+        raise ValueError(
+            f"{name} must hold real numbers, got dtype {a.dtype} ({short_repr(x)})"
+        )
+    if a.ndim != ndim:
+        raise ValueError(f"{name} must be {ndim}-D, got shape {a.shape} ({short_repr(x)})")
+    return a.astype(np.float64, copy=False)
+
+
+def as_basis(b: ArrayLike, name: str = "basis") -> NDArray[np.bool_]:
+    """``b`` as a contiguous boolean array (``z_j`` basic), or a ValueError naming ``name``."""
+    a = np.asarray(b)
+    if a.dtype != np.bool_:
+        raise ValueError(f"{name} must be a boolean array (z_j basic), got dtype {a.dtype}")
+    return np.ascontiguousarray(a)
+
+
+def short_repr(x: Any, limit: int = 60) -> str:
+    """``x`` on one line, cut to ``limit`` characters."""
+    r = np.array2string(x, threshold=6) if isinstance(x, np.ndarray) else repr(x)
+    r = " ".join(r.split())
+    return r if len(r) <= limit else r[: limit - 3] + "..."
