@@ -10,10 +10,10 @@ import h5py
 import numpy as np
 import pytest
 
-from lcpsim import fclib, scenes
+from lcpsim import faceting, scenes
 from lcpsim.cli import main
-from lcpsim.fclib import FclibError, FclibLocal, FclibSolution
-from lcpsim.io import fclib as io_fclib
+from lcpsim.io import fclib
+from lcpsim.io.fclib import FclibError, FclibLocal, FclibSolution
 from lcpsim.io.capture import load_record
 
 
@@ -62,22 +62,22 @@ def test_residual_zero_at_sticking_and_sliding_solutions():
     q = np.array([-2.0, 0.2, -0.1])
     r = np.array([1.0, -0.2, 0.1])
     np.testing.assert_allclose(W @ r + q, 0.0)
-    assert fclib.exact_cone_residual(W, q, mu, r) == pytest.approx(0.0, abs=1e-15)
+    assert faceting.exact_cone_residual(W, q, mu, r) == pytest.approx(0.0, abs=1e-15)
     # Sliding: q_T = (2, 0) is more than μ r_N can stop; r = (1, −0.5, 0), u = (0, 1.5, 0): friction opposes u_T.
     q = np.array([-2.0, 2.0, 0.0])
     r = np.array([1.0, -0.5, 0.0])
     u = W @ r + q
     np.testing.assert_allclose(u, [0.0, 1.5, 0.0])
-    assert fclib.exact_cone_residual(W, q, mu, r) == pytest.approx(0.0, abs=1e-15)
+    assert faceting.exact_cone_residual(W, q, mu, r) == pytest.approx(0.0, abs=1e-15)
     # Sliding diagonally: friction of full magnitude against the slip direction.
     q = np.array([-2.0, 3.0, 4.0])
     r = np.array([1.0, -0.3, -0.4])
-    assert fclib.exact_cone_residual(W, q, mu, r) == pytest.approx(0.0, abs=1e-15)
+    assert faceting.exact_cone_residual(W, q, mu, r) == pytest.approx(0.0, abs=1e-15)
     # Separating: q_N > 0, r = 0.
-    assert fclib.exact_cone_residual(W, np.array([1.0, 5.0, 0.0]), mu, np.zeros(3)) == 0.0
+    assert faceting.exact_cone_residual(W, np.array([1.0, 5.0, 0.0]), mu, np.zeros(3)) == 0.0
     # Not solutions: friction not opposed to the slip, friction too weak, penetration.
     for bad in ([1.0, -0.4, -0.3], [1.0, -0.15, -0.2], [0.5, -0.15, -0.2]):
-        assert fclib.exact_cone_residual(W, q, mu, np.array(bad)) > 1e-3
+        assert faceting.exact_cone_residual(W, q, mu, np.array(bad)) > 1e-3
 
 
 def test_faceted_answer_on_a_slip_between_facets_is_off_by_the_faceting_error():
@@ -87,7 +87,7 @@ def test_faceted_answer_on_a_slip_between_facets_is_off_by_the_faceting_error():
     a = np.deg2rad(22.5)
     q = np.array([-1.0, 3 * np.cos(a), 3 * np.sin(a)])
     p = FclibLocal(W=W, q=q, mu=np.array([0.5]))
-    res = {k: fclib.solve_fclib(p, k=k) for k in (4, 8, 16, 32)}
+    res = {k: faceting.solve_fclib(p, k=k) for k in (4, 8, 16, 32)}
     assert all(r.ok for r in res.values())
     assert res[4].exact_residual > res[8].exact_residual > 1e-3
     assert res[16].exact_residual < 1e-12 and res[32].exact_residual < 1e-12
@@ -110,8 +110,8 @@ def test_simulator_lcp_round_trips_through_fclib(k, scale, tmp_path):
     s = scenes.cube_on_slope(25.0, 0.6, friction_dirs=k, cone_scale=scale)
     M, q, nc, kk, sc, z = _first_lcp(s.world, tmp_path)
     assert kk == k
-    p = fclib.from_contact_lcp(M, q, nc, k, sc, z=z)
-    back = fclib.to_lcp(p, k, sc)
+    p = faceting.from_contact_lcp(M, q, nc, k, sc, z=z)
+    back = faceting.to_lcp(p, k, sc)
     np.testing.assert_allclose(back.M, M, rtol=0, atol=1e-12 * np.abs(M).max())
     np.testing.assert_allclose(back.q, q, rtol=0, atol=1e-12 * np.abs(q).max())
     np.testing.assert_allclose(p.mu, 0.6)
@@ -128,7 +128,7 @@ def test_k2_cannot_be_exported(tmp_path):
     s = scenes.cube_on_slope(10.0, 0.6, friction_dirs=2)
     M, q, nc, k, sc, _ = _first_lcp(s.world, tmp_path)
     with pytest.raises(FclibError, match="k ≥ 3"):
-        fclib.from_contact_lcp(M, q, nc, k, sc)
+        faceting.from_contact_lcp(M, q, nc, k, sc)
 
 
 def test_non_stewart_trinkle_matrix_is_refused(tmp_path):
@@ -137,7 +137,7 @@ def test_non_stewart_trinkle_matrix_is_refused(tmp_path):
     M = M.copy()
     M[0, nc + 1] += 0.1 * np.abs(M).max()  # A01 no longer of the form W_nt Gᵀ
     with pytest.raises(FclibError, match="not a Stewart–Trinkle"):
-        fclib.from_contact_lcp(M, q, nc, k, sc)
+        faceting.from_contact_lcp(M, q, nc, k, sc)
 
 
 def _loaded_stack(steps: int, tmp_path):
@@ -155,15 +155,15 @@ def test_resting_stack_exact_cone_residual_shrinks_with_k(tmp_path):
     assert [f.name for f in files] == ["step0000000-island000.hdf5"]
     p = fclib.read_fclib(files[0])
     assert p.nc == 12 and p.title.startswith("lcpsim box_stack")
-    res = {k: fclib.solve_fclib(p, k=k) for k in (4, 8, 16, 32)}
+    res = {k: faceting.solve_fclib(p, k=k) for k in (4, 8, 16, 32)}
     assert all(r.ok and r.residual < 1e-12 for r in res.values())
     e = {k: r.exact_residual for k, r in res.items()}
     assert e[4] > e[8] > 1e-4  # the load lies outside both polygons: they slide
     assert e[16] < 1e-10 and e[32] < 1e-10  # inside: the stack rests, as on the exact cone
     # The simulator's own k = 8 answer (guess 1) has the k = 8 error.
-    assert fclib.exact_cone_residual(p.W, p.q, p.mu, p.guesses[0].r) == pytest.approx(e[8], rel=1e-6)
+    assert faceting.exact_cone_residual(p.W, p.q, p.mu, p.guesses[0].r) == pytest.approx(e[8], rel=1e-6)
     # Scaling the cone does not change the answer.
-    assert fclib.solve_fclib(p, k=8, scale=1e-4).exact_residual == pytest.approx(e[8], rel=1e-6)
+    assert faceting.solve_fclib(p, k=8, scale=1e-4).exact_residual == pytest.approx(e[8], rel=1e-6)
 
 
 def test_unloaded_resting_stack_is_exact_at_every_k(tmp_path):
@@ -171,13 +171,13 @@ def test_unloaded_resting_stack_is_exact_at_every_k(tmp_path):
     s.world.run(3, fclib=tmp_path)
     p = fclib.read_fclib(sorted(tmp_path.glob("*.hdf5"))[-1])
     for k in (4, 8, 16):
-        assert fclib.solve_fclib(p, k=k).exact_residual < 1e-12
+        assert faceting.solve_fclib(p, k=k).exact_residual < 1e-12
 
 
 def test_capture_export_matches_direct_export(tmp_path):
     s = scenes.box_stack(2)
     s.world.run(4, capture=tmp_path / "c.h5", fclib=tmp_path / "direct")
-    paths = fclib.export_capture(tmp_path / "c.h5", tmp_path / "from_capture")
+    paths = faceting.export_capture(tmp_path / "c.h5", tmp_path / "from_capture")
     assert [p.name for p in paths] == sorted(p.name for p in (tmp_path / "direct").glob("*.hdf5"))
     for p in paths:
         a, b = fclib.read_fclib(p), fclib.read_fclib(tmp_path / "direct" / p.name)
@@ -192,10 +192,10 @@ def test_format_1_capture_exports_too(tmp_path):
     with h5py.File(tmp_path / "c.h5", "r+") as f:
         del f["index/island"]
         f.attrs["format_version"] = 1
-    paths = fclib.export_capture(tmp_path / "c.h5", tmp_path / "out")
+    paths = faceting.export_capture(tmp_path / "c.h5", tmp_path / "out")
     assert [p.name for p in paths] == ["step0000000-island000.hdf5", "step0000001-island000.hdf5"]
     p = fclib.read_fclib(paths[-1])
-    assert p.nc == 8 and fclib.solve_fclib(p).ok
+    assert p.nc == 8 and faceting.solve_fclib(p).ok
 
 
 # ---------------------------------------------------------------- CLI
@@ -226,7 +226,7 @@ def _w_5x5(f):
     import scipy.sparse as sp
 
     del f["fclib_local/W"]
-    io_fclib._write_matrix(f["fclib_local"].create_group("W"), sp.identity(5, format="csc"), "csc")
+    fclib._write_matrix(f["fclib_local"].create_group("W"), sp.identity(5, format="csc"), "csc")
 
 
 def _write_raw(path, mutate, storage="csr"):

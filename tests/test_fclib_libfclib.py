@@ -17,8 +17,9 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from lcpsim import fclib
-from lcpsim.fclib import FclibLocal, FclibSolution
+from lcpsim import faceting
+from lcpsim.io import fclib
+from lcpsim.io.fclib import FclibLocal, FclibSolution
 
 HELPER = Path(__file__).with_name("libfclib_ctypes.py")
 
@@ -97,10 +98,10 @@ def test_lcpsim_file_passes_libfclib_merit_on_a_known_solution(tmp_path):
     path = fclib.write_fclib(tmp_path / "known.hdf5", p)  # CSC: what libfclib's merit function multiplies with
     c = _libfclib_read(path, solution=True, guesses=True)
     assert c["solution_merit"] < 1e-15
-    assert fclib.exact_cone_residual(p.W, p.q, p.mu, sol.r) < 1e-15
+    assert faceting.exact_cone_residual(p.W, p.q, p.mu, sol.r) < 1e-15
     # The wrong answer: libfclib and lcpsim agree on the number (libfclib divides by 1 + sqrt‖q‖).
     assert c["guess_merits"][0] > 0.1
-    assert fclib.fclib_merit(p.W, p.q, p.mu, wrong.r) == pytest.approx(c["guess_merits"][0], rel=1e-13)
+    assert faceting.fclib_merit(p.W, p.q, p.mu, wrong.r) == pytest.approx(c["guess_merits"][0], rel=1e-13)
 
 
 def test_simulator_export_read_by_libfclib_and_merit_agrees(tmp_path):
@@ -114,7 +115,7 @@ def test_simulator_export_read_by_libfclib_and_merit_agrees(tmp_path):
     np.testing.assert_array_equal(c["W"]["x"], p.W.data)
     np.testing.assert_array_equal(c["q"], p.q)
     np.testing.assert_array_equal(c["mu"], p.mu)
-    assert c["guess_merits"][0] == pytest.approx(fclib.fclib_merit(p.W, p.q, p.mu, p.guesses[0].r), rel=1e-9, abs=1e-15)
+    assert c["guess_merits"][0] == pytest.approx(faceting.fclib_merit(p.W, p.q, p.mu, p.guesses[0].r), rel=1e-9, abs=1e-15)
 
 
 @pytest.mark.parametrize("nz", [-1, -2, None])
@@ -145,8 +146,8 @@ def test_libfclib_file_read_and_solved_by_lcpsim(tmp_path, nz):
     np.testing.assert_array_equal(back.guesses[0].r, 0 * sol.r)
     # Solved: contact 1 slides along (3, 4), between the facets of k = 8, on the facet d_… of none;
     # the exact-cone residual is that of the faceting and vanishes for the sticking contact.
-    ans = fclib.solve_fclib(back, k=8)
+    ans = faceting.solve_fclib(back, k=8)
     assert ans.ok and ans.residual < 1e-12
     np.testing.assert_allclose(ans.r[:3], sol.r[:3], atol=1e-12)
     assert 1e-4 < ans.exact_residual < 0.2
-    assert fclib.solve_fclib(back, k=64).exact_residual < ans.exact_residual
+    assert faceting.solve_fclib(back, k=64).exact_residual < ans.exact_residual

@@ -15,7 +15,7 @@ Public API (the compiled module ``lcpsim._core`` is private)::
     with open_capture("lcps.h5") as c: ...   # every LCP the run solved
 
 Sub-packages: :mod:`lcpsim.io` (LCP files, captures, failure dumps, FCLib files),
-:mod:`lcpsim.fclib` (FCLib problems in and out, the exact-cone residual),
+:mod:`lcpsim.faceting` (FCLib problems as faceted LCPs, the exact-cone residual),
 :mod:`lcpsim.experiments` (the seed note's experiments, their registry, the
 report), :mod:`lcpsim.cli` (the ``lcpsim`` command). Names that moved keep
 working with a DeprecationWarning (:mod:`lcpsim._deprecated`).
@@ -41,7 +41,7 @@ from .world import *  # noqa: F403 (its __all__: World, StepRecord, Trajectory, 
 from . import scenes
 from .scenes import Scene
 from .io.capture import Capture, CaptureRecord, CaptureWriter, open_capture
-from . import fclib
+from . import faceting
 
 __all__ = [
     "__version__",
@@ -63,7 +63,7 @@ __all__ = [
     "CaptureRecord",
     "CaptureWriter",
     "open_capture",
-    "fclib",
+    "faceting",
 ]
 __all__ += world.__all__
 

@@ -1,6 +1,6 @@
 """What every contact LCP type with a known contact count ``nc`` and ``k``
 friction directions per contact shares (:class:`lcpsim.examples.ContactLcp`,
-:class:`lcpsim.fclib.FacetedLcp`): its :class:`~lcpsim.ContactLayout` and the
+:class:`lcpsim.faceting.FacetedLcp`): its :class:`~lcpsim.ContactLayout` and the
 split of an answer ``z = [fn; fd; λ]``."""
 
 from __future__ import annotations

@@ -609,7 +609,7 @@ class World:
         world's :meth:`config` as metadata and renamed onto ``PATH`` at the end;
         an interrupted run leaves the readable ``PATH.partial``.
         ``fclib``: a directory receiving each LCP as an FCLib local problem
-        (:mod:`lcpsim.fclib`).
+        (:mod:`lcpsim.faceting`).
 
         ``record_contacts=True`` also records every step's contacts (points, normals,
         impulses: :class:`ContactLog`, ``Trajectory.contact_log``) for the viewer

@@ -15,7 +15,7 @@ from . import solve  # noqa: F401
 from . import simulate  # noqa: F401
 from . import view  # noqa: F401
 from . import experiments  # noqa: F401
-from . import fclib  # noqa: F401
+from . import export_fclib  # noqa: F401
 from .command import EXIT_INTERNAL, EXIT_NOT_SOLVED, EXIT_OK, EXIT_USAGE, CliError, Command, commands, register_command
 
 __all__ = [

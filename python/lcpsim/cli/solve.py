@@ -126,7 +126,7 @@ def _run_solve(args: argparse.Namespace) -> int:
     if is_dump(args.file):
         return _run_replay(args)
     if fclib_kind(args.file):
-        from .fclib import run_fclib_solve
+        from .export_fclib import run_fclib_solve
 
         return run_fclib_solve(args)
     if args.friction_dirs is not None or args.scale is not None:

@@ -7,7 +7,7 @@
                     (``World.run(capture=...)``)
 :mod:`.dump`        failure dumps (``solve_lcp(..., dump=DIR)``)
 :mod:`.forensics`   a failure dump re-solved (replay)
-:mod:`.fclib`       FCLib local problems (the math around them: :mod:`lcpsim.fclib`)
+:mod:`.fclib`       FCLib local problems (as faceted LCPs: :mod:`lcpsim.faceting`)
 ==================  ==========================================================
 """
 

@@ -21,7 +21,7 @@ Saxcé's ``(μ‖u_T‖, 0, 0)``. The layout, as libfclib writes it::
 A file holding ``/fclib_global`` is recognised and refused ("global problems
 are not supported"). Every malformed input raises :class:`FclibError` naming
 the dataset. The faceted-LCP import, the exact-cone residual and the export
-from the simulator are in :mod:`lcpsim.fclib`.
+from the simulator are in :mod:`lcpsim.faceting`.
 """
 
 from __future__ import annotations

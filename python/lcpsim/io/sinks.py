@@ -1,6 +1,6 @@
 """Where ``World.run`` sends the LCPs it captures: a capture file
 (:class:`lcpsim.CaptureWriter`), an FCLib directory
-(:class:`lcpsim.fclib.FclibExporter`), or both."""
+(:class:`lcpsim.faceting.FclibExporter`), or both."""
 
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ class RunSinks:
                 writer = CaptureWriter(capture, metadata=config, overwrite=overwrite) if own else capture
                 self._sinks.append((writer, own))
             if fclib is not None:
-                from ..fclib import FclibExporter
+                from ..faceting import FclibExporter
 
                 if int(config.get("params", {}).get("friction_dirs", 8)) < 3:
                     raise ValueError("fclib export needs friction_dirs >= 3 (both tangent directions)")

@@ -1,17 +1,19 @@
-"""FCLib problems in and out: the friction-contact community's exchange format
-(file I/O in :mod:`lcpsim.io.fclib`), its link to lcpsim's Stewart–Trinkle
-LCP, and the exact-cone error of a faceted answer.
+"""Faceting the friction cone: an FCLib problem (the friction-contact
+community's exchange format, read and written by :mod:`lcpsim.io.fclib`) as
+lcpsim's Stewart–Trinkle LCP with ``k`` friction directions and back, and the
+exact-cone error of a faceted answer.
 
 ::
 
-    from lcpsim import fclib
-    p = fclib.read_fclib("BoxesStack1-i100-5.hdf5")     # W (3nc × 3nc), q, mu
-    ans = fclib.solve_fclib(p, k=8)                      # faceted LCP, Lemke
+    from lcpsim import faceting
+    from lcpsim.io.fclib import read_fclib
+    p = read_fclib("BoxesStack1-i100-5.hdf5")            # W (3nc × 3nc), q, mu
+    ans = faceting.solve_fclib(p, k=8)                   # faceted LCP, Lemke
     ans.lcp.status, ans.residual, ans.exact_residual     # the faceting error as a number
-    fclib.exact_cone_residual(p.W, p.q, p.mu, ans.r)     # any r: natural map / ‖q‖
+    faceting.exact_cone_residual(p.W, p.q, p.mu, ans.r)  # any r: natural map / ‖q‖
 
     s.world.run(500, fclib="out/")                       # every LCP the run solves, one file each
-    fclib.export_capture("run.h5", "out/")               # the same from a capture
+    faceting.export_capture("run.h5", "out/")            # the same from a capture
 
 **The two problems.** An FCLib local problem is ``u = W r + q`` with, per
 contact ``(normal, t1, t2)``, ``r`` in the Coulomb cone ``‖r_T‖ ≤ μ r_N`` and
@@ -48,28 +50,11 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._core import ContactLayout
 from .contact import ContactLcpMixin
-from .io.fclib import (
-    STORAGES,
-    FclibError,
-    FclibLocal,
-    FclibSolution,
-    as_sparse,
-    fclib_kind,
-    is_fclib,
-    read_fclib,
-    write_fclib,
-)
-from .lcp import LcpResult, lcp_residual, solve_lcp
+from .io.fclib import FclibError, FclibLocal, FclibSolution, write_fclib
+from .lcp import lcp_residual, solve_lcp
+from .result import LcpResult
 
 __all__ = [
-    "FclibError",
-    "FclibLocal",
-    "FclibSolution",
-    "STORAGES",
-    "read_fclib",
-    "write_fclib",
-    "fclib_kind",
-    "is_fclib",
     "friction_basis",
     "FacetedLcp",
     "to_lcp",

@@ -14,7 +14,8 @@ __all__ = ["run_fclib_solve"]
 
 def run_fclib_solve(args: argparse.Namespace) -> int:
     """``lcpsim solve FILE`` for an FCLib file (called by :mod:`.solve`)."""
-    from ..fclib import read_fclib, solve_fclib
+    from ..faceting import solve_fclib
+    from ..io.fclib import read_fclib
 
     if getattr(args, "index", None) is not None:
         raise CliError(f"{args.file}: an FCLib file holds one problem; --index does not apply")
@@ -56,7 +57,7 @@ def _configure_export(p: argparse.ArgumentParser) -> None:
 
 
 def _run_export(args: argparse.Namespace) -> int:
-    from ..fclib import export_capture
+    from ..faceting import export_capture
     from ..io.capture import is_capture
 
     if not is_capture(args.capture):
