@@ -1,6 +1,6 @@
-"""LCP solve times (issue 2): median time per solve from Python, per call and
-batched, for contact-structured LCPs (DESIGN §1, sizes 20 and 40) and random
-SPD LCPs (40, 200, 1000), with the seed's classic Lemke measured in the same
+"""LCP solve times: median time per solve from Python, per call and
+batched, for contact-structured LCPs (the Stewart–Trinkle layout, sizes 20 and 40) and random
+SPD LCPs (40, 200, 1000), with the classic Lemke (the source note's tolerances) measured in the same
 run as the baseline. `--rust` also runs the criterion bench (Rust-only times).
 
     python benchmarks/lcp_bench.py [--repeat 2000] [--rust]

@@ -1,4 +1,4 @@
-"""Where a `solve_lcp` call's time goes (issue 2): median µs per call of the
+"""Where a `solve_lcp` call's time goes : median µs per call of the
 public `lcpsim.solve_lcp`, of the bare compiled `_core.solve_lcp` on the same
 arrays, and of the compiled call on a 1×1 LCP (the glue's fixed cost, the
 solve itself being negligible), for contact LCPs of sizes 20 and 40.

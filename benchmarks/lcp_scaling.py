@@ -61,7 +61,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 PEERS = HERE / "peers"
 SIZES = [10, 16, 25, 40, 63, 100, 160, 250, 400, 630, 1000]
-# The structured Lemke also at 52 cubes (n ≈ 1,440): issue 13's "n ≈ 1,500" target.
+# The structured Lemke also at 52 cubes (n ≈ 1,440): the size where it first beat the dense Lemke 10×.
 STRUCTURED_SIZES = sorted(SIZES + [52])
 
 
@@ -401,6 +401,8 @@ def render(res: dict[str, Any]) -> list[str]:
         t40k = last["seconds"] * (40_000 / last["n"]) ** p
         lines.append(f"Extrapolated from the largest size along that power law, one dense solve at n = 40,000 "
                      f"(the 10×10×10 towers) would take about {t40k / 3600:,.0f} h and M alone 12.8 GB.")
+    if res.get("measured_at"):
+        lines.append(f"Measured at {res['measured_at']}; data in `benchmarks/lcp_scaling.json`.")
     lines.append("")
     return lines
 
@@ -433,6 +435,9 @@ def main() -> int:
     if args.only != "dense":
         res["structured"] = run_structured(desc, args.max_solve_s, args.mem_cap_gb, args.structured_dense_max_n,
                                            args.structured_binary)
+    rev = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
+                         cwd=Path(__file__).parent).stdout.strip()
+    res["measured_at"] = f"commit {rev or 'unknown'}"
     Path(args.out).write_text(json.dumps(res, indent=1))
     lines = render(res) if "rows" in res else []
     if "structured" in res:

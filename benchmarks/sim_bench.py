@@ -1,8 +1,8 @@
-"""Simulation throughput (issue 3): steps per second with the stepping loop in
+"""Simulation throughput : steps per second with the stepping loop in
 Rust (`World.run`) and with one `World.step` call per step from Python, for a
 cube on a slope (4 contacts, LCP size 40), a 10-box stack and a 3×3×3 box pile,
 with LCP sizes, pivots and failures. The baseline measured in the same run is
-the same cube with the seed's classic Lemke.
+the same cube with the classic Lemke.
 
     python benchmarks/sim_bench.py [--seconds 2]
 """

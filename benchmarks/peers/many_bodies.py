@@ -311,6 +311,7 @@ def main() -> int:
             res = json.load(f)
     else:
         res = run_all(args.scenes.split(","), args.engines.split(","), args.budget, args.grace, args.mem_cap_gb)
+        res["command"] = " ".join(["benchmarks/peers/.venv/bin/python", "benchmarks/peers/many_bodies.py", *sys.argv[1:]])
         if args.merge and os.path.exists(args.out):
             with gzip.open(args.out, "rt") as f:
                 old = json.load(f)

@@ -115,7 +115,8 @@ def render(res: dict[str, Any]) -> list[str]:
         "calls only (median over the repetitions that fit in the budget; for the scenes with several rounds, "
         "over every repetition of rounds run engine after engine, so a change of the machine's speed falls on "
         "every engine alike). "
-        "Command: `benchmarks/peers/.venv/bin/python benchmarks/peers/many_bodies.py`. The machine is shared "
+        f"Command: `{res.get('command', 'benchmarks/peers/.venv/bin/python benchmarks/peers/many_bodies.py')}`. "
+        "The machine is shared "
         f"(1-minute load average {res['load_average_before'][0]:.1f} before the run, "
         f"{res['load_average_after'][0]:.1f} after): rates move by tens of per cent between runs.",
         "",
@@ -189,6 +190,8 @@ def render_broadphase(bp: dict[str, Any]) -> list[str]:
         pairs = s["methods"]["sap"]["pairs"]
         cells = " | ".join(f"{s['methods'][m]['ms_median']:.3f}" if m in s["methods"] else "—" for m in methods)
         lines.append(f"| {s['n']:,} | {min(pairs):,}–{max(pairs):,} | {cells} |")
+    if bp.get("measured_at"):
+        lines += ["", f"Measured at {bp['measured_at']}; data in `benchmarks/broadphase.json`."]
     return lines + [""]
 
 

@@ -1,4 +1,4 @@
-"""The problem sets of the peers' run: contact LCPs, the seed corpus, the
+"""The problem sets of the peers' run: contact LCPs, the cube corpus, the
 hard corpus and random SPD LCPs, each problem with what its physical
 residual needs (the cone-scaling diagonal and the unscaled problem)."""
 
@@ -75,7 +75,7 @@ def contact_sets(scales: list[float], per_size: int, seed: int) -> list[ProblemS
         out.append(
             ProblemSet(
                 f"contact/s={scale_label(s)}",
-                f"Contact LCPs (DESIGN §5 cube), s = {scale_label(s)}",
+                f"Contact LCPs (one-cube generator), s = {scale_label(s)}",
                 f"`lcpsim.generate.contact_lcp(nc, 8, s, seed)`, nc ∈ {{1, 2, 4}} (n = 10, 20, 40), seeds "
                 f"{seed}…{seed + per_size - 1}: unit cube on a 0–60° slope, μ ∈ [0.1, 1.5], random velocity, "
                 f"h = 0.01, friction-cone scale s = {scale_label(s)}.",
@@ -86,8 +86,8 @@ def contact_sets(scales: list[float], per_size: int, seed: int) -> list[ProblemS
     return out
 
 
-def seed_corpus_sets(scales: list[float], per_size: int, seed: int) -> tuple[list[ProblemSet], str]:
-    """The experiments' seed corpus (``lcpsim.experiments.seed_corpus``), if installed.
+def cube_corpus_sets(scales: list[float], per_size: int, seed: int) -> tuple[list[ProblemSet], str]:
+    """The experiments' cube corpus (``lcpsim.experiments.cube_corpus``), if installed.
 
     Hook: any module providing ``generate(config) -> corpus`` whose ``groups``
     each have ``M`` (b, n, n), ``q`` (b, n) unscaled, ``contacts`` and
@@ -96,10 +96,13 @@ def seed_corpus_sets(scales: list[float], per_size: int, seed: int) -> tuple[lis
     try:
         from lcpsim import ContactLayout
 
-        sc = importlib.import_module("lcpsim.experiments.seed_corpus")
+        try:
+            sc = importlib.import_module("lcpsim.experiments.cube_corpus")
+        except ImportError:  # the module's name before the rename
+            sc = importlib.import_module("lcpsim.experiments.seed_corpus")
         corpus = sc.generate()
     except Exception as e:  # not there yet, or broken: say so in the report
-        return [], f"seed corpus not included: `lcpsim.experiments.seed_corpus` unavailable ({type(e).__name__}: {e})"
+        return [], f"cube corpus not included: `lcpsim.experiments.cube_corpus` unavailable ({type(e).__name__}: {e})"
     rng = np.random.default_rng(seed)
     picked = []
     for g in corpus.groups:
@@ -115,20 +118,20 @@ def seed_corpus_sets(scales: list[float], per_size: int, seed: int) -> tuple[lis
                 M1, q1 = np.ascontiguousarray(g.M[i]), np.ascontiguousarray(g.q[i])
                 M, q = (M1, q1) if s == 1.0 else lay.scale_lcp(M1, q1, s)
                 probs.append(
-                    Problem(M, q, f"seed/{int(g.index[i])}", f"n = {g.n}", d if s != 1.0 else None, M1, q1)
+                    Problem(M, q, f"cubes/{int(g.index[i])}", f"n = {g.n}", d if s != 1.0 else None, M1, q1)
                 )
         out.append(
             ProblemSet(
-                f"seed/s={scale_label(s)}",
-                f"Seed corpus (simulation LCPs), s = {scale_label(s)}",
-                f"`lcpsim.experiments.seed_corpus.generate()` (default config, {len(corpus)} LCPs from cube "
+                f"cubes/s={scale_label(s)}",
+                f"Cube corpus (simulation LCPs), s = {scale_label(s)}",
+                f"`lcpsim.experiments.cube_corpus.generate()` (default config, {len(corpus)} LCPs from cube "
                 f"simulations at h = 1e-3, assembled unscaled); a seeded subset of at most {per_size} per size, "
                 f"scaled by D = diag(I, I, s·I) with s = {scale_label(s)}.",
                 probs,
                 group_order=[f"n = {g.n}" for g, _ in picked],
             )
         )
-    return out, f"seed corpus: {len(corpus)} LCPs, {per_size} per size sampled"
+    return out, f"cube corpus: {len(corpus)} LCPs, {per_size} per size sampled"
 
 
 def hard_sets(scales: list[float], count: int, seed: int) -> list[ProblemSet]:
@@ -147,7 +150,7 @@ def hard_sets(scales: list[float], count: int, seed: int) -> list[ProblemSet]:
             ProblemSet(
                 f"hard/s={scale_label(s)}",
                 f"Hard contact LCPs, s = {scale_label(s)}",
-                f"`lcpsim.generate.hard_corpus({seed}, {count}, s)`: the seven families of issue 5 in turn (many, "
+                f"`lcpsim.generate.hard_corpus({seed}, {count}, s)`: the hard corpus's seven families in turn (many, "
                 f"duplicate, nearly parallel, collinear contacts; mass ratios to 1e4; thin rods with cond(M_b) to 1e8; "
                 f"mixed), k = 8 (some 4 and 16), n = "
                 f"{min(p.n for p in probs)}–{max(p.n for p in probs)}, s = {scale_label(s)}.",

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""lcpsim beside Siconos and Drake on the same LCPs, in one run (issue 6).
+"""lcpsim beside Siconos and Drake on the same LCPs, in one run.
 
 Run it in the peers' venv (``bash benchmarks/peers/setup.sh`` makes it)::
 
@@ -8,7 +8,7 @@ Run it in the peers' venv (``bash benchmarks/peers/setup.sh`` makes it)::
 Solvers, each called once per problem from Python, one call per timed solve:
 
 - lcpsim robust (``solve_lcp(M, q)``: lexicographic Lemke, the default) and
-  lcpsim classic (``pivoting="classic"``: the seed note's absolute tolerances);
+  lcpsim classic (``pivoting="classic"``: the source note's absolute tolerances);
 - Siconos 4.4 (Debian ``python3-siconos``) through ``siconos.numerics``:
   ``lcp_lexicolemke``, ``lcp_pivot``, ``lcp_newton_FB``, default options
   (tolerance 1e-6 on the problem as given);
@@ -82,7 +82,7 @@ import numpy as np  # noqa: E402
 from common import HERE, RESULTS_JSON, RESULTS_MD, ROOT, peers_chatter_to, say  # noqa: E402
 from machine import loadavg, machine, versions  # noqa: E402
 from measure import measure, summarize  # noqa: E402
-from problems import ProblemSet, contact_sets, hard_sets, seed_corpus_sets, spd_sets  # noqa: E402
+from problems import ProblemSet, contact_sets, hard_sets, cube_corpus_sets, spd_sets  # noqa: E402
 from report import headline, table, write_report  # noqa: E402
 from solvers import Solver, drake_solvers, lcpsim_solvers, siconos_solvers  # noqa: E402
 
@@ -108,8 +108,8 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--contact-per-size", type=int, default=300, help="contact LCPs per size and scale")
     ap.add_argument("--contact-scales", default="1,1e-2,1e-3,1e-4,1e-6,1e-8")
-    ap.add_argument("--seed-per-size", type=int, default=100, help="seed-corpus LCPs per size and scale")
-    ap.add_argument("--seed-scales", default="1,1e-2,1e-3,1e-4,1e-6,1e-8")
+    ap.add_argument("--cubes-per-size", type=int, default=100, help="cube-corpus LCPs per size and scale")
+    ap.add_argument("--cubes-scales", default="1,1e-2,1e-3,1e-4,1e-6,1e-8")
     ap.add_argument("--hard-count", type=int, default=70, help="hard contact LCPs per scale")
     ap.add_argument("--hard-scales", default="1,1e-3,1e-6")
     ap.add_argument("--spd", default="40:30,200:10,1000:3", help="size:count,… of random SPD LCPs")
@@ -118,7 +118,7 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     ap.add_argument("--repeats", type=int, default=5, help="back-to-back repeats per solver and problem")
     ap.add_argument("--slow", type=float, default=1.0, help="a call slower than this (s) is not repeated")
     ap.add_argument("--tol", type=float, default=1e-6)
-    ap.add_argument("--only", default="", help="comma-separated set prefixes to run (contact,seed,hard,spd)")
+    ap.add_argument("--only", default="", help="comma-separated set prefixes to run (contact,cubes,hard,spd)")
     ap.add_argument("--skip-solvers", default="", help="comma-separated solver keys to leave out")
     ap.add_argument("--no-sim", action="store_true", help="leave out the simulation throughput (sim_peers.py)")
     ap.add_argument("--quick", action="store_true", help="smoke run: few problems, one pass")
@@ -132,7 +132,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.render:
         return render_only()
     if args.quick:
-        args.contact_per_size, args.seed_per_size, args.hard_count = 5, 5, 7
+        args.contact_per_size, args.cubes_per_size, args.hard_count = 5, 5, 7
         args.spd, args.passes, args.repeats = "40:2,200:1", 1, 2
     floats = lambda s: [float(x) for x in s.split(",") if x]  # noqa: E731
     only = [x for x in args.only.split(",") if x]
@@ -155,8 +155,8 @@ def main(argv: list[str] | None = None) -> int:
     sets: list[ProblemSet] = []
     if want("contact"):
         sets += contact_sets(floats(args.contact_scales), args.contact_per_size, args.seed)
-    if want("seed"):
-        got, msg = seed_corpus_sets(floats(args.seed_scales), args.seed_per_size, args.seed)
+    if want("cubes"):
+        got, msg = cube_corpus_sets(floats(args.cubes_scales), args.cubes_per_size, args.seed)
         sets += got
         notes.append(msg)
         say(msg)

@@ -2,7 +2,7 @@
 """Simulation throughput and slope outcome: lcpsim beside MuJoCo and PyBullet.
 
 A 1 kg unit cube released at rest, one face flat on a plane tilted by θ about
-the y axis (it descends towards +x), μ = 1 (DESIGN §2's knife edge: tan θ just
+the y axis (it descends towards +x), μ = 1 (the knife edge of the source note: tan θ just
 above μ, so the cube must slide — and, μ ≤ 1, not tip), g = 9.81,
 dt = 1e-3, 2 s (2000 steps). For each simulator: steps per second (wall clock
 of the 2000 steps only, median of ``--runs`` fresh runs) and the outcome —
@@ -249,7 +249,7 @@ SIMULATORS: list[tuple[str, str, Callable[[], Runner]]] = [
 ]
 
 CONTACT_MODELS = [
-    "**lcpsim**: hard contact, the Stewart–Trinkle / Anitescu–Potra LCP of DESIGN §1 (8 friction directions, "
+    "**lcpsim**: hard contact, the Stewart–Trinkle / Anitescu–Potra LCP (8 friction directions, "
     "the slope along one of them) solved exactly by Lemke each step; no penetration compliance, ERP 0.2 "
     "position correction.",
     "**MuJoCo**: soft contacts — a convex optimization over constraint forces with a spring–damper reference "
