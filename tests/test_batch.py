@@ -58,8 +58,6 @@ def test_batch_equals_per_call(method, kwargs, threads):
     for i, r in enumerate(batch):
         _assert_same(r, solve_lcp(Ms[i], qs[i], method=method, **kwargs))
     assert sum(batch.by_status.values()) == 12
-    with pytest.warns(DeprecationWarning, match="by_status"):
-        assert batch.status_counts() == batch.by_status
 
 
 def test_batch_of_contact_lcps_equals_per_call():

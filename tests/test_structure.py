@@ -1,7 +1,5 @@
-"""Issue 12, Python side: one home per concept, and every old name still working.
-
-Old modules and names stay importable with a DeprecationWarning naming the new
-home; the command line and the report are built from the experiment registry;
+"""One home per concept, Python side: no import-hook machinery and no
+deprecated aliases; the command line and the report are built from the experiment registry;
 one cone-scale parser and one JSON conversion; the defaults of the world, its
 bodies, its stabilization and the scenes are the Rust ones, read from the
 compiled module; no file over 800 lines and no function over 120."""
@@ -14,7 +12,6 @@ import json
 import math
 import subprocess
 import sys
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -27,96 +24,17 @@ from lcpsim.scale import cone_scale_argument, parse_cone_scale, scale_label, sca
 PACKAGE = Path(lcpsim.__file__).parent
 
 
-# ---------------------------------------------------------------- deprecated modules and names
+# ---------------------------------------------------------------- modules and entry points
 
 
-def _fresh_import(name: str):
-    """Imports ``name`` as if for the first time (the alias warns on import)."""
-    sys.modules.pop(name, None)
-    return importlib.import_module(name)
-
-
-@pytest.mark.parametrize(
-    "old, new",
-    [
-        ("lcpsim.corpus", "lcpsim.io.capture"),
-        ("lcpsim.forensics", "lcpsim.io.forensics"),
-        ("lcpsim.cli_simulate", "lcpsim.cli.simulate"),
-        ("lcpsim.cli_experiments", "lcpsim.cli.experiments"),
-    ],
-)
-def test_moved_modules_import_under_their_old_names(old, new):
-    with pytest.warns(DeprecationWarning, match=new.replace(".", r"\.")):
-        mod = _fresh_import(old)
-    assert mod is importlib.import_module(new)
-    # `lcpsim.corpus` as an attribute of the package, too (before any import set it).
-    sys.modules.pop(old, None)
-    vars(lcpsim).pop(old.rpartition(".")[2], None)
-    with pytest.warns(DeprecationWarning):
-        assert getattr(lcpsim, old.rpartition(".")[2]) is mod
-
-
-def test_old_capture_names_warn_and_are_the_new_objects():
-    from lcpsim.io import capture
-
-    with pytest.warns(DeprecationWarning, match="open_capture"):
-        assert lcpsim.open_corpus is capture.open_capture
-    for old, new in (("Corpus", "Capture"), ("CorpusRecord", "CaptureRecord"), ("CorpusWriter", "CaptureWriter")):
-        with pytest.warns(DeprecationWarning, match=new):
-            assert getattr(lcpsim, old) is getattr(capture, new)
-    with pytest.warns(DeprecationWarning):
-        from lcpsim.corpus import CorpusError, is_corpus, load_lcp  # noqa: F401
-    assert load_lcp is capture.load_captured_lcp and CorpusError is capture.CaptureError
-    assert is_corpus is capture.is_capture
-    with pytest.raises(AttributeError, match="no_such_name"):
-        capture.no_such_name  # noqa: B018
-    with pytest.raises(AttributeError):
-        lcpsim.no_such_name  # noqa: B018
-
-
-def test_lcp_stats_count_is_a_deprecated_alias_of_lcps():
-    traj = lcpsim.scenes.resting_cube().world.run(5)
-    stats = traj.lcp_stats()
-    with pytest.warns(DeprecationWarning, match="LcpStats.lcps"):
-        assert stats.count == stats.lcps == 5
-    assert stats.to_dict()["lcps"] == 5
-
-
-# Every name these modules exported before the sub-packages (issue 12).
-OLD_API = {
-    "lcpsim": [
-        "__version__", "solve_lcp", "solve_lcp_batch", "lcp_residual", "lcp_residuals", "LcpResult",
-        "LcpBatchResult", "METHODS", "PIVOTINGS", "STATUSES", "certify", "Certificate", "World", "StepRecord",
-        "Trajectory", "BodyState", "Stabilization", "LcpStats", "NO_CONTACT", "scenes", "Scene", "Corpus",
-        "CorpusRecord", "CorpusWriter", "open_corpus",
-    ],
-    "lcpsim.io": ["LcpFileError", "load_lcp", "save_lcp", "file_format", "is_dump"],
-    "lcpsim.corpus": [
-        "FORMAT", "FORMAT_VERSION", "CorpusError", "CorpusWriter", "CorpusRecord", "Corpus", "open_corpus",
-        "load_lcp", "is_corpus", "load_record",
-    ],
-    "lcpsim.forensics": ["DUMP_FORMAT", "Dump", "Replay", "write_dump", "load_dump", "replay", "variable_name",
-                         "TRACE_FIELDS"],
-    "lcpsim.cli": ["main", "register_command", "Command", "CliError", "build_parser", "EXIT_OK",
-                   "EXIT_NOT_SOLVED", "EXIT_USAGE"],
-    "lcpsim.cli_simulate": ["simulate_summary"],
-    "lcpsim.experiments": ["EXPERIMENTS", "DEFAULTS", "run_experiment", "experiment_name", "PRESETS", "Solver",
-                           "parse_solver"],
-    "lcpsim.experiments.plotting": ["plot_failure_rate", "plot_slope", "plot_critical_scale", "plot_invariance",
-                                    "plot_patterns", "plot_push", "plot_push_sweep", "plot_result"],
-    "lcpsim.experiments.report": ["make_report"],
-    "lcpsim.experiments._common": ["G", "parse_scale", "scale_value", "scale_label", "parse_scales",
-                                   "merge_config", "envelope", "jsonable"],
-}
-
-
-@pytest.mark.parametrize("module", sorted(OLD_API))
-def test_every_old_name_still_imports(module):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", DeprecationWarning)
-        mod = importlib.import_module(module)
-        for name in OLD_API[module]:
-            assert getattr(mod, name) is not None, (module, name)
+def test_importing_lcpsim_adds_no_import_hook():
+    out = subprocess.run(
+        [sys.executable, "-c", "import sys; before = list(sys.meta_path); import lcpsim, lcpsim.io, lcpsim.cli, "
+         "lcpsim.experiments; print(sys.meta_path == before)"],
+        capture_output=True, text=True, env={"PYTHONPATH": str(PACKAGE.parent), "PATH": ""},
+    )
+    assert out.stdout.strip() == "True", out.stderr
+    assert not (PACKAGE / "_deprecated.py").exists()
 
 
 def test_io_load_lcp_and_capture_loader_have_distinct_names(tmp_path):
@@ -169,15 +87,14 @@ def test_cli_and_report_are_built_from_the_registry():
         assert mod.EXPERIMENT is e and e.defaults is mod.DEFAULTS and e.report is not None
 
 
-def test_experiment_name_comes_from_its_module_and_the_old_form_still_works():
+def test_experiment_name_comes_from_its_module():
     from lcpsim.experiments import REGISTRY
     from lcpsim.experiments.experiment import Experiment
 
     for name, e in REGISTRY.items():
         assert e.run.__module__.rsplit(".", 1)[-1] == name.replace("-", "_")
-    with pytest.warns(DeprecationWarning, match="of_module"):
-        old = Experiment.of_module("lcpsim.experiments.push", "push", "the pushed cube", plot=REGISTRY["push"].plot)
-    assert (old.name, old.help, old.run) == ("push", "the pushed cube", REGISTRY["push"].run)
+    push = Experiment.of_module("lcpsim.experiments.push", "the pushed cube", plot=REGISTRY["push"].plot)
+    assert (push.name, push.help, push.run) == ("push", "the pushed cube", REGISTRY["push"].run)
 
 
 # ---------------------------------------------------------------- one cone-scale parser

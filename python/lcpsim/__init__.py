@@ -17,14 +17,12 @@ Public API (the compiled module ``lcpsim._core`` is private)::
 Sub-packages: :mod:`lcpsim.io` (LCP files, captures, failure dumps, FCLib files),
 :mod:`lcpsim.faceting` (FCLib problems as faceted LCPs, the exact-cone residual),
 :mod:`lcpsim.experiments` (the seed note's experiments, their registry, the
-report), :mod:`lcpsim.cli` (the ``lcpsim`` command). Names that moved keep
-working with a DeprecationWarning (:mod:`lcpsim._deprecated`).
+report), :mod:`lcpsim.cli` (the ``lcpsim`` command).
 """
 
 from __future__ import annotations
 
 from ._core import ContactLayout, __version__
-from . import _deprecated
 from .lcp import (
     METHODS,
     PIVOTINGS,
@@ -66,11 +64,3 @@ __all__ = [
     "faceting",
 ]
 __all__ += world.__all__
-
-_deprecated.install()
-__getattr__ = _deprecated.deprecated_names(__name__, {
-    "Corpus": ("lcpsim.Capture", lambda: Capture),
-    "CorpusRecord": ("lcpsim.CaptureRecord", lambda: CaptureRecord),
-    "CorpusWriter": ("lcpsim.CaptureWriter", lambda: CaptureWriter),
-    "open_corpus": ("lcpsim.open_capture", lambda: open_capture),
-})

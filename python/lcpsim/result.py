@@ -203,10 +203,3 @@ class LcpBatchResult:
         for s in self.status:
             counts[s] = counts.get(s, 0) + 1
         return counts
-
-    def status_counts(self) -> dict[str, int]:
-        """Deprecated name of :attr:`by_status`."""
-        from ._deprecated import warn
-
-        warn("LcpBatchResult.status_counts()", "LcpBatchResult.by_status")
-        return self.by_status

@@ -117,14 +117,6 @@ class LcpStats:
     def to_dict(self) -> dict[str, Any]:
         return fields_dict(self)
 
-    @property
-    def count(self) -> int:
-        """Deprecated name of :attr:`lcps`."""
-        from ._deprecated import warn
-
-        warn("LcpStats.count", "LcpStats.lcps")
-        return self.lcps
-
 
 @dataclass(frozen=True)
 class Trajectory:

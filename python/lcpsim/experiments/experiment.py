@@ -112,7 +112,7 @@ class Experiment:
 
     @classmethod
     def of_module(
-        cls, module: str, *help: str, plot: Callable[[Sequence[Mapping[str, Any]], str | os.PathLike[str]], str]
+        cls, module: str, help: str, *, plot: Callable[[Sequence[Mapping[str, Any]], str | os.PathLike[str]], str]
     ) -> "Experiment":
         """``of_module(__name__, help, plot=...)``: the experiment an experiment
         module defines by these names: ``DEFAULTS``, ``run``, ``cli_arguments``,
@@ -120,21 +120,13 @@ class Experiment:
         ``report_figures``, ``report_section``. Its name is the module's, with
         hyphens (``critical_scale`` → ``critical-scale``). Without
         ``report_figures`` the report has one figure: ``plot`` of the results
-        under the module's own name, in ``NAME.png``. The former
-        ``of_module(__name__, name, help, plot=...)`` still works (deprecated)."""
+        under the module's own name, in ``NAME.png``."""
         m = sys.modules[module]
         key = module.rsplit(".", 1)[-1]
         name = key.replace("_", "-")
-        if len(help) == 2:
-            from .._deprecated import warn
-
-            warn("Experiment.of_module(module, name, help, plot=...)", "Experiment.of_module(module, help, plot=...)")
-            name, help = help[0], help[1:]
-        if len(help) != 1:
-            raise TypeError(f"of_module takes the module, its help text and plot=, got {len(help) + 1} positional")
         figures = getattr(m, "report_figures", None) or _one_figure(key, plot)
         return cls(
-            name=name, help=help[0], defaults=m.DEFAULTS, run=m.run, arguments=m.cli_arguments, config=m.cli_config,
+            name=name, help=help, defaults=m.DEFAULTS, run=m.run, arguments=m.cli_arguments, config=m.cli_config,
             summary=m.summary, plot=plot, report=ReportPart(m.report_run, figures, m.report_section),
         )
 

@@ -34,7 +34,6 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .. import _core
-from .._deprecated import deprecated_names
 from .._json import jsonable
 from .limits import human_bytes
 from .hdf5 import HDF5_ERRORS, HDF5_MAGIC
@@ -706,14 +705,3 @@ def is_capture(path: str | os.PathLike[str]) -> bool:
             return bool(f.attrs.get("format") == FORMAT)
         except (TypeError, *HDF5_ERRORS):  # a damaged attribute: not a capture we can read
             return False
-
-
-__getattr__ = deprecated_names(__name__, {
-    "Corpus": ("lcpsim.io.capture.Capture", lambda: Capture),
-    "CorpusRecord": ("lcpsim.io.capture.CaptureRecord", lambda: CaptureRecord),
-    "CorpusWriter": ("lcpsim.io.capture.CaptureWriter", lambda: CaptureWriter),
-    "CorpusError": ("lcpsim.io.capture.CaptureError", lambda: CaptureError),
-    "open_corpus": ("lcpsim.io.capture.open_capture", lambda: open_capture),
-    "is_corpus": ("lcpsim.io.capture.is_capture", lambda: is_capture),
-    "load_lcp": ("lcpsim.io.capture.load_captured_lcp (or lcpsim.io.load_lcp(path, index))", lambda: load_captured_lcp),
-})
