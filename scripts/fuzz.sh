@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs every fuzz target for a fixed time (issue 15; see docs/reliability.md):
+# Runs every fuzz target for a fixed time (see docs/reliability.md):
 #   bash scripts/fuzz.sh [SECONDS per target, default 180] [TARGET ...]
 # TARGETs (default: all, one after another): lcp_solvers, world — Rust
 # (fuzz/, cargo-fuzz on nightly), one process each (-jobs=1 workers), corpus in

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Fuzzes lcpsim's file readers on damaged files for a fixed time (issue 15).
+"""Fuzzes lcpsim's file readers on damaged files for a fixed time.
 
 The readers — ``lcpsim.io.load_lcp`` (``.npz``, HDF5, capture, dump),
 ``open_capture`` (and reading every record), ``load_dump``,
@@ -18,10 +18,10 @@ or a hang, so HDF5's C library cannot take the fuzzer down with it.
 
 ``--readers`` fuzzes only the named readers (default: all of them), so that
 one reader can be given a run of its own. ``read_fclib`` is given mutations of
-the FCLib seed three times in four (its other inputs are the other seeds).
+the valid FCLib file three times in four (its other inputs are the other valid files).
 
 A reader added later joins by one entry in ``_readers`` (name → function
-of a path) and one seed file in ``_seeds``.
+of a path) and one valid file in ``_valid_files``.
 """
 
 from __future__ import annotations
@@ -67,7 +67,7 @@ def _readers() -> dict[str, Callable[[str], Any]]:
     return readers
 
 
-def _seeds(directory: Path) -> list[Path]:
+def _valid_files(directory: Path) -> list[Path]:
     """Small valid files of every kind the readers read."""
     import numpy as np
 
@@ -77,21 +77,21 @@ def _seeds(directory: Path) -> list[Path]:
 
     M = np.array([[2.0, 1.0], [1.0, 2.0]])
     q = np.array([-1.0, -1.0])
-    seeds = [save_lcp(directory / "p.npz", M, q), save_lcp(directory / "p.h5", M, q)]
-    with CaptureWriter(directory / "c.h5", {"scene": "seed"}) as w:
+    valid = [save_lcp(directory / "p.npz", M, q), save_lcp(directory / "p.h5", M, q)]
+    with CaptureWriter(directory / "c.h5", {"scene": "fuzz"}) as w:
         for s in (1.0, 1e-3):
             w.add(M * s, q, np.array([1 / 3, 1 / 3]), np.zeros(2), scale=s, contacts=0)
-    seeds.append(directory / "c.h5")
+    valid.append(directory / "c.h5")
     res = solve_lcp(-np.eye(2), q, dump=str(directory / "dumps"))
-    seeds.append(Path(res.dump_path))
+    valid.append(Path(res.dump_path))
     from lcpsim import scenes
 
     traj = scenes.resting_cube().world.run(3, record_contacts=True)
-    seeds.append(Path(traj.save(directory / "t.h5")))
+    valid.append(Path(traj.save(directory / "t.h5")))
     s = scenes.resting_cube(friction_dirs=4)
     s.world.run(2, fclib=directory / "fclib")
-    seeds.extend(sorted((directory / "fclib").glob("*.hdf5"))[:1])
-    return seeds
+    valid.extend(sorted((directory / "fclib").glob("*.hdf5"))[:1])
+    return valid
 
 
 def _mutate(data: bytes, rng: random.Random) -> bytes:
@@ -116,21 +116,21 @@ def _mutate(data: bytes, rng: random.Random) -> bytes:
     return bytes(b)
 
 
-def worker(seed_dir: str, state_dir: str, seed: int, only: str) -> None:
+def worker(valid_dir: str, state_dir: str, seed: int, only: str) -> None:
     """Runs inputs forever; before each one writes it to ``state_dir/current``."""
     readers = _readers()
     if only:
         readers = {k: readers[k] for k in only.split(",")}
-    files = sorted(p for p in Path(seed_dir).iterdir() if p.is_file())
-    seeds = [p.read_bytes() for p in files]
-    fclib_seeds = [p.read_bytes() for p in files if p.suffix == ".hdf5"]
+    files = sorted(p for p in Path(valid_dir).iterdir() if p.is_file())
+    valid = [p.read_bytes() for p in files]
+    fclib_valid = [p.read_bytes() for p in files if p.suffix == ".hdf5"]
     rng = random.Random(seed)
     state = Path(state_dir)
     target = state / "input.bin"
     n = 0
     while True:
         name = rng.choice(sorted(readers))
-        pool = fclib_seeds if name == "read_fclib" and fclib_seeds and rng.random() < 0.75 else seeds
+        pool = fclib_valid if name == "read_fclib" and fclib_valid and rng.random() < 0.75 else valid
         data = _mutate(rng.choice(pool), rng)
         suffix = rng.choice([".npz", ".h5", ".bin"])
         path = target.with_suffix(suffix)
@@ -154,18 +154,18 @@ def worker(seed_dir: str, state_dir: str, seed: int, only: str) -> None:
 def drive(seconds: float, timeout: float, out: Path, only: str = "") -> dict[str, Any]:
     out.mkdir(parents=True, exist_ok=True)
     work = Path(tempfile.mkdtemp(prefix="lcpsim-fuzz-readers-"))
-    seed_dir, state = work / "seeds", work / "state"
-    seed_dir.mkdir()
+    valid_dir, state = work / "valid", work / "state"
+    valid_dir.mkdir()
     state.mkdir()
     (work / "make").mkdir()
-    for p in _seeds(work / "make"):
-        shutil.copy(p, seed_dir / p.name)
+    for p in _valid_files(work / "make"):
+        shutil.copy(p, valid_dir / p.name)
     deadline = time.monotonic() + seconds
     total, crashes, hangs, restarts = 0, 0, 0, 0
     while time.monotonic() < deadline:
         (state / "count").write_text("0")
         proc = subprocess.Popen(
-            [sys.executable, __file__, "--worker", str(seed_dir), str(state), str(restarts), only],
+            [sys.executable, __file__, "--worker", str(valid_dir), str(state), str(restarts), only],
             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
         )
         last, last_change = None, time.monotonic()

@@ -1,4 +1,4 @@
-"""Issue 15, items 3 and 4 from Python: ``ok`` means the documented acceptance
+"""From Python: ``ok`` means the documented acceptance
 rule holds (each row judged on its own scale), for every method; the
 reproducers in tests/data/repros/ are solved; every step record carries an
 energy audit."""

@@ -66,7 +66,7 @@ def test_result_fields_and_types(method):
 
 @pytest.mark.parametrize("method", ["lemke", "pgs", "newton_fb"])
 def test_result_equals_one_built_by_its_constructor(method):
-    # solve_lcp builds its result without LcpResult.__init__ (issue 2); it must
+    # solve_lcp builds its result without LcpResult.__init__; it must
     # behave exactly like one that went through it.
     res = solve_lcp(M2, Q2, method=method)
     built = LcpResult(**{f.name: getattr(res, f.name) for f in dataclasses.fields(LcpResult)})
@@ -219,7 +219,7 @@ def test_iteration_limit_is_reported_not_raised():
 
 
 def test_keyword_defaults_are_the_compiled_defaults():
-    # solve_lcp passes no options when given none (issue 2), so its defaults
+    # solve_lcp passes no options when given none, so its defaults
     # must be the compiled ones; solve_lcp_batch passes them all, but agrees.
     from lcpsim import _core
 

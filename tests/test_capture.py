@@ -288,7 +288,7 @@ def test_captured_scaled_lcp_is_d_m_d_of_the_unscaled_one():
 
 
 def test_one_lcp_per_island_with_its_island(tmp_path):
-    """Issue 13: separate towers are separate islands, each captured as its own LCP."""
+    """Separate towers are separate islands, each captured as its own LCP."""
     path = tmp_path / "pile.h5"
     s = scenes.box_pile(2, 1, 2)
     traj = s.world.run(5, capture=path)

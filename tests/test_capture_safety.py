@@ -1,4 +1,4 @@
-"""Issue 15, item 1: a capture never loses data. Lock first, refuse an existing
+"""A capture never loses data. Lock first, refuse an existing
 path unless asked, write ``PATH.partial`` and rename it atomically; a second
 writer fails cleanly; readers never wait on a lock or hang on a damaged file.
 Each test reproduces a defect of the earlier writer (which truncated the target

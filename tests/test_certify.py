@@ -1,4 +1,4 @@
-"""Exact certification (issue 5 item 3): solve_lcp(certify=True), lcpsim.certify,
+"""Exact certification: solve_lcp(certify=True), lcpsim.certify,
 certify_batch — on hand-made LCPs with known exact answers, SPD and contact LCPs,
 and the corpora's LCPs of size up to 40."""
 
@@ -13,7 +13,7 @@ import lcpsim
 from lcpsim import Certificate, certify, solve_lcp
 from lcpsim.certification import certify_batch
 from lcpsim.result import ETA_CERTIFIED
-from lcpsim.experiments.seed_corpus import generate, scaled
+from lcpsim.experiments.cube_corpus import generate, scaled
 from lcpsim.generate import contact_lcp, hard_corpus, spd_lcp
 
 
@@ -102,8 +102,8 @@ def test_contact_lcps_certified_or_backward_stable(nc, scale):
         assert c.certified or c.backward_error <= ETA_CERTIFIED, (p.label, c)
 
 
-def test_seed_corpus_up_to_40_certified():
-    """Issue 5 item 3 on the corpus: the robust default's answers on seed-corpus
+def test_cube_corpus_up_to_40_certified():
+    """On the corpus: the robust default's answers on cube-corpus
     LCPs (n ≤ 40) at several scales, checked exactly; none is singular, each
     exact basis solution is backward stable (η ≤ 1e-14) or has a natural
     residual at round-off level (≤ 1e-14·(1 + ‖q‖∞): resting contacts whose

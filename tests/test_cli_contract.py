@@ -1,4 +1,4 @@
-"""Issue 15, item 5: the command line's contract. Every user error exits 2
+"""The command line's contract. Every user error exits 2
 with one line on stderr (argparse: one line plus a hint), exit 1 means only
 "ran, but not solved / a case failed", a lcpsim bug exits 3; a sweep checks its
 whole config before it starts and fails when a case fails; the CLI refuses the

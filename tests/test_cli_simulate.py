@@ -120,7 +120,7 @@ def test_subprocess_help_lists_scenes_and_params():
 
 
 def test_cube_heap_from_the_command_line(capsys):
-    """Issue 13: `lcpsim simulate cube_heap --n N --seed S [--walls]`."""
+    """`lcpsim simulate cube_heap --n N --seed S [--walls]`."""
     rc, d = simulate_json(capsys, "cube_heap", "--n", "5", "--seed", "3", "--walls", "--steps", "150")
     assert rc == 0 and d["bodies"] == 5
     assert {k: d["params"][k] for k in ("n", "seed", "walls")} == {"n": 5, "seed": 3, "walls": True}

@@ -1,4 +1,4 @@
-"""Failure forensics (issue 5 item 4): solve_lcp(dump=DIR) writes a dump of every
+"""Failure forensics: solve_lcp(dump=DIR) writes a dump of every
 failure; `lcpsim solve DUMP` and lcpsim.io.forensics.replay reproduce it."""
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
-"""Issue 4: the seed's experiments — presets, scales, classification, the
-phenomena themselves (DESIGN §2) and the command line (JSON keys, plots,
+"""The source note's experiments — presets, scales, classification, the
+phenomena themselves and the command line (JSON keys, plots,
 report). Small configs: the whole file runs in well under a minute."""
 
 from __future__ import annotations
@@ -17,10 +17,10 @@ from lcpsim.experiments import EXPERIMENTS, run_experiment
 from lcpsim.experiments import critical_scale, failure_rate, invariance, patterns, push, slope
 from lcpsim.experiments._common import parse_scale, scale_value
 from lcpsim.experiments.presets import PRESETS, parse_solver
-from lcpsim.experiments.seed_corpus import generate, scaled, simulations
+from lcpsim.experiments.cube_corpus import generate, scaled, simulations
 
 G = 9.81
-#: A small seed corpus for the tests (about 1,000 LCPs, all contact counts).
+#: A small cube corpus for the tests (about 1,000 LCPs, all contact counts).
 SMALL = {"corpus": {"n_random": 2, "steps": 150}}
 
 
@@ -33,22 +33,22 @@ def analytic(angle: float, mu: float, T: float) -> float:
 
 
 def test_presets():
-    seed = parse_solver("seed")
-    assert seed.method == "lemke" and dict(seed.options) == {"pivoting": "classic", "piv_tol": 1e-12, "zero_tol": 1e-6}
+    classic = parse_solver("classic")
+    assert classic.method == "lemke" and dict(classic.options) == {"pivoting": "classic", "piv_tol": 1e-12, "zero_tol": 1e-6}
     assert parse_solver("robust").method == "lemke" and dict(parse_solver("robust").options) == {}
     s = parse_solver("lemke:pivoting=classic,zero_tol=1e-8")
     assert s.method == "lemke" and dict(s.options) == {"pivoting": "classic", "zero_tol": 1e-8}
     s = parse_solver("method=lemke,pivoting=classic,piv_tol=1e-10")
     assert dict(s.options) == {"pivoting": "classic", "piv_tol": 1e-10}
-    s = parse_solver("seed:zero_tol=1e-8")
+    s = parse_solver("classic:zero_tol=1e-8")
     assert dict(s.options) == {"pivoting": "classic", "piv_tol": 1e-12, "zero_tol": 1e-8}
     assert parse_solver("pgs").method == "pgs" and parse_solver("newton_fb:max_iterations=50").options == {"max_iterations": 50}
-    assert parse_solver(seed.to_dict()) == seed
+    assert parse_solver(classic.to_dict()) == classic
     assert parse_solver(parse_solver("lemke:pivoting=classic").spec).options == {"pivoting": "classic"}
     for bad in ("simplex", "lemke:pivoting=bland", "lemke:warp=9", "lemke:zero_tol", "", "pgs:piv_tol=1e-3"):
         with pytest.raises(ValueError):
             parse_solver(bad)
-    assert set(PRESETS) >= {"seed", "robust", "pgs", "newton_fb"}
+    assert set(PRESETS) >= {"classic", "robust", "pgs", "newton_fb"}
 
 
 def test_scales():
@@ -67,7 +67,7 @@ def test_classify():
     assert c(2e-6, 0.0, 0.0) == "slide" and c(5e-7, 0.0, 0.0) == "rest"
     assert c(float("nan"), 1e-5, 0.0) == "tip"
     assert slope.expected_slide(45.0, 1.0, 1.0) == 0.0
-    # At 45.0001° the analytic slide in 1 s is 12 µm (issue 4).
+    # At 45.0001° the analytic slide in 1 s is 12 µm.
     assert slope.expected_slide(45.0001, 1.0, 1.0) == pytest.approx(1.2107e-5, rel=1e-4)
 
 
@@ -82,7 +82,7 @@ def test_unknown_config_key_and_experiment():
 # ----------------------------------------------------------------- the corpus
 
 
-def test_seed_corpus_is_seeded_and_covers_1_2_4_contacts():
+def test_cube_corpus_is_seeded_and_covers_1_2_4_contacts():
     c1 = generate({**SMALL["corpus"], "seed": 3})
     c2 = generate({**SMALL["corpus"], "seed": 3}, cache=False)
     assert len(c1) == len(c2) > 500
@@ -102,22 +102,22 @@ def test_seed_corpus_is_seeded_and_covers_1_2_4_contacts():
     assert np.all(g.mu() > 0)
 
 
-# ----------------------------------------------------------------- the phenomena (issue 4 §5)
+# ----------------------------------------------------------------- the phenomena
 
 
-def test_seed_preset_slides_unscaled_and_is_held_at_1e_3():
-    """The seed's phenomenon at 45.2°, μ = 1, 1 kg unit cube, h = 1e-3: over
-    2 s (DESIGN §2: 0.097 m unscaled) the held cube has time to tip."""
-    free = slope.run({"angle_deg": 45.2, "mu": 1.0, "scale": "none", "solver": "seed", "seconds": 2.0})
-    held = slope.run({"angle_deg": 45.2, "mu": 1.0, "scale": 1e-3, "solver": "seed", "seconds": 2.0})
+def test_classic_preset_slides_unscaled_and_is_held_at_1e_3():
+    """The source note's phenomenon at 45.2°, μ = 1, 1 kg unit cube, h = 1e-3: over
+    2 s (0.097 m unscaled) the held cube has time to tip."""
+    free = slope.run({"angle_deg": 45.2, "mu": 1.0, "scale": "none", "solver": "classic", "seconds": 2.0})
+    held = slope.run({"angle_deg": 45.2, "mu": 1.0, "scale": 1e-3, "solver": "classic", "seconds": 2.0})
     assert free["outcome"] == "slide", free
     assert held["outcome"] in ("rest", "tip"), held
     # Held by friction beyond the cone before any failure: the tolerance artifact itself.
     assert held["held_steps_before_failure"] > 0 and held["cone_excess_max_Ns"] > 0
 
 
-def test_seed_critical_scale_at_45_2():
-    r = critical_scale.run({"angle_deg": 45.2, "mu": 1.0, "solver": "seed", "seconds": 2.0})
+def test_classic_critical_scale_at_45_2():
+    r = critical_scale.run({"angle_deg": 45.2, "mu": 1.0, "solver": "classic", "seconds": 2.0})
     assert r["critical_scale"] is not None, r
     assert 1e-6 < r["critical_scale"] < 1.0
     lo, hi = r["bracket"]
@@ -148,7 +148,7 @@ def test_push(scale):
     assert stay["outcome"] == "rest" and stay["expected_outcome"] == "rest"
     assert stay["friction_force_N"] == pytest.approx(9.79, abs=1e-9)
     assert stay["lambda_max"] < 1e-12 and stay["lcp_failures"] == 0
-    # The load on the leading edge (the seed's 0, 1e-5, 0.004895, 0.004905 N·s).
+    # The load on the leading edge (the source note's 0, 1e-5, 0.004895, 0.004905 N·s).
     assert sorted(stay["normal_impulses"]) == pytest.approx([0.0, 1e-5, 0.004895, 0.004905], abs=1e-12)
     lead = [f for f, o in zip(stay["normal_impulses"], stay["contact_offsets_m"]) if o > 0]
     assert sum(lead) == pytest.approx(0.0098, abs=1e-12)
@@ -179,8 +179,8 @@ def test_patterns_robust_has_no_impossible_pattern():
         assert r["counts_unscaled"]["+++"] > 0 and r["counts_unscaled"]["++0"] > 0 and r["counts_unscaled"]["000"] > 0
 
 
-def test_patterns_seed_preset_shows_the_artifact():
-    r = patterns.run({**SMALL, "solver": "seed", "scale": 1e-6})
+def test_patterns_classic_preset_shows_the_artifact():
+    r = patterns.run({**SMALL, "solver": "classic", "scale": 1e-6})
     assert r["impossible"]["scaled"] > 0
     assert any(x["status"] == "solved" and x["solve"] == "scaled" for x in r["impossible_lcps"])
 
@@ -191,27 +191,27 @@ def test_failure_rate_counts():
     for row in rob["rows"]:
         assert {"scale", "lcps", "failures", "rate"} <= set(row)
         assert row["failures"] == 0 and row["rate"] == 0.0
-    seed = failure_rate.run({**SMALL, "solver": "seed", "scales": ["none", 1e-6]})
-    for row in seed["rows"]:
+    classic = failure_rate.run({**SMALL, "solver": "classic", "scales": ["none", 1e-6]})
+    for row in classic["rows"]:
         assert row["failures"] >= max(row["status_failures"], row["residual_failures"])
         assert row["failures"] <= row["status_failures"] + row["residual_failures"]
         assert row["rate"] == pytest.approx(row["failures"] / row["lcps"])
-    # At s = 1e-6 the seed's Lemke accepts answers that are wrong in physical units.
-    assert seed["rows"][1]["accepted_wrong"] > 0
+    # At s = 1e-6 the source note's Lemke accepts answers that are wrong in physical units.
+    assert classic["rows"][1]["accepted_wrong"] > 0
     sim = failure_rate.run({**SMALL, "solver": "robust", "scales": ["dt"], "mode": "simulate"})
     assert sim["rows"][0]["s"] == 1e-3 and sim["rows"][0]["failures"] == 0 and sim["rows"][0]["lcps"] > 0
 
 
 def test_failure_rate_comparison():
-    """Issue 5 item 5: solvers × {seed, hard} × scales, one row each; `rows` stays
+    """Solvers × {cubes, hard} × scales, one row each; `rows` stays
     the first solver on the first corpus; robust is certified (n ≤ 40)."""
-    r = failure_rate.run({**SMALL, "solvers": ["seed", "robust", "pgs", "newton_fb"], "corpora": ["seed", "hard"],
+    r = failure_rate.run({**SMALL, "solvers": ["classic", "robust", "pgs", "newton_fb"], "corpora": ["cubes", "hard"],
                           "scales": ["none", 1e-6], "max_lcps": 150, "hard": {"count": 7}})
     assert [(c["solver"], c["corpus"], c["scale"]) for c in r["comparison"]][:3] == [
-        ("seed", "seed", "none"), ("seed", "seed", "1e-06"), ("robust", "seed", "none")]
+        ("classic", "cubes", "none"), ("classic", "cubes", "1e-06"), ("robust", "cubes", "none")]
     assert len(r["comparison"]) == 4 * 2 * 2 and r["certify"] == ["robust"]
-    assert r["solver"]["name"] == "seed" and [row["scale"] for row in r["rows"]] == ["none", "1e-06"]
-    assert r["corpora"]["hard"]["lcps"] == 7 and r["corpora"]["seed"]["lcps"] == 150
+    assert r["solver"]["name"] == "classic" and [row["scale"] for row in r["rows"]] == ["none", "1e-06"]
+    assert r["corpora"]["hard"]["lcps"] == 7 and r["corpora"]["cubes"]["lcps"] == 150
     for c in r["comparison"]:
         assert {"lcps", "status_failures", "residual_failures", "rel_residual_failures", "accepted_wrong",
                 "certified", "certified_eta", "cert_lcps"} <= set(c)
@@ -222,15 +222,15 @@ def test_failure_rate_comparison():
             assert c["certified_either"] == c["cert_lcps"]
         else:
             assert c["certified"] is None
-    seed_hard = [c for c in r["comparison"] if c["solver"] == "seed" and c["corpus"] == "hard"]
-    assert seed_hard[-1]["residual_failures"] > 0  # the seed's setting fails on the hard corpus at s = 1e-6
+    classic_hard = [c for c in r["comparison"] if c["solver"] == "classic" and c["corpus"] == "hard"]
+    assert classic_hard[-1]["residual_failures"] > 0  # the source note's setting fails on the hard corpus at s = 1e-6
     json.dumps(r)
     with pytest.raises(ValueError, match="corpora"):
-        failure_rate.run({**SMALL, "corpora": ["seed", "soft"]})
+        failure_rate.run({**SMALL, "corpora": ["cubes", "soft"]})
 
 
 def test_cli_failure_rate_comparison(capsys):
-    assert main(["failure-rate", "--solvers", "seed,robust", "--corpus", "seed,hard", "--scales", "none,1e-8",
+    assert main(["failure-rate", "--solvers", "classic,robust", "--corpus", "cubes,hard", "--scales", "none,1e-8",
                  "--corpus-steps", "80", "--corpus-random", "0", "--max-lcps", "100", "--hard-count", "7"]) == 0
     out = capsys.readouterr().out
     assert "comparison" in out and "hard corpus: 7 LCPs" in out and "certified exact" in out
@@ -262,14 +262,14 @@ def run_json(capsys, *argv):
 
 
 def test_cli_json_keys(capsys):
-    r = run_json(capsys, "failure-rate", "--scales", "none,1e-3", "--solver", "seed", "--corpus-steps", "100",
+    r = run_json(capsys, "failure-rate", "--scales", "none,1e-3", "--solver", "classic", "--corpus-steps", "100",
                  "--corpus-random", "1", "--max-lcps", "300")
     assert [row["scale"] for row in r["rows"]] == ["none", "0.001"]
     assert {"scale", "lcps", "failures", "rate", "status_failures", "residual_failures"} <= set(r["rows"][0])
     r = run_json(capsys, "slope", "--angle-deg", "45.2", "--mu", "1", "--scale", "dt", "--seconds", "0.2")
     assert {"outcome", "slide_distance_m", "expected_slide_m", "tilt_deg", "lcp_failures"} <= set(r)
     assert r["s"] == 1e-3 and r["outcome"] == "slide"
-    r = run_json(capsys, "critical-scale", "--angle-deg", "45.2", "--solver", "seed", "--seconds", "0.2", "--lo", "1e-3")
+    r = run_json(capsys, "critical-scale", "--angle-deg", "45.2", "--solver", "classic", "--seconds", "0.2", "--lo", "1e-3")
     assert {"critical_scale", "bracket", "outcomes"} <= set(r)
     r = run_json(capsys, "invariance", "--corpus-steps", "100", "--corpus-random", "1", "--max-lcps", "200")
     assert {"lcps", "max_abs_dfn", "max_abs_dfd", "max_rel_lambda_err"} <= set(r)
@@ -287,10 +287,10 @@ def test_cli_text_digits_and_plots(capsys, tmp_path):
     assert "Before" in out and "After" in out and "Size = 40" in out
     assert (tmp_path / "inv.png").stat().st_size > 1000
     for argv in (
-        ["slope", "--angle-deg", "45.2", "--seconds", "0.1", "--solver", "seed"],
+        ["slope", "--angle-deg", "45.2", "--seconds", "0.1", "--solver", "classic"],
         ["push", "--force", "9.83", "--seconds", "0.1"],
-        ["critical-scale", "--angle-deg", "45.2", "--seconds", "0.1", "--lo", "1e-2", "--solver", "seed"],
-        ["failure-rate", "--scales", "none,1e-6", "--corpus-steps", "80", "--corpus-random", "0", "--solver", "seed"],
+        ["critical-scale", "--angle-deg", "45.2", "--seconds", "0.1", "--lo", "1e-2", "--solver", "classic"],
+        ["failure-rate", "--scales", "none,1e-6", "--corpus-steps", "80", "--corpus-random", "0", "--solver", "classic"],
         ["patterns", "--corpus-steps", "80", "--corpus-random", "0"],
     ):
         png = tmp_path / f"{argv[0]}.png"
@@ -342,7 +342,7 @@ def test_report_quick(tmp_path, capsys):
         p = out / fig
         assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", fig
         assert fig in md and fig in html
-    # Viewer pages (issue 16): every slope test, the pushed cube, a stack and a heap, each linked
+    # Viewer pages: every slope test, the pushed cube, a stack and a heap, each linked
     # from its section of both documents.
     views = summary["views"]
     assert sum(v.startswith("view_slope_") for v in views) == len(slope.REPORT_SCALES) * len(slope.REPORT_ANGLES) * 2

@@ -1,4 +1,4 @@
-"""Issue 4: sweeps on Dask — case grid, stable ids, resumable output; an
+"""Sweeps on Dask — case grid, stable ids, resumable output; an
 interrupted sweep (stopped, or killed with SIGKILL) resumed gives the same
 results as an uninterrupted one; a killed worker loses no finished case."""
 
@@ -19,7 +19,7 @@ from lcpsim.experiments import sweep
 GRID = {
     "experiment": "slope",
     "base": {"seconds": 0.05, "mu": 1.0},
-    "grid": {"angle_deg": [45.0001, 45.2], "scale": ["none", "1e-3"], "solver": ["seed", "robust"]},
+    "grid": {"angle_deg": [45.0001, 45.2], "scale": ["none", "1e-3"], "solver": ["classic", "robust"]},
 }
 
 

@@ -1,4 +1,4 @@
-"""Issue 15, item 6: the file readers on damaged input (the Python side of the
+"""The file readers on damaged input (the Python side of the
 fuzzing; ``scripts/fuzz_readers.py`` runs the same readers on mutated files
 for a fixed time). A reader returns or raises a clean error — a ValueError
 (``LcpFileError``, ``CaptureError``) or an OSError — within seconds; never
@@ -72,8 +72,8 @@ def test_inputs_the_fuzzer_found(tmp_path, name):
 
 
 @pytest.fixture(scope="module")
-def seeds(tmp_path_factory) -> dict[str, bytes]:
-    d = tmp_path_factory.mktemp("seeds")
+def valid_files(tmp_path_factory) -> dict[str, bytes]:
+    d = tmp_path_factory.mktemp("valid")
     M, q = np.array([[2.0, 1.0], [1.0, 2.0]]), np.array([-1.0, -1.0])
     out = {"npz": save_lcp(d / "p.npz", M, q).read_bytes(), "h5": save_lcp(d / "p.h5", M, q).read_bytes()}
     with CaptureWriter(d / "c.h5") as w:
@@ -98,9 +98,9 @@ def test_arbitrary_bytes(tmp_path_factory, data, suffix):
     seed=st.integers(0, 2**32 - 1),
     edits=st.integers(1, 16),
 )
-def test_mutated_valid_files(tmp_path_factory, seeds, kind, seed, edits):
+def test_mutated_valid_files(tmp_path_factory, valid_files, kind, seed, edits):
     rng = random.Random(seed)
-    b = bytearray(seeds[kind])
+    b = bytearray(valid_files[kind])
     for _ in range(edits):
         i = rng.randrange(len(b))
         if rng.random() < 0.2:

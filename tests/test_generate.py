@@ -1,5 +1,5 @@
 """lcpsim.generate: the Rust LCP generators from Python — shapes, determinism,
-the contact structure of DESIGN §1 and the map back from a cone-scaled problem."""
+the contact LCP's structure and the map back from a cone-scaled problem."""
 
 from __future__ import annotations
 
@@ -27,8 +27,8 @@ def test_contact_shapes_and_label(nc: int, k: int) -> None:
     assert p.is_contact
 
 
-def test_contact_sizes_of_the_seed() -> None:
-    # DESIGN §1: 10·nc for k = 8 (seed: 2 contacts → 20, 4 contacts → 40).
+def test_contact_sizes_of_the_source_note() -> None:
+    # 10·nc for k = 8 (the source note: 2 contacts → 20, 4 contacts → 40).
     assert [generate.contact_lcp(nc).n for nc in (1, 2, 4)] == [10, 20, 40]
 
 
@@ -47,7 +47,7 @@ def test_determinism_per_seed() -> None:
 
 
 @pytest.mark.parametrize("scale", [1.0, 1e-3, 1e-6])
-def test_contact_structure_design_1(scale: float) -> None:
+def test_contact_structure(scale: float) -> None:
     """M = [[A00, A01, 0], [A10, A11, sE], [sμ, −sEᵀ, 0]], q = [b0; b1; 0], A symmetric PSD."""
     p = generate.contact_lcp(4, 8, scale, seed=21)
     f, d, lam = blocks(p)

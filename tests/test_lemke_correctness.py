@@ -97,7 +97,7 @@ def test_general_matrix_never_lies(data):
         assert res.z.shape == q.shape and res.w.shape == q.shape
         if res.ok and pivoting == "lexicographic":
             check_solution(M, q, res.z)
-        if res.ok and pivoting == "classic":  # the seed's scheme trusts a 1e-6 user zero
+        if res.ok and pivoting == "classic":  # the source note's scheme trusts a 1e-6 user zero
             check_solution(M, q, res.z, rel=1e-5)
 
 

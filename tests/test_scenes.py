@@ -1,4 +1,4 @@
-"""DESIGN §3 through Python: every test scene with its analytic pass criterion
+"""Every test scene through Python, with its analytic pass criterion
 (g = 9.81, h = 1e-3, default solver unless stated), built by lcpsim.scenes."""
 
 from __future__ import annotations
@@ -126,7 +126,7 @@ def test_sliding_to_rest_from_v0():
         assert s.expected_slide(traj.time[-1]) == pytest.approx(v0 * v0 / (2 * mu * G))
 
 
-def test_seed_pushed_cube_stays_at_979_newton_with_friction_equal_to_the_push():
+def test_pushed_cube_stays_at_979_newton_with_friction_equal_to_the_push():
     s = scenes.pushed_cube(9.79, 1.0)
     traj = s.world.run(1000)
     assert traj.failures == 0

@@ -1,4 +1,4 @@
-"""Issue 15, item 2: every size that comes from a user or a file is checked
+"""Every size that comes from a user or a file is checked
 before anything is allocated — a clear ValueError saying how much memory the
 request needs, never an abort. Requests that used to kill the interpreter
 (SIGABRT on a 128 TB allocation) run in a subprocess, so that the suite

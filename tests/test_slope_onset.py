@@ -1,4 +1,4 @@
-"""Issue 14: slope outcomes decided by the motion's onset, so they do not
+"""Slope outcomes decided by the motion's onset, so they do not
 depend on how long the run is watched (nor, for the exact solver, on h)."""
 
 from __future__ import annotations
@@ -17,14 +17,14 @@ MUS = (0.9, 1.0, 1.1)
 
 
 def physical(angle: float, mu: float) -> str:
-    """DESIGN §3: rests iff tan θ ≤ min(μ, 1); tips iff tan θ > 1 and μ > 1; else slides."""
+    """Rests iff tan θ ≤ min(μ, 1); tips iff tan θ > 1 and μ > 1; else slides."""
     tan = math.tan(math.radians(angle))
     if tan > 1.0 and mu > 1.0:
         return "tip"
     return "rest" if tan <= mu else "slide"
 
 
-@pytest.mark.parametrize("solver", ["seed", "robust"])
+@pytest.mark.parametrize("solver", ["classic", "robust"])
 def test_outcome_does_not_depend_on_the_window_or_the_step(solver):
     for angle in ANGLES:
         for mu in MUS:
@@ -43,11 +43,11 @@ def test_outcome_does_not_depend_on_the_window_or_the_step(solver):
                 assert runs[0]["first_excess_s"] is None and runs[0]["cone_excess_steps"] == 0
 
 
-def test_seed_held_cube_tips_from_the_first_steps():
+def test_classic_held_cube_tips_from_the_first_steps():
     """The issue's case: held by the looser cone at 45.2°, s = 1e-3, the cube has turned only ~2° in 1 s and
     slid more than half the analytic distance — the window verdict says slide — but it pivots about its
     downhill edge from the first step, driven by friction beyond the exact cone."""
-    r = slope.run({"angle_deg": 45.2, "mu": 1.0, "scale": 1e-3, "solver": "seed", "seconds": 1.0})
+    r = slope.run({"angle_deg": 45.2, "mu": 1.0, "scale": 1e-3, "solver": "classic", "seconds": 1.0})
     assert r["window_outcome"] == "slide" and r["tilt_deg"] < 5.0
     assert r["outcome"] == "tip"
     assert r["tip_onset_s"] <= 0.005 and r["first_excess_s"] <= 0.005 and r["decided_at_s"] <= 0.05
@@ -69,11 +69,11 @@ def test_too_short_to_decide_is_undecided():
 
 @pytest.mark.parametrize("angle, expect", [(45.2, "bracket"), (45.0001, "held_at_hi")])
 def test_critical_scale_does_not_depend_on_the_window(angle, expect):
-    cfg = {"angle_deg": angle, "mu": 1.0, "solver": "seed", "lo": 1e-3, "tol_decades": 0.2}
+    cfg = {"angle_deg": angle, "mu": 1.0, "solver": "classic", "lo": 1e-3, "tol_decades": 0.2}
     a, b = (critical_scale.run({**cfg, "seconds": T}) for T in (1.0, 4.0))
     assert a["bracket"] == b["bracket"] and a["note"] == b["note"] and a["critical_scale"] == b["critical_scale"]
     if expect == "bracket":
-        # DESIGN §2: at 45.2° a classic Lemke slides unscaled and tips for s ≤ 0.1.
+        # At 45.2° a classic Lemke slides unscaled and tips for s ≤ 0.1.
         lo, hi = a["bracket"]
         assert 0.1 <= lo < hi <= 1.0 and math.log10(hi / lo) <= 0.2 + 1e-9
         assert a["bracket_outcomes"][0] in critical_scale.HELD and a["bracket_outcomes"][1] == "slide"

@@ -1,4 +1,4 @@
-"""Issue 15, item 7: the smaller gaps — a ValueError naming the field where an
+"""The smaller gaps — a ValueError naming the field where an
 OverflowError or a late TypeError came out, inertia tensors no rigid body has,
 a message about the mass when the mass is what is wrong, and a pivot count
 that respects max_pivots = 0."""

@@ -1,4 +1,4 @@
-"""Issue 16 without a browser: trajectories with their contacts, saved to HDF5
+"""The viewer without a browser: trajectories with their contacts, saved to HDF5
 and loaded back; the viewer page's data, size cap and downsampling; `lcpsim
 view` and its one-line errors. The page in a real browser: test_viewer_browser.py."""
 
@@ -26,7 +26,7 @@ G = 9.81
 
 @pytest.fixture(scope="module")
 def failing():
-    """The seed's classic Lemke on the 45.0001° slope, unscaled: a few LCPs cycle (real failures)."""
+    """The source note's classic Lemke on the 45.0001° slope, unscaled: a few LCPs cycle (real failures)."""
     s = scenes.cube_on_slope(45.0001, 1.0, **SEED)
     traj = s.world.run(300, record_contacts=True)
     assert traj.failures > 0, "this scene no longer fails: pick another for the failed-step tests"
@@ -228,7 +228,7 @@ def test_report_pages_rerun_the_experiments_runs():
     """A report page's run is the experiment's: same scene, same steps, same motion."""
     from lcpsim.experiments import push, slope
 
-    r = slope.run({"solver": "seed", "angle_deg": 45.0001, "scale": "none", "seconds": 0.3})
+    r = slope.run({"solver": "classic", "angle_deg": 45.0001, "scale": "none", "seconds": 0.3})
     s = slope.make_scene(r["config"])
     traj = s.world.run(r["steps"], record_contacts=True)
     assert traj.displacement(s.body) @ s.direction == r["slide_distance_m"]

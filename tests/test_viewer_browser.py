@@ -1,4 +1,4 @@
-"""Issue 16 in a real browser: the viewer page in headless Chromium (Debian's
+"""The viewer in a real browser: the viewer page in headless Chromium (Debian's
 /usr/bin/chromium driven by Playwright for Python; `.ci/run` installs both).
 
 Each page loads from file:// with no console error and no request beyond the

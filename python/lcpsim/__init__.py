@@ -16,7 +16,7 @@ Public API (the compiled module ``lcpsim._core`` is private)::
 
 Sub-packages: :mod:`lcpsim.io` (LCP files, captures, failure dumps, FCLib files),
 :mod:`lcpsim.faceting` (FCLib problems as faceted LCPs, the exact-cone residual),
-:mod:`lcpsim.experiments` (the seed note's experiments, their registry, the
+:mod:`lcpsim.experiments` (the source note's experiments, their registry, the
 report), :mod:`lcpsim.cli` (the ``lcpsim`` command).
 """
 

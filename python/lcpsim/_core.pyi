@@ -203,7 +203,7 @@ class ContactLayout:
     """z = [fn (nc); fd (nc·k); λ (nc)], n = nc·(k + 2). Array arguments may have
     leading batch dimensions: z (..., n), M (..., n, n), q (..., n)."""
 
-    #: Sign patterns (fn, Σfd, λ) in the seed's table order; `patterns` codes index it.
+    #: Sign patterns (fn, Σfd, λ) in the source note's table order; `patterns` codes index it.
     PATTERNS: list[str]
     def __new__(cls, nc: int, k: int) -> ContactLayout: ...
     @property
@@ -274,7 +274,7 @@ def hard_corpus(
 ) -> list[tuple[NDArray[np.float64], NDArray[np.float64], str, int, int]]:
     """`count` hard contact LCPs cycling through the families."""
 
-# Exact certification and failure forensics (crates/py/src/certify.rs, issue 5).
+# Exact certification and failure forensics (crates/py/src/certify.rs).
 
 class ViolationDict(TypedDict):
     index: int

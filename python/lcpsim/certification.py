@@ -1,4 +1,4 @@
-"""Exact certification of an LCP answer (issue 5).
+"""Exact certification of an LCP answer.
 
 Every finite float is a rational number, so the LCP given by the floats
 ``(M, q)`` has an exact meaning. :func:`certify` takes a complementary basis

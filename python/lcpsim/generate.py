@@ -37,7 +37,7 @@ __all__ = [
     "hard_corpus",
 ]
 
-#: The hard-contact families of :func:`hard_contact_lcp` (issue 5).
+#: The hard-contact families of :func:`hard_contact_lcp`.
 HARD_KINDS: tuple[str, ...] = tuple(_core.HARD_KINDS)
 
 _HARD_LABEL = re.compile(r"^(?P<kind>[a-z_]+)/k(?P<k>\d+)/nc(?P<nc>\d+)/seed(?P<seed>\d+)$")

@@ -46,7 +46,7 @@ _LEMKE_DEFAULTS: dict[str, Any] = _core.LEMKE_DEFAULTS
 # every field but certified, certificate and dump_path (their class defaults,
 # None, apply): the dict becomes the instance's __dict__, as pydantic's
 # model_construct does. LcpResult.__init__ would set the fields one
-# object.__setattr__ at a time, over a microsecond per solve (issue 2).
+# object.__setattr__ at a time, over a microsecond per solve.
 _new_object = object.__new__
 _set_attribute = object.__setattr__
 _FLOAT64 = np.dtype(np.float64)
@@ -98,7 +98,7 @@ def solve_lcp(
         Lemke only: ``"lexicographic"`` (robust default: equilibration,
         relative tie tolerance, answer accepted by its residual in the units
         given) or ``"classic"`` (absolute tolerances on the problem as given,
-        as in the seed note; kept to reproduce its findings).
+        as in the source note; kept to reproduce its findings).
     piv_tol, zero_tol, max_pivots:
         Lemke only: smallest pivot, the user zero, the pivot limit
         (None means ``max(1000, 50 n)``).
@@ -128,7 +128,7 @@ def solve_lcp(
         or option, a negative tolerance or a wrongly typed option.
     """
     # The common case is recognised inline, as a helper call or an option
-    # passed costs about 0.1 µs against a solve of 10-20 µs (issue 2): Lemke
+    # passed costs about 0.1 µs against a solve of 10-20 µs: Lemke
     # with every option at its default (the very default objects, so no
     # comparison can misbehave) is called with no options, the compiled
     # defaults being the same (tested); arrays already float64 with the right

@@ -1,6 +1,6 @@
 """The friction-cone scale s (the cone rows of the contact LCP scaled by s,
 λ_scaled = λ / s) as users write it: ``None`` /
-``"none"`` (unscaled, s = 1), ``"dt"`` (s = the time step, the seed's choice)
+``"none"`` (unscaled, s = 1), ``"dt"`` (s = the time step, the source note's choice)
 or a number > 0. The one parser of the command line and the experiments;
 :class:`lcpsim.World` hands its ``cone_scale`` to the compiled module, which
 reads the same spellings."""

@@ -250,7 +250,7 @@ class World:
         (k + 2) per contact.
     cone_scale:
         The friction-cone scale s: None (unscaled, s = 1), ``"dt"`` (s = h,
-        the seed's choice) or a number > 0.
+        the source note's choice) or a number > 0.
     method:
         LCP solver: ``"lemke"`` (default), ``"pgs"`` or ``"newton_fb"``;
         ``**solver_options`` as for :func:`lcpsim.solve_lcp` (e.g.

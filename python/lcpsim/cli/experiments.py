@@ -1,9 +1,9 @@
-"""The seed's experiments on the command line (issue 4)::
+"""The source note's experiments on the command line::
 
-    lcpsim failure-rate --scales none,1e-3,1e-4,1e-6 --solver seed
-    lcpsim failure-rate --solvers seed,robust,pgs,newton_fb --corpus seed,hard --scales none,1e-2,1e-3,1e-4,1e-6,1e-8
-    lcpsim slope --angle-deg 45.0001 --mu 1 --scale 1e-3 --solver seed --seconds 1
-    lcpsim critical-scale --angle-deg 45.2 --mu 1 --solver seed
+    lcpsim failure-rate --scales none,1e-3,1e-4,1e-6 --solver classic
+    lcpsim failure-rate --solvers classic,robust,pgs,newton_fb --corpus cubes,hard --scales none,1e-2,1e-3,1e-4,1e-6,1e-8
+    lcpsim slope --angle-deg 45.0001 --mu 1 --scale 1e-3 --solver classic --seconds 1
+    lcpsim critical-scale --angle-deg 45.2 --mu 1 --solver classic
     lcpsim invariance --digits 20
     lcpsim patterns --scale 1e-3
     lcpsim push --force 9.79 --mu 1
@@ -11,7 +11,7 @@
     lcpsim sweep sweep.yaml
 
 Every experiment command takes ``--json`` (print the result), ``--plot FILE``
-(write a PNG), ``--solver`` (a preset — ``seed``, ``robust`` (default),
+(write a PNG), ``--solver`` (a preset — ``classic``, ``robust`` (default),
 ``pgs``, ``newton_fb`` — or ``method:key=value,…``) and ``--seed``. A scale is
 a number, ``none`` (unscaled) or ``dt`` (the time step). Exit codes: 0 done,
 1 a sweep case failed (or is missing), 2 invalid input (a sweep's whole config

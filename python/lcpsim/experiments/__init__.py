@@ -1,12 +1,12 @@
-"""The seed note's experiments (issue 4), as plain functions of a
+"""The source note's experiments, as plain functions of a
 JSON-ready config with an explicit seed::
 
     from lcpsim.experiments import run_experiment
-    r = run_experiment("slope", {"angle_deg": 45.2, "scale": 1e-3, "solver": "seed"})
+    r = run_experiment("slope", {"angle_deg": 45.2, "scale": 1e-3, "solver": "classic"})
     r["outcome"], r["slide_distance_m"], r["config"], r["lcpsim_version"]
 
 =================  =========================================================
-``failure-rate``   failures of a solver over the seed corpus per scale
+``failure-rate``   failures of a solver over the cube corpus per scale
 ``slope``          the 45°+ slope test: rest, slide or tip
 ``critical-scale`` the scale below which the slope cube is held
 ``invariance``     fn, fd unchanged and λ·s by scaling

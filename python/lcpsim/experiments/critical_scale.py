@@ -1,7 +1,7 @@
 """The critical friction-cone scale of the slope test: the scale below which
 the cube is *held* (rests or tips) although it should slide.
 
-The seed found ≈ 4e-3 at 45° + 1e-4 with its own (unstated) units. Here a
+The source note found ≈ 4e-3 at 45° + 1e-4 with its own (unstated) units. Here a
 1 kg, 1 m cube at h = 1e-3 s: the slope test (:mod:`.slope`,
 its outcome decided by the motion's onset, so independent of ``seconds``)
 is run on a grid of one scale per decade from ``hi`` (1 = unscaled) down to
@@ -151,7 +151,7 @@ def summary(r: dict[str, Any], args: argparse.Namespace | None = None) -> str:
     lines = [
         header(r),
         f"slope {c['angle_deg']}°, μ = {c['mu']}, T = {c['seconds']:g} s; analytic slide {r['expected_slide_m']:.4e} m",
-        f"critical scale: {critical_text(r, digits=4)}   (seed note: 4e-3 at 45.0001°)",
+        f"critical scale: {critical_text(r, digits=4)}   (source note: 4e-3 at 45.0001°)",
         f"outcomes monotone in s: {r['monotone']}",
         "",
         f"{'s':>11} {'outcome':>9} {'decided':>8} {'tip from':>8} {'excess':>7} {'window':>7} {'slide (m)':>11} "
@@ -168,7 +168,7 @@ def summary(r: dict[str, Any], args: argparse.Namespace | None = None) -> str:
 
 def plot_critical_scale(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str]) -> str:
     """Outcome of every slope run against the scale, one row per search; the
-    critical scale as a vertical line, the seed's 4e-3 dotted."""
+    critical scale as a vertical line, the source note's 4e-3 dotted."""
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 1.2 + 0.9 * len(results)))
     for i, r in enumerate(results):
@@ -183,7 +183,7 @@ def plot_critical_scale(results: Sequence[Mapping[str, Any]], path: str | os.Pat
             lo_o, hi_o = r["bracket_outcomes"]
             ax.annotate(f"{lo_o} | {hi_o}", (math.sqrt(r["bracket"][0] * r["bracket"][1]), i - 0.4), ha="center",
                         va="top", fontsize=7)
-    ax.axvline(4e-3, color="grey", ls=":", label="seed note: 4e-3")
+    ax.axvline(4e-3, color="grey", ls=":", label="source note: 4e-3")
     for name, col in OUTCOME_COLORS.items():
         ax.plot([], [], "o", color=col, label=name)
     ax.set_xscale("log")
@@ -215,7 +215,7 @@ def report_run(ctx: ReportContext) -> dict[str, Any]:
     def runs() -> list[dict[str, Any]]:
         return [
             run({"seed": ctx.seed, "solver": solver, "angle_deg": angle, "seconds": ctx.seconds})
-            for solver in ("seed", "robust")
+            for solver in ("classic", "robust")
             for angle in (45.0001, 45.2)
         ]
 
@@ -225,7 +225,7 @@ def report_run(ctx: ReportContext) -> dict[str, Any]:
 def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
     d.h(2, "Critical scale")
     d.p(
-        "`lcpsim critical-scale --angle-deg A --mu 1 --solver seed`: one slope test per decade from s = 1 down to "
+        "`lcpsim critical-scale --angle-deg A --mu 1 --solver classic`: one slope test per decade from s = 1 down to "
         "1e-8, then bisection in log s between the largest held scale and the slide above it. Each test's outcome "
         "is decided by the motion's onset (see the slope test), so the answer does not depend on the simulated "
         "time; the bracket is given with the outcomes at its ends."

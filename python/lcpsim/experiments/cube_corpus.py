@@ -1,5 +1,5 @@
-"""The seed corpus: a documented, seeded set of simulations whose LCPs the
-experiments study (issue 4 §1). Regenerated on demand — nothing downloaded.
+"""The cube corpus: a documented, seeded set of simulations whose LCPs the
+experiments study. Regenerated on demand — nothing downloaded.
 
 Every simulation is a 1 kg, 1 m cube (inertia of the solid cube) at
 ``h = 1e-3`` s with ``k = 8`` friction directions (LCP size 10·nc: 10, 20 or
@@ -25,7 +25,7 @@ The simulations (:func:`simulations`), all on a plane through the origin:
 ``push_slide``     12 N at the centre of mass, μ 1: sliding
 ``slope_rest``     20° slope, μ 0.5: sticks
 ``slope_slide``    30° slope, μ 0.5: slides
-``slope_knife``    45.0001° and 45.2° slopes, μ 1: the seed's slope test
+``slope_knife``    45.0001° and 45.2° slopes, μ 1: the source note's slope test
                    (slides with the load on the downhill edge)
 ``tumble_<i>``     ``n_random`` seeded drops: slope 0°–40°, μ in [0.3, 1.2],
                    uniformly random orientation, angular velocity ~ N(0, 2
@@ -58,7 +58,7 @@ __all__ = [
     "DEFAULTS",
     "SimSpec",
     "Group",
-    "SeedCorpus",
+    "CubeCorpus",
     "ScaledSolve",
     "simulations",
     "build_world",
@@ -100,7 +100,7 @@ class SimSpec:
 
 def simulations(config: Mapping[str, Any] | None = None) -> list[SimSpec]:
     """The corpus's simulations for a config (see the module docs)."""
-    cfg = merge_config("seed corpus", DEFAULTS, config)
+    cfg = merge_config("cube corpus", DEFAULTS, config)
     steps = int(cfg["steps"])
     rng = np.random.default_rng(int(cfg["seed"]))
     generic = rng.normal(size=4)
@@ -222,7 +222,7 @@ class Group:
 
 
 @dataclass
-class SeedCorpus:
+class CubeCorpus:
     """The corpus's LCPs in memory, grouped by size (see :class:`Group`)."""
 
     config: dict[str, Any]
@@ -232,7 +232,7 @@ class SeedCorpus:
     def __len__(self) -> int:
         return sum(len(g) for g in self.groups)
 
-    def subsample(self, max_lcps: int | None, seed: int = 0) -> "SeedCorpus":
+    def subsample(self, max_lcps: int | None, seed: int = 0) -> "CubeCorpus":
         """At most ``max_lcps`` LCPs (a seeded random subset, order kept), or self."""
         total = len(self)
         if max_lcps is None or max_lcps >= total:
@@ -245,7 +245,7 @@ class SeedCorpus:
             sel = keep[g.index]
             if sel.any():
                 groups.append(g.take(sel))
-        return SeedCorpus(self.config, self.sims, groups)
+        return CubeCorpus(self.config, self.sims, groups)
 
     def summary(self) -> dict[str, Any]:
         per_sim = np.zeros(len(self.sims), dtype=np.int64)
@@ -262,12 +262,12 @@ class SeedCorpus:
         }
 
 
-_CACHE: dict[str, SeedCorpus] = {}
+_CACHE: dict[str, CubeCorpus] = {}
 
 
 def generate(
     config: Mapping[str, Any] | None = None, *, path: str | os.PathLike[str] | None = None, cache: bool = True
-) -> SeedCorpus:
+) -> CubeCorpus:
     """Runs the corpus's simulations and returns their LCPs. ``path``: also
     keep the HDF5 capture there (``docs/capture.md`` format), else a
     temporary file is used and removed. The last corpus made in this process
@@ -276,7 +276,7 @@ def generate(
 
     from ..io.capture import CaptureWriter, open_capture
 
-    cfg = merge_config("seed corpus", DEFAULTS, config)
+    cfg = merge_config("cube corpus", DEFAULTS, config)
     key = json.dumps(cfg, sort_keys=True)
     if cache and path is None and key in _CACHE:
         return _CACHE[key]
@@ -284,12 +284,12 @@ def generate(
     tmpdir = None
     if path is None:
         tmpdir = tempfile.TemporaryDirectory(prefix="lcpsim-corpus-")
-        file = os.path.join(tmpdir.name, "seed_corpus.h5")
+        file = os.path.join(tmpdir.name, "cube_corpus.h5")
     else:
         file = os.fspath(path)
     parts: dict[int, dict[str, list[Any]]] = {}
     try:
-        meta = {"corpus": "seed", "config": cfg, "simulations": [s.to_dict() for s in sims]}
+        meta = {"corpus": "cubes", "config": cfg, "simulations": [s.to_dict() for s in sims]}
         with CaptureWriter(file, metadata=meta) as writer:
             for spec in sims:
                 world, _ = build_world(spec, dt=float(cfg["dt"]), friction_dirs=int(cfg["friction_dirs"]))
@@ -325,7 +325,7 @@ def generate(
                 step=np.asarray(p["step"], dtype=np.int64),
             )
         )
-    out = SeedCorpus(config=cfg, sims=sims, groups=groups)
+    out = CubeCorpus(config=cfg, sims=sims, groups=groups)
     if cache and path is None:
         _CACHE.clear()
         _CACHE[key] = out
@@ -387,7 +387,7 @@ def solve_scaled(group: Group, solver: Solver, s: float, threads: int = 1) -> Sc
 
 
 def experiment_corpus(cfg: Mapping[str, Any]) -> dict[str, Any]:
-    """The seed-corpus config of an experiment's config: its ``corpus`` mapping,
+    """The cube-corpus config of an experiment's config: its ``corpus`` mapping,
     seeded with the experiment's ``seed``; an unknown key is a ValueError."""
     c = {**dict(cfg.get("corpus") or {})}
     c.setdefault("seed", cfg["seed"])
@@ -408,8 +408,8 @@ SCALED_CASE_DEFAULTS: dict[str, Any] = {
 }
 
 
-def scaled_case(cfg: Mapping[str, Any]) -> tuple[Solver, float | str | None, float, SeedCorpus]:
-    """What an experiment comparing the seed corpus unscaled with ``cfg["scale"]``
+def scaled_case(cfg: Mapping[str, Any]) -> tuple[Solver, float | str | None, float, CubeCorpus]:
+    """What an experiment comparing the cube corpus unscaled with ``cfg["scale"]``
     starts from: the solver, the parsed scale, its value s and the corpus
     (``max_lcps`` of it, a subset seeded with ``seed``)."""
     solver = parse_solver(cfg["solver"])

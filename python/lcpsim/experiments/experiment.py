@@ -4,7 +4,7 @@ the report (``lcpsim report``) are built from these definitions, so adding an
 experiment is one module plus one registry line.
 
 Also here: the command-line options the experiments share (solver, seed,
-output, seed-corpus size, simulated time) and the report's run context.
+output, cube-corpus size, simulated time) and the report's run context.
 """
 
 from __future__ import annotations
@@ -48,7 +48,7 @@ class ReportContext:
 
     @property
     def corpus(self) -> dict[str, Any]:
-        """Seed-corpus overrides: smaller with ``quick``."""
+        """Cube-corpus overrides: smaller with ``quick``."""
         return {"n_random": 2, "steps": 200} if self.quick else {}
 
     @property
@@ -60,7 +60,7 @@ class ReportContext:
 
     @property
     def base(self) -> dict[str, Any]:
-        """Config keys every seed-corpus experiment of the report shares."""
+        """Config keys every cube-corpus experiment of the report shares."""
         return {"seed": self.seed, "corpus": self.corpus}
 
     def path(self, name: str) -> str:
@@ -141,11 +141,11 @@ def _one_figure(
 
 
 def scale_pair_runs(ctx: ReportContext, title: str, run: Callable[[Mapping[str, Any]], Result]) -> list[Result]:
-    """The report's runs of a seed-corpus comparison, unscaled against s: both
-    presets (robust, seed) at s = 1e-3 and 1e-6."""
+    """The report's runs of a cube-corpus comparison, unscaled against s: both
+    presets (robust, classic) at s = 1e-3 and 1e-6."""
 
     def runs() -> list[Result]:
-        return [run({**ctx.base, "solver": solver, "scale": sc}) for solver in ("robust", "seed") for sc in (1e-3, 1e-6)]
+        return [run({**ctx.base, "solver": solver, "scale": sc}) for solver in ("robust", "classic") for sc in (1e-3, 1e-6)]
 
     return list(ctx.step(title, runs))
 
@@ -155,7 +155,7 @@ def scale_pair_runs(ctx: ReportContext, title: str, run: Callable[[Mapping[str, 
 
 def add_common_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--solver", default="robust", metavar="SOLVER",
-                   help="solver: seed | robust | lemke | pgs | newton_fb | method:key=value,… (default: robust)")
+                   help="solver: classic | robust | lemke | pgs | newton_fb | method:key=value,… (default: robust)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
     p.add_argument("--json", action="store_true", help="print the result as JSON")
     p.add_argument("--plot", metavar="FILE", default=None, help="write a plot (PNG)")
@@ -163,7 +163,7 @@ def add_common_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def add_corpus_arguments(p: argparse.ArgumentParser) -> None:
-    g = p.add_argument_group("seed corpus")
+    g = p.add_argument_group("cube corpus")
     g.add_argument("--corpus-steps", type=int, default=None, metavar="N", help="steps per simulation (default: 600)")
     g.add_argument("--corpus-random", type=int, default=None, metavar="N", help="random tumbling drops (default: 8)")
     g.add_argument("--max-lcps", type=int, default=None, metavar="N", help="use at most N LCPs (seeded subset)")
@@ -177,7 +177,7 @@ def add_simulation_arguments(p: argparse.ArgumentParser, seconds: float = 1.0) -
 
 
 def corpus_config(args: argparse.Namespace) -> dict[str, Any]:
-    """The seed-corpus keys of a config from :func:`add_corpus_arguments`' options."""
+    """The cube-corpus keys of a config from :func:`add_corpus_arguments`' options."""
     c: dict[str, Any] = {}
     if args.corpus_steps is not None:
         c["steps"] = args.corpus_steps

@@ -1,12 +1,12 @@
-"""Failure rate of a solver over the seed corpus at several friction-cone scales.
+"""Failure rate of a solver over the cube corpus at several friction-cone scales.
 
-The seed note counted Lemke failures over the LCPs of one simulation at
-s = 1e-3, 1e-4 and 1e-6 (the seed note: 3.9 %, ≈ 2.1 %, 0). Here, by default
-(``mode = "resolve"``), the *same* LCPs — the seed corpus, assembled unscaled
+The source note counted Lemke failures over the LCPs of one simulation at
+s = 1e-3, 1e-4 and 1e-6 (the source note: 3.9 %, ≈ 2.1 %, 0). Here, by default
+(``mode = "resolve"``), the *same* LCPs — the cube corpus, assembled unscaled
 along physical trajectories — are scaled by each s (``D M D``, ``D q``) and
 solved with the chosen solver, so that the rates at different scales compare
 one solver on one set of problems. ``mode = "simulate"`` instead re-runs every
-corpus simulation with the solver and the scale in the loop, as the seed did
+corpus simulation with the solver and the scale in the loop, as the source note did
 (its trajectories, and so its LCPs, then differ from scale to scale, and a
 failed step feeds the next one).
 
@@ -17,15 +17,15 @@ A failure is either (report both counts):
   unchanged, ``λ = s·λ_scaled``) has a natural residual ``‖min(z, w)‖∞``
   above ``tol`` on the *unscaled* LCP — whatever the solver said. An answer
   the solver called ``solved`` that fails here is counted in
-  ``accepted_wrong``: the seed's tolerance artifact.
+  ``accepted_wrong``: the source note's tolerance artifact.
 
 ``failures`` is the union, ``rate = failures / lcps``. Beside the absolute
-``tol`` every row also counts ``rel_residual_failures`` against issue 5's
+``tol`` every row also counts ``rel_residual_failures`` against the comparison's
 criterion ``‖min(z, w)‖∞ ≤ rel_tol·(1 + ‖q‖∞)`` (physical units, unscaled
 ``q``) and ``rel_failures`` (that or a status failure).
 
-**Comparison** (issue 5): ``solvers`` (a list; default ``[solver]``) ×
-``corpora`` (``"seed"``, ``"hard"``) × ``scales``, one row each in
+**Comparison**: ``solvers`` (a list; default ``[solver]``) ×
+``corpora`` (``"cubes"``, ``"hard"``) × ``scales``, one row each in
 ``comparison``; ``rows`` stays the first solver on the first corpus. The
 ``hard`` corpus is :func:`lcpsim.generate.hard_corpus` (``hard.count`` LCPs,
 seeded, up to 16 contacts, duplicate and nearly parallel contacts, mass
@@ -57,8 +57,8 @@ from ..certification import certify_batch
 from ..result import ETA_CERTIFIED, Certificate
 from ._common import envelope, merge_config, parse_scale, parse_scales, scale_label, scale_value
 from .presets import Solver, parse_solver
-from .seed_corpus import DEFAULTS as CORPUS_DEFAULTS
-from .seed_corpus import (
+from .cube_corpus import DEFAULTS as CORPUS_DEFAULTS
+from .cube_corpus import (
     build_world, experiment_corpus, generate, physical_answers, scaled, simulations, solve_scaled,
 )
 from .document import Doc, pct
@@ -67,7 +67,7 @@ from .experiment import (
 )
 from .figure import pyplot, save, solver_label
 
-__all__ = ["DEFAULTS", "HARD_DEFAULTS", "CORPORA", "run", "SEED_VALUES"]
+__all__ = ["DEFAULTS", "HARD_DEFAULTS", "CORPORA", "run", "NOTE_VALUES"]
 
 DEFAULTS: dict[str, Any] = {
     "seed": 0,
@@ -78,9 +78,9 @@ DEFAULTS: dict[str, Any] = {
     "corpus": {},
     "max_lcps": None,
     "threads": 0,
-    # Issue 5: the comparison table.
+    # The comparison table.
     "solvers": None,
-    "corpora": ["seed"],
+    "corpora": ["cubes"],
     "hard": {},
     "rel_tol": 1e-9,
     "certify": None,
@@ -88,7 +88,7 @@ DEFAULTS: dict[str, Any] = {
 }
 
 #: The corpora a comparison can run on.
-CORPORA: tuple[str, ...] = ("seed", "hard")
+CORPORA: tuple[str, ...] = ("cubes", "hard")
 
 #: Hard-corpus config: ``count`` LCPs from ``lcpsim.generate.hard_corpus(seed, count, s)``
 #: (``seed`` defaults to the experiment's seed).
@@ -97,8 +97,8 @@ HARD_DEFAULTS: dict[str, Any] = {"count": 200, "seed": None}
 #: Relative threshold of ``certified_residual`` (exact residual ≤ this·(1 + ‖q‖∞)).
 CERT_RESIDUAL_TOL = 1e-14
 
-#: The seed note's rates (fraction of LCPs) by scale.
-SEED_VALUES: dict[str, float] = {"0.001": 97 / 2499, "0.0001": 0.0208, "1e-06": 0.0}
+#: The source note's rates (fraction of LCPs) by scale.
+NOTE_VALUES: dict[str, float] = {"0.001": 97 / 2499, "0.0001": 0.0208, "1e-06": 0.0}
 
 
 def _list(x: Any, what: str) -> list[Any]:
@@ -149,7 +149,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     solvers = [parse_solver(n) for n in names]
     if len({s.name for s in solvers}) != len(solvers):
         raise ValueError(f"failure-rate: a solver is listed twice in {names!r}")
-    corpora = _list(cfg["corpora"], "corpora") or ["seed"]
+    corpora = _list(cfg["corpora"], "corpora") or ["cubes"]
     bad = [c for c in corpora if c not in CORPORA]
     if bad or len(set(corpora)) != len(corpora):
         raise ValueError(f"failure-rate: corpora must be distinct names out of {', '.join(CORPORA)}, got {corpora!r}")
@@ -165,8 +165,8 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     comparison: list[dict[str, Any]] = []
     summaries: dict[str, Any] = {}
     for corpus_name in corpora:
-        if corpus_name == "seed":
-            rows_by_solver, summaries["seed"] = _seed_rows(solvers, scales, ccfg, cfg, dt, mode, judge)
+        if corpus_name == "cubes":
+            rows_by_solver, summaries["cubes"] = _cube_rows(solvers, scales, ccfg, cfg, dt, mode, judge)
         else:
             assert hcfg is not None
             rows_by_solver, summaries["hard"] = _hard_rows(solvers, scales, hcfg, dt, judge)
@@ -185,20 +185,20 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
             "mode": mode,
             "tol": tol,
             "rel_tol": rel_tol,
-            "corpus": summaries.get("seed", summaries.get(corpora[0])),
+            "corpus": summaries.get("cubes", summaries.get(corpora[0])),
             "corpora": summaries,
             "certify": sorted(judge.cert_names),
             "certify_max_n": judge.cert_max_n,
             "rows": first,
             "comparison": comparison,
-            "seed_values": SEED_VALUES,
+            "note_values": NOTE_VALUES,
         }
     )
     out["wall_time_s"] = time.perf_counter() - t0
     return out
 
 
-def _seed_rows(
+def _cube_rows(
     solvers: list[Solver],
     scales: list[Any],
     ccfg: dict[str, Any],
@@ -207,12 +207,12 @@ def _seed_rows(
     mode: str,
     judge: "_Judge",
 ) -> tuple[dict[str, list[dict[str, Any]]], dict[str, Any]]:
-    """The seed corpus: each solver's rows per scale, and the corpus summary."""
+    """The cube corpus: each solver's rows per scale, and the corpus summary."""
     tol, rel_tol, cert_max_n, threads = judge.tol, judge.rel_tol, judge.cert_max_n, judge.threads
     out: dict[str, list[dict[str, Any]]] = {s.name: [] for s in solvers}
     if mode == "resolve":
         corpus = generate(ccfg).subsample(cfg["max_lcps"], int(cfg["seed"]))
-        summary = {"name": "seed", **corpus.summary()}
+        summary = {"name": "cubes", **corpus.summary()}
         qnorm = {id(g): np.abs(g.q).max(axis=1) for g in corpus.groups}
         for solver in solvers:
             for scale in scales:
@@ -227,7 +227,7 @@ def _seed_rows(
                 out[solver.name].append({"scale": scale_label(scale), "s": s, **acc.row()})
     else:
         sims = simulations(ccfg)
-        summary = {"name": "seed", "simulations": [sp.name for sp in sims]}
+        summary = {"name": "cubes", "simulations": [sp.name for sp in sims]}
         for solver in solvers:
             for scale in scales:
                 s = scale_value(scale, dt)
@@ -421,15 +421,15 @@ def cli_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scales", default="none,1e-3,1e-4,1e-6", help="comma-separated scales (default: none,1e-3,1e-4,1e-6)")
     p.add_argument("--tol", type=float, default=1e-6, help="physical-unit residual tolerance (default: 1e-6)")
     p.add_argument("--rel-tol", type=float, default=1e-9,
-                   help="also count residuals above REL_TOL·(1 + ‖q‖∞), physical units (default: 1e-9, issue 5)")
+                   help="also count residuals above REL_TOL·(1 + ‖q‖∞), physical units (default: 1e-9)")
     p.add_argument("--mode", choices=("resolve", "simulate"), default="resolve",
                    help="re-solve the corpus LCPs per scale (default) or re-simulate per scale")
-    g = p.add_argument_group("comparison (issue 5)")
+    g = p.add_argument_group("comparison")
     g.add_argument("--solvers", default=None, metavar="LIST",
-                   help="comma-separated solvers to compare, e.g. seed,robust,pgs,newton_fb (overrides --solver)")
-    g.add_argument("--corpus", default="seed", metavar="LIST",
-                   help="comma-separated corpora: seed (the seed corpus) and/or hard (lcpsim.generate.hard_corpus) "
-                   "(default: seed)")
+                   help="comma-separated solvers to compare, e.g. classic,robust,pgs,newton_fb (overrides --solver)")
+    g.add_argument("--corpus", default="cubes", metavar="LIST",
+                   help="comma-separated corpora: cubes (the cube corpus) and/or hard (lcpsim.generate.hard_corpus) "
+                   "(default: cubes)")
     g.add_argument("--hard-count", type=int, default=None, metavar="N", help="LCPs in the hard corpus (default: 200)")
     g.add_argument("--certify", default=None, metavar="LIST",
                    help="solvers whose answers are certified exactly (n ≤ --certify-max-n); 'none' for none "
@@ -467,8 +467,8 @@ def _text_failure_rate(r: dict[str, Any]) -> str:
             f"{row['scale']:>8} {row['lcps']:>6} {row['failures']:>9} {100 * row['rate']:>7.2f}% {row['status_failures']:>7}"
             f" {100 * row['status_rate']:>7.2f}% {row['residual_failures']:>7} {row['accepted_wrong']:>15}  {st}"
         )
-    seed = r.get("seed_values") or {}
-    lines.append("\nseed note (status failures): " + ", ".join(f"s = {k}: {100 * v:.1f} %" for k, v in seed.items()))
+    note = r.get("note_values") or {}
+    lines.append("\nsource note (status failures): " + ", ".join(f"s = {k}: {100 * v:.1f} %" for k, v in note.items()))
     return "\n".join(lines)
 
 
@@ -491,7 +491,7 @@ def _text_comparison(r: dict[str, Any]) -> str:
             lines.append(f"hard corpus: {c['lcps']} LCPs (seed {c['seed']}, n up to {c['max_n']}), "
                          + ", ".join(f"{k} {v}" for k, v in c["by_kind"].items()))
         elif "lcps" in c:
-            lines.append(f"seed corpus: {c['lcps']} LCPs")
+            lines.append(f"cube corpus: {c['lcps']} LCPs")
     lines.append("")
     hdr = (f"{'solver':<10} {'corpus':<6} {'scale':>7} {'LCPs':>6} {'status':>7} {'> tol':>6} {'> rel':>6}"
            f" {'acc.wrong':>9}  {'certified exact':>19} {'η ≤ 1e-14':>19} {'η or resid.':>19}")
@@ -519,7 +519,7 @@ def summary(r: dict[str, Any], args: argparse.Namespace | None = None) -> str:
 
 def plot_failure_rate(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str]) -> str:
     """Failure rate per scale, one group of bars per solver: status failures
-    (solid) and all failures incl. physical-unit residual (hatched); the seed's
+    (solid) and all failures incl. physical-unit residual (hatched); the source note's
     rates as black diamonds."""
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7.5, 4.2))
@@ -534,24 +534,24 @@ def plot_failure_rate(results: Sequence[Mapping[str, Any]], path: str | os.PathL
         c = f"C{i}"
         ax.bar(x + off, al, width * 0.95, color=c, alpha=0.35, hatch="//", label=f"{solver_label(r)}: any failure")
         ax.bar(x + off, st, width * 0.95, color=c, label=f"{solver_label(r)}: status ≠ solved")
-    seed = results[0].get("seed_values") or {}
+    note = results[0].get("note_values") or {}
     for j, s in enumerate(scales):
         key = f"{float(s):g}" if s not in ("none", "dt") else s
-        if key in seed:
-            ax.plot([j], [100 * seed[key]], "kD", ms=7, label="seed note" if j == 0 or "seed note" not in
+        if key in note:
+            ax.plot([j], [100 * note[key]], "kD", ms=7, label="source note" if j == 0 or "source note" not in
                     [t.get_label() for t in ax.lines] else None)
     ax.set_xticks(x, [f"s = {s}" for s in scales])
     ax.set_ylabel("LCPs failed (%)")
     n = results[0]["rows"][0]["lcps"]
-    ax.set_title(f"Failure rate over the seed corpus ({n} LCPs, {results[0].get('mode', 'resolve')})")
+    ax.set_title(f"Failure rate over the cube corpus ({n} LCPs, {results[0].get('mode', 'resolve')})")
     ax.legend(fontsize=8)
     ax.grid(axis="y", alpha=0.3)
     return save(fig, path)
 
 
-#: The report's scales, and its solver comparison (issue 5; classic = the seed preset).
+#: The report's scales, and its solver comparison.
 REPORT_SCALES = ["none", 1e-3, 1e-4, 1e-6, 1e-8]
-COMPARE_SOLVERS = ["seed", "robust", "pgs", "newton_fb"]
+COMPARE_SOLVERS = ["classic", "robust", "pgs", "newton_fb"]
 COMPARE_SCALES = ["none", 1e-2, 1e-3, 1e-4, 1e-6, 1e-8]
 
 
@@ -566,24 +566,24 @@ def row_at(result: Mapping[str, Any], scale: str) -> dict[str, Any] | None:
 
 def report_run(ctx: ReportContext) -> dict[str, Any]:
     fr: dict[str, dict[str, Any]] = {}
-    for name in ("seed", "robust"):
+    for name in ("classic", "robust"):
         cfg = {**ctx.base, "solver": name, "scales": REPORT_SCALES}
         fr[name] = ctx.step(f"failure rate ({name})", functools.partial(run, cfg))
     fr_sim = ctx.step(
-        "failure rate (seed, simulated)",
-        lambda: run({**ctx.base, "solver": "seed", "scales": REPORT_SCALES, "mode": "simulate"}),
+        "failure rate (classic, simulated)",
+        lambda: run({**ctx.base, "solver": "classic", "scales": REPORT_SCALES, "mode": "simulate"}),
     )
-    # PGS is slow on these LCPs (10,000 sweeps when it fails): a seeded subset of the seed corpus.
+    # PGS is slow on these LCPs (10,000 sweeps when it fails): a seeded subset of the cube corpus.
     cmp_cfg = {
         **ctx.base,
         "solvers": COMPARE_SOLVERS,
-        "corpora": ["seed", "hard"],
+        "corpora": ["cubes", "hard"],
         "scales": ["none", 1e-8] if ctx.quick else COMPARE_SCALES,
         "max_lcps": 100 if ctx.quick else 1000,
         "hard": {"count": 7 if ctx.quick else 70},
     }
     return {
-        "failure_rate": {"seed": fr["seed"], "robust": fr["robust"], "seed_simulate": fr_sim},
+        "failure_rate": {"classic": fr["classic"], "robust": fr["robust"], "classic_simulate": fr_sim},
         "comparison": ctx.step("solver comparison", functools.partial(run, cmp_cfg)),
     }
 
@@ -591,8 +591,8 @@ def report_run(ctx: ReportContext) -> dict[str, Any]:
 def report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
     fr = res["failure_rate"]
     return {
-        "failure_rate": plot_failure_rate([fr["seed"], fr["robust"]], ctx.path("failure_rate.png")),
-        "failure_rate_sim": plot_failure_rate([fr["seed_simulate"]], ctx.path("failure_rate_simulate.png")),
+        "failure_rate": plot_failure_rate([fr["classic"], fr["robust"]], ctx.path("failure_rate.png")),
+        "failure_rate_sim": plot_failure_rate([fr["classic_simulate"]], ctx.path("failure_rate_simulate.png")),
     }
 
 
@@ -600,14 +600,14 @@ def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: Repor
     fr = res["failure_rate"]
     d.h(2, "Failure rate per scale")
     d.p(
-        "`lcpsim failure-rate --scales none,1e-3,1e-4,1e-6,1e-8 --solver seed` (and `--solver robust`). The same "
+        "`lcpsim failure-rate --scales none,1e-3,1e-4,1e-6,1e-8 --solver classic` (and `--solver robust`). The same "
         "corpus LCPs are scaled by each s and re-solved. A failure is a status other than solved, or a "
         "physical-unit residual above 1e-6 (`accepted wrong`: the solver said solved, the unscaled residual "
         "disagrees — the tolerance artifact)."
     )
     hdr = ["solver", "s", "LCPs", "status failures", "residual failures", "accepted wrong", "any failure", "statuses"]
     trows = []
-    for name, r_ in (("seed", fr["seed"]), ("robust", fr["robust"]), ("seed (simulate)", fr["seed_simulate"])):
+    for name, r_ in (("classic", fr["classic"]), ("robust", fr["robust"]), ("classic (simulate)", fr["classic_simulate"])):
         for r in r_["rows"]:
             trows.append([name, r["scale"], r["lcps"], f"{r['status_failures']} ({pct(r['status_rate'])})",
                           f"{r['residual_failures']} ({pct(r['residual_rate'])})", r["accepted_wrong"],
@@ -615,8 +615,8 @@ def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: Repor
     d.table(hdr, trows)
     d.img(ctx.rel(figs["failure_rate"]), "failure rate per scale")
     d.p(
-        "The seed counted failures over one simulation run at each scale; `--mode simulate` does that (each "
-        "corpus simulation re-run with the seed preset in the loop; a failed step's last iterate is applied, so "
+        "The source note counted failures over one simulation run at each scale; `--mode simulate` does that (each "
+        "corpus simulation re-run with the classic preset in the loop; a failed step's last iterate is applied, so "
         "trajectories, and the LCP counts, differ per scale):"
     )
     d.img(ctx.rel(figs["failure_rate_sim"]), "failure rate per scale, simulated")
@@ -626,18 +626,18 @@ def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: Repor
 def _comparison_section(d: Doc, cmp: dict[str, Any]) -> None:
     cfg = cmp["config"]
     scales = ",".join("none" if x in (None, "none") else f"{float(x):g}" for x in cfg["scales"])
-    seed_c, hard_c = cmp["corpora"]["seed"], cmp["corpora"]["hard"]
+    cubes_c, hard_c = cmp["corpora"]["cubes"], cmp["corpora"]["hard"]
     d.h(2, "Solver comparison: classic, robust, PGS, Newton–FB")
     d.p(
-        f"`lcpsim failure-rate --solvers {','.join(s['name'] for s in cmp['solvers'])} --corpus seed,hard "
+        f"`lcpsim failure-rate --solvers {','.join(s['name'] for s in cmp['solvers'])} --corpus cubes,hard "
         f"--scales {scales} --max-lcps {cfg['max_lcps']} --hard-count {hard_c['lcps']}` "
-        f"(drop `--max-lcps` for the whole seed corpus). Corpora: {seed_c['lcps']} LCPs of the seed corpus "
+        f"(drop `--max-lcps` for the whole cube corpus). Corpora: {cubes_c['lcps']} LCPs of the cube corpus "
         f"(a seeded subset), and {hard_c['lcps']} LCPs of the hard generator (`lcpsim.generate.hard_corpus`, seed "
         f"{hard_c['seed']}: " + ", ".join(f"{k} {v}" for k, v in hard_c["by_kind"].items())
         + f"; n up to {hard_c['max_n']}), generated at each scale s and judged on the same scenes at s = 1. "
-        "Solvers: **seed** = classic Lemke (piv_tol 1e-12, zero_tol 1e-6, on the LCP as scaled); **robust** = "
+        "Solvers: **classic** = classic Lemke (piv_tol 1e-12, zero_tol 1e-6, on the LCP as scaled); **robust** = "
         "lcpsim's default; **pgs**, **newton_fb** with their defaults. Counts: status ≠ solved; physical residual "
-        f"> {cmp['tol']:g} and > {cmp['rel_tol']:g}·(1 + ‖q‖∞) (issue 5's criterion); accepted wrong = said "
+        f"> {cmp['tol']:g} and > {cmp['rel_tol']:g}·(1 + ‖q‖∞) (the relative criterion); accepted wrong = said "
         "solved, physical residual > 1e-6."
     )
     d.p(
@@ -663,5 +663,5 @@ def _comparison_section(d: Doc, cmp: dict[str, Any]) -> None:
 
 
 EXPERIMENT = Experiment.of_module(
-    __name__, "failure rate of solvers over the seed and hard corpora per friction-cone scale", plot=plot_failure_rate
+    __name__, "failure rate of solvers over the cube and hard corpora per friction-cone scale", plot=plot_failure_rate
 )

@@ -3,8 +3,8 @@ scaled; λ grows by 1/s.
 
 The scaled LCP is ``D M D, D q`` with ``D = diag(I, I, s·I)``: its solutions
 are exactly ``(fn, fd, λ/s)`` for the solutions ``(fn, fd, λ)`` of the
-unscaled one. The seed printed both with 20 significant digits and found
-agreement to ~1e-16. Here every seed-corpus LCP is solved unscaled and scaled
+unscaled one. The source note printed both with 20 significant digits and found
+agreement to ~1e-16. Here every cube-corpus LCP is solved unscaled and scaled
 with the same solver and the answers compared (λ_scaled·s against λ):
 
 * absolute differences ``max_abs_dfn``, ``max_abs_dfd`` (N·s);
@@ -36,7 +36,7 @@ import numpy as np
 
 from .._core import ContactLayout
 from ._common import envelope, merge_config, scale_label
-from .seed_corpus import SCALED_CASE_DEFAULTS, scaled_case, solve_scaled
+from .cube_corpus import SCALED_CASE_DEFAULTS, scaled_case, solve_scaled
 from .document import Doc
 from .experiment import (
     Experiment, ReportContext, add_common_arguments, add_corpus_arguments, base_config, corpus_config, header,
@@ -48,8 +48,8 @@ __all__ = ["DEFAULTS", "run"]
 
 DEFAULTS: dict[str, Any] = {**SCALED_CASE_DEFAULTS, "valid_tol": 1e-10, "examples": True, "max_listed": 20}
 
-#: The seed's figure: agreement of fn, fd to about 1e-16 (printed with 20 digits).
-SEED_VALUE = 1e-16
+#: The source note's figure: agreement of fn, fd to about 1e-16 (printed with 20 digits).
+NOTE_VALUE = 1e-16
 
 
 def _stats(ef: np.ndarray, ed: np.ndarray, rf: np.ndarray, rd: np.ndarray, rl: np.ndarray) -> dict[str, float]:
@@ -137,7 +137,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
                 }
             )
         if cfg["examples"] and g.n in (20, 40):
-            # The first LCP of this size with friction, as the seed showed (sizes 20 and 40).
+            # The first LCP of this size with friction, as the source note showed (sizes 20 and 40).
             cand = np.nonzero(sb & (np.abs(z0[:, fd]).max(axis=1) > 0))[0]
             if cand.size:
                 e = int(cand[0])
@@ -173,7 +173,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
             "rel_error_quantiles": {
                 q: float(np.quantile(rel, float(q))) if rel.size else 0.0 for q in ("0.5", "0.9", "0.99", "1.0")
             },
-            "seed_value": SEED_VALUE,
+            "note_value": NOTE_VALUE,
         }
     )
     out["wall_time_s"] = time.perf_counter() - t0
@@ -185,7 +185,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
 
 def cli_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scale", type=scale_argument, default=1e-3, metavar="dt|S", help="cone scale compared with unscaled (default: 1e-3)")
-    p.add_argument("--digits", type=int, default=None, metavar="N", help="print example vectors with N significant digits (as the seed: 20)")
+    p.add_argument("--digits", type=int, default=None, metavar="N", help="print example vectors with N significant digits (as the source note: 20)")
     add_common_arguments(p)
     add_corpus_arguments(p)
 
@@ -211,7 +211,7 @@ def summary(r: dict[str, Any], args: argparse.Namespace | None = None) -> str:
         f"  max relative λ error = {r['max_rel_lambda_err']:.3e}",
         "all pairs solved both times:",
         "  " + ", ".join(f"{k} {v:.3e}" for k, v in r["all_pairs"].items()),
-        "seed note: fn, fd agree to ~1e-16",
+        "source note: fn, fd agree to ~1e-16",
     ]
     if digits:
         for ex in r.get("examples", []):
@@ -234,10 +234,10 @@ def plot_invariance(results: Sequence[Mapping[str, Any]], path: str | os.PathLik
         ax.bar(centers + (i - (len(results) - 1) / 2) * 0.8 / len(results), counts, 0.8 / len(results),
                color=f"C{i}", label=lab)
     ax.axvline(-12, color="k", ls=":", lw=1, label="1e-12")
-    ax.axvline(-16, color="grey", ls="--", lw=1, label="seed: ~1e-16")
+    ax.axvline(-16, color="grey", ls="--", lw=1, label="source note: ~1e-16")
     ax.set_yscale("log")
     label_axes(ax, "log10 relative change of (fn, fd) by scaling (same Lemke basis)", "LCPs",
-               title="Scaling invariance over the seed corpus", legend=8)
+               title="Scaling invariance over the cube corpus", legend=8)
     return save(fig, path)
 
 
@@ -268,10 +268,10 @@ def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: Repor
             lines += [f"Size = {e['n']}, {e['contacts']} contact points ({e['simulation']}, step {e['step']}), s = {ex['scale']}",
                       "Before", " ".join(f"{x:.20g}" for x in e["before"]),
                       "After", " ".join(f"{x:.20g}" for x in e["after"]), ""]
-        d.p("As the seed printed them (robust, 20 significant digits; After = the scaled LCP's z, λ = λ/s):")
+        d.p("As the source note printed them (robust, 20 significant digits; After = the scaled LCP's z, λ = λ/s):")
         d.pre("\n".join(lines).strip())
 
 
 EXPERIMENT = Experiment.of_module(
-    __name__, "fn, fd unchanged and λ·s by cone scaling, over the seed corpus", plot=plot_invariance
+    __name__, "fn, fd unchanged and λ·s by cone scaling, over the cube corpus", plot=plot_invariance
 )

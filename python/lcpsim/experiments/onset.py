@@ -1,10 +1,10 @@
-"""The slope test's outcome decided by how the motion starts (issue 14), not
+"""The slope test's outcome decided by how the motion starts, not
 by what a fixed window happens to show.
 
 A μ = 1 cube sliding on a slope steeper than 45° carries its whole load on
 the downhill edge; that state is unstable (a tilt φ grows like e^{γt},
 γ ≈ 6.4/s for the unit cube), so watched long enough *every* such run ends
-on its side — the exact solver's from round-off after ~5 s, the seed's held
+on its side — the exact solver's from round-off after ~5 s, the source note's held
 cube within a second or two. A window-based verdict therefore reports the
 window. Here the per-step records are read from the first step on and the
 outcome is the first of these to hold for ``confirm_s`` of consecutive
@@ -30,7 +30,7 @@ Failed LCP steps never count towards a streak. When nothing is confirmed
 within the horizon the outcome is ``undecided``. Also measured: the first
 excess-friction step, where the friction along the downhill line exceeds
 what the exact cone allows, ``|Σ friction·d| > μ·Σfn`` beyond round-off
-(``excess_rtol``·μΣfn): the seed's cone slack in use.
+(``excess_rtol``·μΣfn): the source note's cone slack in use.
 """
 
 from __future__ import annotations
@@ -55,7 +55,7 @@ class OnsetOptions:
     """Thresholds of the onset classification (see the module docs)."""
 
     #: Tilt (rad) beyond round-off: the exact solver's sliding cube stays below 1e-12 rad for its first
-    #: second (round-off grown by the μ = 1 instability), the seed's held cube passes 1e-8 rad within 0.05 s.
+    #: second (round-off grown by the μ = 1 instability), the source note's held cube passes 1e-8 rad within 0.05 s.
     tilt_tol_rad: float = 1e-10
     #: Relative agreement with ½·a·t² that counts as following it (semi-implicit Euler is 1/n ahead).
     slide_rtol: float = 0.05

@@ -1,6 +1,6 @@
 """Contact patterns: the sign of (fn, Σfd, λ) per contact, unscaled and scaled.
 
-The seed's table, ``+`` meaning positive, ``0`` zero:
+The source note's table, ``+`` meaning positive, ``0`` zero:
 
 ========  ============================================================
 (0,0,0)   contact breaks
@@ -14,7 +14,7 @@ The seed's table, ``+`` meaning positive, ``0`` zero:
 (+,+,+)   sliding
 ========  ============================================================
 
-Every seed-corpus LCP is solved unscaled and at scale s with the chosen
+Every cube-corpus LCP is solved unscaled and at scale s with the chosen
 solver; each answer is mapped back to physical units (λ = s·λ_scaled) and
 each contact's pattern counted by :class:`lcpsim.ContactLayout`'s one zero
 rule: a value counts as positive when it is strictly greater than
@@ -40,7 +40,7 @@ from numpy.typing import NDArray
 
 from .._core import ContactLayout
 from ._common import envelope, merge_config, scale_label
-from .seed_corpus import SCALED_CASE_DEFAULTS, Group, ScaledSolve, scaled_case, solve_scaled
+from .cube_corpus import SCALED_CASE_DEFAULTS, Group, ScaledSolve, scaled_case, solve_scaled
 from .document import Doc
 from .experiment import (
     Experiment, ReportContext, add_common_arguments, add_corpus_arguments, base_config, corpus_config, header,

@@ -1,7 +1,7 @@
 """Solver presets: how an experiment solves its LCPs.
 
-``seed``
-    The seed note's setting: Lemke with the ``classic`` pivoting rule (Moby /
+``classic``
+    The source note's setting: Lemke with the ``classic`` pivoting rule (Moby /
     Drake style: absolute tolerances, Harris slack), ``piv_tol = 1e-12``,
     ``zero_tol = 1e-6``, applied to the LCP *as assembled* — the scaled one
     when a cone scale s < 1 is used — so its user zero of 1e-6 on the cone
@@ -14,10 +14,10 @@
 
 Any other solver can be named on the command line (``--solver``)::
 
-    seed | robust | lemke | pgs | newton_fb
+    classic | robust | lemke | pgs | newton_fb
     lemke:pivoting=classic,zero_tol=1e-8       method, then options
     method=lemke,pivoting=classic,piv_tol=1e-10 the same as key=value pairs
-    seed:zero_tol=1e-8                          a preset with options changed
+    classic:zero_tol=1e-8                       a preset with options changed
 
 Option values are parsed as int, float, true/false or left as strings; the
 solver validates them (an unknown option is a ValueError naming it).
@@ -69,11 +69,11 @@ class Solver:
 
 #: The named presets.
 PRESETS: dict[str, Solver] = {
-    "seed": Solver(
-        "seed",
+    "classic": Solver(
+        "classic",
         "lemke",
         {"pivoting": "classic", "piv_tol": 1e-12, "zero_tol": 1e-6},
-        "classic Lemke, piv_tol 1e-12, zero_tol 1e-6, on the LCP as assembled (the seed's setting)",
+        "classic Lemke, piv_tol 1e-12, zero_tol 1e-6, on the LCP as assembled (the source note's setting)",
     ),
     "robust": Solver(
         "robust",

@@ -1,8 +1,8 @@
-"""The seed's pushed cube: a 1 kg unit cube at rest on level ground, μ = 1,
+"""The source note's pushed cube: a 1 kg unit cube at rest on level ground, μ = 1,
 pushed horizontally at its centre of mass.
 
 It must stay iff F ≤ μ m g (9.81 N), with a friction force of exactly F;
-above that it slides with a = (F − μ m g)/m. The seed pushed
+above that it slides with a = (F − μ m g)/m. The source note pushed
 with 9.79 N: the cube stayed, λ ≈ 1e-19 (far below its user zero) and the
 normal impulses 0, 1e-5, 0.004895, 0.004905 N·s showed the load moving onto
 the leading edge (the push at the centre of mass tips the contact pressure
@@ -36,12 +36,12 @@ from .experiment import (
 )
 from .figure import label_axes, pyplot, save, solver_label, traced
 
-__all__ = ["DEFAULTS", "run", "SEED_VALUES"]
+__all__ = ["DEFAULTS", "run", "NOTE_VALUES"]
 
 DEFAULTS: dict[str, Any] = {"seed": 0, "force": 9.79, **CUBE_DEFAULTS}
 
-#: The seed note's pushed cube (9.79 N): λ and the four normal impulses (N·s).
-SEED_VALUES: dict[str, Any] = {
+#: The source note's pushed cube (9.79 N): λ and the four normal impulses (N·s).
+NOTE_VALUES: dict[str, Any] = {
     "outcome": "rest",
     "lambda_max": 2.1616814368153648e-19,
     "normal_impulses": [0.0, 1.000000000002777392e-05, 0.00489499999999991782, 0.0049050000000000022402],
@@ -113,7 +113,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
             "normal_impulse_sum": float(fn.sum()),
             "lcps": int(has.sum()),
             "lcp_failures": int((~traj.ok).sum()),
-            "seed_values": SEED_VALUES,
+            "note_values": NOTE_VALUES,
         }
     )
     if cfg["trace"]:
@@ -151,8 +151,8 @@ def summary(r: dict[str, Any], args: argparse.Namespace | None = None) -> str:
         f"cube {c['mass']} kg, μ = {c['mu']}, push {c['force']} N at the centre of mass, s = {r['scale']}, T = {r['seconds']:g} s",
         f"outcome:   {r['outcome']}  (exact: {r['expected_outcome']})",
         f"friction:  {r['friction_force_N']:.12g} N  (exact: {r['expected_friction_N']:.12g} N)",
-        f"λ max:     {r['lambda_max']:.3e} m/s   (seed note: ~1e-19)",
-        f"fn:        {fn} N·s at offsets {off} m along the push   (seed note: 0, 1e-05, 0.004895, 0.004905)",
+        f"λ max:     {r['lambda_max']:.3e} m/s   (source note: ~1e-19)",
+        f"fn:        {fn} N·s at offsets {off} m along the push   (source note: 0, 1e-05, 0.004895, 0.004905)",
         f"moved:     {r['displacement_m']:.4e} m  (exact: {r['expected_displacement_m']:.4e} m); LCP failures {r['lcp_failures']}",
     ]
     return "\n".join(lines)
@@ -211,7 +211,7 @@ def report_run(ctx: ReportContext) -> dict[str, Any]:
         return [
             run({"seed": ctx.seed, "solver": solver, "scale": sc, "force": F, "seconds": ctx.seconds,
                  "trace": F in (9.79, 9.83)})
-            for solver in ("robust", "seed")
+            for solver in ("robust", "classic")
             for sc in ("none", "dt")
             for F in REPORT_FORCES
         ]
@@ -243,10 +243,10 @@ def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: Repor
     d.p(
         "Normal impulses at 9.79 N (robust, unscaled), by position along the push: "
         + ", ".join(f"{x:.6g} N·s at {o:+.2f} m" for x, o in zip(rp["normal_impulses"], rp["contact_offsets_m"]))
-        + " — the load sits on the leading edge, as the seed's 0, 1e-5, 0.004895, 0.004905 show."
+        + " — the load sits on the leading edge, as the source note's 0, 1e-5, 0.004895, 0.004905 show."
     )
     d.img(ctx.rel(figs["push_sweep"]), "push sweep")
     d.img(ctx.rel(figs["push_trace"]), "push traces")
 
 
-EXPERIMENT = Experiment.of_module(__name__, "the seed's pushed cube (9.79 N, μ = 1)", plot=plot_push)
+EXPERIMENT = Experiment.of_module(__name__, "the source note's pushed cube (9.79 N, μ = 1)", plot=plot_push)

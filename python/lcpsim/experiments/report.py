@@ -3,12 +3,12 @@
 Writes to the output directory ``index.html`` and ``report.md`` (the same
 content), the figures as PNG, the 3-D viewer pages (``view_*.html``, see
 :mod:`.views`), and ``results.json`` with every result (each
-carrying its config, seed and lcpsim version). For each claim of the seed
-note the page puts the seed's number beside ours — with the
-``seed`` preset (the seed's solver setting) and with ``robust`` (lcpsim's
+carrying its config, seed and lcpsim version). For each claim of the source
+note the page puts the source note's number beside ours — with the
+``classic`` preset (the source note's solver setting) and with ``robust`` (lcpsim's
 default) — and says why they differ. Each experiment's runs, figures and
 section come from its :class:`~.experiment.ReportPart` (see :mod:`.registry`);
-this module adds the seed corpus, the claims table and the page itself.
+this module adds the cube corpus, the claims table and the page itself.
 """
 
 from __future__ import annotations
@@ -28,20 +28,20 @@ from .failure_rate import COMPARE_SCALES, COMPARE_SOLVERS, row_at
 from .failure_rate import REPORT_SCALES as SCALES
 from .push import REPORT_FORCES as PUSH_FORCES
 from .registry import REGISTRY
-from .seed_corpus import DEFAULTS as CORPUS_DEFAULTS
-from .seed_corpus import generate, simulations
+from .cube_corpus import DEFAULTS as CORPUS_DEFAULTS
+from .cube_corpus import generate, simulations
 from .slope import REPORT_SCALES as SLOPE_SCALES
 from .views import View, add_links, add_many_body_section, make_views
 
 __all__ = ["make_report", "Doc", "SCALES", "SLOPE_SCALES", "PUSH_FORCES", "COMPARE_SOLVERS", "COMPARE_SCALES"]
 
-TITLE = "lcpsim: the seed note's experiments"
+TITLE = "lcpsim: the source note's experiments"
 
 UNITS_NOTE = (
-    "The seed note does not state its units, mass, cube size or time step; every figure here is for "
+    "The source note does not state its units, mass, cube size or time step; every figure here is for "
     "a 1 kg, 1 m cube at h = 1e-3 s with impulses in N·s and k = 8 friction directions, so an absolute "
-    "tolerance such as the seed's user zero of 1e-6 bites at different problems and different scales than in "
-    "the seed's runs. Where a number differs, the phenomenon — not the number — is what is compared."
+    "tolerance such as the source note's user zero of 1e-6 bites at different problems and different scales than in "
+    "the source note's runs. Where a number differs, the phenomenon — not the number — is what is compared."
 )
 
 
@@ -91,7 +91,7 @@ def make_report(
 
 def _corpus_results(ctx: ReportContext) -> dict[str, Any]:
     cc = {**CORPUS_DEFAULTS, **ctx.corpus, "seed": ctx.seed}
-    corp = ctx.step("seed corpus", lambda: generate(cc))
+    corp = ctx.step("cube corpus", lambda: generate(cc))
     return {"config": cc, **corp.summary(), "simulations_spec": [s.to_dict() for s in simulations(cc)]}
 
 
@@ -107,13 +107,13 @@ def _document(res: dict[str, Any], figs: dict[str, str], views: list[View], ctx:
     )
     d.p(UNITS_NOTE)
     d.p(
-        "Solvers: **seed** = Lemke with the classic pivoting rule, piv_tol 1e-12, zero_tol 1e-6, applied to the LCP "
-        "as assembled (scaled by s) — the seed's setting; **robust** = lcpsim's default Lemke (lexicographic, "
+        "Solvers: **classic** = Lemke with the classic pivoting rule, piv_tol 1e-12, zero_tol 1e-6, applied to the LCP "
+        "as assembled (scaled by s) — the source note's setting; **robust** = lcpsim's default Lemke (lexicographic, "
         "equilibrated, accepted by its residual). Every answer is judged in physical units: λ mapped back "
         "(λ = s·λ_scaled), residual ‖min(z, w)‖∞ on the unscaled LCP."
     )
-    d.h(2, "The seed's claims beside ours")
-    d.table(["claim", "seed note", "ours: seed preset", "ours: robust"], _claims(res))
+    d.h(2, "The source note's claims beside ours")
+    d.table(["claim", "source note", "ours: classic preset", "ours: robust"], _claims(res))
     for para in _differences_text(res):
         d.p(para)
     _corpus_section(d, res["corpus"])
@@ -126,30 +126,30 @@ def _document(res: dict[str, Any], figs: dict[str, str], views: list[View], ctx:
 
 
 def _claims(res: dict[str, Any]) -> list[list[Any]]:
-    """Rows of the summary table: each seed claim, the seed's number, ours with both presets."""
-    frs, frr = res["failure_rate"]["seed"], res["failure_rate"]["robust"]
+    """Rows of the summary table: each claim of the source note, its number, ours with both presets."""
+    frs, frr = res["failure_rate"]["classic"], res["failure_rate"]["robust"]
     crit = {(r["solver"]["name"], r["config"]["angle_deg"]): r for r in res["critical_scale"]}
     inv = {(r["solver"]["name"], r["scale"]): r for r in res["invariance"]}
     pat = {(r["solver"]["name"], r["scale"]): r for r in res["patterns"]}
     rows = []
-    for sc, seedval in (("0.001", "3.9 % (97 of 2499)"), ("0.0001", "≈ 2.1 %"), ("1e-06", "0")):
+    for sc, noteval in (("0.001", "3.9 % (97 of 2499)"), ("0.0001", "≈ 2.1 %"), ("1e-06", "0")):
         s_row, r_row = row_at(frs, sc), row_at(frr, sc)
         rows.append([
-            f"Lemke failure rate, s = {sc}", seedval,
+            f"Lemke failure rate, s = {sc}", noteval,
             f"{pct(s_row['status_rate'])} status; {pct(s_row['rate'])} incl. residual > 1e-6" if s_row else "—",
             f"{pct(r_row['rate'])}" if r_row else "—",
         ])
-    for angle, seedval in ((45.0001, "≈ 4e-3"), (45.2, "— (an independent classic implementation: tips for s ≤ 0.1)")):
-        rows.append([f"critical scale, {angle}°, μ = 1", seedval, critical_text(crit[("seed", angle)]),
+    for angle, noteval in ((45.0001, "≈ 4e-3"), (45.2, "— (an independent classic implementation: tips for s ≤ 0.1)")):
+        rows.append([f"critical scale, {angle}°, μ = 1", noteval, critical_text(crit[("classic", angle)]),
                      critical_text(crit[("robust", angle)])])
-    si, ri = inv[("seed", "0.001")], inv[("robust", "0.001")]
+    si, ri = inv[("classic", "0.001")], inv[("robust", "0.001")]
     rows.append([
         "scaling invariance of fn, fd (s = 1e-3, relative)", "~1e-16",
         f"{max(si['max_rel_dfn'], si['max_rel_dfd']):.2e} (same basis; {si['different_basis']} LCPs changed basis, "
         f"{si['status_changed']} changed status)",
         f"{max(ri['max_rel_dfn'], ri['max_rel_dfd']):.2e} (same basis; {ri['different_basis']} changed basis)",
     ])
-    sp, rp = push.find(res["push"], "seed", "none", 9.79), push.find(res["push"], "robust", "none", 9.79)
+    sp, rp = push.find(res["push"], "classic", "none", 9.79), push.find(res["push"], "robust", "none", 9.79)
     rows.append(["pushed cube 9.79 N: outcome, λ", "stays, λ ≈ 1e-19", f"{sp['outcome']}, λ max {sp['lambda_max']:.2e}",
                  f"{rp['outcome']}, λ max {rp['lambda_max']:.2e}"])
     rows.append([
@@ -157,7 +157,7 @@ def _claims(res: dict[str, Any]) -> list[list[Any]]:
         ", ".join(f"{x:.6g}" for x in sorted(sp["normal_impulses"])),
         ", ".join(f"{x:.6g}" for x in sorted(rp["normal_impulses"])),
     ])
-    ps, pr = pat[("seed", "0.001")], pat[("robust", "0.001")]
+    ps, pr = pat[("classic", "0.001")], pat[("robust", "0.001")]
     rows.append([
         "impossible patterns; scaling changes patterns (s = 1e-3)", "none; scaling does not matter",
         f"{ps['impossible']['unscaled'] + ps['impossible']['scaled']} LCPs in solved answers "
@@ -169,12 +169,12 @@ def _claims(res: dict[str, Any]) -> list[list[Any]]:
 
 
 def _corpus_section(d: Doc, c: dict[str, Any]) -> None:
-    d.h(2, "The seed corpus")
+    d.h(2, "The cube corpus")
     d.p(
         f"{c['lcps']} LCPs from {len(c['simulations'])} simulations of a 1 kg unit cube (h = 1e-3 s, k = 8), "
         "stepped unscaled with the robust solver: drops flat, on an edge and on a corner, sliding to rest, "
         "pushed at 9.79 N and 12 N, slopes at 20°, 30°, 45.0001°, 45.2°, and seeded random tumbles onto slopes "
-        "(see `lcpsim.experiments.seed_corpus`). By size: "
+        "(see `lcpsim.experiments.cube_corpus`). By size: "
         + ", ".join(f"n = {n}: {k}" for n, k in c["by_size"].items()) + "."
     )
     d.table(["simulation", "slope (°)", "μ", "LCPs"],
@@ -186,31 +186,31 @@ def _g(x: Any, fmt: str = ".3g") -> str:
 
 
 def _differences_text(res: dict[str, Any]) -> list[str]:
-    """Paragraphs saying where and why our figures differ from the seed's."""
-    frs = res["failure_rate"]["seed"]
+    """Paragraphs saying where and why our figures differ from the source note's."""
+    frs = res["failure_rate"]["classic"]
     crit = {(r["solver"]["name"], r["config"]["angle_deg"]): r for r in res["critical_scale"]}
     sl = {(r["solver"]["name"], r["config"]["angle_deg"], r["scale"]): r for r in res["slope"]}
-    sp = push.find(res["push"], "seed", "none", 9.79)
+    sp = push.find(res["push"], "classic", "none", 9.79)
     parts = []
     s3, s6 = row_at(frs, "0.001"), row_at(frs, "1e-06")
     if s3 and s6:
         parts.append(
-            f"**Failure rates.** With the seed's setting our status failures fall from {pct(s3['status_rate'])} at "
-            f"s = 1e-3 to {pct(s6['status_rate'])} at s = 1e-6 — the seed's trend (3.9 % → 0) — at other levels: "
-            "the seed's one simulation, units and Lemke are not ours, and our corpus mixes many scenes. Judged in "
+            f"**Failure rates.** With the source note's setting our status failures fall from {pct(s3['status_rate'])} at "
+            f"s = 1e-3 to {pct(s6['status_rate'])} at s = 1e-6 — the source note's trend (3.9 % → 0) — at other levels: "
+            "the source note's one simulation, units and Lemke are not ours, and our corpus mixes many scenes. Judged in "
             "physical units the improvement is an artifact: the answers accepted at s = 1e-6 fail the unscaled "
             f"residual in {pct(s6['residual_rate'])} of the LCPs (friction without normal force, friction beyond "
-            "the cone) — the seed's looser cone. The robust solver fails on none at any scale."
+            "the cone) — the source note's looser cone. The robust solver fails on none at any scale."
         )
-    a, b = sl.get(("seed", 45.2, "none")), sl.get(("seed", 45.2, "0.001"))
-    c0, c2 = crit[("seed", 45.0001)], crit[("seed", 45.2)]
+    a, b = sl.get(("classic", 45.2, "none")), sl.get(("classic", 45.2, "0.001"))
+    c0, c2 = crit[("classic", 45.0001)], crit[("classic", 45.2)]
     if a and b:
         txt = (
-            "**Slope test and critical scale.** With the seed preset the 45.2° cube "
+            "**Slope test and critical scale.** With the classic preset the 45.2° cube "
             f"{'slides' if a['outcome'] == 'slide' else a['outcome'] + 's'} unscaled ({_g(a['slide_distance_m'])} m in "
             f"{a['seconds']:g} s; analytic {_g(a['expected_slide_m'])} m; {a['lcp_failures']} failed LCPs) and at "
             f"s = 1e-3 ends as '{b['outcome']}' with {b['held_steps_before_failure']} solved steps carrying friction "
-            "beyond μ·Σfn before any failure — the cube held by the looser cone, the seed's phenomenon."
+            "beyond μ·Σfn before any failure — the cube held by the looser cone, the source note's phenomenon."
         )
         if b["lcp_failures"]:
             st = ", ".join(f"{k} {v}" for k, v in b["by_status"].items() if k != "solved")
@@ -225,12 +225,12 @@ def _differences_text(res: dict[str, Any]) -> list[str]:
             "tipped for s ≤ 0.1."
         )
         parts.append(txt)
-    z = sl.get(("seed", 45.0001, "none"))
-    lo = sl.get(("seed", 45.0001, "1e-06"))
+    z = sl.get(("classic", 45.0001, "none"))
+    lo = sl.get(("classic", 45.0001, "1e-06"))
     if z and lo:
         txt = (
             " At 45.0001° the stick solution of our 1 kg, 1 m cube violates the cone by only ~2.4e-8 N·s — below "
-            "the user zero even unscaled — so a classic Lemke should hold it at every s ≤ 1, and the seed's 4e-3 "
+            "the user zero even unscaled — so a classic Lemke should hold it at every s ≤ 1, and the source note's 4e-3 "
             f"(its own units) has no counterpart here. Ours, unscaled: '{z['outcome']}', "
             f"{_g(z['slide_distance_m'])} m (analytic {_g(z['expected_slide_m'])} m)"
         )
@@ -256,8 +256,8 @@ def _differences_text(res: dict[str, Any]) -> list[str]:
             "LCP failure."
         )
     parts.append(
-        f"**Pushed cube.** The seed's λ ≈ 1e-19 is round-off in its solver; ours is {_g(sp['lambda_max'], '.2g')} with "
-        f"the seed preset (unscaled; {sp['lcp_failures']} failed LCPs) and exactly 0 with robust. The normal "
-        "impulses match the seed's to the digits shown."
+        f"**Pushed cube.** The source note's λ ≈ 1e-19 is round-off in its solver; ours is {_g(sp['lambda_max'], '.2g')} with "
+        f"the classic preset (unscaled; {sp['lcp_failures']} failed LCPs) and exactly 0 with robust. The normal "
+        "impulses match the source note's to the digits shown."
     )
     return parts

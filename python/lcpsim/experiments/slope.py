@@ -1,4 +1,4 @@
-"""The seed's slope test: a μ = 1 unit cube released at rest on a slope just
+"""The source note's slope test: a μ = 1 unit cube released at rest on a slope just
 steeper than 45°.
 
 With tan θ > μ the cube must slide, with a = g (sin θ − μ cos θ), and since
@@ -7,14 +7,14 @@ resultant of the normal forces exactly on the downhill edge. Any
 extra friction — e.g. a cone row accepted at ``μ fn − Eᵀ fd ≥ −zero_tol/s`` —
 holds the cube, and it rests or tips.
 
-Outcome (issue 14): decided by how the motion starts, not by a window
+Outcome: decided by how the motion starts, not by a window
 (:mod:`.onset`): ``tip`` once the cube unambiguously pivots about its
 downhill edge, ``slide`` once it follows ½·g·(sin θ − μ cos θ)·t² with its
 tilt at round-off, ``rest`` once it stands still on its face, each confirmed
 over 0.02 s of solved steps; looked for over ``max(seconds, horizon_s)``
 and ``undecided`` if none is confirmed by then. ``decided_at_s``,
 ``tip_onset_s`` and ``first_excess_s`` (the first step whose friction along
-the downhill line exceeds μ·Σfn: the seed's cone slack in use) say when.
+the downhill line exceeds μ·Σfn: the source note's cone slack in use) say when.
 With μ = 1 on a slope steeper than 45° the sliding state (the load exactly
 on the downhill edge) is unstable, so a long enough window shows any cube
 tipping; the verdict of the old window classification (:func:`classify`:
@@ -29,7 +29,7 @@ solve whose last iterate is applied can launch the cube — and the friction
 beyond the cone in solved steps, ``|Σ friction·d| − μ Σ fn`` (N·s, > 0 is
 impossible for an exact solution): ``cone_excess_max_Ns``,
 ``cone_excess_steps`` and ``held_steps_before_failure`` (solved steps with
-excess friction before the first failure), the direct trace of the seed's
+excess friction before the first failure), the direct trace of the source note's
 tolerance artifact.
 """
 
@@ -136,7 +136,7 @@ def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     max_tilt = float(np.nanmax(tilt)) if tilt.size else 0.0
     energy = body_energy(traj, scene.world, b)
     # Friction beyond the cone along the downhill line (physical units): > 0 is
-    # impossible for an exact solution; the seed's artifact shows up here.
+    # impossible for an exact solution; the source note's artifact shows up here.
     friction_d = traj.friction_impulse @ scene.direction
     excess = np.abs(friction_d) - mu * traj.normal_impulse
     solved = traj.status == "solved"
@@ -283,7 +283,7 @@ def report_run(ctx: ReportContext) -> dict[str, Any]:
         return [
             run({"seed": ctx.seed, "solver": solver, "angle_deg": angle, "scale": sc, "seconds": ctx.seconds,
                  "trace": True})
-            for solver in ("seed", "robust")
+            for solver in ("classic", "robust")
             for angle in REPORT_ANGLES
             for sc in REPORT_SCALES
         ]
@@ -312,7 +312,7 @@ def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: Repor
         "verdict (tip if rotated > 5° within T, else slide if it moved ≥ half the analytic distance) is beside it: "
         "with μ = 1 the sliding state is unstable, so that verdict depends on T. `cone excess` counts solved "
         "steps whose friction along the downhill line exceeds μ·Σfn (impossible for an exact solution): the "
-        "seed's artifact at work; `first excess` is when the first one happened."
+        "source note's artifact at work; `first excess` is when the first one happened."
     )
     srows = []
     for r in res["slope"]:
@@ -330,5 +330,5 @@ def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: Repor
 
 
 EXPERIMENT = Experiment.of_module(
-    __name__, "the seed's slope test: does a μ = 1 cube slide, rest or tip?", plot=plot_slope
+    __name__, "the source note's slope test: does a μ = 1 cube slide, rest or tip?", plot=plot_slope
 )

@@ -7,7 +7,7 @@ A sweep config (YAML or JSON) lists a grid of cases::
     grid:                             # the Cartesian product of these lists
       angle_deg: [45.0001, 45.2]
       scale: [none, 1.0e-3, 1.0e-6]
-      solver: [seed, robust]
+      solver: [classic, robust]
     seeds: [0]                        # optional: one case per seed
     output: slope_sweep.h5            # .h5 (HDF5) or .parquet (a directory)
 
@@ -95,7 +95,7 @@ def load_config(path: str | os.PathLike[str]) -> dict[str, Any]:
 
 def _yaml_number(v: Any) -> Any:
     """YAML reads 1e-3 (no dot) as a string: numbers written so become floats
-    (lists too); other strings ("none", "dt", "seed", …) stay."""
+    (lists too); other strings ("none", "dt", "classic", …) stay."""
     if isinstance(v, list):
         return [_yaml_number(x) for x in v]
     if isinstance(v, str):
