@@ -35,8 +35,8 @@
 //! `Solution::ok()` needs it: no method (Lemke robust or classic, PGS,
 //! Newton–FB) reports `ok` for an answer outside this rule.
 
+use crate::operator::LcpOperator;
 use crate::problem::Lcp;
-use crate::support::LcpOperator;
 
 /// Default tolerance of the rule (Lemke's `accept_tol`; PGS and Newton–FB use it too).
 pub const DEFAULT_TOL: f64 = 1e-9;

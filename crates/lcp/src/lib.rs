@@ -37,6 +37,7 @@ pub mod lemke;
 pub mod limits;
 pub mod method;
 pub mod newton_fb;
+pub mod operator;
 pub mod pgs;
 pub mod problem;
 pub mod scaling;

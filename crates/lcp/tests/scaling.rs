@@ -174,7 +174,7 @@ fn cone_scaling_is_d_m_d_of_the_unscaled_contact_lcp() {
         for (nc, k) in [(1, 8), (2, 8), (4, 8), (3, 4), (6, 5)] {
             for s in [1.0, 0.5, 1e-3, 1e-6, 0.01] {
                 let unscaled = contact_lcp(nc, k, 1.0, seed);
-                let d = Scaling::cone(nc, k, s);
+                let d = ContactLayout::new(nc, k).cone_scaling(s);
                 let layout = ContactLayout { nc, k };
                 assert_eq!(d.n(), layout.n());
                 assert_eq!(d.row, d.col);
@@ -193,7 +193,7 @@ fn cone_scaling_leaves_forces_and_divides_lambda_by_s() {
     for seed in 0..30 {
         let (nc, k, s) = (1, 4, 1e-3);
         let unscaled = contact_lcp(nc, k, 1.0, seed);
-        let d = Scaling::cone(nc, k, s);
+        let d = ContactLayout::new(nc, k).cone_scaling(s);
         let scaled = d.apply(&unscaled);
         let a = all_solutions(&unscaled, 1e-10);
         let b = all_solutions(&scaled, 1e-10);

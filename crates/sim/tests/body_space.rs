@@ -5,7 +5,7 @@
 mod common;
 
 use common::settled;
-use sim::lcp::support::LcpOperator;
+use sim::lcp::operator::LcpOperator;
 use sim::scenes::{BoxPile, BoxStack};
 use sim::{ConeScale, WorldParams};
 

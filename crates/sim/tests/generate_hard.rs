@@ -11,7 +11,7 @@ use std::collections::BTreeMap;
 
 use lcp::certify::certify_against;
 use lcp::contact::ContactLayout;
-use lcp::{lemke, LemkeOptions, Scaling, Status};
+use lcp::{lemke, LemkeOptions, Status};
 use sim::generate::{
     hard_contact_lcp, hard_contact_lcp_k, hard_corpus, hard_corpus_item, HardKind, HardScene, HARD_MAX_CONTACTS,
     TWIN_OFFSET,
@@ -121,7 +121,7 @@ fn check_structure(s: &HardScene, sc: f64, what: &str) {
     assert!(is_positive_definite(&shifted, nj), "{what}: A + {shift:e} I is not positive definite");
     // The scale is the cone scaling of the unscaled problem, entry for entry.
     if sc != 1.0 {
-        assert_eq!(Scaling::cone(s.nc, s.k, sc).apply(&s.lcp(1.0)), lcp, "{what}: not D M D");
+        assert_eq!(ContactLayout::new(s.nc, s.k).cone_scaling(sc).apply(&s.lcp(1.0)), lcp, "{what}: not D M D");
     }
 }
 

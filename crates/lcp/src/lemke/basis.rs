@@ -246,10 +246,10 @@ impl<'a> Basis<'a> {
         best
     }
 
-    /// XOR of the basic variables' keys (see `run::key`).
+    /// XOR of the basic variables' keys (see [`key`]).
     pub(crate) fn hash(&self, n: usize) -> u64 {
-        let w = (0..n).filter(|&i| self.r_pos[i].is_none()).fold(0u64, |h, i| h ^ super::run::key(i));
-        self.s.iter().fold(w, |h, v| h ^ super::run::key(v.id(n)))
+        let w = (0..n).filter(|&i| self.r_pos[i].is_none()).fold(0u64, |h, i| h ^ key(i));
+        self.s.iter().fold(w, |h, v| h ^ key(v.id(n)))
     }
 
     #[inline]
@@ -628,4 +628,12 @@ impl<'a> Basis<'a> {
         }
         z0
     }
+}
+
+/// Key of a variable for the basis hash (splitmix64 of its id).
+pub(crate) fn key(id: usize) -> u64 {
+    let mut x = (id as u64).wrapping_add(0x9E37_79B9_7F4A_7C15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    x ^ (x >> 31)
 }

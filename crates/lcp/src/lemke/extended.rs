@@ -21,8 +21,8 @@
 //! given. The tableau costs `n·(2n + 2)` double-double operations a pivot at
 //! most (zeros are skipped): milliseconds at n = 80.
 
+use super::basis::key;
 use super::dd_solve::solve_basis;
-use super::run::key;
 use crate::ddouble::Dd;
 use crate::problem::Lcp;
 use std::collections::HashSet;

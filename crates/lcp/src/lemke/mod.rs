@@ -39,7 +39,7 @@ pub use run::PivotRecord;
 pub use workspace::Workspace;
 
 /// The basis hash's key of a variable (shared with [`crate::structured`]).
-pub(crate) use run::key as basis_hash_key;
+pub(crate) use basis::key as basis_hash_key;
 
 use crate::newton_fb::NewtonFbOptions;
 use crate::problem::Lcp;

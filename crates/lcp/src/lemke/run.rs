@@ -1,6 +1,6 @@
 //! The complementary pivoting loop, shared by both pivoting rules.
 
-use super::basis::{Basis, BasisBuffers, Column, Leaving, Var};
+use super::basis::{key, Basis, BasisBuffers, Column, Leaving, Var};
 use super::ratio::{column_max, first_leaving, leaving, Choice, Rule, Scratch};
 use crate::problem::Lcp;
 use crate::solution::Status;
@@ -75,14 +75,6 @@ const SMALL_PIVOT: f64 = 1e-4;
 /// A warm basis whose values dip below zero by less than this (relative)
 /// is taken as it is; the residual check after the run has the last word.
 const WARM_FEASIBLE: f64 = 1e-12;
-
-/// Key of a variable for the basis hash (splitmix64 of its id).
-pub(crate) fn key(id: usize) -> u64 {
-    let mut x = (id as u64).wrapping_add(0x9E37_79B9_7F4A_7C15);
-    x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    x ^ (x >> 31)
-}
 
 /// Runs Lemke with covering vector `d` from the all-slack basis, in the
 /// basis buffers `bufs` and the loop's scratch `lb`.

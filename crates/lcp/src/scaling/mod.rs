@@ -8,11 +8,11 @@
 //! [`Scaling::w_back`]; only tolerances change meaning (a residual of ε in
 //! scaled units is `ε / r_i` in `w` and `ε · c_i` in `z`).
 //!
-//! Two scalings are built here:
-//! - [`Scaling::ruiz`]: Ruiz equilibration, every factor a power of two, so
-//!   applying and undoing it is exact in floating point (barring over/underflow);
-//! - [`Scaling::cone`]: the seed's friction-cone scaling `D = diag(I, I, s·I)`
-//!   on both sides (DESIGN §1): `fn`, `fd` unchanged, `λ_scaled = λ / s`.
+//! [`Scaling::ruiz`] (Ruiz equilibration, every factor a power of two, so
+//! applying and undoing it is exact in floating point, barring
+//! over/underflow) is built here; the friction-cone scaling of a contact LCP
+//! (`D = diag(I, I, s·I)` on both sides: `fn`, `fd` unchanged, `λ_scaled = λ / s`)
+//! is [`crate::contact::ContactLayout::cone_scaling`].
 
 mod exponents;
 
@@ -108,14 +108,6 @@ impl Scaling {
             v.clear();
             v.resize(n, 1.0);
         }
-    }
-
-    /// The seed's friction-cone scaling for `nc` contacts with `k` directions
-    /// (z ordered `[fn (nc); fd (nc·k); λ (nc)]`): `D = diag(I_nc, I_{nc·k}, s·I_nc)`
-    /// on both sides. Applied to the unscaled contact LCP it yields the blocks
-    /// `s·E`, `s·μ`, `−s·Eᵀ` of DESIGN §1.
-    pub fn cone(nc: usize, k: usize, s: f64) -> Scaling {
-        crate::contact::ContactLayout::new(nc, k).cone_scaling(s)
     }
 
     /// `(D_r M D_c, D_r q)`, or an error when the sizes do not match `lcp` or

@@ -5,8 +5,8 @@
 //! three sparse matrices.
 
 use super::sparse::Compressed;
+use crate::operator::LcpOperator;
 use crate::problem::{Lcp, LcpError};
-use crate::support::LcpOperator;
 use std::cell::RefCell;
 
 /// An LCP `(G H + K, q)` with sparse `G`, `H`, `K`.

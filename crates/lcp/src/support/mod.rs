@@ -45,61 +45,10 @@
 
 pub(crate) mod principal;
 
+use crate::operator::LcpOperator;
+#[cfg(test)]
 use crate::problem::Lcp;
 use crate::solution::{Residuals, Solution, Status};
-
-/// An LCP `(M, q)` whose matrix is reached through products and blocks.
-pub trait LcpOperator {
-    /// Size `n`.
-    fn n(&self) -> usize;
-    /// The vector `q`.
-    fn q(&self) -> &[f64];
-    /// `M[rows, cols]` into `out`, row-major (`rows.len() × cols.len()`).
-    fn block(&self, rows: &[usize], cols: &[usize], out: &mut [f64]);
-    /// `w = M z + q`.
-    fn w_of(&self, z: &[f64], w: &mut [f64]);
-    /// Row `i` of `M` into `out` (`n` entries), for the acceptance rule's row
-    /// scales ([`crate::accept::accepts_operator`]). By default one `1 × n` block.
-    fn row(&self, i: usize, out: &mut [f64]) {
-        let cols: Vec<usize> = (0..self.n()).collect();
-        self.block(&[i], &cols, out);
-    }
-    /// The diagonal entry `M_ii`, for the acceptance rule's cheap bound of a
-    /// row's scale. By default one `1 × 1` block.
-    fn diag(&self, i: usize) -> f64 {
-        let mut d = [0.0];
-        self.block(&[i], &[i], &mut d);
-        d[0]
-    }
-}
-
-impl LcpOperator for Lcp {
-    fn n(&self) -> usize {
-        Lcp::n(self)
-    }
-    fn q(&self) -> &[f64] {
-        Lcp::q(self)
-    }
-    fn block(&self, rows: &[usize], cols: &[usize], out: &mut [f64]) {
-        for (r, &i) in rows.iter().enumerate() {
-            let row = self.row(i);
-            for (c, &j) in cols.iter().enumerate() {
-                out[r * cols.len() + c] = row[j];
-            }
-        }
-    }
-    fn w_of(&self, z: &[f64], w: &mut [f64]) {
-        for (i, wi) in w.iter_mut().enumerate() {
-            *wi = crate::problem::dot(Lcp::row(self, i), z) + self.q()[i];
-        }
-    }
-    fn row(&self, i: usize, out: &mut [f64]) {
-        out.copy_from_slice(Lcp::row(self, i));
-    }
-    fn diag(&self, i: usize) -> f64 {
-        Lcp::row(self, i)[i]
-    }
-}
 
 /// Buffers of [`solve_on_basis`], reused across calls by their owner; they
 /// also keep the last factorization for the next call.

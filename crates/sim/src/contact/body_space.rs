@@ -15,7 +15,7 @@
 
 use super::assembly::{dot6, row, ContactLcp, Row6};
 use crate::math::Vec3;
-use lcp::support::LcpOperator;
+use lcp::operator::LcpOperator;
 use std::cell::RefCell;
 
 /// What an index of `z` is, for one contact.

@@ -6,8 +6,9 @@ use crate::contact::assembly::{AssemblyParams, BodyDynamics};
 use crate::contact::{BodyCheck, BodySpaceLcp, ContactLcp};
 use crate::geometry::Contact;
 use lcp::contact::ContactLayout;
+use lcp::operator::LcpOperator;
 use lcp::structured::guess::GuessOptions;
-use lcp::support::{BasisTolerances, LcpOperator, SupportWorkspace};
+use lcp::support::{BasisTolerances, SupportWorkspace};
 use lcp::{Lcp, LcpError, LemkeOptions, Method, Pivoting, Residuals, Solution, Status};
 
 /// A solver for one LCP, started from a basis when one is given.
