@@ -19,8 +19,20 @@ every engine), the worker's peak RSS (``wait4``), and the ratio to MuJoCo.
     bash benchmarks/peers/setup.sh      # venv with mujoco, pybullet, lcpsim; builds rapier-bench
     benchmarks/peers/.venv/bin/python benchmarks/peers/many_bodies.py [--scenes stack10,towers3] [--engines ...]
 
-Writes ``benchmarks/peers/many_bodies.json`` (with every sampled state) and
+Writes ``benchmarks/peers/many_bodies.json.gz`` (with every sampled state) and
 prints the markdown section for ``benchmarks/RESULTS.md``.
+
+Pours (``--benchmark pours``): ``lcpsim.scenes.cube_pour`` of 45, 90, 200 and
+1,000 cubes (3 s = 3,000 steps), contact that changes every step, beside the
+heap of 200 cubes (``pour45,pour90,pour200,heap200`` by default). Its own data
+file ``benchmarks/peers/pours.json.gz`` (``--merge`` adds scenes run later) and
+its own subsection of RESULTS.md; per engine × scene also steps/s over each
+window of 250 steps, and lcpsim's failed LCPs, pivots per step and the share
+of islands that reached the dense Lemke (``Trajectory.lcp_stats().stages``,
+where lcpsim reports it). Per-engine budgets: ``--engine-budget lcpsim=600``::
+
+    benchmarks/peers/.venv/bin/python benchmarks/peers/many_bodies.py --benchmark pours \
+        --scenes pour45,pour90 --budget 300 --engine-budget lcpsim=600 --write-results
 """
 
 from __future__ import annotations
@@ -55,8 +67,9 @@ RAPIER_BIN = ROOT / "benchmarks" / "rapier_bench" / "target" / "release" / "rapi
 SAMPLES = 10  # pose samples per run (plus the start)
 
 
-def worker_command(engine: str, scene: str, desc_path: str, steps: int, budget: float, reps: int) -> list[str]:
-    every = max(1, steps // SAMPLES)
+def worker_command(engine: str, scene: str, desc_path: str, steps: int, budget: float, reps: int,
+                   every: int = 0) -> list[str]:
+    every = every or max(1, steps // SAMPLES)
     if engine == "rapier":
         return [str(RAPIER_BIN), "scene", desc_path, "--steps", str(steps), "--budget", str(budget),
                 "--sample-every", str(every), "--reps", str(reps)]
@@ -131,12 +144,20 @@ def summarize(desc: dict[str, Any], run: dict[str, Any], steps: int) -> dict[str
     secs = reps[0]["seconds"] if reps else (progress[-1]["seconds"] if progress else 0.0)
     out["steps"] = done
     out["progress"] = [[e["steps"], e["seconds"]] for e in progress]
+    out["windows"] = window_rates(out["progress"], desc.get("window") or 0)
     out["rates"] = [r["steps"] / r["seconds"] for r in reps if r["seconds"] > 0]
     if not out["rates"] and secs > 0:
         out["rates"] = [done / secs]
     out["steps_per_second"] = float(np.median(out["rates"])) if out["rates"] else None
     if reps:
         out["stats"] = reps[0].get("stats", {})
+    else:  # killed in a stepping call: lcpsim's counts at its last sample
+        partial = [e for e in ev if e["event"] == "stats" and e.get("rep", 0) == 0]
+        if partial:
+            out["stats"] = partial[-1]["stats"]
+            out["stats_at_step"] = partial[-1]["steps"]
+    if "step_pivots" in out.get("stats", {}):
+        out["lcp"] = lcp_summary(out["stats"], desc.get("window") or 0)
     if run["killed"]:
         out["outcome"] = "killed"
     elif not reps:
@@ -159,6 +180,62 @@ def summarize(desc: dict[str, Any], run: dict[str, Any], steps: int) -> dict[str
             out["max_penetration_m"], out["final_penetration_m"] = max(depths), depths[-1]
             out["drift"] = drift(desc, pos[0], pos[-1])
         out["final_state"] = {"step": samples[-1]["step"], "pos": samples[-1]["pos"], "quat": samples[-1]["quat"]}
+    return out
+
+
+def window_rates(progress: list[list[float]], window: int) -> list[dict[str, Any]]:
+    """Steps/s over each ``window`` steps (the last window as far as the run got),
+    from the progress points; exact where the points fall on the windows' ends,
+    which the workers' stepping calls make sure of when ``window`` is the sample interval."""
+    if not window or not progress:
+        return []
+    steps, secs = [0] + [p[0] for p in progress], [0.0] + [p[1] for p in progress]
+    out = []
+    for a in range(0, int(steps[-1]), window):
+        b = min(a + window, int(steps[-1]))
+        t = float(np.interp(b, steps, secs) - np.interp(a, steps, secs))
+        out.append({"from": a, "to": b, "seconds": t, "steps_per_second": (b - a) / t if t > 0 else None,
+                    "exact": a in steps and b in steps})
+    return out
+
+
+STAGES = ("previous_basis", "guessed_basis", "structured_lemke", "dense_lemke")
+
+
+def lcp_summary(st: dict[str, Any], window: int) -> dict[str, Any]:
+    """lcpsim's per-step counts summed up: failed LCPs, pivots per LCP step
+    (median, mean), the solve chain's stages and backstop fraction (None where
+    lcpsim does not report them), and the same per ``window`` steps."""
+    piv = np.asarray(st["step_pivots"], dtype=float)
+    con = np.asarray(st["step_contacts"], dtype=int)
+    fail = np.asarray(st["step_failed"], dtype=int)
+    has = con > 0
+    calls = np.asarray(st.get("stage_calls") or [], dtype=float).reshape(-1, 2 + len(STAGES))
+
+    def part(a: int, b: int) -> dict[str, Any]:
+        p, h = piv[a:b], has[a:b]
+        d: dict[str, Any] = {"from": a, "to": b, "lcp_steps": int(h.sum()), "failed": int(fail[a:b].sum()),
+                             "pivots_median": float(np.median(p[h])) if h.any() else None,
+                             "pivots_mean": float(p[h].mean()) if h.any() else None,
+                             "pivots_max": int(p.max(initial=0)), "contacts_max": int(con[a:b].max(initial=0))}
+        if st.get("stages_recorded"):
+            sel = calls[(calls[:, 0] >= a) & (calls[:, 0] < b)] if len(calls) else calls
+            counts = sel[:, 2:].sum(axis=0) if len(sel) else np.zeros(len(STAGES))
+            d["stages"] = {name: int(c) for name, c in zip(STAGES, counts)}
+            total = int(counts.sum())
+            d["backstop_fraction"] = float(counts[-1] / total) if total else None
+        return d
+
+    out = part(0, len(piv))
+    if not st.get("stages_recorded") and st.get("backstop_recorded"):
+        n = st.get("stage_islands", 0)
+        out["backstop_fraction"] = st["backstop_islands"] / n if n else None
+    out["stages_recorded"] = bool(st.get("stages_recorded"))
+    out["backstop_recorded"] = bool(st.get("backstop_recorded") or st.get("stages_recorded"))
+    if st.get("other_stages"):
+        out["other_stages"] = st["other_stages"]
+    if window:
+        out["windows"] = [part(a, min(a + window, len(piv))) for a in range(0, len(piv), window)]
     return out
 
 
@@ -212,6 +289,18 @@ def versions() -> dict[str, str]:
     return v
 
 
+def bench_revision() -> str:
+    """The checkout's commit, "+changes" when benchmarks/peers has uncommitted edits (the scripts that ran)."""
+    git = ["git", "-C", str(ROOT)]
+    try:
+        rev = subprocess.run([*git, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
+        dirty = subprocess.run([*git, "status", "--porcelain", "--untracked-files=no", "--", "benchmarks/peers"],
+                               capture_output=True, text=True).stdout.strip()
+    except OSError:
+        return "?"
+    return rev + ("+changes" if dirty else "")
+
+
 def machine() -> str:
     from machine import machine as peers_machine
 
@@ -220,16 +309,22 @@ def machine() -> str:
 
 
 def run_all(scene_keys: list[str], engines: list[str], budget: float, grace: float, mem_cap_gb: float,
-            progress: Any = print) -> dict[str, Any]:
+            progress: Any = print, engine_budgets: dict[str, float] | None = None,
+            command: str = "") -> dict[str, Any]:
+    """Every engine on every scene (see the module's docstring); ``engine_budgets``
+    overrides ``budget`` for the engines it names."""
+    engine_budgets = engine_budgets or {}
     res: dict[str, Any] = {"config": {"dt": 1e-3, "mu": 0.5, "g": 9.81, "budget_s": budget, "grace_s": grace,
                                       "mem_cap_gb": mem_cap_gb, "samples": SAMPLES},
                            "machine": machine(), "versions": versions(), "scenes": {},
-                           "load_average_before": os.getloadavg()}
+                           "load_average_before": os.getloadavg(), "bench_revision": bench_revision(),
+                           "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())}
     with tempfile.TemporaryDirectory() as tmp:
         for key in scene_keys:
             spec = SCENE_BY_KEY[key]
             world, how = spec.build()
             desc = describe(world, how)
+            desc["window"] = spec.sample_every  # 0: none (windows of a tenth of the run are not reported)
             path = os.path.join(tmp, f"{key}.json")
             with open(path, "w") as f:
                 json.dump(desc, f)
@@ -239,6 +334,10 @@ def run_all(scene_keys: list[str], engines: list[str], budget: float, grace: flo
                                      "static_boxes": len(desc["boxes"]) - n_dyn, "seconds": spec.seconds,
                                      "steps": steps, "reps": spec.reps, "initial_state": desc, "engines": {}}
             entry["rounds"] = spec.rounds
+            entry["budget_s"] = {eng: engine_budgets.get(eng, budget) for eng in engines}
+            entry["window"] = spec.sample_every
+            entry["command"] = command
+            entry["benchmark"] = spec.benchmark
             # Rounds run engine after engine, so that a change of the shared
             # machine's speed during the run falls on every engine alike.
             runs: dict[str, list[dict[str, Any]]] = {eng: [] for eng in engines}
@@ -247,8 +346,9 @@ def run_all(scene_keys: list[str], engines: list[str], budget: float, grace: flo
                     if eng == "rapier" and not RAPIER_BIN.exists():
                         entry["engines"][eng] = {"outcome": "not_run", "error": f"{RAPIER_BIN} not built"}
                         continue
-                    cmd = worker_command(eng, key, path, steps, budget, spec.reps)
-                    run = run_worker(cmd, budget + grace, int(mem_cap_gb * (1 << 30)))
+                    b = engine_budgets.get(eng, budget)
+                    cmd = worker_command(eng, key, path, steps, b, spec.reps, spec.sample_every)
+                    run = run_worker(cmd, b + grace, int(mem_cap_gb * (1 << 30)))
                     s = summarize(desc, run, steps)
                     runs[eng].append(s)
                     tag = f" (round {r + 1} of {spec.rounds})" if spec.rounds > 1 else ""
@@ -273,15 +373,21 @@ def describe_outcome(s: dict[str, Any]) -> str:
 
 
 RESULTS_MD = ROOT / "benchmarks" / "RESULTS.md"
+POURS_OUT = HERE / "pours.json.gz"
+POUR_DEFAULT = ["pour45", "pour90", "pour200", "heap200"]
 SCALING_JSON = ROOT / "benchmarks" / "lcp_scaling.json"
 BROADPHASE_JSON = ROOT / "benchmarks" / "broadphase.json"
 
 
 def section(res: dict[str, Any]) -> list[str]:
     """The whole "Many bodies" section: the peers' table, then lcp_scaling.py's and the
-    broad-phase comparison's tables when their JSON files exist."""
+    broad-phase comparison's tables when their JSON files exist. For a run of the
+    pours (``--benchmark pours``) only its subsection (the rest of the section is kept
+    by :func:`many_bodies_report.splice`)."""
     import lcp_scaling
 
+    if res.get("benchmark") == "pours":
+        return many_bodies_report.render_pours(res)
     lines = many_bodies_report.render(res)
     if SCALING_JSON.exists():
         lines += lcp_scaling.render(json.loads(SCALING_JSON.read_text()))
@@ -292,12 +398,19 @@ def section(res: dict[str, Any]) -> list[str]:
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--scenes", default=",".join(s.key for s in SCENES))
+    ap.add_argument("--benchmark", choices=["many_bodies", "pours"], default="many_bodies",
+                    help="which table: the many-body scenes (default) or the pours (its own data file "
+                         f"{POURS_OUT.relative_to(ROOT)} and its own subsection of RESULTS.md)")
+    ap.add_argument("--scenes", default=None,
+                    help="comma-separated; default: every scene of the --benchmark (pours: "
+                         f"{','.join(POUR_DEFAULT)})")
     ap.add_argument("--engines", default=",".join(ENGINES))
     ap.add_argument("--budget", type=float, default=60.0, help="wall-clock seconds per engine × scene")
+    ap.add_argument("--engine-budget", action="append", default=[], metavar="ENGINE=SECONDS",
+                    help="another budget for one engine (repeatable), e.g. lcpsim=600")
     ap.add_argument("--grace", type=float, default=30.0, help="seconds past the budget before a kill")
     ap.add_argument("--mem-cap-gb", type=float, default=4.0, help="address-space cap of each worker")
-    ap.add_argument("--out", default=str(HERE / "many_bodies.json.gz"))
+    ap.add_argument("--out", default=None, help="data file (default: many_bodies.json.gz, or pours.json.gz)")
     ap.add_argument("--render", action="store_true", help="don't run: render the saved --out file")
     ap.add_argument("--windows", default=None,
                     help="with --render: each engine's seconds between these steps (comma-separated)")
@@ -306,12 +419,22 @@ def main() -> int:
                     help=f"rewrite the section '{many_bodies_report.MARKER}' of {RESULTS_MD.relative_to(ROOT)} "
                          "(the subsections this run does not write are kept)")
     args = ap.parse_args()
+    pours = args.benchmark == "pours"
+    if args.out is None:
+        args.out = str(POURS_OUT if pours else HERE / "many_bodies.json.gz")
+    if args.scenes is None:
+        args.scenes = ",".join(POUR_DEFAULT if pours else [s.key for s in SCENES if s.benchmark == "many_bodies"])
+    engine_budgets = {k: float(v) for k, v in (x.split("=", 1) for x in args.engine_budget)}
     if args.render:
         with gzip.open(args.out, "rt") as f:
             res = json.load(f)
     else:
-        res = run_all(args.scenes.split(","), args.engines.split(","), args.budget, args.grace, args.mem_cap_gb)
-        res["command"] = " ".join(["benchmarks/peers/.venv/bin/python", "benchmarks/peers/many_bodies.py", *sys.argv[1:]])
+        command = " ".join(["benchmarks/peers/.venv/bin/python", "benchmarks/peers/many_bodies.py", *sys.argv[1:]])
+        res = run_all(args.scenes.split(","), args.engines.split(","), args.budget, args.grace, args.mem_cap_gb,
+                      engine_budgets=engine_budgets, command=command)
+        res["command"] = command
+        res["benchmark"] = args.benchmark
+        res["engine_budgets"] = engine_budgets
         if args.merge and os.path.exists(args.out):
             with gzip.open(args.out, "rt") as f:
                 old = json.load(f)

@@ -160,6 +160,189 @@ def render(res: dict[str, Any]) -> list[str]:
     return lines
 
 
+# --------------------------------------------------------------------------- the pours
+
+POURS_HEADING = "### Pours: contact that changes every step"
+
+
+def _runs(res: dict[str, Any]) -> list[dict[str, Any]]:
+    """The runs that wrote the data file (the first, then each ``--merge``), each with the scenes it holds now."""
+    runs = [{k: v for k, v in res.items() if k != "scenes"}] + list(res.get("reruns", []))
+    held = {key: e.get("command") for key, e in res["scenes"].items()}
+    for r in runs:
+        r["held"] = [key for key, cmd in held.items() if cmd == r.get("command")]
+    return [r for r in runs if r["held"]]
+
+
+def _backstop(lcp: dict[str, Any] | None) -> str:
+    if not lcp:
+        return ""
+    if not lcp.get("backstop_recorded"):
+        return "not recorded"
+    f = lcp.get("backstop_fraction")
+    if f is None:
+        return "—"
+    st = lcp.get("stages")
+    return f"{f:.3g}" + (f" ({st['dense_lemke']:,} of {sum(st.values()):,} islands)" if st else "")
+
+
+def _stages(lcp: dict[str, Any] | None) -> str:
+    if not lcp or not lcp.get("stages_recorded"):
+        return "not recorded" if lcp else ""
+    st = lcp["stages"]
+    return " / ".join(f"{st[k]:,}" for k in ("previous_basis", "guessed_basis", "structured_lemke", "dense_lemke"))
+
+
+def _ran(s: dict[str, Any], e: dict[str, Any], budget: float | None) -> str:
+    b = f" in {budget:g} s" if budget else ""
+    if s["outcome"] == "ok":
+        reps = len(s.get("rates", []))
+        return f"all {s['steps']:,}" + (f" × {reps} reps" if reps > 1 else "")
+    if s["outcome"] in ("timed_out", "killed"):
+        how = " (killed mid-step)" if s["outcome"] == "killed" else ""
+        return f"**{s['steps']:,} of {e['steps']:,}**{b}{how}"
+    return ran(s, e)
+
+
+def render_pours(res: dict[str, Any]) -> list[str]:
+    """The pours' subsection: one table of every engine × scene, then steps/s
+    per window of steps (and lcpsim's pivots per window), from ``--benchmark pours``'s data file."""
+    scenes = res["scenes"]
+    lines = [
+        POURS_HEADING,
+        "",
+        "Written by `many_bodies.py --benchmark pours --write-results` from `benchmarks/peers/pours.json.gz` "
+        "(do not edit by hand; rerun). A pour: n unit cubes (1 kg, μ = 0.5) with uniformly random orientations "
+        "released at rest from a loose column (g × g cells per layer, g = max(2, ⌈√(n/10)⌉), cells 1.8 m apart) "
+        "inside four static walls, tumbling into one heap, 3 simulated seconds (3,000 steps of 1 ms): contacts "
+        "appear, vanish and change every step. The heap of 200 cubes (`cube_heap`, a stepped pyramid started "
+        "just above its resting places, with walls) is run beside them. Every engine starts from the state "
+        "exported from the lcpsim world (walls included); each engine × scene in its own process, under its "
+        "wall-clock budget (below); steps/s counts the stepping calls only; a run cut by its budget reports "
+        "the steps it did and its rate over them (× MuJoCo in brackets: MuJoCo's time over the same first "
+        "steps, since the early, free-falling steps are the cheap ones).",
+        "",
+    ]
+    for i, r in enumerate(_runs(res), 1):
+        v = r.get("versions", {})
+        la = r.get("load_average_before", [float("nan")])[0], r.get("load_average_after", [float("nan")])[0]
+        lines.append(
+            f"- Run {i} ({', '.join(r['held'])}): lcpsim {v.get('lcpsim')} built from commit "
+            f"{v.get('lcpsim_revision', '?')} (benchmark scripts at {r.get('bench_revision', '?')}); "
+            f"{r.get('machine')}; MuJoCo {v.get('mujoco')}, PyBullet {v.get('pybullet')}, rapier3d-f64 "
+            f"{v.get('rapier3d-f64')}, Python {v.get('python')}, numpy {v.get('numpy')}; "
+            f"{r.get('date', 'date not recorded')}; 1-minute load average {la[0]:.1f} before, {la[1]:.1f} after. "
+            f"Command: `{r.get('command')}`")
+    built = sorted({e["built_by"] for e in scenes.values()})
+    lines += ["", "Scenes built by: " + "; ".join(built) + "."]
+    if any("built here" in b for b in built):
+        lines.append("**Some scenes were built here, not by lcpsim's `cube_pour`: their figures are not those of "
+                     "lcpsim's scene.**")
+    lines += [
+        "",
+        "| scene | engine | budget (s) | steps done | steps/s | × MuJoCo | failed LCPs | backstop fraction "
+        "| pivots per LCP step (median / mean) | contacts (max) | max penetration (m) (at the end) "
+        "| peak RSS (MB) |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for key, e in scenes.items():
+        mj = e["engines"].get("mujoco", {})
+        mjs = mj.get("steps_per_second")
+        first = True
+        for eng, s in e["engines"].items():
+            walls = f" + {e['static_boxes']} walls" if e.get("static_boxes") else ""
+            scene = f"{key}: {e['title']} ({e['bodies']} cubes{walls})" if first else ""
+            first = False
+            budget = (e.get("budget_s") or {}).get(eng)
+            if s["outcome"] == "not_run":
+                lines.append(f"| {scene} | {TITLES.get(eng, eng)} | {fmt(budget, 'g')} | not run: {s['error']} "
+                             "| | | | | | | | |")
+                continue
+            sps = s.get("steps_per_second")
+            ratio = f"{sps / mjs:.3g}×" if sps and mjs else "—"
+            same = same_steps_ratio(s, mj)
+            if s["outcome"] != "ok" and same:
+                ratio += f" ({same:.3g}×)"
+            lcp = s.get("lcp")
+            if lcp:
+                failed = f"{lcp['failed']:,} of {lcp['lcp_steps']:,}"
+                piv = f"{fmt(lcp['pivots_median'], '.4g')} / {fmt(lcp['pivots_mean'], '.4g')}"
+                if s.get("stats_at_step"):
+                    failed += f" (to step {s['stats_at_step']:,})"
+            else:
+                failed = piv = ""
+            contacts = (s.get("stats") or {}).get("max_contacts") if eng == "lcpsim" else None
+            if contacts is None:
+                sampled = s.get("contacts_sampled") or []
+                contacts = max(sampled) if sampled else None
+            lines.append(
+                f"| {scene} | {TITLES.get(eng, eng)} | {fmt(budget, 'g')} | {_ran(s, e, None)} | "
+                f"{fmt(sps, ',.1f')} | {ratio} | {failed} | {_backstop(lcp)} | {piv} | {fmt(contacts, ',d')} | "
+                f"{fmt(s.get('max_penetration_m'), '.2g')} ({fmt(s.get('final_penetration_m'), '.2g')}) | "
+                f"{fmt(s.get('peak_rss_mb'), ',.0f')} |")
+    lines += [
+        "",
+        "- **failed LCPs**: lcpsim's steps whose contact LCP was not solved (of the steps with contacts). "
+        "**backstop fraction**: the share of contact islands that reached the last stage of lcpsim's island "
+        "solve chain, the dense Lemke (whose ladder ends in cold and exact runs), from "
+        "`Trajectory.lcp_stats().stages` (\"not recorded\": the lcpsim built does not report the stages). "
+        "**pivots per LCP step**: every island's pivots (every attempt's) in one step, over the steps with contacts.",
+        "- Contacts: lcpsim the most in any step, the peers the most at a sample (every 250 steps). Penetration: "
+        "the deepest box–box, box–wall or box–ground overlap over the samples (the same separating-axis code for "
+        "every engine; at the last sample in brackets). Engines as in the table above (MuJoCo soft contacts with "
+        "its defaults; PyBullet and Rapier without sleeping).",
+        "",
+    ]
+    lines += pour_windows(res)
+    return lines
+
+
+def pour_windows(res: dict[str, Any]) -> list[str]:
+    """Steps/s over each window of steps, per engine × scene; lcpsim's mean pivots
+    per LCP step and most contacts per window below its rate."""
+    rows = []
+    width = 0
+    for key, e in res["scenes"].items():
+        w = e.get("window") or 0
+        if not w:
+            continue
+        for eng, s in e["engines"].items():
+            wins = s.get("windows") or []
+            if not wins:
+                continue
+            width = max(width, -(-e["steps"] // w))
+            cells = [("—" if x["steps_per_second"] is None else f"{x['steps_per_second']:,.0f}")
+                     + ("" if x["to"] - x["from"] == w else f" ({x['to'] - x['from']} steps)") for x in wins]
+            rows.append((key, w, TITLES.get(eng, eng) + " steps/s", cells))
+            lcp = s.get("lcp")
+            if lcp and lcp.get("windows"):
+                rows.append((key, w, "lcpsim pivots per LCP step (mean)",
+                             [fmt(x["pivots_mean"], ",.0f") for x in lcp["windows"]]))
+                rows.append((key, w, "lcpsim contacts (max)", [f"{x['contacts_max']:,}" for x in lcp["windows"]]))
+                if lcp.get("stages_recorded"):
+                    rows.append((key, w, "lcpsim backstop fraction",
+                                 [fmt(x.get("backstop_fraction"), ".2g") for x in lcp["windows"]]))
+    if not rows:
+        return []
+    ws = {r[1] for r in rows}
+    w = ws.pop() if len(ws) == 1 else None
+    head = [f"{i * w}–{(i + 1) * w}" for i in range(width)] if w else [f"window {i + 1}" for i in range(width)]
+    lines = [
+        "Where the time goes: steps/s over each window of 250 steps (exact: the workers' stepping calls end "
+        "on the windows' bounds; a run cut short ends with a shorter window), and lcpsim's pivots and contacts "
+        "per window.",
+        "",
+        "| scene | | " + " | ".join(head) + " |",
+        "|---|---|" + "---|" * width,
+    ]
+    last = None
+    for key, _, what, cells in rows:
+        lines.append(f"| {key if key != last else ''} | {what} | " + " | ".join(cells + [""] * (width - len(cells)))
+                     + " |")
+        last = key
+    return lines + [""]
+
+
 # --------------------------------------------------------------------------- the other two benchmarks
 
 #: RESULTS.md's "Many bodies" section runs from this heading to the next "## " heading or the end.
@@ -205,16 +388,17 @@ def _subsections(text: str) -> tuple[str, list[tuple[str, str]]]:
 def splice(md: str, section: list[str]) -> str:
     """``md`` with its "Many bodies" section (from :data:`MARKER` to the next top-level
     heading, such as fclib_siconos.py's, or the end) rewritten from ``section``: its
-    text before the first subsection and every subsection it has are replaced (a
+    text before the first subsection (unless ``section`` has none) and every subsection it has are replaced (a
     subsection by the one of the same heading, in place; new ones after the rest),
     and the subsections it does not have — earlier runs, written by hand — are kept."""
     head, _, rest = md.partition("\n" + MARKER)
     later = rest.split("\n## ", 1)
     keep = "\n## " + later[1].rstrip("\n") + "\n" if len(later) == 2 else ""
-    _, old = _subsections(MARKER + later[0]) if rest else ("", [])
+    old_top, old = _subsections(MARKER + later[0]) if rest else ("", [])
     top, new = _subsections("\n".join(section))
     fresh, had = dict(new), {h for h, _ in old}
-    blocks = [top] + [fresh.get(h, b) for h, b in old] + [b for h, b in new if h not in had]
+    # A section of subsections only (the pours') keeps the text before them.
+    blocks = [top or old_top] + [fresh.get(h, b) for h, b in old] + [b for h, b in new if h not in had]
     return head.rstrip("\n") + "\n\n" + "\n\n".join(blocks) + "\n" + keep
 
 

@@ -6,7 +6,9 @@ the description file), then runs ``reps`` fresh repetitions of ``steps`` steps,
 each stopped once its wall clock passes ``budget`` seconds. It prints JSON
 lines: ``ready`` (RSS after building), ``progress`` (steps done, seconds spent
 stepping), ``sample`` (the dynamic boxes' poses and contact count, first
-repetition only, every ``sample_every`` steps) and ``rep``. Only the stepping
+repetition only, every ``sample_every`` steps; a stepping call never crosses
+a sample, so the seconds between samples are exact), ``stats`` (lcpsim's
+counts so far, after each sample) and ``rep``. Only the stepping
 calls are timed: building, sampling and reading out are not.
 
 Engines keep their defaults except what the scene fixes — dt, gravity, μ = 0.5
@@ -55,13 +57,53 @@ class LcpsimEngine:
         self.dyn = np.array([i for i in range(world.body_count)
                              if world.body(i).kind == "box" and not world.body(i).is_static])
         self.stats = {"lcps": 0, "failures": 0, "max_lcp_size": 0, "max_contacts": 0, "pivots": 0,
-                      "max_pivots": 0, "statuses": {}}
+                      "max_pivots": 0, "statuses": {},
+                      # Per step: pivots (every island's, every attempt's), contacts, LCP failed (0/1).
+                      "step_pivots": [], "step_contacts": [], "step_failed": [],
+                      # Per stepping call, where lcpsim reports them (Trajectory.lcp_stats().stages):
+                      # [first step, steps, islands answered by each stage of STAGES in turn].
+                      "stage_calls": [], "stages_recorded": False, "backstop_recorded": False,
+                      "backstop_islands": 0.0, "stage_islands": 0}
         self.last_contacts = 0
+        self.done = 0
+
+    #: The island solve chain's stages, in order; the last one (the dense Lemke) is the backstop.
+    STAGES = ("previous_basis", "guessed_basis", "structured_lemke", "dense_lemke")
+
+    def record_stages(self, traj: Any, k: int) -> None:
+        """The solve chain's stages of this call's islands, where ``lcp_stats()`` has them
+        (``stages``: islands per stage; ``backstop_fraction``: the share of islands that
+        reached the dense Lemke); nothing otherwise (the report says "not recorded")."""
+        ls = traj.lcp_stats()
+        s = self.stats
+        stages = getattr(ls, "stages", None)
+        islands = None
+        if stages is not None:
+            s["stages_recorded"] = True
+            counts = [int(stages.get(name, 0)) for name in self.STAGES]
+            s["stage_calls"].append([self.done, k, *counts])
+            islands = sum(int(v) for v in stages.values())
+            for name, v in stages.items():
+                if name not in self.STAGES:
+                    s.setdefault("other_stages", {})
+                    s["other_stages"][name] = s["other_stages"].get(name, 0) + int(v)
+        frac = getattr(ls, "backstop_fraction", None)
+        if frac is not None:
+            s["backstop_recorded"] = True
+            if islands is None:
+                islands = int(traj.islands.sum())
+            s["backstop_islands"] += float(frac) * islands
+            s["stage_islands"] += islands
 
     def step(self, k: int) -> None:
         traj = self.w.run(k)
         has = traj.status != "no_contact"
         s = self.stats
+        s["step_pivots"] += traj.pivots.astype(int).tolist()
+        s["step_contacts"] += traj.contacts.astype(int).tolist()
+        s["step_failed"] += (~traj.ok).astype(int).tolist()
+        self.record_stages(traj, k)
+        self.done += k
         s["lcps"] += int(has.sum())
         s["failures"] += traj.failures
         s["max_lcp_size"] = max(s["max_lcp_size"], int(traj.lcp_size.max(initial=0)))
@@ -210,6 +252,9 @@ def run_rep(make: Any, steps: int, budget: float, sample_every: int, rep: int) -
         emit("progress", rep=rep, steps=done, seconds=seconds)
         if rep == 0 and (done == next_sample or done == steps):
             sample(engine, done)
+            if "step_pivots" in getattr(engine, "stats", {}):
+                # lcpsim's counts so far: what a run killed in a stepping call still reports.
+                emit("stats", rep=rep, steps=done, stats=engine.stats)
     if rep == 0 and timed_out:
         sample(engine, done)
     emit("rep", rep=rep, steps=done, seconds=seconds, timed_out=timed_out, stats=getattr(engine, "stats", {}))

@@ -1,8 +1,9 @@
 """The many-body scenes of ``many_bodies.py``, and the measurements taken on their states.
 
 Every scene is built by lcpsim's public API (``lcpsim.scenes.box_stack``,
-``box_pile``, ``cube_heap`` when lcpsim has it, else :func:`build_heap` with
-``World.add_box``) and then *exported* (:func:`describe`): the boxes' half
+``box_pile``, ``cube_heap`` and ``cube_pour`` when lcpsim has them, else
+:func:`build_heap` with ``World.add_box``) and then *exported*
+(:func:`describe`): the boxes' half
 extents, centres, orientations, masses and static flags, over the ground
 plane ``z = 0``. Every peer is built from that description, so all engines
 start from bit-identical states. 1 kg unit cubes, μ = 0.5, g = 9.81, dt = 1e-3.
@@ -107,6 +108,22 @@ def heap_world(n: int, seed: int = 1) -> tuple[Any, str]:
     return make(**kwargs).world, "lcpsim.scenes.cube_heap"
 
 
+def pour_world(n: int, seed: int = 0) -> tuple[Any, str]:
+    """The pour of ``n`` cubes: lcpsim's ``scenes.cube_pour(n, seed, walls=True, dt=1e-3)``
+    (unit cubes, 1 kg, μ 0.5, uniformly random orientations, at rest in a loose
+    column of g × g cells per layer 1.8 m apart, g = max(2, ⌈√(n/10)⌉, inside
+    four static walls), with a note of how it was built. Where lcpsim has no
+    ``cube_pour`` yet, the same kind of column is built here (:func:`build_heap`:
+    :func:`heap_layout` in :func:`heap_walls`) and the note says so: its
+    figures are then not those of lcpsim's scene."""
+    from lcpsim import scenes
+
+    make = getattr(scenes, "cube_pour", None)
+    if make is None:
+        return build_heap(n, seed), f"built here with World.add_box (lcpsim.scenes has no cube_pour; seed {seed})"
+    return make(n, seed=seed, walls=True, dt=DT).world, f"lcpsim.scenes.cube_pour({n}, seed={seed}, walls=True)"
+
+
 # --------------------------------------------------------------------------- scenes
 
 
@@ -118,6 +135,10 @@ class SceneSpec:
     seconds: float  # simulated time per run
     reps: int  # repetitions within one worker process
     rounds: int = 1  # worker processes per engine, interleaved engine after engine (see many_bodies.run_all)
+    #: Steps between pose samples (0: a tenth of the run). The stepping calls
+    #: never cross a sample, so the seconds of each window between samples are exact.
+    sample_every: int = 0
+    benchmark: str = "many_bodies"  # the RESULTS.md table it belongs to: "many_bodies" or "pours"
 
 
 def _stack(n: int) -> Callable[[], tuple[Any, str]]:
@@ -142,12 +163,28 @@ def _heap(n: int) -> Callable[[], tuple[Any, str]]:
     return lambda: heap_world(n)
 
 
+def _pour(n: int) -> Callable[[], tuple[Any, str]]:
+    return lambda: pour_world(n)
+
+
+#: Pours: 3 simulated seconds, sampled (and timed) every 250 steps.
+POUR_SECONDS = 3.0
+POUR_WINDOW = 250
+
+
 SCENES: list[SceneSpec] = [
     SceneSpec("stack10", "10-box stack", _stack(10), 2.0, 3, rounds=3),
     SceneSpec("towers3", "3×3×3 towers (9 stacks of 3)", _towers(3, 3), 2.0, 3, rounds=3),
     SceneSpec("towers10", "10×10×10 towers (100 stacks of 10)", _towers(10, 10), 1.0, 1, rounds=3),
-    SceneSpec("heap200", "heap of 200 cubes", _heap(200), 2.0, 3),
-    SceneSpec("heap1000", "heap of 1,000 cubes", _heap(1000), 1.5, 1),
+    # The heaps are sampled every 250 steps, as the pours are, so their windows compare.
+    SceneSpec("heap200", "heap of 200 cubes", _heap(200), 2.0, 3, sample_every=POUR_WINDOW),
+    SceneSpec("heap1000", "heap of 1,000 cubes", _heap(1000), 1.5, 1, sample_every=POUR_WINDOW),
+    SceneSpec("pour45", "pour of 45 cubes", _pour(45), POUR_SECONDS, 1, sample_every=POUR_WINDOW, benchmark="pours"),
+    SceneSpec("pour90", "pour of 90 cubes", _pour(90), POUR_SECONDS, 1, sample_every=POUR_WINDOW, benchmark="pours"),
+    SceneSpec("pour200", "pour of 200 cubes", _pour(200), POUR_SECONDS, 1, sample_every=POUR_WINDOW,
+              benchmark="pours"),
+    SceneSpec("pour1000", "pour of 1,000 cubes", _pour(1000), POUR_SECONDS, 1, sample_every=POUR_WINDOW,
+              benchmark="pours"),
 ]
 SCENE_BY_KEY = {s.key: s for s in SCENES}
 
