@@ -19,8 +19,9 @@
 //! - [`certify`]: exact (rational) check that a complementary basis solves the LCP of the floats given.
 //! - [`structured`]: Lemke on `M = G H + K` with sparse `G`, `H`, `K` (a contact
 //!   LCP in body space): sparse LU of the basis with eta updates, no dense `M`.
-//! - [`support`]: solving on a guessed complementary basis through an operator
-//!   (`M` never formed): the zero-pivot step of a simulator.
+//! - [`operator`]: an LCP reached through products and blocks ([`operator::LcpOperator`]), `M` never formed.
+//! - [`on_basis`]: solving on a given (guessed) complementary basis through an operator: the
+//!   zero-pivot step of a simulator.
 //! - [`enumerate`]: brute-force enumeration of complementary bases (small n; tests).
 //! - [`limits`]: sizes checked before allocating (memory a dense LCP needs, `try_reserve`).
 //! - [`generate`]: seeded generators of test LCPs (P-matrix, SPD, Murty, infeasible); contact
@@ -37,13 +38,13 @@ pub mod lemke;
 pub mod limits;
 pub mod method;
 pub mod newton_fb;
+pub mod on_basis;
 pub mod operator;
 pub mod pgs;
 pub mod problem;
 pub mod scaling;
 pub mod solution;
 pub mod structured;
-pub mod support;
 
 pub use contact::ContactLayout;
 pub use lemke::{LemkeOptions, Pivoting};

@@ -1,13 +1,13 @@
-//! `lcp::support::solve_on_basis`: the answer on a guessed basis, checked by
+//! `lcp::on_basis::solve_on_basis`: the answer on a guessed basis, checked by
 //! residual, with dependent columns dropped and violated indices exchanged.
 
 use lcp::generate::p_matrix_lcp;
-use lcp::support::{solve_on_basis, SupportWorkspace};
+use lcp::on_basis::{solve_on_basis, BasisWorkspace};
 use lcp::{lemke, Lcp, LemkeOptions};
 
 #[test]
 fn lemkes_basis_solves_its_problem_again_without_pivots() {
-    let mut ws = SupportWorkspace::default();
+    let mut ws = BasisWorkspace::default();
     for seed in 0..20 {
         let lcp = p_matrix_lcp(12, seed);
         let sol = lemke::solve(&lcp, &LemkeOptions::default());
@@ -27,7 +27,7 @@ fn a_dependent_column_is_dropped_and_the_answer_checked() {
     // Two identical constraints bear one load: M = [[1, 1], [1, 1]], q = [−1, −1].
     // Both basic is singular; one of them carries the load, the other is 0.
     let lcp = Lcp::new(vec![1.0, 1.0, 1.0, 1.0], vec![-1.0, -1.0]).unwrap();
-    let ans = solve_on_basis(&lcp, &[true, true], 1e-9, None, &mut SupportWorkspace::default()).unwrap();
+    let ans = solve_on_basis(&lcp, &[true, true], 1e-9, None, &mut BasisWorkspace::default()).unwrap();
     assert_eq!(ans.dropped, 1);
     let z = &ans.solution.z;
     assert!((z[0] + z[1] - 1.0).abs() < 1e-15 && z.iter().all(|&v| v >= 0.0));
@@ -37,7 +37,7 @@ fn a_dependent_column_is_dropped_and_the_answer_checked() {
 
 #[test]
 fn a_wrong_basis_is_repaired_or_refused_never_accepted_wrong() {
-    let mut ws = SupportWorkspace::default();
+    let mut ws = BasisWorkspace::default();
     let (mut repaired, mut refused) = (0, 0);
     for seed in 0..40 {
         let lcp = p_matrix_lcp(10, seed);
@@ -64,7 +64,7 @@ fn a_wrong_basis_is_repaired_or_refused_never_accepted_wrong() {
 #[test]
 fn wrong_length_or_non_finite_blocks_are_refused() {
     let lcp = p_matrix_lcp(4, 1);
-    let mut ws = SupportWorkspace::default();
+    let mut ws = BasisWorkspace::default();
     assert!(solve_on_basis(&lcp, &[true; 3], 1e-9, None, &mut ws).is_none());
 }
 
@@ -76,7 +76,7 @@ fn perturbed(lcp: &Lcp, rel: f64) -> Lcp {
 
 #[test]
 fn the_kept_factorization_refines_to_answers_that_solve_the_new_problem() {
-    let mut ws = SupportWorkspace::default();
+    let mut ws = BasisWorkspace::default();
     let (mut reused, mut fresh) = (0, 0);
     for seed in 0..20 {
         let lcp = p_matrix_lcp(12, seed);
@@ -122,7 +122,7 @@ fn a_violation_within_the_bound_is_still_exchanged_when_an_exchange_clears_it() 
     // repair threshold: z₁ enters and the answer is exact.
     let eps = 1e-9;
     let lcp = Lcp::new(vec![1.0, 0.0, 0.0, 1.0], vec![-1.0, -eps]).unwrap();
-    let ans = solve_on_basis(&lcp, &[true, false], 1e-9, None, &mut SupportWorkspace::default()).unwrap();
+    let ans = solve_on_basis(&lcp, &[true, false], 1e-9, None, &mut BasisWorkspace::default()).unwrap();
     assert_eq!(ans.solution.basis.as_deref(), Some(&[true, true][..]));
     assert_eq!(ans.solution.z, vec![1.0, eps]);
     assert_eq!(ans.solution.residuals.residual, 0.0);
@@ -136,7 +136,7 @@ fn an_entering_dependent_index_stays_and_its_partner_leaves() {
     // z = (0, 1 + ε), w₀ = ε ≥ 0, exact.
     let eps = 1e-9;
     let lcp = Lcp::new(vec![1.0, 1.0, 1.0, 1.0], vec![-1.0, -1.0 - eps]).unwrap();
-    let ans = solve_on_basis(&lcp, &[true, false], 1e-9, None, &mut SupportWorkspace::default()).expect("exact");
+    let ans = solve_on_basis(&lcp, &[true, false], 1e-9, None, &mut BasisWorkspace::default()).expect("exact");
     assert_eq!(ans.solution.basis.as_deref(), Some(&[false, true][..]));
     assert_eq!(ans.solution.z, vec![0.0, 1.0 + eps]);
     assert_eq!(ans.solution.residuals.residual, 0.0);
@@ -172,7 +172,7 @@ fn an_answer_within_the_bound_is_kept_with_its_factors_when_exchanges_do_no_bett
     // and its factorization with it, so the next call from its basis reuses it.
     let eps = 1e-9;
     let lcp = Lcp::new(vec![1.0, 1.0, 1.0, 1e-3], vec![-1.0, -1.0 - eps]).unwrap();
-    let mut ws = SupportWorkspace::default();
+    let mut ws = BasisWorkspace::default();
     let first = solve_on_basis(&lcp, &[true, false], 1e-9, None, &mut ws).expect("within the bound");
     assert_eq!(first.solution.basis.as_deref(), Some(&[true, false][..]));
     assert_eq!(first.solution.z, vec![1.0, 0.0]);
@@ -183,7 +183,7 @@ fn an_answer_within_the_bound_is_kept_with_its_factors_when_exchanges_do_no_bett
 
 #[test]
 fn an_answer_within_only_the_rules_bound_is_kept_with_its_factors_too() {
-    use lcp::support::{solve_on_basis_ruled, BasisTolerances};
+    use lcp::on_basis::{solve_on_basis_ruled, BasisTolerances};
     // As above with a normwise bound `tight` 100 times below the rule's: w₁ =
     // −6e-10 is within the rule's bound only (the `loose` last resort), and
     // no exchange does better. Its factorization is kept, so the next call
@@ -192,7 +192,7 @@ fn an_answer_within_only_the_rules_bound_is_kept_with_its_factors_too() {
     let eps = 6e-10;
     let lcp = Lcp::new(vec![1.0, 1.0, 1.0, 1e-3], vec![-1.0, -1.0 - eps]).unwrap();
     let tol = BasisTolerances { accept_tol: 1e-9, tight: 1e-11, loose: true, polish: true, more_rounds: true };
-    let mut ws = SupportWorkspace::default();
+    let mut ws = BasisWorkspace::default();
     let first = solve_on_basis_ruled(&lcp, &[true, false], tol, None, &mut ws).expect("within the rule's bound");
     assert_eq!(first.solution.basis.as_deref(), Some(&[true, false][..]));
     assert_eq!(first.solution.z, vec![1.0, 0.0]);
@@ -202,7 +202,7 @@ fn an_answer_within_only_the_rules_bound_is_kept_with_its_factors_too() {
     assert_eq!(again.solution.z, first.solution.z);
     // Without the loose last resort there is no answer.
     let strict = BasisTolerances { loose: false, ..tol };
-    assert!(solve_on_basis_ruled(&lcp, &[true, false], strict, None, &mut SupportWorkspace::default()).is_none());
+    assert!(solve_on_basis_ruled(&lcp, &[true, false], strict, None, &mut BasisWorkspace::default()).is_none());
 }
 
 #[test]
@@ -216,7 +216,7 @@ fn a_row_rejected_after_clipping_a_negative_z_sends_that_z_out_of_the_basis() {
     // "the same index again"); b leaving gives the answer a = b = 0, l = 1e-13.
     let m = vec![2.0, 0.0, 1.0, 0.0, 2.0, 1.0, -1.0, -1.0, 0.0];
     let lcp = Lcp::new(m, vec![-1e-13, 1e-13, 0.0]).unwrap();
-    let ans = solve_on_basis(&lcp, &[true, true, true], 1e-9, None, &mut SupportWorkspace::default())
+    let ans = solve_on_basis(&lcp, &[true, true, true], 1e-9, None, &mut BasisWorkspace::default())
         .expect("b leaves and the basis {a, l} solves it");
     assert_eq!(ans.solution.basis.as_deref(), Some(&[true, false, true][..]));
     assert_eq!(ans.solution.pivots, 0);

@@ -71,7 +71,7 @@ fn resting_stacks_of_6_to_16_boxes_pivot_on_few_steps_over_two_seconds() {
     // pivot is chaotic (a 10-box stack once pivoted on 7 steps, without the
     // guess, where 11 boxes pivoted on 133), so the bound is on a family of
     // stacks. Measured (`stack_steps 2000 6 8 10 12 14 16`): 1, 1, 2, 2, 3, 2
-    // steps; before exchange rounds bordered the factors (`lcp::support`) 2, 4,
+    // steps; before exchange rounds bordered the factors (`lcp::on_basis`) 2, 4,
     // 7, 2, 2, 3; before they sent clipped friction out of the basis (up to
     // 32 rounds) 4, 5, 21, 23, 25, 19; with the guess and then the dense
     // Lemke 4, 10, 19, 31, 36, 40; with the dense Lemke alone 8, 38, 7, 97,

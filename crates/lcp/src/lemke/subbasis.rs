@@ -10,11 +10,11 @@
 //! `M_αα` for a consistent system, `z_β` solves the rows left out too, and the
 //! residual check after the solve has the last word anyway.
 
-use crate::support::principal;
+use crate::on_basis::principal;
 
 /// Keeps in `alpha` a subset `β` whose block `M_ββ` (`m(i, j)` for
 /// `i, j ∈ β`) has rank `|β|` = the numerical rank found by the principal
-/// factorization of [`crate::support::principal`] (largest diagonal pivot of
+/// factorization of [`crate::on_basis::principal`] (largest diagonal pivot of
 /// the remaining Schur complement first). `a` is scratch. Returns the number
 /// of indices dropped.
 pub(crate) fn regular_subset(m: impl Fn(usize, usize) -> f64, alpha: &mut Vec<usize>, a: &mut Vec<f64>) -> usize {

@@ -8,10 +8,10 @@
 //! ```
 //!
 //! A product costs O(contacts) and an entry O(1) (two 6-vectors per shared
-//! body), so checking a guessed basis ([`lcp::support`]) costs the size of
+//! body), so checking a guessed basis ([`lcp::on_basis`]) costs the size of
 //! the basis, not `n²`: this is what lets a resting stack take a step
 //! without assembling or equilibrating a dense matrix. The solver still never
-//! sees a body — it sees [`lcp::support::LcpOperator`].
+//! sees a body — it sees [`lcp::on_basis::LcpOperator`].
 
 use super::assembly::{dot6, row, ContactLcp, Row6};
 use crate::math::Vec3;

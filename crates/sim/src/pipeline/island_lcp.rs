@@ -6,9 +6,9 @@ use crate::contact::assembly::{AssemblyParams, BodyDynamics};
 use crate::contact::{BodyCheck, BodySpaceLcp, ContactLcp};
 use crate::geometry::Contact;
 use lcp::contact::ContactLayout;
+use lcp::on_basis::{BasisTolerances, BasisWorkspace};
 use lcp::operator::LcpOperator;
 use lcp::structured::guess::GuessOptions;
-use lcp::support::{BasisTolerances, SupportWorkspace};
 use lcp::{Lcp, LcpError, LemkeOptions, Method, Pivoting, Residuals, Solution, Status};
 
 /// A solver for one LCP, started from a basis when one is given.
@@ -44,7 +44,7 @@ pub struct IslandLcp {
     /// failed-solve policy of `pipeline::energy` applies, set by `integrate`).
     pub z_apply: Vec<f64>,
     /// Buffers of the body-space check of the previous basis.
-    pub support: SupportWorkspace,
+    pub support: BasisWorkspace,
     /// Options of the body-space check of the answer and its double-double
     /// re-solve (`pipeline::body_check`), `None` for no check; set per solve.
     pub body_check: Option<LemkeOptions>,
@@ -276,7 +276,7 @@ type PhysicalZw = (Vec<f64>, Vec<f64>);
 pub const GUESS_SWEEPS_PREVIOUS: usize = 60;
 
 /// When the previous step's basis fails in body space (after its exchange
-/// rounds, or none when the back-off of `lcp::support` skips them), the
+/// rounds, or none when the back-off of `lcp::on_basis` skips them), the
 /// basis read from [`GUESS_SWEEPS_PREVIOUS`] sweeps of body-space projected
 /// Gauss–Seidel (`lcp::structured::guess`) started at the previous
 /// step's impulses `z_prev` (physical; from zero when it is not of this
@@ -290,7 +290,7 @@ pub(super) fn try_guessed_basis(
     z_prev: &[f64],
     accept_tol: f64,
     mixed: bool,
-    ws: &mut SupportWorkspace,
+    ws: &mut BasisWorkspace,
 ) -> Option<(Solution, PhysicalZw)> {
     let (lay, s) = (lcp.layout(), lcp.scale());
     let op = crate::contact::structured::structured_lcp(lcp, s).ok()?;
@@ -319,7 +319,7 @@ pub(super) fn try_previous_basis(
     basis: &[bool],
     accept_tol: f64,
     mixed: bool,
-    ws: &mut SupportWorkspace,
+    ws: &mut BasisWorkspace,
 ) -> Option<(Solution, PhysicalZw)> {
     let scaled = BodySpaceLcp::new(lcp);
     let physical = BodySpaceLcp::at_scale(lcp, 1.0);
@@ -347,7 +347,7 @@ pub(super) fn try_previous_basis(
         // steps (η_body up to 3.8e-8), against 1 (1.5e-8) with 8 rounds.
         more_rounds: !mixed,
     };
-    let a = lcp::support::solve_on_basis_ruled(&scaled, basis, tol, also, ws)?;
+    let a = lcp::on_basis::solve_on_basis_ruled(&scaled, basis, tol, also, ws)?;
     // At scale 1, z and w are the physical ones (λ·1 and the same products).
     let zw = a.other.unwrap_or_else(|| (a.solution.z.clone(), a.solution.w.clone()));
     Some((a.solution, zw))

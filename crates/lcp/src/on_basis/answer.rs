@@ -1,0 +1,70 @@
+//! What a solve on a basis returns ([`BasisAnswer`]) and when it accepts
+//! one ([`BasisTolerances`]).
+
+use super::workspace::BasisWorkspace;
+use crate::operator::LcpOperator;
+use crate::solution::{Residuals, Solution, Status};
+
+/// The answer of [`solve_on_basis`](super::solve_on_basis) when it is accepted.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BasisAnswer {
+    /// `z`, `w = M z + q` and residuals on the operator given.
+    pub solution: Solution,
+    /// Columns of the guess dropped as linearly dependent.
+    pub dropped: usize,
+    /// Whether the kept factorization served (no `M_SS` formed).
+    pub reused: bool,
+    /// With a second problem (`also`): `z` mapped into its units and its
+    /// `w`, as checked there (a caller needs not form them again).
+    pub other: Option<(Vec<f64>, Vec<f64>)>,
+}
+
+/// The second problem an answer must also solve: its operator and the map
+/// of `z` into its units.
+pub type Also<'a> = (&'a dyn LcpOperator, &'a dyn Fn(&[f64], &mut Vec<f64>));
+
+/// When [`solve_on_basis_ruled`](super::solve_on_basis_ruled) accepts an answer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BasisTolerances {
+    /// The acceptance rule's tolerance: every answer returned is accepted by
+    /// [`crate::accept`] at it, on `op` and on the other units (`Solution::accepted`).
+    pub accept_tol: f64,
+    /// An answer the rule accepts whose natural residual is within
+    /// `tight·(1 + ‖q‖∞)` (on `op` and on the other units, `tight ≤
+    /// accept_tol`) is returned at once, or, with a violation above
+    /// [`REPAIR_FRACTION`](super::REPAIR_FRACTION) of that bound, after exchanges find no cleaner one.
+    pub tight: f64,
+    /// When no round gives such an answer: the first (in round order) the
+    /// rule accepts whose natural residual is within `accept_tol·(1 + ‖q‖∞)`
+    /// — what the dense Lemke's warm start accepts at 0 pivots (its ladder's
+    /// "tight" answer). `false`: `None` then.
+    pub loose: bool,
+    /// Whether refinement on a kept factorization applies its last,
+    /// negligible correction too (and forms `w` for it): one product more,
+    /// for answers that need their last digits (a heavy body on a light one:
+    /// skipping it moved a 1e7 kg box-on-box test's energy rise past its
+    /// bound). Without it the answer is the one before that correction.
+    pub polish: bool,
+    /// Whether a small basic block gets more exchange rounds than
+    /// [`REPAIR_ROUNDS`](super::REPAIR_ROUNDS) ([`repair_rounds`](super::rounds::repair_rounds)); `false`: that many.
+    pub more_rounds: bool,
+}
+
+/// The accepted answer in `ws`, on the basis `β` factored, with `z`, `w` in
+/// the other units if `other`; the vectors are moved out of `ws` if `take`
+/// (its last use in this call), else copied.
+pub(super) fn answer(ws: &mut BasisWorkspace, dropped: usize, reused: bool, other: bool, take: bool) -> BasisAnswer {
+    let out = |v: &mut Vec<f64>| if take { std::mem::take(v) } else { v.clone() };
+    let residuals = Residuals::of(&ws.z, &ws.w);
+    let solution = Solution {
+        z: out(&mut ws.z),
+        w: out(&mut ws.w),
+        status: Status::Solved,
+        pivots: 0,
+        residuals,
+        basis: Some(ws.factored.clone()),
+        accepted: true,
+    };
+    let other = other.then(|| (out(&mut ws.z2), out(&mut ws.w2)));
+    BasisAnswer { solution, dropped, reused, other }
+}

@@ -1,0 +1,209 @@
+//! The exchange rounds: one violated index at a time toggled, until an
+//! answer is accepted or the rounds run out.
+//!
+//! An answer is returned only if the acceptance rule of [`crate::accept`]
+//! accepts it — the rule every solver's `ok` answer meets, read through the
+//! operator: a row's diagonal entry ([`LcpOperator::diag`]) for the cheap
+//! bound that clears nearly every row, a few entries kept from the row's
+//! last full read for most of the others, the row itself
+//! ([`LcpOperator::row`]) for the few left — and its natural residual is within
+//! `accept_tol·(1 + ‖q‖∞)`, on the problem as given and, when the caller
+//! passes one, on a second operator in other units (the simulator's
+//! unscaled, physical LCP). No regularization. A row the rule rejects is
+//! exchanged like any violated index. The caller may ask for a tighter
+//! normwise bound ([`BasisTolerances::tight`]); a violation above a tenth of
+//! it is exchanged even when the answer is within it: a resting stack's
+//! nonbasic corner at `w_n = −5e-12` m/s, kept step after step, sinks past
+//! the contact gap floor, whose stabilization term then moves `q` by 2e-10
+//! and costs hundreds of pivots (measured on the 10-box stack: 31 of 2,000
+//! steps pivoting before, 7 after). The answer within the bound is returned
+//! when the exchanges find no cleaner one.
+
+use super::answer::{answer, Also, BasisAnswer, BasisTolerances};
+use super::check::{rule_rejects, within_both};
+use super::factors::solve_fresh;
+use super::refine::refine_on_factor;
+use super::workspace::BasisWorkspace;
+use crate::operator::LcpOperator;
+
+/// The rounds of [`solve_on_basis_ruled`](super::solve_on_basis_ruled) (`rounds` exchanges at most) from
+/// `ws.mask`; `repair`: the violation above which an index is exchanged.
+pub(super) fn solve_rounds(
+    op: &dyn LcpOperator,
+    basis: &[bool],
+    tol: BasisTolerances,
+    also: Option<Also<'_>>,
+    ws: &mut BasisWorkspace,
+    rounds: usize,
+    repair: f64,
+) -> Option<BasisAnswer> {
+    let n = op.n();
+    // The operator is this call's: no block of an earlier call is reused.
+    ws.blocked = false;
+    // The index the last exchange made basic.
+    let mut entered = None;
+    // The index the last exchange toggled.
+    let mut last = None;
+    ws.toggled.clear();
+    // The first answer within the tight bound (a violation above `repair`
+    // left), and the first within the loose one while there is none, each
+    // with its largest violation.
+    let (mut held, mut ruled) = (None, None);
+    for round in 0..=rounds {
+        let reused = round == 0 && ws.factored == ws.mask && refine_on_factor(op, ws, tol.polish);
+        if !reused && !solve_fresh(op, ws, entered) {
+            break;
+        }
+        let (m, rank) = (ws.support.len(), ws.rank);
+        // Dependent indices carry z = 0: they leave the support.
+        for &p in &ws.order[rank..m] {
+            ws.mask[ws.support[p]] = false;
+        }
+        // The most violated index (basic z < 0 leaves, nonbasic w < 0 enters).
+        let mut worst = (repair, None);
+        for i in 0..n {
+            let v = if ws.mask[i] { -ws.z[i] } else { -ws.w[i] };
+            if v > worst.0 {
+                worst = (v, Some(i));
+            }
+        }
+        // Round-off negatives of z are clipped and w recomputed for the check.
+        ws.clipped.clear();
+        ws.clipped.extend(ws.z.iter().enumerate().filter(|&(_, &v)| v < 0.0).map(|(j, &v)| (j, v)));
+        if !ws.clipped.is_empty() {
+            ws.z.iter_mut().for_each(|v| *v = v.max(0.0));
+            op.w_of(&ws.z, &mut ws.w);
+        }
+        let dropped = if reused { 0 } else { m - rank };
+        // Within the normwise bounds, and whether the answer may be returned at all.
+        let tight = within_both(op, also, tol.tight, ws);
+        let loose =
+            !tight && tol.loose && held.is_none() && ruled.is_none() && within_both(op, also, tol.accept_tol, ws);
+        // The row the acceptance rule rejects, read only for an answer that
+        // could be returned or held (an exchange round after one is held
+        // needs no verdict unless it is clean).
+        let usable = (tight && (worst.1.is_none() || held.is_none())) || loose;
+        let rejected = if usable { rule_rejects(op, also, tol.accept_tol, worst.1.is_some(), ws) } else { None };
+        let accepted = usable && rejected.is_none();
+        if accepted && tight && worst.1.is_none() {
+            return Some(answer(ws, dropped, reused, also.is_some(), true));
+        }
+        // Exchanges from this basis found nothing better at the last call,
+        // and its violation has not grown much since: keep its answer.
+        let known = ws.retry.as_ref().is_some_and(|(b, level)| round == 0 && b == basis && worst.0 < *level);
+        if accepted && (tight && held.is_none() || loose) && known {
+            return Some(answer(ws, dropped, reused, also.is_some(), true));
+        }
+        if accepted && tight && held.is_none() {
+            held = Some((answer(ws, dropped, reused, also.is_some(), false), worst.0));
+            ws.hold_factors();
+        }
+        if accepted && loose {
+            // (`loose` implies no answer is held: the factors are free to keep.)
+            ruled = Some((answer(ws, dropped, reused, also.is_some(), false), worst.0));
+            ws.hold_factors();
+        }
+        // One exchange at a time (all at once wanders on these degenerate
+        // problems): the most violated index, else, for a row the rule
+        // rejects, the clipped z that made it so (see [`clipped_cause`]), else
+        // that row's index (a nonbasic w_i < 0 below the repair threshold but
+        // above the row's own bound enters).
+        let rejected = rejected.map(|r| clipped_cause(op, r, ws).unwrap_or(r));
+        let Some(i) = worst.1.or(rejected) else { break };
+        // Toggling back the index just exchanged would only cycle; so would
+        // toggling again, for a row only the rule rejects, an index already
+        // exchanged in this call.
+        if last == Some(i) || (worst.1.is_none() && ws.toggled.contains(&i)) {
+            break;
+        }
+        last = Some(i);
+        ws.toggled.push(i);
+        ws.mask[i] = !ws.mask[i];
+        entered = ws.mask[i].then_some(i);
+    }
+    // The held answer, else the ruled one: its factorization is kept for the
+    // next call, which starts from its basis.
+    let (answer, violation) = held.or(ruled)?;
+    ws.restore_factors();
+    ws.retry = Some((ws.factored.clone(), RETRY_GROWTH * violation));
+    Some(answer)
+}
+
+/// For a row `r` the acceptance rule rejects: the basic index, not yet
+/// exchanged in this call, whose clipped negative `z_j` moved `w_r` furthest
+/// in the direction of its violation (clipping adds `−M_rj z_j` to `w_r`),
+/// if any did. Such a `z_j` leaves the basis instead of `r` being exchanged.
+///
+/// On a resting stack the basis of an unloaded corner (normal force 0, its
+/// friction degenerate) solves to friction values of ±1e-13 that should be
+/// 0: clipping the negative one leaves the cone row `w_λ = μ f_n − Σ f_d`
+/// at −1e-13, just above its round-off floor. Exchanging `λ` itself was
+/// undone by the next solve's round-off and ended the exchanges ("the same
+/// index again"). Measured on `stack_steps 2000 4 … 16` (26,000 steps):
+/// steps that pivot 200 → 100, pivots 49,596 → 40,204.
+pub(super) fn clipped_cause(op: &dyn LcpOperator, r: usize, ws: &mut BasisWorkspace) -> Option<usize> {
+    if ws.clipped.is_empty() {
+        return None;
+    }
+    ws.row.clear();
+    ws.row.resize(op.n(), 0.0);
+    op.row(r, &mut ws.row);
+    let sign = if ws.w[r] < 0.0 { -1.0 } else { 1.0 };
+    let BasisWorkspace { clipped, row, toggled, .. } = ws;
+    clipped
+        .iter()
+        .filter(|(j, _)| !toggled.contains(j))
+        .map(|&(j, zj)| (j, sign * -row[j] * zj))
+        .filter(|&(_, share)| share > 0.0)
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(j, _)| j)
+}
+
+/// Violations above this fraction of `accept_tol·(1 + ‖q‖∞)` are exchanged,
+/// also in an answer within the bound. Measured on `stack_steps 2000 10`:
+/// 0.1 → 7 pivoting steps, 39 steps with exchanges; 0.03 and 0.01 → 1–2
+/// pivoting steps but 530–870 steps running every exchange round (slower).
+pub const REPAIR_FRACTION: f64 = 0.1;
+
+/// Exchanges that found nothing better than an answer within the bound are
+/// tried again from its basis once its largest violation has grown by this
+/// factor. Measured on `stack_steps 2000 10`: without it ~200 steps ran every
+/// exchange round in vain, step after step (a violation 1 % above the
+/// threshold, growing 1 % per step). The same holds for an answer within only
+/// the rule's own bound (`loose`): from step ~5,550 of the 10-box stack every
+/// step's answer was one at 0.2 of it (an unloaded corner at `w = −2e-10`
+/// m/s, held there by the gap stabilization), each after every exchange round
+/// failed on fresh factorizations: `stack_steps 10000 10` ran at 1,979
+/// steps/s; with the exchanges skipped and the answer's factorization kept,
+/// 17,373 (same pivots).
+pub(super) const RETRY_GROWTH: f64 = 2.0;
+
+/// Index exchanges tried after the guessed basis itself (block principal
+/// pivoting on the violated indices), at least; the caller pivots when they
+/// do not do.
+pub const REPAIR_ROUNDS: usize = 8;
+
+/// Exchanges tried at most, for a small basic block ([`repair_rounds`](super::rounds::repair_rounds)).
+pub const REPAIR_ROUNDS_MAX: usize = 32;
+
+/// The work of the exchange rounds, in `k³` of a `k`-index basic block
+/// (a round factors it afresh): [`REPAIR_ROUNDS_MAX`] rounds of a block of
+/// 90 indices.
+pub(super) const REPAIR_WORK: f64 = REPAIR_ROUNDS_MAX as f64 * 90.0 * 90.0 * 90.0;
+
+/// Exchange rounds for a guess with `k` basic indices: as many as
+/// [`REPAIR_WORK`] pays for, between [`REPAIR_ROUNDS`](super::REPAIR_ROUNDS) and [`REPAIR_ROUNDS_MAX`].
+///
+/// Measured on resting stacks (`stack_steps 2000 4 … 16`, 26,000 steps, basic
+/// blocks of 30–90 indices; with [`clipped_cause`]): 8 rounds → 100 steps
+/// pivot (40,204 pivots, 4.3 s), 16 → 56 (17,682, 3.0 s), 32 → 39 (7,561,
+/// 2.5 s), 64 → 38 (6,739, 2.7 s): a round costs one factorization, the
+/// pivoting step it saves a few hundred pivots. On a forming 14-cube heap
+/// (`many_bodies heap:14 400`, blocks of 100–260 indices) 32 rounds nearly
+/// never found an answer 8 had not (2 of ~80 calls) and the run fell from
+/// 142 to 82 steps/s; with this budget 127 (8 rounds: 134; the runs part
+/// ways, 113 against 106 pivots a step).
+pub(super) fn repair_rounds(basis: &[bool]) -> usize {
+    let k = basis.iter().filter(|&&b| b).count().max(1) as f64;
+    ((REPAIR_WORK / (k * k * k)) as usize).clamp(REPAIR_ROUNDS, REPAIR_ROUNDS_MAX)
+}
