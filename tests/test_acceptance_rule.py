@@ -75,6 +75,7 @@ def test_penetration_correction_is_stabilization_work_not_created_energy():
     assert pushed >= 9.81 * 1e-3 * 0.99
 
 
+@pytest.mark.slow
 def test_island_body_eta_reports_the_body_space_check():
     # A 1e7 kg box sliding at 0.5 m/s on a 1 kg box: its islands join bodies
     # whose mobilities differ 1e7-fold, so their answers are judged in body

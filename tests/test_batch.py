@@ -125,6 +125,7 @@ def test_batch_invalid_options():
         solve_lcp_batch(np.ones((1, 1, 1)), np.ones((1, 1)), method="x")
 
 
+@pytest.mark.slow
 def test_batch_releases_the_gil():
     # While a long batch runs, another Python thread must keep making progress.
     # Only ticks made during the batch count: with the GIL held they would be

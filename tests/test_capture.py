@@ -253,6 +253,7 @@ def test_run_killed_from_outside_leaves_a_readable_file(tmp_path):
     _check_consistent(path + ".partial", 300)
 
 
+@pytest.mark.slow
 def test_cli_solve_index(slope_corpus):
     path, _, _ = slope_corpus
     from lcpsim.cli import main

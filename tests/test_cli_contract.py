@@ -123,6 +123,7 @@ def test_sweep_malformed_yaml_exits_2(tmp_path):
     assert_user_error(run("sweep", str(cfg)), "not valid YAML")
 
 
+@pytest.mark.slow
 def test_sweep_checks_the_whole_config_before_starting(tmp_path):
     # The second solver of the grid is invalid: refused before the first case runs.
     grid = {"force": [9.79, 9.83], "solver": ["robust", "lemke:bogus_option=1"]}
@@ -134,6 +135,7 @@ def test_sweep_checks_the_whole_config_before_starting(tmp_path):
     assert_user_error(run("sweep", str(cfg), "--workers", "1", "--no-progress"), "seconds", "must be a finite number")
 
 
+@pytest.mark.slow
 def test_sweep_whose_cases_fail_exits_1(tmp_path):
     cfg = tmp_path / "s.yaml"
     # friction_dirs = 3 passes the config check (an integer) but every world refuses it.

@@ -202,6 +202,7 @@ def test_failure_rate_counts():
     assert sim["rows"][0]["s"] == 1e-3 and sim["rows"][0]["failures"] == 0 and sim["rows"][0]["lcps"] > 0
 
 
+@pytest.mark.slow
 def test_failure_rate_comparison():
     """Solvers × {cubes, hard} × scales, one row each; `rows` stays
     the first solver on the first corpus; robust is certified (n ≤ 40)."""
@@ -229,6 +230,7 @@ def test_failure_rate_comparison():
         failure_rate.run({**SMALL, "corpora": ["cubes", "soft"]})
 
 
+@pytest.mark.slow
 def test_cli_failure_rate_comparison(capsys):
     assert main(["failure-rate", "--solvers", "classic,robust", "--corpus", "cubes,hard", "--scales", "none,1e-8",
                  "--corpus-steps", "80", "--corpus-random", "0", "--max-lcps", "100", "--hard-count", "7"]) == 0
@@ -280,6 +282,7 @@ def test_cli_json_keys(capsys):
     assert r["config"]["seed"] == 0 and r["lcpsim_version"] == lcpsim.__version__
 
 
+@pytest.mark.slow
 def test_cli_text_digits_and_plots(capsys, tmp_path):
     assert main(["invariance", "--digits", "20", "--corpus-steps", "150", "--corpus-random", "1",
                  "--plot", str(tmp_path / "inv.png")]) == 0
@@ -326,6 +329,7 @@ def test_cli_bad_scale_is_usage_error(capsys):
     assert e.value.code == 2
 
 
+@pytest.mark.slow
 def test_report_quick(tmp_path, capsys):
     out = tmp_path / "rep"
     assert main(["report", "--out", str(out), "--quick", "--json"]) == 0

@@ -51,6 +51,7 @@ def test_expand_cases_ids_are_stable():
         sweep.expand_cases({"experiment": "slope", "grid": {"mu": 1}})
 
 
+@pytest.mark.slow
 def test_interrupted_and_resumed_equals_uninterrupted(tmp_path):
     full = tmp_path / "full.h5"
     s = sweep.run_sweep(GRID, output=full, workers=2, processes=False, progress=None)
@@ -70,6 +71,7 @@ def test_interrupted_and_resumed_equals_uninterrupted(tmp_path):
         assert r["result"]["lcpsim_version"] and r["result"]["seed"] == 0 and r["config"]["seed"] == 0
 
 
+@pytest.mark.slow
 def test_killed_sweep_resumes(tmp_path):
     """SIGKILL the whole `lcpsim sweep` process group mid-run, then resume."""
     cfg = {**GRID, "base": {"seconds": 2.0, "mu": 1.0}, "seeds": [0, 1, 2]}
@@ -105,6 +107,7 @@ def test_killed_sweep_resumes(tmp_path):
     assert comparable(sweep.load_results(out)) == comparable(sweep.load_results(ref))
 
 
+@pytest.mark.slow
 def test_killed_worker_loses_no_finished_case(tmp_path):
     """Kill a worker process after the first result: every case still finishes once."""
     killed = []

@@ -118,6 +118,7 @@ def test_mutated_valid_files(tmp_path_factory, valid_files, kind, seed, edits):
         faulthandler.cancel_dump_traceback_later()
 
 
+@pytest.mark.slow
 def test_probe_turns_a_crash_or_a_hang_into_an_error(tmp_path, monkeypatch):
     """``lcpsim solve`` reads HDF5 files in a child first (``hdf5_check.probe``):
     the HDF5 library can crash (the fuzzer found a segmentation fault reading a

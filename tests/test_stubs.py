@@ -18,6 +18,7 @@ pytest.importorskip("mypy.stubtest", reason="mypy is in the test extras: pip ins
 ALLOWLIST = Path(__file__).with_name("stubtest_allowlist.txt")
 
 
+@pytest.mark.slow
 def test_core_stub_matches_the_compiled_module(tmp_path):
     package_root = str(Path(lcpsim.__file__).parents[1])
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([package_root, os.environ.get("PYTHONPATH", "")])}

@@ -20,14 +20,14 @@ from lcpsim.io.trajectory_file import TrajectoryFileError, load_trajectory
 from lcpsim.viewer import render_html
 from lcpsim.viewer.encode import choose_frames
 
-SEED = {"pivoting": "classic", "piv_tol": 1e-12, "zero_tol": 1e-6}
+CLASSIC = {"pivoting": "classic", "piv_tol": 1e-12, "zero_tol": 1e-6}
 G = 9.81
 
 
 @pytest.fixture(scope="module")
 def failing():
     """The source note's classic Lemke on the 45.0001° slope, unscaled: a few LCPs cycle (real failures)."""
-    s = scenes.cube_on_slope(45.0001, 1.0, **SEED)
+    s = scenes.cube_on_slope(45.0001, 1.0, **CLASSIC)
     traj = s.world.run(300, record_contacts=True)
     assert traj.failures > 0, "this scene no longer fails: pick another for the failed-step tests"
     return s, traj
@@ -100,6 +100,7 @@ def test_save_and_load_round_trip(tmp_path, failing):
     assert len(back) == 0 and back.contact_log is None and back.bodies == plain.bodies
 
 
+@pytest.mark.slow
 def test_bad_files_raise_one_clear_error(tmp_path, failing):
     _, traj = failing
     good = traj.save(tmp_path / "good.h5")

@@ -22,10 +22,12 @@ import pytest
 from lcpsim import scenes
 from lcpsim.cli import main
 
+pytestmark = pytest.mark.slow  # a real browser per test
+
 CHROMIUM = os.environ.get("LCPSIM_CHROMIUM", "/usr/bin/chromium")
 # Headless Chromium has no GPU here: WebGL through SwiftShader (software).
 CHROMIUM_ARGS = ["--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist"]
-SEED = {"pivoting": "classic", "piv_tol": 1e-12, "zero_tol": 1e-6}
+CLASSIC = {"pivoting": "classic", "piv_tol": 1e-12, "zero_tol": 1e-6}
 
 sync_api = pytest.importorskip(
     "playwright.sync_api", reason="Playwright for Python is not installed (pip install playwright): browser tests skipped"
@@ -51,7 +53,7 @@ def pages(tmp_path_factory):
     assert main(["view", "cube_on_slope", "--angle-deg", "45.2", "--mu", "1", "--out", str(out["slide"])]) == 0
     rest = scenes.cube_on_slope(30.0, 1.0)
     out["rest"] = rest.world.run(1000, record_contacts=True).to_html(d / "rest.html")
-    fail = scenes.cube_on_slope(45.0001, 1.0, **SEED)
+    fail = scenes.cube_on_slope(45.0001, 1.0, **CLASSIC)
     traj = fail.world.run(300, record_contacts=True)
     out["fail"] = traj.to_html(d / "fail.html")
     out["failed_steps"] = [int(s) + 1 for s in np.nonzero(~traj.ok)[0]]
