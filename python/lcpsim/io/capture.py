@@ -36,7 +36,7 @@ from numpy.typing import ArrayLike, NDArray
 from .. import _core
 from .._json import jsonable
 from .limits import human_bytes
-from .hdf5 import HDF5_ERRORS, HDF5_MAGIC
+from .hdf5 import HDF5_ERRORS, is_hdf5_file
 from .hdf5_check import DamagedHdf5Error, check_global_heaps
 from .safe_file import SafeTarget, partial_path
 
@@ -691,11 +691,8 @@ def load_record(path: str | os.PathLike[str], index: int) -> CaptureRecord:
 def is_capture(path: str | os.PathLike[str]) -> bool:
     """Whether ``path`` is an HDF5 file with the capture format attribute."""
     p = Path(path)
-    if not p.is_file():
+    if not is_hdf5_file(p):
         return False
-    with open(p, "rb") as fh:
-        if fh.read(8) != HDF5_MAGIC:
-            return False
     try:
         f = _open_read(p)
     except CaptureError:

@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .hdf5 import HDF5_ERRORS, HDF5_MAGIC, open_hdf5
+from .hdf5 import HDF5_ERRORS, is_hdf5_file, open_hdf5
 
 __all__ = [
     "FclibError",
@@ -146,11 +146,8 @@ def _h5py() -> Any:
 def fclib_kind(path: str | os.PathLike[str]) -> str | None:
     """``"local"``, ``"global"`` or ``None`` (not an HDF5 file with an FCLib group)."""
     p = Path(path)
-    if not p.is_file():
+    if not is_hdf5_file(p):
         return None
-    with open(p, "rb") as fh:
-        if fh.read(8) != HDF5_MAGIC:
-            return None
     try:
         with open_hdf5(p) as f:
             if "fclib_local" in f:

@@ -10,10 +10,18 @@ from typing import Any
 
 from .limits import SizeLimitError, array_bytes, check_bytes
 
-__all__ = ["HDF5_MAGIC", "HDF5_ERRORS", "open_hdf5", "hdf5_dataset"]
+__all__ = ["HDF5_MAGIC", "HDF5_ERRORS", "is_hdf5_file", "open_hdf5", "hdf5_dataset"]
 
 #: The first 8 bytes of every HDF5 file.
 HDF5_MAGIC = b"\x89HDF\r\n\x1a\n"
+
+def is_hdf5_file(path: Path) -> bool:
+    """Whether ``path`` is a file that begins with the HDF5 magic bytes."""
+    if not path.is_file():
+        return False
+    with open(path, "rb") as fh:
+        return fh.read(8) == HDF5_MAGIC
+
 
 #: What h5py raises on a damaged file (RuntimeError: e.g. a bad superblock
 #: version; KeyError: an object whose header fails its checksum).
