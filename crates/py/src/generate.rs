@@ -44,9 +44,9 @@ fn check_scale(scale: f64) -> PyResult<()> {
     }
 }
 
-/// Friction directions of a generated contact LCP: in [1, `sim::limits::MAX_FRICTION_DIRS`].
+/// Friction directions of a generated contact LCP: in [1, `sim::contact::friction::MAX_FRICTION_DIRS`].
 fn check_dirs(k: usize) -> PyResult<()> {
-    let max = sim::limits::MAX_FRICTION_DIRS;
+    let max = sim::contact::friction::MAX_FRICTION_DIRS;
     if k > max {
         return Err(value_error(format!("k must be at most {max} friction directions, got {k}")));
     }

@@ -2,7 +2,7 @@
 //!
 //! `cargo run --release -p lcpsim-sim --example heap_replay -- record CUBES STEPS DIR`
 //! runs the walled heap of `CUBES` cubes (seed 0, as `tests/heap.rs`) for
-//! `STEPS` steps with `LCPSIM_DUMP_DIR=DIR` (`sim::pipeline::replay`), printing
+//! `STEPS` steps with `LCPSIM_DUMP_DIR=DIR` (`sim::solve_chain::replay`), printing
 //! per step the largest LCP, pivots, status, seconds and the files written.
 //!
 //! `cargo run --release -p lcpsim-sim --example heap_replay -- solve START FILE...`
@@ -36,9 +36,9 @@
 
 use sim::lcp::structured::bpp::{self, BppOptions};
 use sim::lcp::structured::guess::{self, GuessOptions};
-use sim::pipeline::replay::StructuredProblem;
-use sim::pipeline::structured::Start;
 use sim::scenes::CubeHeap;
+use sim::solve_chain::replay::StructuredProblem;
+use sim::solve_chain::structured_lemke::Start;
 use sim::WorldParams;
 use std::path::Path;
 use std::time::Instant;

@@ -15,7 +15,7 @@
 //! (the dense solver's `seconds` do not include assembling its `M`).
 
 use sim::contact::assembly::{AssemblyParams, BodyDynamics};
-use sim::contact::structured::structured_lcp;
+use sim::contact::body_factors::structured_lcp;
 use sim::contact::ContactLcp;
 use sim::dynamics::BodyDesc;
 use sim::lcp::structured::{self, StructuredOptions};

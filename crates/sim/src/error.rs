@@ -48,8 +48,12 @@ impl fmt::Display for SimError {
             }
             SimError::NonFinite { field, value } => write!(f, "{field} must be finite, got {}", num(*value)),
             SimError::ZeroLength { field } => write!(f, "{field} has zero length and cannot be normalized"),
-            SimError::FrictionDirs { k } if *k > crate::limits::MAX_FRICTION_DIRS => {
-                write!(f, "friction_dirs must be even and in [2, {}], got {k}", crate::limits::MAX_FRICTION_DIRS)
+            SimError::FrictionDirs { k } if *k > crate::contact::friction::MAX_FRICTION_DIRS => {
+                write!(
+                    f,
+                    "friction_dirs must be even and in [2, {}], got {k}",
+                    crate::contact::friction::MAX_FRICTION_DIRS
+                )
             }
             SimError::FrictionDirs { k } => write!(f, "friction_dirs must be even and >= 2, got {k}"),
             SimError::UnknownBody { index, bodies } => {

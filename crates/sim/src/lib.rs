@@ -26,6 +26,7 @@
 //! Modules: [`math`] (Vec3/Quat/Mat3), [`dynamics`] (bodies, integration),
 //! [`geometry`] (shapes, one file per shape pair), [`contact`] (friction
 //! basis, assembly, formulation parameters), [`pipeline`] (the step),
+//! [`solve_chain`] (how one island's LCP is solved, stage after stage),
 //! [`scenes`] (the analytic test scenes of DESIGN §3), [`generate`] (seeded
 //! contact scenes and their LCPs for tests and benchmarks).
 
@@ -42,6 +43,7 @@ pub mod parallel;
 pub mod params;
 pub mod pipeline;
 pub mod scenes;
+pub mod solve_chain;
 pub mod world;
 
 pub use contact::{ConeScale, MuCombine, Restitution, Stabilization};

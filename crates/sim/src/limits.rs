@@ -1,7 +1,8 @@
 //! The simulator's size limits, checked before anything is allocated (the
 //! sizes and the memory behind them are `lcp::limits`'s):
 //!
-//! - friction directions per contact: at most [`MAX_FRICTION_DIRS`];
+//! - friction directions per contact: at most
+//!   [`crate::contact::friction::MAX_FRICTION_DIRS`];
 //! - bodies in a scene: at most [`MAX_SCENE_BODIES`], and a scene whose bodies
 //!   would settle into one contact island (a stack, a heap) is refused when
 //!   that island's dense LCP could not fit in memory;
@@ -11,10 +12,6 @@
 
 use crate::error::SimError;
 use lcp::limits::{check_dense, SizeError};
-
-/// The most friction directions per contact `k` (an LCP of `k + 2` unknowns per
-/// contact; 1024 already gives 134 MiB for one box's four contacts).
-pub const MAX_FRICTION_DIRS: usize = 1024;
 
 /// The deepest a failed step is halved (`WorldParams::max_halvings`): parts of `h/1024`.
 pub const MAX_HALVINGS: u32 = 10;
@@ -74,32 +71,6 @@ pub fn check_scene(
 impl From<SizeError> for SimError {
     fn from(e: SizeError) -> Self {
         SimError::TooLarge(e)
-    }
-}
-
-impl crate::World {
-    /// Stage `islands` → `assemble`: each island's dense LCP checked against
-    /// memory and its matrix reserved, so an island too large fails the step
-    /// with [`SimError::TooLarge`] before anything is assembled.
-    pub(crate) fn reserve_islands(&mut self) -> Result<(), SimError> {
-        let k = self.params.friction_dirs;
-        // Islands the structured Lemke takes need no dense M (unless a sink captures it).
-        use crate::pipeline::island_lcp::{basis_check_applies, DENSE_FALLBACK_MAX_N};
-        let structured = self.sink.is_none() && basis_check_applies(&self.params.method).is_some();
-        let ws = &mut self.ws;
-        for (i, isl) in ws.pool[..ws.islands.len()].iter_mut().enumerate() {
-            let what = || format!("step {}, contact island {i}", self.steps);
-            check_contact_lcp(what, isl.contacts.len(), k)?;
-            let n = lcp_size(isl.contacts.len(), k).unwrap_or(usize::MAX);
-            if structured && n > DENSE_FALLBACK_MAX_N {
-                continue;
-            }
-            isl.lcp.reserve_matrix(n).map_err(|mut e| {
-                e.what = format!("{}: the dense matrix of a contact LCP of {n} unknowns", what());
-                SimError::TooLarge(e)
-            })?;
-        }
-        Ok(())
     }
 }
 

@@ -13,7 +13,7 @@ pub struct WorldParams {
     pub dt: f64,
     /// Gravity (m/s²). Default (0, 0, −9.81).
     pub gravity: Vec3,
-    /// Friction directions per contact `k`, even, in [2, `limits::MAX_FRICTION_DIRS`].
+    /// Friction directions per contact `k`, even, in [2, `contact::friction::MAX_FRICTION_DIRS`].
     /// Default 8 (LCP size 10 per contact).
     pub friction_dirs: usize,
     /// Friction-cone scale `s` (DESIGN §1). Default `Unscaled` (s = 1).
@@ -75,7 +75,7 @@ impl WorldParams {
         finite_vec("gravity", self.gravity)?;
         if self.friction_dirs < 2
             || self.friction_dirs % 2 == 1
-            || self.friction_dirs > crate::limits::MAX_FRICTION_DIRS
+            || self.friction_dirs > crate::contact::friction::MAX_FRICTION_DIRS
         {
             return Err(SimError::FrictionDirs { k: self.friction_dirs });
         }

@@ -12,10 +12,11 @@ use crate::geometry::{Contact, GeomContact, Plane, Shape};
 use crate::islands::Islands;
 use crate::math::{Mat3, Quat, Vec3};
 use crate::params::WorldParams;
-use crate::pipeline::island_lcp::IslandLcp;
+use crate::pipeline::capture::LcpSink;
+use crate::pipeline::island::IslandLcp;
+use crate::pipeline::record::StepRecord;
 use crate::pipeline::retake::Parts;
-use crate::pipeline::warm::WarmStarts;
-use crate::pipeline::{LcpSink, StepRecord};
+use crate::solve_chain::warm_starts::WarmStarts;
 
 /// A rigid-body world stepped with the Stewart–Trinkle contact LCP.
 pub struct World {

@@ -4,7 +4,7 @@
 mod common;
 
 use common::settled;
-use sim::contact::structured::structured_lcp;
+use sim::contact::body_factors::structured_lcp;
 use sim::generate::{hard_corpus_item, HardScene};
 use sim::lcp::accept::accepts;
 use sim::lcp::structured::{self, StructuredOptions};

@@ -56,6 +56,10 @@ impl FrictionBasis {
     }
 }
 
+/// The most friction directions per contact `k` (an LCP of `k + 2` unknowns per
+/// contact; 1024 already gives 134 MiB for one box's four contacts).
+pub const MAX_FRICTION_DIRS: usize = 1024;
+
 /// Fills `out` with the `k` directions for normal `n` and tangent `t1`.
 pub fn friction_directions(n: Vec3, t1: Vec3, k: usize, out: &mut Vec<Vec3>) {
     let basis = FrictionBasis::new(k);

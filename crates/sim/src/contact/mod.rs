@@ -7,21 +7,21 @@
 //!   `(M, q)` with `z = [fn; fd; λ]`, plus the map back to physical units.
 //! - [`body_space`]: the same LCP as an operator on the Jacobian rows, without
 //!   the dense `M` (products and entries for a basis check).
-//! - [`structured`]: the same LCP as `G H + K` for the structured Lemke of large islands.
-//! - [`body_check`]: the acceptance rule judged in body space, each contact
+//! - [`body_factors`]: the same LCP as `G H + K` (body-space sparse factors) for the structured Lemke.
+//! - [`body_rule`]: the acceptance rule judged in body space, each contact
 //!   row on the scale of the velocities it relates (a heavy body on a light one).
 //!
 //! Assembly never solves and solvers never see bodies (DESIGN §6).
 
 pub mod assembly;
-pub mod body_check;
+pub mod body_factors;
+pub mod body_rule;
 pub mod body_space;
 pub mod friction;
 pub mod params;
-pub mod structured;
 
 pub use assembly::{ContactLcp, ContactRows};
-pub use body_check::BodyCheck;
+pub use body_rule::BodyCheck;
 pub use body_space::BodySpaceLcp;
 pub use friction::{friction_directions, FrictionBasis};
 pub use params::{ConeScale, MuCombine, Restitution, Stabilization};

@@ -15,20 +15,14 @@
 //! and takes a step whose LCP failed again in halves where
 //! `WorldParams::max_halvings` allows (`retake`).
 
-mod body_check;
-mod capture;
+pub(crate) mod capture;
 mod detect;
 pub mod energy;
-pub(crate) mod island_lcp;
-mod loaded_friction;
-mod record;
-pub mod replay;
+pub(crate) mod island;
+pub(crate) mod record;
 pub(crate) mod retake;
 mod solve;
-pub mod structured;
 mod trajectory;
-pub(crate) mod warm;
-mod warm_map;
 
 pub use capture::{Captured, CapturedLcp, LcpBuffer, LcpSink, OwnedLcp};
 pub use energy::EnergyAudit;
@@ -38,8 +32,10 @@ pub use trajectory::Trajectory;
 use crate::contact::assembly::{AssemblyParams, BodyDynamics};
 use crate::dynamics::{free_velocity, integrate_positions};
 use crate::error::SimError;
+use crate::limits;
 use crate::math::{Mat3, Vec3};
 use crate::parallel;
+use crate::solve_chain::{basis_check_applies, DENSE_FALLBACK_MAX_N};
 use crate::world::World;
 use lcp::{Lcp, Solution};
 
@@ -146,7 +142,7 @@ impl World {
     /// Like [`World::run`], but stops early, after a step, once `stop(world)`
     /// says so (e.g. when an LCP sink holds enough to be drained).
     pub fn run_until(&mut self, steps: usize, mut stop: impl FnMut(&World) -> bool) -> Result<Trajectory, SimError> {
-        crate::limits::check_trajectory(steps, self.bodies.len())?;
+        limits::check_trajectory(steps, self.bodies.len())?;
         let mut traj = Trajectory::with_capacity(steps, self.bodies.len());
         for _ in 0..steps {
             self.step()?;
@@ -221,6 +217,29 @@ impl World {
             isl.contacts.clear();
             isl.contacts.extend(ws.islands.contacts_of(i).iter().map(|&c| ws.contacts[c]));
         }
+    }
+
+    /// Stage `islands` → `assemble`: each island's dense LCP checked against
+    /// memory and its matrix reserved, so an island too large fails the step
+    /// with [`SimError::TooLarge`] before anything is assembled.
+    pub(crate) fn reserve_islands(&mut self) -> Result<(), SimError> {
+        let k = self.params.friction_dirs;
+        // Islands the structured Lemke takes need no dense M (unless a sink captures it).
+        let structured = self.sink.is_none() && basis_check_applies(&self.params.method).is_some();
+        let ws = &mut self.ws;
+        for (i, isl) in ws.pool[..ws.islands.len()].iter_mut().enumerate() {
+            let what = || format!("step {}, contact island {i}", self.steps);
+            limits::check_contact_lcp(what, isl.contacts.len(), k)?;
+            let n = limits::lcp_size(isl.contacts.len(), k).unwrap_or(usize::MAX);
+            if structured && n > DENSE_FALLBACK_MAX_N {
+                continue;
+            }
+            isl.lcp.reserve_matrix(n).map_err(|mut e| {
+                e.what = format!("{}: the dense matrix of a contact LCP of {n} unknowns", what());
+                SimError::TooLarge(e)
+            })?;
+        }
+        Ok(())
     }
 
     /// Stage `assemble`: each island's LCP from its contacts and the free velocities.

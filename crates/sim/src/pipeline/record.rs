@@ -103,7 +103,7 @@ pub struct IslandRecord {
     pub residual: f64,
     /// Natural residual as the solver reported it (scaled LCP).
     pub solver_residual: f64,
-    /// Body-space backward error of its applied answer (`contact::body_check`:
+    /// Body-space backward error of its applied answer (`contact::body_rule`:
     /// each contact row on the scale of the velocities it relates); 0 when not
     /// checked (another method than the robust Lemke, or a failed solve).
     pub body_eta: f64,

@@ -14,7 +14,7 @@
 
 use super::energy::EnergyAudit;
 use super::record::{Retake, StepRecord};
-use super::warm::WarmStarts;
+use crate::solve_chain::warm_starts::WarmStarts;
 use lcp::Status;
 
 /// What the parts of the step being taken add up to, and the state a part

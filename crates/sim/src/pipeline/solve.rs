@@ -13,10 +13,11 @@
 //! the global layout when every island reported one.
 
 use super::capture::CapturedLcp;
-use super::island_lcp::{basis_check_applies, scatter};
+use super::island::scatter;
 use super::record::IslandRecord;
 use crate::error::SimError;
 use crate::parallel;
+use crate::solve_chain::basis_check_applies;
 use crate::world::World;
 use lcp::{Lcp, Residuals, Solution, Status};
 
@@ -29,8 +30,8 @@ impl World {
         }
         // Large islands whose contacts changed: the previous basis mapped by contact (read before the record is reset).
         let mut mapped = if self.sink.is_none() && basis_check_applies(&self.params.method).is_some() {
-            let (k, min_n) = (self.params.friction_dirs, super::island_lcp::STRUCTURED_MIN_N);
-            super::warm_map::by_contact(&self.record, &self.ws.contacts, &self.ws.islands, k, min_n)
+            let (k, min_n) = (self.params.friction_dirs, crate::solve_chain::STRUCTURED_MIN_N);
+            crate::solve_chain::warm_by_contact::by_contact(&self.record, &self.ws.contacts, &self.ws.islands, k, min_n)
         } else {
             Vec::new()
         };
@@ -69,7 +70,7 @@ impl World {
                 }
                 // A sink captures every island's dense M: no body-space shortcut then.
                 let check = if self.sink.is_none() { basis_check_applies(&method) } else { None };
-                let body = super::body_check::body_check_applies(&method);
+                let body = crate::solve_chain::answer_check::body_check_applies(&method);
                 let warm = &ws.warm;
                 parallel::for_each(&mut ws.pool[..count], &mut ws.solvers[..threads], |solver, isl| {
                     isl.body_check = body.clone();

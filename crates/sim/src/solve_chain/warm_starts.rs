@@ -5,10 +5,10 @@
 //! For a world whose contacts form one island this is the previous rule (the
 //! basis of the previous step's LCP when the size is unchanged). The island's
 //! physical impulses are kept with its basis: the start of the guessed basis
-//! tried when the previous one fails (`island_lcp::try_guessed_basis`).
+//! tried when the previous one fails ([`super::guessed_basis`]).
 
-use super::island_lcp::IslandLcp;
 use crate::islands::Islands;
+use crate::pipeline::island::IslandLcp;
 
 const NONE: usize = usize::MAX;
 

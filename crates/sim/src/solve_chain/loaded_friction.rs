@@ -114,7 +114,7 @@ fn extend(
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::contact::structured::structured_lcp;
+    use crate::contact::body_factors::structured_lcp;
     use crate::scenes::{BoxPile, CubeHeap};
     use crate::{World, WorldParams};
 

@@ -2,17 +2,15 @@
 //! the hard steps of a run (a forming heap's, minutes into it) in seconds.
 //!
 //! With the environment variable `LCPSIM_DUMP_DIR` set, every island solved
-//! by the structured Lemke (`pipeline::structured`) is written there as
+//! by the structured Lemke ([`super::structured_lemke`]) is written there as
 //! `lcp_NNNNN_nN.bin` (a counter over the process's structured solves) before
 //! it is solved: its sparse factors, `q`, cone scale, layout, acceptance
 //! tolerance and the warm basis it was handed. [`StructuredProblem::read`]
-//! loads one; [`StructuredProblem::solve`] solves it as the step does.
+//! loads one; [`StructuredProblem::solve`] (in `structured_lemke`) solves it as the step does.
 //! Nothing is written, and nothing costs, without the variable.
 
-use super::structured::{self, Start};
 use lcp::contact::ContactLayout;
 use lcp::structured::{Entry, StructuredLcp};
-use lcp::Solution;
 use std::io::{self, Read, Write};
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -36,11 +34,6 @@ pub struct StructuredProblem {
 const MAGIC: &[u8; 8] = b"LCPSTR01";
 
 impl StructuredProblem {
-    /// Solves it as the step does (see `pipeline::structured`), from `start`.
-    pub fn solve(&self, start: Start) -> Solution {
-        structured::solve_problem(self, start)
-    }
-
     /// Writes it to `path` (binary, little-endian).
     pub fn write(&self, path: &Path) -> io::Result<()> {
         let (p, g, h, k) = lcp::structured::parts(&self.op);

@@ -4,7 +4,7 @@
 //! The solver first sees the sub-LCP with friction unknowns only for the
 //! contacts loaded on the previous step or about to touch (`q_fn < 0`),
 //! grown as contacts take load, and its answer extended exactly to the full
-//! LCP (`pipeline::loaded_friction`); the full LCP is solved when that fails.
+//! LCP ([`super::loaded_friction`]); the full LCP is solved when that fails.
 //! The answer is accepted on the LCP as scaled (by the solver, with the
 //! acceptance rule of `lcp::accept` evaluated on the sparse rows) and again
 //! in physical units (cone scale 1), as the body-space basis check does.
@@ -12,8 +12,10 @@
 //! dense `M` would not fit): then the failed answer is returned as it is.
 
 use super::replay::{self, StructuredProblem};
-use crate::contact::structured::structured_lcp;
+use super::stage::{Attempt, Found};
+use crate::contact::body_factors::structured_lcp;
 use crate::contact::ContactLcp;
+use crate::pipeline::island::IslandLcp;
 use lcp::contact::ContactLayout;
 use lcp::structured::bpp::{self, BppOptions};
 use lcp::structured::guess::{self, GuessOptions};
@@ -42,11 +44,25 @@ pub enum Start {
     GuessBpp { sweeps: usize },
 }
 
+/// The stage: the island from its warm basis; a failed answer is kept as
+/// it is when the dense `M` would not fit.
+pub(super) fn attempt(isl: &mut IslandLcp, a: &Attempt<'_>) -> Option<Found> {
+    let sol = solve(&isl.lcp, a.warm, a.accept_tol, !a.dense_fits)?;
+    Some(Found { sol, physical: None })
+}
+
+impl StructuredProblem {
+    /// Solves it as the step does (see [`solve_problem`]), from `start`.
+    pub fn solve(&self, start: Start) -> Solution {
+        solve_problem(self, start)
+    }
+}
+
 /// Solves `lcp` (its rows assembled) from the basis `warm`, at the acceptance tolerance `tol`.
 pub fn solve(lcp: &ContactLcp, warm: Option<&[bool]>, tol: f64, keep_failure: bool) -> Option<Solution> {
     let op = structured_lcp(lcp, lcp.scale()).ok()?;
     let physical = if lcp.scale() == 1.0 { None } else { Some(structured_lcp(lcp, 1.0).ok()?) };
-    let warm = warm.map(|b| sliding_contacts_seeded(lcp, b));
+    let warm = warm.map(|b| with_sliding_friction(lcp, b));
     let problem = StructuredProblem { op, physical, scale: lcp.scale(), layout: lcp.layout(), warm, tol };
     replay::dump(&problem);
     let sol = solve_problem(&problem, Start::Step);
@@ -183,7 +199,7 @@ fn solve_from(p: &StructuredProblem, o: &StructuredOptions, warm: Option<&[bool]
 /// Measured on a forming 200-cube heap (`many_bodies heap:200`, steps
 /// 141–150): most of the warm basis's negative values were such contacts'
 /// `w_fd` (800 of 1,100 at n = 7,100), each costing Lemke pivots.
-fn sliding_contacts_seeded(lcp: &ContactLcp, warm: &[bool]) -> Vec<bool> {
+fn with_sliding_friction(lcp: &ContactLcp, warm: &[bool]) -> Vec<bool> {
     let lay = lcp.layout();
     let mut mask = warm.to_vec();
     if mask.len() != lay.n() {
@@ -209,7 +225,7 @@ fn sliding_contacts_seeded(lcp: &ContactLcp, warm: &[bool]) -> Vec<bool> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pipeline::loaded_friction::tests::block_and_heap;
+    use crate::solve_chain::loaded_friction::tests::block_and_heap;
 
     /// The guessed basis is a vertex's: on a resting pile no two bodies have
     /// more normals basic than their contact rows' rank (three for a face on a

@@ -1,5 +1,5 @@
 //! An island's answer judged once more in body space
-//! ([`crate::contact::body_check`]: each contact row on the scale of the
+//! ([`crate::contact::body_rule`]: each contact row on the scale of the
 //! velocities it relates), and re-solved in double-double when it fails.
 //!
 //! An `f64` Lemke answer can pass the LCP's acceptance rule yet be wrong in
@@ -13,7 +13,7 @@
 //! one, 600 steps, largest `η_body` 3.9e-8 → 3.5e-10.) When
 //! none does, the answer stays as it was (it passes the LCP's rule, and a
 //! failed step would apply less than it) and its error stays in the record
-//! ([`super::IslandRecord::body_eta`]). A failed solve of such an island
+//! ([`crate::pipeline::IslandRecord::body_eta`]). A failed solve of such an island
 //! (other than at the pivot limit, the caller's) gets the same rungs: their
 //! other scaling can solve what the ladder's double-double rung did not (one
 //! step of a 1e7 kg box sliding on a 1 kg one). Only such islands: elsewhere
@@ -25,7 +25,8 @@
 //! where a contact joins bodies of very different mobility
 //! ([`crate::contact::BodyCheck::applies`]) and up to [`lcp::lemke::DD_MAX_N`] unknowns.
 
-use super::island_lcp::{try_previous_basis, IslandLcp};
+use super::previous_basis::solve_in_body_space;
+use crate::pipeline::island::IslandLcp;
 use lcp::{LemkeOptions, Method, Pivoting, Solution, Status};
 
 /// The options the check re-solves with when `method` gets it.
@@ -68,12 +69,12 @@ impl IslandLcp {
             return;
         }
         // First the answer's own basis solved in body space, as the previous
-        // basis is (`try_previous_basis`): the dense `M` of a heavy body on a
+        // basis is ([`solve_in_body_space`]): the dense `M` of a heavy body on a
         // light one loses to cancellation digits that the body-space products
         // keep. (With every exchange round: such an answer is rare, and wrong.)
         if let Some(basis) = sol.basis.clone() {
-            self.support.forget_failures();
-            if let Some((cand, (z, w))) = try_previous_basis(&self.lcp, &basis, tol, true, &mut self.support) {
+            self.basis_ws.forget_failures();
+            if let Some((cand, (z, w))) = solve_in_body_space(&self.lcp, &basis, tol, true, &mut self.basis_ws) {
                 let eta = self.check.eta(&self.lcp, &z, &w);
                 if eta <= tol {
                     self.adopt(sol, cand, z, w, eta);

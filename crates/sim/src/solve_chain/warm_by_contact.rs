@@ -1,6 +1,6 @@
 //! Warm starts for large islands whose contacts changed since the previous
 //! step (a heap settling: contacts come and go every step, so the island
-//! never has the same contacts twice and `warm::WarmStarts` starts it cold).
+//! never has the same contacts twice and [`super::warm_starts::WarmStarts`] starts it cold).
 //!
 //! Each contact of the island takes the basis flags (`fn`, its `fd_j`, `λ`)
 //! of the previous step's contact between the same two bodies nearest to it
@@ -13,9 +13,9 @@
 //! Only islands of the structured Lemke's size get one: smaller islands keep
 //! their previous rule and answers.
 
-use super::record::StepRecord;
 use crate::geometry::Contact;
 use crate::islands::Islands;
+use crate::pipeline::record::StepRecord;
 use lcp::contact::ContactLayout;
 use std::collections::{HashMap, HashSet};
 

@@ -1,0 +1,76 @@
+//! One island's LCP from assembly to the impulses it applies: the unit of
+//! work of a solver thread. Its buffers are kept from step to step (one per
+//! island slot), so a warm step allocates only what the solver allocates.
+//! How it is solved ([`IslandLcp::solve`]) is the solve chain, [`crate::solve_chain`].
+
+use crate::contact::assembly::{AssemblyParams, BodyDynamics};
+use crate::contact::{BodyCheck, ContactLcp};
+use crate::geometry::Contact;
+use lcp::contact::ContactLayout;
+use lcp::on_basis::BasisWorkspace;
+use lcp::{Lcp, LcpError, LemkeOptions, Residuals, Solution};
+
+/// A solver for one LCP, started from a basis when one is given.
+pub type IslandSolver<'a> = dyn FnMut(&Lcp, Option<&[bool]>) -> Solution + 'a;
+
+/// An island's contacts, LCP and answer.
+#[derive(Clone, Debug, Default)]
+pub struct IslandLcp {
+    /// The island's contacts, in global contact order.
+    pub contacts: Vec<Contact>,
+    pub lcp: ContactLcp,
+    /// The basis to start from: the previous step's answer for the same island, if any.
+    pub warm: Option<Vec<bool>>,
+    /// The previous step's island with the same bodies and contact count
+    /// (`solve_chain::warm_starts::WarmStarts`), whose impulses start the guessed basis.
+    pub previous: Option<usize>,
+    /// Whether this step's solve started from such a basis.
+    pub warmed: bool,
+    /// Unknowns the answer had to bring into the basis (`IslandRecord::entered`).
+    pub entered: Option<usize>,
+    /// The solver's answer (scaled LCP), `None` before the solve or when the LCP was invalid.
+    pub sol: Option<Solution>,
+    /// Set when the LCP could not be handed to the solver (non-finite data).
+    pub error: Option<LcpError>,
+    /// Physical `z` (λ = s·λ_scaled) and `w` of the unscaled LCP, island order.
+    pub z: Vec<f64>,
+    pub w: Vec<f64>,
+    /// Residuals of that `z` on the unscaled LCP.
+    pub residuals: Residuals,
+    /// The solver's answer was not applied: the solve failed or its `z` was unusable.
+    pub zeroed: bool,
+    /// Impulses applied (physical `z` clamped at 0; after a failure, what the
+    /// failed-solve policy of `pipeline::energy` applies, set by `integrate`).
+    pub z_apply: Vec<f64>,
+    /// Buffers of the body-space check of the previous basis.
+    pub basis_ws: BasisWorkspace,
+    /// Options of the body-space check of the answer and its double-double
+    /// re-solve (`solve_chain::answer_check`), `None` for no check; set per solve.
+    pub body_check: Option<LemkeOptions>,
+    /// The answer's body-space error `η_body` (`contact::body_rule`; 0 unchecked).
+    pub body_eta: f64,
+    /// Buffers of that check.
+    pub check: BodyCheck,
+}
+
+impl IslandLcp {
+    /// Assembles the island's LCP: its rows and `q`, and the dense `M` if `matrix`.
+    pub fn assemble(&mut self, dynamics: &BodyDynamics<'_>, p: &AssemblyParams, matrix: bool) {
+        self.lcp.assemble_rows(&self.contacts, dynamics, p);
+        if matrix {
+            self.lcp.assemble_matrix();
+        }
+    }
+}
+
+/// Copies an island's `[fn; fd; λ]` (`m` contacts, layout of its own LCP)
+/// into the step's layout (`nc` contacts), contact `c` of the island being
+/// the step's contact `ids[c]`.
+pub fn scatter<T: Copy>(ids: &[usize], nc: usize, k: usize, src: &[T], dst: &mut [T]) {
+    let (island, step) = (ContactLayout::new(ids.len(), k), ContactLayout::new(nc, k));
+    for (c, &g) in ids.iter().enumerate() {
+        dst[step.fn_index(g)] = src[island.fn_index(c)];
+        dst[step.fd_of(g)].copy_from_slice(&src[island.fd_of(c)]);
+        dst[step.lambda_index(g)] = src[island.lambda_index(c)];
+    }
+}

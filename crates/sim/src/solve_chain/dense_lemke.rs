@@ -1,0 +1,23 @@
+//! Stage 4, the last word: the method's own solver on the dense `M`, formed
+//! here if assembly left it out. For Lemke that is its repair ladder, ending
+//! in the double-double and exact rungs inside `lcp::lemke`.
+
+use crate::pipeline::island::{IslandLcp, IslandSolver};
+use lcp::{LcpError, Solution};
+
+/// Solves `isl`'s LCP with `solver`, from `warm`; an error when the LCP
+/// cannot be handed to it (non-finite data).
+pub(super) fn solve(
+    isl: &mut IslandLcp,
+    solver: &mut IslandSolver<'_>,
+    warm: Option<&[bool]>,
+) -> Result<Solution, LcpError> {
+    if !isl.lcp.has_matrix() {
+        isl.lcp.assemble_matrix();
+    }
+    // Lend the buffers to an Lcp, solve, and take them back.
+    let lcp = isl.lcp.take_lcp()?;
+    let sol = solver(&lcp, warm);
+    isl.lcp.restore(lcp);
+    Ok(sol)
+}

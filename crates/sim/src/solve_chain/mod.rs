@@ -1,0 +1,226 @@
+//! The solve chain: how one island's LCP is solved. Each stage answers, or
+//! passes the island on to the next; the first answer is the island's.
+//!
+//! ```text
+//! previous_basis    the previous step's basis, solved in body space (no pivot, no dense M)
+//! guessed_basis     a basis guessed from the previous impulses, solved the same way
+//! structured_lemke  Lemke on M = G H + K in sparse factors (first on loaded_friction's sub-LCPs)
+//! dense_lemke       the method's solver on the dense M (Lemke: its repair ladder)
+//! answer_check      the answer judged once more in body space, re-solved in double-double if it fails
+//! ```
+//!
+//! - [`previous_basis`]: a simulator's LCP changes little from step to step,
+//!   and on most steps of a resting scene the previous basis still solves: no
+//!   pivot, and `M` never formed.
+//! - [`guessed_basis`]: when the previous vertex has drifted a hair
+//!   infeasible, a few sweeps of body-space Gauss–Seidel usually land on the
+//!   new one, where the dense Lemke would pivot hundreds of times.
+//! - [`structured_lemke`]: large islands, whose dense `M` costs too much, and
+//!   small ones whose two bases failed; it tries the sub-LCP with friction
+//!   only for loaded contacts first ([`loaded_friction`], an exact reduction).
+//! - [`dense_lemke`]: the method as the caller chose it; for Lemke its
+//!   ladder ends in double-double and exact rungs inside `lcp::lemke`.
+//! - [`answer_check`]: an `f64` answer can pass the LCP's acceptance rule and
+//!   still be wrong in the velocities of a heavy body on a light one.
+//!
+//! The first three apply only where [`basis_check_applies`] (the robust Lemke
+//! with warm starts) and the island couples two or more dynamic bodies; which
+//! of them apply to an island is written once, in [`IslandLcp::solve`].
+//! Where the previous basis comes from: [`warm_starts`] (the previous step's
+//! island with the same bodies and contact count) and [`warm_by_contact`]
+//! (large islands whose contacts changed). [`replay`] saves the structured
+//! stage's problems to files and solves them again.
+//!
+//! Adding a stage: a file with `attempt(&mut IslandLcp, &Attempt) -> Option<Found>`
+//! (a [`stage::Stage`]) and one row, with when it applies, in the list of
+//! [`IslandLcp::solve`].
+
+pub(crate) mod answer_check;
+mod dense_lemke;
+mod guessed_basis;
+pub(crate) mod loaded_friction;
+mod previous_basis;
+pub mod replay;
+pub(crate) mod stage;
+pub mod structured_lemke;
+pub(crate) mod warm_by_contact;
+pub(crate) mod warm_starts;
+
+use crate::contact::{BodyCheck, BodySpaceLcp};
+use crate::pipeline::island::{IslandLcp, IslandSolver};
+use lcp::operator::LcpOperator;
+use lcp::{LemkeOptions, Method, Pivoting, Residuals, Status};
+use stage::{Attempt, Found, Stage};
+
+impl IslandLcp {
+    /// Solves the assembled LCP, maps the answer to physical units and
+    /// decides the impulses. A failed solve's answer is not applied as it
+    /// stands (its last iterate can be anything): `integrate` applies its
+    /// admissible part scaled not to add energy (`pipeline::energy`); the
+    /// answer is kept for the record.
+    ///
+    /// With `basis_check` ([`basis_check_applies`]), a coupled island under
+    /// [`STRUCTURED_MIN_N`] first tries its previous basis in body space,
+    /// then (with Lemke's full ladder, [`BasisCheck::rungs`]) a basis guessed
+    /// from its previous impulses ([`guessed_basis`]) and the structured
+    /// Lemke; the dense `M` is formed only when all fail (or the island has no
+    /// previous basis). `z_prev`: the previous step's physical impulses of
+    /// this island (empty when there were none).
+    pub fn solve(&mut self, solver: &mut IslandSolver<'_>, basis_check: Option<BasisCheck>, z_prev: &[f64]) {
+        let n = self.lcp.n();
+        self.sol = None;
+        self.error = None;
+        self.entered = None;
+        let warm = self.warm.take().filter(|b| b.len() == n);
+        self.warmed = warm.is_some();
+        // Whether the body-space check judges this island's answer (bodies of
+        // very different mobilities): the previous basis's answer then gets
+        // its last digits, and `check_in_body_space` its check.
+        let mixed = self.lcp.dynamic_body_count() >= 2 && BodyCheck::applies(&self.lcp);
+        // The stages before the dense Lemke, in order, each with whether it
+        // applies to this island: the coupled islands of the robust Lemke
+        // with warm starts only.
+        let coupled = basis_check.filter(|_| self.lcp.dynamic_body_count() >= 2);
+        let (small, warmed) = (n < STRUCTURED_MIN_N, warm.is_some());
+        let rungs = coupled.is_some_and(|c| c.rungs);
+        let stages: [(bool, Stage); 3] = [
+            // A small island with a previous basis.
+            (small && warmed, previous_basis::attempt),
+            // The same, with Lemke's full ladder.
+            (small && warmed && rungs, guessed_basis::attempt),
+            // A large island, or a small one whose previous and guessed bases
+            // failed (a small island's failure goes on to the dense Lemke).
+            (!small || (warmed && rungs), structured_lemke::attempt),
+        ];
+        let found = coupled.and_then(|c| {
+            let a = Attempt {
+                warm: warm.as_deref(),
+                z_prev,
+                accept_tol: c.accept_tol,
+                mixed,
+                dense_fits: n <= DENSE_FALLBACK_MAX_N,
+            };
+            stages.iter().filter(|(applies, _)| *applies).find_map(|(_, stage)| stage(self, &a))
+        });
+        let Found { sol, physical } = match found {
+            Some(found) => found,
+            None => match dense_lemke::solve(self, solver, warm.as_deref()) {
+                Ok(sol) => Found { sol, physical: None },
+                Err(e) => {
+                    self.error = Some(e);
+                    return;
+                }
+            },
+        };
+        // Physical z, or zeros if the solver's z is unusable — also when
+        // undoing the cone scale overflows it: a "solved" z is then no answer.
+        self.zeroed = false;
+        let mut sol = sol;
+        let checked = physical.is_some();
+        let usable = match physical {
+            Some((z, w)) => {
+                (self.z, self.w) = (z, w);
+                true
+            }
+            None => {
+                sol.z.len() == n && sol.z.iter().all(|v| v.is_finite()) && {
+                    self.lcp.unscale_z(&sol.z, &mut self.z);
+                    self.z.iter().all(|v| v.is_finite())
+                }
+            }
+        };
+        if !usable {
+            if sol.status == Status::Solved {
+                sol.status = Status::Numerical;
+            }
+            self.zeroed = true;
+            self.z.clear();
+            self.z.resize(n, 0.0);
+        }
+        // Residuals on the unscaled LCP, in physical units (a body-space
+        // answer's w is that of its check).
+        if checked {
+            // Nothing to form.
+        } else if self.lcp.has_matrix() {
+            self.lcp.unscaled_w(&self.z, &mut self.w);
+        } else {
+            self.w.clear();
+            self.w.resize(n, 0.0);
+            BodySpaceLcp::at_scale(&self.lcp, 1.0).w_of(&self.z, &mut self.w);
+        }
+        self.residuals = Residuals::of(&self.z, &self.w);
+        // A physical w that overflows cannot be checked: not solved either.
+        if sol.status == Status::Solved && !self.residuals.residual.is_finite() {
+            sol.status = Status::Numerical;
+        }
+        self.body_eta = 0.0;
+        if let Some(o) = self.body_check.take() {
+            self.check_in_body_space(&mut sol, &o, warm.as_deref(), mixed);
+        }
+        self.z_apply.clear();
+        if sol.status == Status::Solved {
+            self.z_apply.extend(self.z.iter().map(|v| v.max(0.0)));
+        } else {
+            self.zeroed = true;
+            self.z_apply.resize(n, 0.0);
+        }
+        // Positive z_j that the start basis (the warm one, or every w basic) had nonbasic.
+        self.entered = (sol.status == Status::Solved).then(|| {
+            let outside = |j: usize| warm.as_deref().is_none_or(|b| !b[j]);
+            self.z.iter().enumerate().filter(|&(j, &v)| v > 0.0 && outside(j)).count()
+        });
+        self.sol = Some(sol);
+    }
+}
+
+/// Coupled islands from this LCP size up go to the structured Lemke
+/// (`lcp::structured`, see [`structured_lemke`]) when the robust Lemke
+/// with warm starts is the method; they skip the body-space check of the
+/// previous basis (its dense factorization of the support, `|α|³`, was 48 % of
+/// a forming 200-cube heap's time; the structured Lemke's warm run checks the
+/// same basis at 0 pivots). Measured on heap LCPs (`structured_scaling`,
+/// CPU time of a cold solve): n = 1,120 dense 0.09 s, structured 0.07 s;
+/// n = 1,800: 0.73 s, 0.20 s; n = 3,030: 4.9 s, 0.57 s. Below, an island
+/// with a warm basis that neither it nor the guessed basis solves in body
+/// space goes to the structured Lemke too (its warm run, the loaded-friction
+/// sub-LCPs, the guess: [`structured_lemke`]), then to the dense Lemke if
+/// that fails. Measured on resting stacks of 4–16 boxes (`stack_steps 2000 4
+/// … 16`): pivoting steps 301 → 200, pivots 114,909 → 49,596 against the
+/// dense Lemke there. A cold island (no warm basis) stays on the dense Lemke:
+/// on the 10×10×10 towers the structured answers of step 0 (each at 0
+/// pivots, from its guess) sent the next steps to other vertices and the
+/// run from 207 to 123 steps/s (`many_bodies -- pile10 300 1`).
+pub const STRUCTURED_MIN_N: usize = 1500;
+
+/// Above this size a failed structured solve is reported as it is: the dense
+/// fallback's `M` would take `n²·8` bytes (0.5 GB here).
+pub const DENSE_FALLBACK_MAX_N: usize = 8000;
+
+/// Lemke's acceptance bound when the body-space basis check serves `method`:
+/// the robust Lemke with warm starts (the classic one starts cold, as the
+/// seed's did). Only islands of two or more dynamic bodies use it; a single
+/// body's LCP stays on the dense path, where it is fastest and bit-identical
+/// to earlier releases (the seed corpus is made of such LCPs).
+pub fn basis_check_applies(method: &Method) -> Option<BasisCheck> {
+    match method {
+        Method::Lemke(LemkeOptions {
+            pivoting: Pivoting::Lexicographic,
+            warm_start: true,
+            accept_tol,
+            fallback,
+            ..
+        }) => Some(BasisCheck { accept_tol: *accept_tol, rungs: *fallback }),
+        _ => None,
+    }
+}
+
+/// What a coupled island tries before the dense Lemke ([`basis_check_applies`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BasisCheck {
+    /// Lemke's acceptance bound.
+    pub accept_tol: f64,
+    /// Whether a failed previous basis under [`STRUCTURED_MIN_N`] is followed
+    /// by the guessed basis and the structured Lemke: with Lemke's full ladder
+    /// (`fallback`) only, so that its first rung alone stays one rung.
+    pub rungs: bool,
+}
