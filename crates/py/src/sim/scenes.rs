@@ -8,7 +8,7 @@
 //! signatures' defaults) and the builder that lays the given values over them.
 
 use super::convert::{count, downhill, flag, real, repr, Fields};
-use super::World;
+use super::world::World;
 use crate::errors::value_error;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
