@@ -210,7 +210,7 @@ def lcp_summary(st: dict[str, Any], window: int) -> dict[str, Any]:
     con = np.asarray(st["step_contacts"], dtype=int)
     fail = np.asarray(st["step_failed"], dtype=int)
     has = con > 0
-    calls = np.asarray(st.get("stage_calls") or [], dtype=float).reshape(-1, 2 + len(STAGES))
+    calls = np.asarray(st.get("stage_calls") or [], dtype=float).reshape(-1, 3 + len(STAGES))
 
     def part(a: int, b: int) -> dict[str, Any]:
         p, h = piv[a:b], has[a:b]
@@ -220,10 +220,13 @@ def lcp_summary(st: dict[str, Any], window: int) -> dict[str, Any]:
                              "pivots_max": int(p.max(initial=0)), "contacts_max": int(con[a:b].max(initial=0))}
         if st.get("stages_recorded"):
             sel = calls[(calls[:, 0] >= a) & (calls[:, 0] < b)] if len(calls) else calls
-            counts = sel[:, 2:].sum(axis=0) if len(sel) else np.zeros(len(STAGES))
+            counts = sel[:, 2:].sum(axis=0) if len(sel) else np.zeros(len(STAGES) + 1)
             d["stages"] = {name: int(c) for name, c in zip(STAGES, counts)}
+            if counts[-1]:
+                d["stages"]["other"] = int(counts[-1])
             total = int(counts.sum())
-            d["backstop_fraction"] = float(counts[-1] / total) if total else None
+            dense = counts[STAGES.index("dense_lemke")]
+            d["backstop_fraction"] = float(dense / total) if total else None
         return d
 
     out = part(0, len(piv))

@@ -190,7 +190,8 @@ def _stages(lcp: dict[str, Any] | None) -> str:
     if not lcp or not lcp.get("stages_recorded"):
         return "not recorded" if lcp else ""
     st = lcp["stages"]
-    return " / ".join(f"{st[k]:,}" for k in ("previous_basis", "guessed_basis", "structured_lemke", "dense_lemke"))
+    out = " / ".join(f"{st[k]:,}" for k in ("previous_basis", "guessed_basis", "structured_lemke", "dense_lemke"))
+    return out + (f" (other stages: {st['other']:,})" if st.get("other") else "")
 
 
 def _ran(s: dict[str, Any], e: dict[str, Any], budget: float | None) -> str:
@@ -280,6 +281,12 @@ def render_pours(res: dict[str, Any]) -> list[str]:
                 f"{fmt(sps, ',.1f')} | {ratio} | {failed} | {_backstop(lcp)} | {piv} | {fmt(contacts, ',d')} | "
                 f"{fmt(s.get('max_penetration_m'), '.2g')} ({fmt(s.get('final_penetration_m'), '.2g')}) | "
                 f"{fmt(s.get('peak_rss_mb'), ',.0f')} |")
+    staged = [(key, e["engines"]["lcpsim"]["lcp"]) for key, e in scenes.items()
+              if (e["engines"].get("lcpsim", {}).get("lcp") or {}).get("stages_recorded")]
+    if staged:
+        lines += ["", "lcpsim's contact islands by the stage of the solve chain that answered them (previous basis / "
+                  "guessed basis / structured Lemke / dense Lemke): "
+                  + "; ".join(f"{key} {_stages(lcp)}" for key, lcp in staged) + "."]
     lines += [
         "",
         "- **failed LCPs**: lcpsim's steps whose contact LCP was not solved (of the steps with contacts). "

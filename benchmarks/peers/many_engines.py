@@ -61,7 +61,7 @@ class LcpsimEngine:
                       # Per step: pivots (every island's, every attempt's), contacts, LCP failed (0/1).
                       "step_pivots": [], "step_contacts": [], "step_failed": [],
                       # Per stepping call, where lcpsim reports them (Trajectory.lcp_stats().stages):
-                      # [first step, steps, islands answered by each stage of STAGES in turn].
+                      # [first step, steps, islands answered by each stage of STAGES in turn, by any other].
                       "stage_calls": [], "stages_recorded": False, "backstop_recorded": False,
                       "backstop_islands": 0.0, "stage_islands": 0}
         self.last_contacts = 0
@@ -81,7 +81,8 @@ class LcpsimEngine:
         if stages is not None:
             s["stages_recorded"] = True
             counts = [int(stages.get(name, 0)) for name in self.STAGES]
-            s["stage_calls"].append([self.done, k, *counts])
+            other = sum(int(v) for name, v in stages.items() if name not in self.STAGES)
+            s["stage_calls"].append([self.done, k, *counts, other])
             islands = sum(int(v) for v in stages.values())
             for name, v in stages.items():
                 if name not in self.STAGES:
