@@ -1,5 +1,5 @@
 //! Criterion bench: median time per solve for contact-structured LCPs
-//! (DESIGN §1, sizes 20 and 40, from `sim::generate`) and random SPD LCPs (40, 200, 1000).
+//! (sizes 20 and 40, from `sim::generate`) and random SPD LCPs (40, 200, 1000).
 //! Run with `cargo bench -p lcpsim-lcp --bench lemke`. Each solve runs in
 //! one reused workspace (`lemke::solve_in`), as the simulator and the Python
 //! glue call it.

@@ -1,10 +1,10 @@
-//! Scans the hard corpus (issue 5) with the default Lemke and prints every
+//! Scans the hard corpus with the default Lemke and prints every
 //! failure: `hard_scan [count] [scales,..] [families,..]` (corpus seed `CORPUS_SEED`, default
 //! 2026 as in the ignored corpus test; `ORDINARY=1` scans `contact_lcp` instead, nc ∈ {1, 2, 4, 8}).
 use lcp::{lemke, Lcp, LemkeOptions, Solution, Status};
 use sim::generate::{hard_corpus_item, HardScene};
 
-/// Issue 5's criterion: solved, natural residual ≤ 1e-9·(1 + ‖q‖∞).
+/// The criterion: solved, natural residual ≤ 1e-9·(1 + ‖q‖∞).
 fn solved(p: &Lcp, sol: &Solution) -> bool {
     sol.status == Status::Solved && sol.residuals.residual <= 1e-9 * (1.0 + p.q_norm_inf())
 }

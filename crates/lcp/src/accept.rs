@@ -372,7 +372,7 @@ mod tests {
     #[test]
     fn each_row_is_judged_on_its_own_scale() {
         // Row 0 is tiny, row 1 large: w_0 = −1e-6 is a 100 % violation of row 0
-        // although it is 3e-10 of ‖q‖∞ (issue 15, item 5).
+        // although it is 3e-10 of ‖q‖∞.
         let p = lcp(vec![1.0, 0.0, 0.0, 1.0], vec![1e-6, -3e3]);
         let z = [0.0, 3e3];
         let w = [1e-6 - 2e-6, 0.0];

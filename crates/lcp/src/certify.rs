@@ -33,7 +33,7 @@
 //! `z` by about its own size. A bounded search (all violators flipped, each
 //! alone, each with one other degenerate index; each candidate checked
 //! exactly and kept only if its exact `z`, `w` lie within 1e-9 of the given
-//! basis's) certified 3 more of the seed corpus's 8,913 answers (4,802 →
+//! basis's) certified 3 more of the cube corpus's 8,913 answers (4,802 →
 //! 4,805) at 2.7× the certification time; exhaustive enumeration of all flips
 //! on a 600-LCP sample found no certifying basis for 107 of 119 failing
 //! 1-contact LCPs, and the others were 1–100 % away. Those are exact solutions

@@ -1,5 +1,5 @@
 //! Where the unknowns of a contact LCP live, and the two maps every user of
-//! one needs: the friction-cone scaling and the seed's sign pattern.
+//! one needs: the friction-cone scaling and the source note's sign pattern.
 //!
 //! ```text
 //! z = [ fn (nc) ; fd (nc·k) ; λ (nc) ]      n = nc·(k + 2)
@@ -10,7 +10,7 @@
 //! the generators, the Python glue and the experiments do, and they all read
 //! it from [`ContactLayout`] instead of writing `nc·(k + 1)` themselves.
 //!
-//! **Cone scaling** (DESIGN §1): the scaled problem is `D M D, D q` with
+//! **Cone scaling**: the scaled problem is `D M D, D q` with
 //! `D = diag(I, I, s·I)`; `fn`, `fd` are unchanged and `λ = s·λ_scaled`.
 //!
 //! **Sign pattern** of contact `c`: whether `fn_c`, `Σ_j fd_cj` and `λ_c` of a
@@ -158,7 +158,7 @@ impl ZeroLevels {
     }
 }
 
-/// The seed's sign pattern `(fn, Σfd, λ)` of one contact (DESIGN §2).
+/// The source note's sign pattern `(fn, Σfd, λ)` of one contact.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Pattern {
     /// `fn > 0`: the contact pushes.
@@ -170,7 +170,7 @@ pub struct Pattern {
 }
 
 impl Pattern {
-    /// Every pattern in the seed's table order `000, 00+, 0+0, 0++, +00, +0+, ++0, +++`.
+    /// Every pattern in the source note's table order `000, 00+, 0+0, 0++, +00, +0+, ++0, +++`.
     pub const ALL: [&'static str; 8] = ["000", "00+", "0+0", "0++", "+00", "+0+", "++0", "+++"];
 
     /// Position in [`Pattern::ALL`]: `4·fn + 2·fd + λ`.

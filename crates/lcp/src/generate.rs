@@ -71,7 +71,7 @@ pub fn p_matrix_lcp(n: usize, seed: u64) -> Lcp {
 /// permutation; `q` uniform in [−1e-3, 1e-3]. Every principal submatrix of
 /// `T` is triangular with a positive diagonal, so `M` is a P-matrix (unique
 /// solution), while the off-diagonal growth makes cond(M) 1e10–1e20 for
-/// n ≈ 12–20 (the issue-15 family, where floating-point Lemke meets false
+/// n ≈ 12–20 (the family of the acceptance-rule tests, where floating-point Lemke meets false
 /// rays). `(M, cond∞(M))` with cond∞ = ‖M‖∞‖M⁻¹‖∞ evaluated in floating point.
 ///
 /// # Panics

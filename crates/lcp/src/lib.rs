@@ -9,7 +9,7 @@
 //!
 //! - [`lemke`]: Lemke's complementary pivoting — `Lexicographic` (robust
 //!   default: equilibration, relative tie tolerance, O(n²) block-inverse
-//!   updates, cycle guard, final-basis refinement) or `Classic` (the seed
+//!   updates, cycle guard, final-basis refinement) or `Classic` (the source
 //!   note's absolute tolerances, kept to reproduce its findings).
 //! - [`pgs`]: projected Gauss–Seidel with relaxation.
 //! - [`newton_fb`]: damped semismooth Newton on the Fischer–Burmeister function.

@@ -6,7 +6,7 @@ use crate::problem::Lcp;
 /// How a solve ended. Every status comes with correctly sized `z` and `w` (the
 /// last iterate). `Solution::ok()` — `Solved` *and* accepted by the rule of
 /// [`crate::accept`] — is what says `z` solves the LCP: every method's
-/// `Solved` passes that rule except classic Lemke's, which keeps the seed's
+/// `Solved` passes that rule except classic Lemke's, which keeps the source note's
 /// own check as its word.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Status {

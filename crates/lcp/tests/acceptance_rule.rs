@@ -1,4 +1,4 @@
-//! Issue 15, item 4: one componentwise acceptance rule (`lcp::accept`), and
+//! One componentwise acceptance rule (`lcp::accept`), and
 //! ill-conditioned P-matrix LCPs solved rather than reported as `numerical`
 //! or a false `ray_termination`. The reproducers are `tests/data/repros/*.npz`.
 
@@ -28,7 +28,7 @@ fn methods() -> Vec<(&'static str, Method)> {
 }
 
 #[test]
-fn issue_15_repros_are_solved_within_the_rule() {
+fn repros_are_solved_within_the_rule() {
     for name in REPROS {
         let p = repro(name);
         let sol = lemke::solve(&p, &LemkeOptions::default());
@@ -43,7 +43,7 @@ fn issue_15_repros_are_solved_within_the_rule() {
 }
 
 #[test]
-fn issue_15_ok_is_never_true_outside_the_rule() {
+fn ok_is_never_true_outside_the_rule() {
     for name in REPROS {
         let p = repro(name);
         for (m, method) in methods() {
@@ -58,7 +58,7 @@ fn issue_15_ok_is_never_true_outside_the_rule() {
 }
 
 #[test]
-fn issue_15_classic_keeps_its_word_but_not_ok() {
+fn classic_keeps_its_word_but_not_ok() {
     // A 1×1 LCP classic calls solved with w = −8.6e-7 (inside its absolute
     // zero_tol 1e-6), far outside the rule: ok must say so.
     let p = Lcp::new(vec![1.0], vec![-8.6e-7]).unwrap();
@@ -72,7 +72,7 @@ fn issue_15_classic_keeps_its_word_but_not_ok() {
     assert!(sol.ok() && (sol.z[0] - 8.6e-7).abs() <= 1e-22, "{:?}", sol.z);
 }
 
-/// The family of the issue: permuted triangular P-matrices, cond∞ ≥ 1e15.
+/// The family of these tests: permuted triangular P-matrices, cond∞ ≥ 1e15.
 fn ill_conditioned_family(count: usize) -> Vec<(u64, Lcp, f64)> {
     (0..u64::MAX)
         .map(|seed| {
@@ -86,7 +86,7 @@ fn ill_conditioned_family(count: usize) -> Vec<(u64, Lcp, f64)> {
 }
 
 #[test]
-fn issue_15_ill_conditioned_p_matrices_are_solved() {
+fn ill_conditioned_p_matrices_are_solved() {
     let (mut worst_eta, mut statuses, mut certified) = (0.0f64, std::collections::BTreeMap::new(), 0);
     for (seed, p, cond) in ill_conditioned_family(300) {
         let sol = lemke::solve(&p, &LemkeOptions::default());
@@ -114,7 +114,7 @@ fn issue_15_ill_conditioned_p_matrices_are_solved() {
 }
 
 #[test]
-fn issue_15_small_ill_conditioned_p_matrices_match_exact_enumeration() {
+fn small_ill_conditioned_p_matrices_match_exact_enumeration() {
     // n ≤ 8: every complementary basis checked exactly; a P-matrix has one solution.
     let mut checked = 0;
     for seed in 0..400u64 {

@@ -1,6 +1,6 @@
 //! Exact certification: hand-solved bases, rejected and singular bases, the
 //! exact sign of a `w_i` that floats cannot see, and Lemke's bases on random
-//! P-matrix and contact LCPs (issue 5, item 3).
+//! P-matrix and contact LCPs.
 
 use std::time::Instant;
 
@@ -185,7 +185,7 @@ fn random_spd_lcps_certify() {
     }
 }
 
-/// Contact LCPs (DESIGN §1) at three sizes and three scales: how many of
+/// Contact LCPs at three sizes and three scales: how many of
 /// Lemke's bases certify exactly, and how large the backward error of the rest
 /// is. Measured (150 seeds each): 89 % of the bases certify exactly at
 /// nc = 1, 85 % at nc = 2, 59 % at nc = 4, the same at every scale; every
@@ -233,7 +233,7 @@ fn contact_lcps_certify_up_to_round_off() {
     );
 }
 
-/// Cost at the issue's largest size: a full 40×40 basis (every z basic) of a
+/// Cost at the largest size: a full 40×40 basis (every z basic) of a
 /// dense P-matrix LCP, and Lemke's bases on 4-contact LCPs (n = 40).
 #[test]
 fn certify_is_fast_at_n_40() {

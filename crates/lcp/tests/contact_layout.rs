@@ -6,7 +6,7 @@ use lcp::generate::spd_lcp;
 use lcp::Lcp;
 
 #[test]
-fn ranges_tile_z_in_the_design_order() {
+fn ranges_tile_z_in_the_layout_order() {
     for (nc, k) in [(1, 1), (1, 8), (2, 4), (3, 8), (5, 16)] {
         let l = ContactLayout::new(nc, k);
         assert_eq!(l.n(), nc * (k + 2));
@@ -77,7 +77,7 @@ fn pattern_is_strictly_above_the_threshold_with_the_friction_summed() {
     assert_eq!(l.pattern(&z2(2e-9, [1e-9, 1e-9], 2e-6), 0, zero).as_str(), "+++");
     // Impulses and λ have their own thresholds.
     assert_eq!(l.pattern(&z2(1e-7, [0.0, 0.0], 1e-7), 0, zero).as_str(), "+00");
-    // The impossible ones of DESIGN §2.
+    // The impossible ones of the source note's table.
     let impossible: Vec<&str> = (0..8u8)
         .map(|c| Pattern { normal: c & 4 != 0, friction: c & 2 != 0, sliding: c & 1 != 0 })
         .filter(|p| p.impossible())

@@ -1,4 +1,4 @@
-//! Issue 5 regressions: every hard-corpus LCP (corpus seed 2026, first 2000
+//! Regressions of the hard corpus: every hard-corpus LCP (corpus seed 2026, first 2000
 //! items) on which the default Lemke failed before the ladder gained more
 //! covering vectors and restarts from its rungs' final bases. Each must be
 //! solved, judged here by its own natural residual in the units given.
@@ -22,7 +22,7 @@ const CASES: [(HardKind, usize, u64, &[f64]); 8] = [
 ];
 
 #[test]
-fn issue_5_previously_failing_hard_lcps_are_solved() {
+fn previously_failing_hard_lcps_are_solved() {
     for (kind, k, seed, scales) in CASES {
         for &s in scales {
             let p = HardScene::random(kind, k, seed).lcp(s);
@@ -30,7 +30,7 @@ fn issue_5_previously_failing_hard_lcps_are_solved() {
             let what = format!("{} k={k} seed={seed} s={s:e}", kind.as_str());
             assert_eq!(sol.status, Status::Solved, "{what}");
             // Natural residual ≤ 1e-9·(1 + ‖q‖∞), recomputed from z. (Since
-            // issue 15's componentwise rule, seeds 2097431372507007774 at 1e-8
+            // the componentwise rule, seeds 2097431372507007774 at 1e-8
             // and 4839772600793578341 at 1e-3 met it only once the ladder
             // restarted at once from a rung's complementary final basis; before,
             // the answers returned were 3.3e-9 and 2.4e-9 times (1 + ‖q‖∞) off.)

@@ -1,5 +1,5 @@
-//! Issue 15, item 3: a contact LCP of a 1e6 kg box sliding on a 1 kg box
-//! (`crates/sim/tests/issue_15_mass_ratio.rs`, box–box, 0.5 m/s; step 1876
+//! A contact LCP of a 1e6 kg box sliding on a 1 kg box
+//! (`crates/sim/tests/mass_ratio.rs`, box–box, 0.5 m/s; step 1876
 //! of the run with an LCP sink; n = 80, 8 contacts × (1 + 8 + 1)). Its
 //! solution basis has cond ~4e16 (f64 SVD): every `f64` rung of the ladder
 //! ended `SingularBasis` or off (1,089 pivots), cold and warm, and exact

@@ -91,7 +91,7 @@ fn degenerate_zero_q_entries_and_repeated_rows() {
     assert_solves(&lcp, &s.z, 1e-12);
 }
 
-/// The contact structure of DESIGN §1 has q = 0 on every λ row: a degenerate
+/// The contact LCP's structure has q = 0 on every λ row: a degenerate
 /// tie in every ratio test once friction engages.
 #[test]
 fn contact_lcps_at_every_scale() {
@@ -186,7 +186,7 @@ fn pivot_budget_spans_the_ladder_and_tiny_q_is_fine() {
     }
 }
 
-/// Issue 5: a warm start from the answer's own basis needs no pivot; from a
+/// A warm start from the answer's own basis needs no pivot; from a
 /// neighbouring problem's basis it needs fewer; from a wrong one it still solves.
 #[test]
 fn warm_start_saves_pivots_and_never_hurts() {
@@ -221,7 +221,7 @@ fn warm_start_saves_pivots_and_never_hurts() {
     assert!(2 * warm <= cold, "warm {warm} pivots vs cold {cold}");
 }
 
-/// Issue 5 forensics: the trace has one record per pivot, numbered by rung,
+/// Forensics: the trace has one record per pivot, numbered by rung,
 /// starting with z0 entering.
 #[test]
 fn pivot_trace_matches_the_pivot_count() {

@@ -1,4 +1,4 @@
-//! Issue 15, item 6: the fuzz target's properties (`tests/properties/mod.rs`)
+//! The fuzz target's properties (`tests/properties/mod.rs`)
 //! in the normal test suite: on any bytes, `Lcp::new` accepts exactly the
 //! well-formed data, every solver returns without panicking, within its
 //! budget, and `Solved` only within the documented acceptance rule. Inputs

@@ -1,5 +1,5 @@
 //! Diagonal scaling: exactness of power-of-two factors, what Ruiz achieves,
-//! the cone scaling of DESIGN §1, and the one fact everything rests on — a
+//! the friction-cone scaling, and the one fact everything rests on — a
 //! positive diagonal scaling maps the solution set onto itself.
 
 use lcp::contact::ContactLayout;

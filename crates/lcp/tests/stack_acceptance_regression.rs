@@ -1,4 +1,4 @@
-//! Issue 15 regression of the componentwise acceptance rule: the 10-box
+//! Regression of the componentwise acceptance rule: the 10-box
 //! stack (`sim::scenes::box_stack(10)`, 2000 steps) had one failed LCP, at
 //! step 1480: the warm rung and every cold rung ended off by a hair (rows of
 //! an unloaded contact's cone made of 1e-13 impulses that the rule rejects),

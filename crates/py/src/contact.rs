@@ -69,7 +69,7 @@ impl PyContactLayout {
         Ok(PyContactLayout(ContactLayout::new(nc, k)))
     }
 
-    /// The seed's sign patterns in table order (`ContactLayout.patterns` codes index it).
+    /// The source note's sign patterns in table order (`ContactLayout.patterns` codes index it).
     #[classattr]
     const PATTERNS: [&'static str; 8] = Pattern::ALL;
 

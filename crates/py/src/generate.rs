@@ -3,7 +3,7 @@
 //! `(M, q, label)` with `M` an `(n, n)` and `q` an `(n,)` float64 array, and
 //! the label a string that names the generator and its arguments. The
 //! contact generators also return `(nc, k)` so that Python can undo the
-//! friction-cone scaling (DESIGN §1). Arguments the Rust generators would panic
+//! friction-cone scaling (`lcp::contact`). Arguments the Rust generators would panic
 //! on, and sizes whose matrices could not fit in memory, are rejected here with
 //! a `ValueError` (saying how much memory the request needs); integer arguments
 //! (sizes ≥ 1, seeds and counts ≥ 0, below 2⁶⁴) by `args::integer`, naming the field.

@@ -65,7 +65,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     add_functions!(m; generate::contact_lcp, generate::spd_lcp, generate::p_matrix_lcp, generate::hard_contact_lcp,
                    generate::hard_corpus);
     m.add("HARD_KINDS", generate::hard_kinds())?;
-    // Exact certification and the pivot trace of failure dumps (issue 5).
+    // Exact certification and the pivot trace of failure dumps.
     add_functions!(m; certify::certify_lcp, certify::certify_lcp_batch, certify::solve_lcp_traced);
     Ok(())
 }

@@ -1,4 +1,4 @@
-//! Issue 13: a forming heap's large-island LCPs, recorded and solved again.
+//! A forming heap's large-island LCPs, recorded and solved again.
 //!
 //! `cargo run --release -p lcpsim-sim --example heap_replay -- record CUBES STEPS DIR`
 //! runs the walled heap of `CUBES` cubes (seed 0, as `tests/heap.rs`) for

@@ -1,4 +1,4 @@
-//! Many bodies (issue 13): steps per second, islands, LCP sizes, pivots,
+//! Many bodies: steps per second, islands, LCP sizes, pivots,
 //! failures and penetration on piles and heaps, and the broad phase's time
 //! per step against the all-pairs loop.
 //!

@@ -1,4 +1,4 @@
-//! Pivots per step of resting box stacks (issue 13): for each height, the
+//! Pivots per step of resting box stacks: for each height, the
 //! median and largest pivot count per warm-started step, steps per second,
 //! failed solves and how far the top box drifted.
 //!

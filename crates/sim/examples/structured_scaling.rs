@@ -1,4 +1,4 @@
-//! Issue 13 item 6: the structured Lemke (`lcp::structured`) against the
+//! The structured Lemke (`lcp::structured`) against the
 //! dense Lemke on the contact LCP of a heap's cubes, one size per call.
 //!
 //! `cargo run --release -p lcpsim-sim --example structured_scaling -- BOXES K [DENSE_MAX_N]`

@@ -1,4 +1,4 @@
-//! Rigid bodies with the Stewart–Trinkle / Anitescu–Potra contact LCP (DESIGN §1).
+//! Rigid bodies with the Stewart–Trinkle / Anitescu–Potra contact LCP ([`contact`]).
 //!
 //! A [`World`] holds bodies (boxes, spheres, static planes), constant
 //! external forces and [`WorldParams`]. Each step runs named stages
@@ -19,7 +19,7 @@
 //! assert_eq!(record.lcp_size, 40); // 4 contacts × (1 + 8 + 1)
 //! ```
 //!
-//! Conventions (DESIGN §8): SI units, gravity (0, 0, −9.81), quaternions
+//! Conventions: SI units, gravity (0, 0, −9.81), quaternions
 //! (w, x, y, z) rotating body → world, velocities `[v; ω]` in the world
 //! frame, contact normals from body B to body A, `z = [fn; fd; λ]`.
 //!
@@ -27,7 +27,7 @@
 //! [`geometry`] (shapes, one file per shape pair), [`contact`] (friction
 //! basis, assembly, formulation parameters), [`pipeline`] (the step),
 //! [`solve_chain`] (how one island's LCP is solved, stage after stage),
-//! [`scenes`] (the analytic test scenes of DESIGN §3), [`generate`] (seeded
+//! [`scenes`] (the analytic test scenes), [`generate`] (seeded
 //! contact scenes and their LCPs for tests and benchmarks).
 
 pub mod broad_phase;

@@ -9,14 +9,14 @@ use lcp::Method;
 /// Validated by `World::new` and `World::set_params`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct WorldParams {
-    /// Time step `h` (s), > 0. Default 1e-3 (the seed's).
+    /// Time step `h` (s), > 0. Default 1e-3 (the source note's).
     pub dt: f64,
     /// Gravity (m/s²). Default (0, 0, −9.81).
     pub gravity: Vec3,
     /// Friction directions per contact `k`, even, in [2, `contact::friction::MAX_FRICTION_DIRS`].
     /// Default 8 (LCP size 10 per contact).
     pub friction_dirs: usize,
-    /// Friction-cone scale `s` (DESIGN §1). Default `Unscaled` (s = 1).
+    /// Friction-cone scale `s` (`contact::ConeScale`). Default `Unscaled` (s = 1).
     pub cone_scale: ConeScale,
     /// Contacts with gap `φ ≤ margin` enter the LCP (m), ≥ 0. Default 1e-3.
     pub margin: f64,

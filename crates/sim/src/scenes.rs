@@ -1,4 +1,4 @@
-//! The test scenes of DESIGN §3 as constructors (the Python `lcpsim.scenes` mirrors them).
+//! The analytic test scenes as constructors (the Python `lcpsim.scenes` mirrors them).
 //!
 //! Each scene is a parameter struct with documented defaults and a `build`
 //! taking the [`WorldParams`]; a free function builds it with the default

@@ -1,4 +1,4 @@
-//! The assembled LCP against DESIGN §1: layout, A = J M_b⁻¹ Jᵀ, the scaled
+//! The assembled LCP against the Stewart–Trinkle formulation: layout, A = J M_b⁻¹ Jᵀ, the scaled
 //! problem D M D, D q with D = diag(I, I, s·I), physical λ, LCP capture and
 //! what a failed solve does to a step.
 
@@ -268,7 +268,7 @@ fn a_failed_solve_is_recorded_and_the_step_goes_on() {
     assert_eq!(r.status, Some(Status::MaxPivots));
     assert!(r.zeroed);
     assert_eq!(r.z[1], -1.0, "the record keeps the solver's answer");
-    // Issue 15: not the answer itself but its admissible part (fn ≥ 0), scaled
+    // Not the answer itself but its admissible part (fn ≥ 0), scaled
     // so that the step adds no energy: it slows the fall, never reverses it.
     let vz = s.world.body(s.body).unwrap().velocity().z;
     assert!(vz > -2.0 * G * 1e-3 && vz < 0.0, "vz = {vz:e}");

@@ -1,4 +1,4 @@
-//! DESIGN §3: a ball on an incline rolls with a = (5/7) g sin θ iff
+//! A ball on an incline rolls with a = (5/7) g sin θ iff
 //! μ ≥ (2/7) tan θ; a dropped ball hits the ground at √(2H/g) within 2h.
 
 mod common;

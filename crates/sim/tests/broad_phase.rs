@@ -1,4 +1,4 @@
-//! Issue 13 item 2: sweep and prune finds exactly the pairs of the all-pairs
+//! Sweep and prune finds exactly the pairs of the all-pairs
 //! loop (bounding spheres and boxes), in the same order, on random scenes (boxes, spheres,
 //! static boxes, planes, fast bodies with velocity margins).
 

@@ -1,5 +1,5 @@
-//! DESIGN §3 "cube on slope": rests iff tan θ ≤ min(μ, 1); tips iff tan θ > 1
-//! and μ > 1; slides without tipping if μ ≤ 1. DESIGN §2: the μ = 1 cube on a
+//! The "cube on slope" scene: rests iff tan θ ≤ min(μ, 1); tips iff tan θ > 1
+//! and μ > 1; slides without tipping if μ ≤ 1. The source note's case: the μ = 1 cube on a
 //! 45° + ε slope must slide (friction capped at μN puts the normal resultant
 //! exactly on the downhill edge), at every friction-cone scale.
 
@@ -61,7 +61,7 @@ fn slides_without_tipping_when_mu_at_most_one() {
     }
 }
 
-/// DESIGN §2: at 45.2° a μ = 1 cube slides 0.097 m in 2 s (½ g (sin θ − cos θ) t²).
+/// At 45.2° a μ = 1 cube slides 0.097 m in 2 s (½ g (sin θ − cos θ) t²).
 #[test]
 fn knife_edge_45_2_degrees_slides_at_every_scale() {
     let th = 45.2f64.to_radians();
@@ -78,7 +78,7 @@ fn knife_edge_45_2_degrees_slides_at_every_scale() {
     }
 }
 
-/// DESIGN §2: the seed's test, 45° + 1e-4°, μ = 1: it must slide (a ≈ 2.4e-5 m/s²), not tip.
+/// The source note's test, 45° + 1e-4°, μ = 1: it must slide (a ≈ 2.4e-5 m/s²), not tip.
 #[test]
 fn knife_edge_45_plus_1e4_degrees_slides_at_every_scale() {
     let angle = 45.0 + 1e-4;

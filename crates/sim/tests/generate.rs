@@ -1,5 +1,5 @@
 //! `sim::generate::contact_lcp`: the contact LCP of one cube on a slope has
-//! exactly the DESIGN §1 structure and the physics of its scene, and is a
+//! exactly the contact-LCP structure (`lcp::contact`) and the physics of its scene, and is a
 //! pure function of its seed.
 
 #[path = "../../lcp/tests/common/mod.rs"]
@@ -15,7 +15,7 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 
     #[test]
-    fn contact_lcp_has_the_design_structure(nc in 1usize..=8, k in 1usize..=10, log_s in -8.0f64..0.5, seed in any::<u64>()) {
+    fn contact_lcp_has_the_formulation_structure(nc in 1usize..=8, k in 1usize..=10, log_s in -8.0f64..0.5, seed in any::<u64>()) {
         let s = 10f64.powf(log_s);
         let lcp = contact_lcp(nc, k, s, seed);
         let layout = ContactLayout { nc, k };
@@ -156,8 +156,8 @@ fn opposite_friction_directions_give_opposite_rows() {
 }
 
 #[test]
-fn seed_sizes() {
-    // The seed's sizes: 2 contacts → 20, 4 contacts → 40.
+fn source_note_sizes() {
+    // The source note's sizes: 2 contacts → 20, 4 contacts → 40.
     assert_eq!(contact_lcp(2, 8, 1.0, 0).n(), 20);
     assert_eq!(contact_lcp(4, 8, 1.0, 0).n(), 40);
 }

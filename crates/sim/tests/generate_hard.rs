@@ -1,4 +1,4 @@
-//! Hard contact LCPs (issue 5): the DESIGN §1 structure for every family, the
+//! Hard contact LCPs: the contact-LCP structure (`lcp::contact`) for every family, the
 //! hardness each family promises (duplicates, twins, collinear rows, mass
 //! ratios, ill-conditioned inertia, μ = 0), determinism per seed; and, run by
 //! hand, how the default Lemke fares on them at every scale.
@@ -50,7 +50,7 @@ fn jrow<'a>(s: &HardScene, p: &'a Parts, r: usize) -> &'a [f64] {
     }
 }
 
-/// Checks the DESIGN §1 structure of the scene's LCP at scale `sc`.
+/// Checks the contact-LCP structure of the scene's LCP at scale `sc`.
 fn check_structure(s: &HardScene, sc: f64, what: &str) {
     let lcp = s.lcp(sc);
     let p = parts(s);
@@ -270,9 +270,9 @@ fn deterministic_per_seed() {
     assert_eq!(ks.keys().copied().collect::<Vec<_>>(), vec![4, 8, 16]);
 }
 
-/// The default Lemke on the hard corpus at the issue's scales, by family and
-/// status, with exact certification of its bases up to n = 40. Information for
-/// issue 5, not a gate: `cargo test --release -p lcpsim-sim --test generate_hard -- --ignored --nocapture`.
+/// The default Lemke on the hard corpus at the corpus's scales, by family and
+/// status, with exact certification of its bases up to n = 40. Information, not
+/// a gate: `cargo test --release -p lcpsim-sim --test generate_hard -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn lemke_on_the_hard_corpus() {
@@ -332,7 +332,7 @@ fn lemke_on_the_hard_corpus() {
             println!("    {f}");
         }
     }
-    // Issue 5's target on the default 2000 per scale. (Item 2505 of this seed,
-    // beyond the default count, still fails: see the closing note of session 2.)
+    // The target: no failure on the default 2000 per scale. (Item 2505 of
+    // this seed, beyond the default count, still fails.)
     assert_eq!(total_failures, 0, "robust Lemke failed on the hard corpus");
 }

@@ -1,4 +1,4 @@
-//! Issue 13 items 5 and 7: the seeded cube heap.
+//! The seeded cube heap.
 
 use sim::scenes::CubeHeap;
 use sim::WorldParams;
@@ -81,7 +81,7 @@ fn heap_runs_without_failures_or_penetration(n: usize, steps: usize, params: Wor
     s
 }
 
-/// Issue 13 item 7: a 200-cube heap runs 200 steps with no failed step and
+/// A 200-cube heap runs 200 steps with no failed step and
 /// penetration ≤ 1 mm, a step whose LCP fails taken again in halves up to
 /// three halvings deep (`WorldParams::max_halvings`; every part's LCP solved
 /// exactly). Too slow for the suite (~11 min). Passes at 1d556a4: 200
@@ -215,7 +215,7 @@ fn heap_of_two_hundred_cubes_runs_without_failures_or_penetration() {
     heap_runs_without_failures_or_penetration(200, 200, params);
 }
 
-/// Issue 13 item 4 in the step: a block of 4×4×2 touching cubes is one
+/// The structured Lemke in the step: a block of 4×4×2 touching cubes is one
 /// island of n ≥ 1,500 (the structured Lemke's; no dense `M` is formed),
 /// solved on every step, at rest: the ground carries the weight and nothing sinks.
 #[test]

@@ -1,4 +1,4 @@
-//! DESIGN §3: a block on an incline whose downhill direction is a friction
+//! A block on an incline whose downhill direction is a friction
 //! direction (`d_0`) sticks iff tan θ ≤ μ and slides with a = g(sin θ − μ cos θ);
 //! along a bisector of two friction directions the threshold is μ·cos(π/k).
 

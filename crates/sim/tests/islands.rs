@@ -1,4 +1,4 @@
-//! Issue 13 items 1 and 7: contact islands. Separate stacks are solved
+//! Contact islands. Separate stacks are solved
 //! independently (bit for bit as in worlds of their own), the thread count
 //! changes nothing, islands match a connected-components reference on random
 //! scenes, and each island's LCP is captured with its island id.

@@ -1,4 +1,4 @@
-//! Issue 15, item 3: a heavy body resting or sliding on a light one (box–box
+//! A heavy body resting or sliding on a light one (box–box
 //! and sphere–box), and the energy audit of every step. Every contact LCP of
 //! 2,000 steps is solved, box–box and sphere–box, resting and sliding, at
 //! 1e6, 1e7 and 1e8 kg on 1 kg (`mass_ratio_failures`, ignored, prints the
@@ -13,7 +13,7 @@
 //! At 1e7 and 1e8 box–box resting, `f64` answers within the acceptance rule
 //! had the heavy box's weight up to 59 % off and the box rising at 1.8 cm/s
 //! (energy +6.3e-5 of E₀): the body-space check now re-solves them in
-//! double-double (`issue_15_heavy_box_rests_with_its_weight`).
+//! double-double (`heavy_box_rests_with_its_weight`).
 
 mod common;
 use common::G;
@@ -72,11 +72,11 @@ fn run(w: &mut World, steps: usize) -> Outcome {
 }
 
 #[test]
-fn issue_15_heavy_on_light_every_lcp_is_solved() {
+fn heavy_on_light_every_lcp_is_solved() {
     // Box–box and sphere–box, resting and sliding, at 1e6, 1e7 and 1e8 kg:
     // every LCP of 2,000 steps solved (12 s in release since the warm start's
     // exchanges serve islands of two bodies too; box–box at 1e7 and 1e8 ran
-    // 500 steps before, to keep this test near 40 s). Before issue 15's
+    // 500 steps before, to keep this test near 40 s). Before the componentwise
     // acceptance rule and failed-step policy: up to 175 failures at 1e6;
     // before the double-double rung, box–box 1e7 and 1e8 failed on 45–944
     // steps of 2,000.
@@ -103,7 +103,7 @@ fn issue_15_heavy_on_light_every_lcp_is_solved() {
                 // on the light box is pushed out of a penetration of a few
                 // µm: 6.8e-7 of E₀ in a step, the stabilization's
                 // work, which the audit does not count as created; see
-                // `issue_15_stabilization_work_is_not_created_energy`.)
+                // `stabilization_work_is_not_created_energy`.)
                 assert!(
                     created <= bound,
                     "{heavy:e} kg, sphere {sphere}, slide {slide}: a step created {created:e} of E₀"
@@ -114,7 +114,7 @@ fn issue_15_heavy_on_light_every_lcp_is_solved() {
 }
 
 #[test]
-fn issue_15_heavy_box_rests_with_its_weight() {
+fn heavy_box_rests_with_its_weight() {
     // A 1e7 or 1e8 kg box resting on a 1 kg box: once settled, the contacts
     // under the heavy box carry its weight, Σ fn = m g h each step, and it
     // stays at rest. Before the body-space check: Σ fn off by up to 59 %
@@ -145,7 +145,7 @@ fn issue_15_heavy_box_rests_with_its_weight() {
 }
 
 #[test]
-fn issue_15_failed_steps_add_no_energy_box_on_box() {
+fn failed_steps_add_no_energy_box_on_box() {
     // Before the failed-solve policy a failed step applied no impulse: the
     // heavy body sank into the light one and a later solve threw it up
     // (5.9 MJ → 14 MJ at 1e6; 1.2 GJ gained at 1e8 sphere–box). Now a failed
@@ -182,7 +182,7 @@ fn issue_15_failed_steps_add_no_energy_box_on_box() {
 }
 
 #[test]
-fn issue_15_stabilization_work_is_not_created_energy() {
+fn stabilization_work_is_not_created_energy() {
     // A cube started 1 mm into the ground is pushed out by the penetration
     // correction (erp 0.2 of the depth per step): energy the contact adds
     // through the velocities, Baumgarte's known gain. The audit records it as
@@ -224,7 +224,7 @@ fn issue_15_stabilization_work_is_not_created_energy() {
 }
 
 #[test]
-fn issue_15_energy_never_grows_resting_and_sliding() {
+fn energy_never_grows_resting_and_sliding() {
     // A cube resting, a cube sliding to rest on the ground, a cube sliding down a 40° slope.
     let p = WorldParams::default;
     let mut rest = sim::scenes::BoxStack::new(1).build(p()).unwrap().world;
@@ -244,7 +244,7 @@ fn issue_15_energy_never_grows_resting_and_sliding() {
 #[test]
 #[ignore]
 fn mass_ratio_failures() {
-    // cargo test --release -p lcpsim-sim --test issue_15_mass_ratio -- --ignored --nocapture
+    // cargo test --release -p lcpsim-sim --test mass_ratio -- --ignored --nocapture
     for heavy in [1e6, 1e7, 1e8] {
         for sphere in [false, true] {
             for slide in [0.0, 0.5] {
@@ -279,7 +279,7 @@ fn dump_failing_lcps() {
     // How tests/data/repros/heavy1e6_slide_step1876.lcpsparse was made (before
     // the double-double rung; MAX=4 HEAVY=1e6 SLIDE=0.5):
     // HEAVY=1e7 SPHERE=0 SLIDE=0 DUMP=/tmp/dir cargo test --release -p lcpsim-sim
-    //   --test issue_15_mass_ratio dump_failing_lcps -- --ignored --nocapture
+    //   --test mass_ratio dump_failing_lcps -- --ignored --nocapture
     // Each failing LCP is written as DUMP/step{N}.lcpsparse with the previous
     // LCP's support (z > w) as its basis when the sizes agree.
     let env = |k: &str, d: &str| std::env::var(k).unwrap_or_else(|_| d.to_string());

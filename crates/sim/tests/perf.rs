@@ -1,7 +1,7 @@
 //! Steps per second of the 4-contact cube on a slope (LCP size 40).
 //! Ignored by default; run it optimized:
 //! `cargo test --release -p lcpsim-sim --test perf -- --ignored --nocapture`.
-//! The target (issue 3) is ≥ 100,000 steps/s on one core.
+//! The target is ≥ 100,000 steps/s on one core.
 
 use sim::scenes::CubeOnSlope;
 use sim::WorldParams;

@@ -1,4 +1,4 @@
-//! Issue 15, item 6: the `world` fuzz target's properties
+//! The `world` fuzz target's properties
 //! (`tests/properties/mod.rs`) in the normal test suite — any bodies and
 //! parameters give `Ok` or a `SimError`, never a panic, and consistent records.
 
@@ -57,7 +57,7 @@ fn an_overflowing_physical_answer_is_not_solved() {
 }
 
 /// Found by `cargo fuzz` (world) within 16 s of its first run on the
-/// body-space check (`pipeline::body_check`): a failed step re-solved in
+/// body-space check (`solve_chain::answer_check`): a failed step re-solved in
 /// double-double became `solved` with a physical `w` that overflowed
 /// (residual ∞). Such an answer is not taken.
 #[test]

@@ -1,4 +1,4 @@
-//! DESIGN §3: a box pushed at its centre of mass stays iff F ≤ μmg, with
+//! A box pushed at its centre of mass stays iff F ≤ μmg, with
 //! friction exactly −F; above that it slides with a = (F − μmg)/m.
 
 mod common;
@@ -8,8 +8,8 @@ use sim::scenes::PushedCube;
 use sim::WorldParams;
 
 #[test]
-fn seed_pushed_cube_stays_with_friction_equal_to_the_push() {
-    // The seed's case: 1 kg cube, μ = 1, 9.79 N at rest.
+fn source_note_pushed_cube_stays_with_friction_equal_to_the_push() {
+    // The source note's case: 1 kg cube, μ = 1, 9.79 N at rest.
     let mut s = PushedCube::new(9.79, 1.0).build(WorldParams::default()).unwrap();
     let h = 1e-3;
     for _ in 0..2000 {

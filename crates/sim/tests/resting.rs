@@ -1,4 +1,4 @@
-//! DESIGN §3: a cube resting on flat ground — Σfn = m·g·h every step, no drift.
+//! A cube resting on flat ground — Σfn = m·g·h every step, no drift.
 
 mod common;
 use common::*;

@@ -1,4 +1,4 @@
-//! Issue 13: a resting stack costs (close to) no pivots per step. Its LCP is
+//! A resting stack costs (close to) no pivots per step. Its LCP is
 //! statically indeterminate (four corner contacts per interface, three
 //! independent normal constraints), so the previous step's basis can be
 //! singular or a hair infeasible at the next step; the warm start must still

@@ -1,4 +1,4 @@
-//! Issue 15, item 4: one acceptance rule. Every island answer the simulator
+//! One acceptance rule. Every island answer the simulator
 //! counts as `ok` passes `lcp::accept::accepts` — also the answers of the
 //! previous basis in body space, which never form `M`. Here `M` is formed
 //! densely for the check after each step (the island's LCP is kept until the

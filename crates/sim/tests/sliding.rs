@@ -1,4 +1,4 @@
-//! DESIGN §3: sliding to rest from v0 stops after v0²/(2μg); energy never grows.
+//! Sliding to rest from v0 stops after v0²/(2μg); energy never grows.
 
 mod common;
 use common::*;

@@ -1,4 +1,4 @@
-//! Issue 13 item 4: the structured Lemke (`lcp::structured`) on contact LCPs
+//! The structured Lemke (`lcp::structured`) on contact LCPs
 //! of the simulator, against the dense assembly and the dense Lemke.
 
 mod common;

@@ -1,6 +1,6 @@
 //! The product's main scene over a grid of angles, μ and cone scales: the
-//! default solver must solve every LCP of every step (DESIGN §2: "no Lemke
-//! failure at any scale"). Covers resting, sliding, tipping and tumbling
+//! default solver must solve every LCP of every step ("no Lemke failure at any
+//! scale"). Covers resting, sliding, tipping and tumbling
 //! cubes, i.e. face, edge and corner contacts.
 
 use sim::scenes::CubeOnSlope;

@@ -1,4 +1,4 @@
-//! Issue 5: the step starts Lemke from the previous step's basis. Median
+//! The step starts Lemke from the previous step's basis. Median
 //! pivots per step must at least halve on resting and sliding scenes, and
 //! every step must still be solved.
 

@@ -224,7 +224,7 @@ mod tests {
         Lcp::new(m, q).unwrap()
     }
 
-    /// The heavy-on-light LCP of `tests/issue_15_heavy_regression.rs`: this
+    /// The heavy-on-light LCP of `tests/heavy_on_light_regression.rs`: this
     /// rung alone solves it, within the acceptance rule, in the units given.
     #[test]
     fn solves_a_heavy_body_on_a_light_one() {

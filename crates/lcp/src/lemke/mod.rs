@@ -1,7 +1,7 @@
 //! Lemke's complementary pivoting method.
 //!
 //! - [`basis`]: the basis in block form, `C⁻¹` kept and updated in O(m²).
-//! - [`ratio`]: the lexicographic and the classic (seed) ratio tests.
+//! - [`ratio`]: the lexicographic and the classic (source note's) ratio tests.
 //! - [`run`]: the pivoting loop with its cycle guard and pivot limit.
 //! - [`refine`]: re-solving the final complementary basis.
 //! - [`extended`], [`dd_solve`]: Lemke in double-double arithmetic, the rung
@@ -17,7 +17,7 @@
 //! the scaling itself adds no round-off) and normalizes `q`, pivots, re-solves
 //! the final basis, maps `z` back and accepts it only if its natural residual
 //! in the units given is small. `Classic` pivots on the problem as given with
-//! absolute tolerances and trusts its own values, as the seed note's did.
+//! absolute tolerances and trusts its own values, as the source note's did.
 
 mod basis;
 mod dd_solve;
@@ -67,7 +67,7 @@ pub fn solve(lcp: &Lcp, o: &LemkeOptions) -> Solution {
 /// checked the same way; then Lemke runs from the last basis with the
 /// covering vector `d = B·1`, and the usual cold start follows if that fails.
 /// A basis of the wrong length is ignored. `Classic` pivoting ignores the
-/// guess (the seed's Lemke started cold).
+/// guess (the source note's Lemke started cold).
 pub fn solve_warm(lcp: &Lcp, o: &LemkeOptions, basis: Option<&[bool]>) -> Solution {
     solve_in(lcp, o, basis, &mut Workspace::new())
 }

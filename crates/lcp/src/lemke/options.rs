@@ -9,9 +9,9 @@ pub enum Pivoting {
     /// re-solved and the answer judged by the acceptance rule
     /// ([`crate::accept`]); an exact-arithmetic Lemke is the ladder's last rung.
     Lexicographic,
-    /// The seed note's Lemke: absolute `piv_tol` and `zero_tol` applied to the
+    /// The source note's Lemke: absolute `piv_tol` and `zero_tol` applied to the
     /// problem exactly as given, Harris-style ratio test with `zero_tol` slack,
-    /// first index on ties. Kept to reproduce the seed's findings. Its
+    /// first index on ties. Kept to reproduce the source note's findings. Its
     /// `Solved` is its own absolute check (`|z_i w_i| < zero_tol`, …); only
     /// `Solution::ok()` says whether the acceptance rule holds too.
     Classic,
@@ -39,7 +39,7 @@ pub struct LemkeOptions {
     /// The user zero. `Classic`: the Harris slack of the ratio test, absolute.
     /// `Lexicographic`: an upper bound on the relative tolerance under which
     /// two ratios count as tied (it uses `min(zero_tol, 1e-13)`, and 1e-10 on
-    /// one rung of its repair ladder). Default 1e-6 (the seed's value).
+    /// one rung of its repair ladder). Default 1e-6 (the source note's value).
     pub zero_tol: f64,
     /// Pivot limit; `None` means `max(1000, 50·n)` (Murty's 2ⁿ examples need more).
     pub max_pivots: Option<usize>,
@@ -77,7 +77,7 @@ impl Default for LemkeOptions {
 }
 
 impl LemkeOptions {
-    /// The seed note's settings: classic pivoting, piv_tol 1e-12, zero_tol 1e-6.
+    /// The source note's settings: classic pivoting, piv_tol 1e-12, zero_tol 1e-6.
     pub fn classic() -> Self {
         LemkeOptions { pivoting: Pivoting::Classic, equilibrate: false, ..Default::default() }
     }

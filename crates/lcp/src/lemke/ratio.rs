@@ -5,8 +5,8 @@
 //! Siconos' lexicolemke reports false rays on contact LCPs whose λ rows have
 //! q = 0), prefers z0, then breaks ties on the rows of `B⁻¹` divided by the
 //! pivot, column by column — the classical rule that makes Lemke finite.
-//! `Classic` is the seed note's rule, as in Moby's Lemke (Drake's
-//! `MobyLCPSolver::SolveLcpLemke`, whose `piv_tol`/`zero_tol` the seed names):
+//! `Classic` is the source note's rule, as in Moby's Lemke (Drake's
+//! `MobyLCPSolver::SolveLcpLemke`, whose `piv_tol`/`zero_tol` the source note names):
 //! absolute tolerances, Harris slack, z0 if it blocks, else the first row.
 
 use super::basis::{Basis, Column, Leaving, Var};

@@ -217,7 +217,7 @@ fn pivot_loop<'a>(
             break Status::Cycling;
         }
         // A singular refactorization ends the robust rule; the classic rule,
-        // like the seed's Lemke, has no such check and goes on with its updated
+        // like the source note's Lemke, has no such check and goes on with its updated
         // inverse (its answer is still checked when z0 leaves).
         let robust = matches!(set.rule, Rule::Lexicographic { .. });
         if (small_pivot || basis.since_refactor >= set.refactor_every) && !basis.refactor() && robust {

@@ -16,8 +16,8 @@
 //! until the next refactorization. A solve costs the LU's nonzeros plus the
 //! etas' — never `n²`: nothing here is dense but vectors.
 //!
-//! Why the product form and not an LU update (issue 13, session 24; both
-//! are in this file's history): `B⁻¹ a` of a heap's basis is dense, and so
+//! Why the product form and not an LU update (both are in this
+//! file's history): `B⁻¹ a` of a heap's basis is dense, and so
 //! is the fresh solve `B₀⁻¹ a`, so every update scheme streams a dense
 //! vector per update and per solve, and the product form's is the cheapest
 //! stream (contiguous, vectorized). Measured solve-only on a 52-cube heap's

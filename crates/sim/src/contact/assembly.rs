@@ -1,4 +1,4 @@
-//! Stewart–Trinkle assembly: contacts and free velocities → the LCP `(M, q)` of DESIGN §1.
+//! Stewart–Trinkle assembly: contacts and free velocities → the LCP `(M, q)` with `z = [fn; fd; λ]`.
 //!
 //! ```text
 //! z = [ fn (nc) ; fd (nc·k) ; λ (nc) ]
@@ -256,7 +256,7 @@ impl ContactLcp {
         std::array::from_fn(|m| c * r[1][m] + s * r[2][m])
     }
 
-    /// Assembles `(M, q)` for `contacts` (DESIGN §1).
+    /// Assembles `(M, q)` for `contacts`.
     pub fn assemble(&mut self, contacts: &[Contact], dynamics: &BodyDynamics<'_>, p: &AssemblyParams) {
         self.assemble_rows(contacts, dynamics, p);
         self.assemble_matrix();

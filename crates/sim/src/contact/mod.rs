@@ -1,4 +1,4 @@
-//! From contacts to the Stewart–Trinkle LCP (DESIGN §1).
+//! From contacts to the Stewart–Trinkle LCP.
 //!
 //! - [`params`]: the knobs of the formulation — friction-cone scale `s`,
 //!   penetration stabilization, restitution, how μ is combined per pair.
@@ -11,7 +11,7 @@
 //! - [`body_rule`]: the acceptance rule judged in body space, each contact
 //!   row on the scale of the velocities it relates (a heavy body on a light one).
 //!
-//! Assembly never solves and solvers never see bodies (DESIGN §6).
+//! Assembly never solves and solvers never see bodies.
 
 pub mod assembly;
 pub mod body_factors;

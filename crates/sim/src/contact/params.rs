@@ -2,7 +2,7 @@
 
 use crate::error::{in_range, non_negative, positive, SimError};
 
-/// The friction-cone scale `s` of DESIGN §1: the LCP solved is `D M D, D q`
+/// The friction-cone scale `s`: the LCP solved is `D M D, D q`
 /// with `D = diag(I, I, s·I)` — `fn`, `fd` unchanged, `λ_scaled = λ / s`.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub enum ConeScale {
@@ -11,7 +11,7 @@ pub enum ConeScale {
     Unscaled,
     /// A fixed `s > 0`.
     Value(f64),
-    /// `s = h`, the time step (the seed note's choice).
+    /// `s = h`, the time step (the source note's choice).
     TimeStep,
 }
 

@@ -1,7 +1,7 @@
 //! Rigid bodies, external forces and the semi-implicit Euler integrator.
 //!
 //! State per body: pose (position of the centre of mass, unit quaternion
-//! body → world) and velocity `[v; ω]`, both in the world frame (DESIGN §8).
+//! body → world) and velocity `[v; ω]`, both in the world frame.
 //! Static bodies never move and have infinite mass: they contribute nothing
 //! to the contact LCP's `A = J M_b⁻¹ Jᵀ`.
 

@@ -1,4 +1,4 @@
-//! [`contact_lcp`]: the contact LCP (DESIGN §1) of one unit cube on a random slope.
+//! [`contact_lcp`]: the contact LCP of one unit cube on a random slope.
 
 use std::f64::consts::PI;
 
@@ -111,7 +111,7 @@ impl BoxOnPlane {
     }
 }
 
-/// The contact LCP (DESIGN §1) of one rigid unit cube (mass 1, inertia ⅙·I,
+/// The contact LCP of one rigid unit cube (mass 1, inertia ⅙·I,
 /// h = [`CONTACT_H`]) on a plane through `nc` contact points with `k` friction
 /// directions each and friction-cone scale `scale` (`s`).
 ///

@@ -1,4 +1,4 @@
-//! Hard contact LCPs (issue 5): seven families of scenes built to stress
+//! Hard contact LCPs: seven families of scenes built to stress
 //! Lemke — many, duplicate, nearly parallel and collinear contacts, mass
 //! ratios up to 1e4, thin rods with `cond(M_b)` up to 1e8, μ = 0 — as the
 //! simulator's bodies and contacts, assembled by its one assembly.
@@ -132,7 +132,7 @@ struct HardContact {
 }
 
 /// A random hard contact scene, its ingredients exposed for tests and
-/// experiments. `z = [fn (nc); fd (nc·k); λ (nc)]` as everywhere (DESIGN §1).
+/// experiments. `z = [fn (nc); fd (nc·k); λ (nc)]` as everywhere (`lcp::contact`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct HardScene {
     pub kind: HardKind,

@@ -7,7 +7,7 @@
 //!
 //! - [`box_on_plane`]: [`contact_lcp`], one unit cube on a random slope.
 //! - [`hard`]: [`hard_contact_lcp`], [`HardScene`], [`hard_corpus`]: hard
-//!   contact LCPs (issue 5): up to 16 contacts, duplicate and nearly parallel
+//!   contact LCPs: up to 16 contacts, duplicate and nearly parallel
 //!   contacts, collinear (redundant) rows, mass ratios up to 1e4, `cond(M_b)`
 //!   up to 1e8, μ in [0, 2], any k.
 //!
@@ -32,7 +32,7 @@ use lcp::{Lcp, LcpError};
 
 /// Time step `h` of every generated scene (s).
 pub const CONTACT_H: f64 = 0.01;
-/// Gravity (m/s²), DESIGN §8.
+/// Gravity (m/s²), the crate's convention.
 pub const GRAVITY: Vec3 = Vec3::new(0.0, 0.0, -9.81);
 
 /// Everything the assembly reads about a generated scene. The dynamic bodies

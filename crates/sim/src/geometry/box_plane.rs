@@ -1,6 +1,6 @@
 //! Box–plane: every box corner within the margin of the plane is a contact.
 //!
-//! A box resting on a face gives its 4 bottom corners (the seed's 4-contact,
+//! A box resting on a face gives its 4 bottom corners (the source note's 4-contact,
 //! size-40 LCP); on an edge 2; on a corner 1.
 
 use super::{BoxShape, GeomContact, Placement, Plane};

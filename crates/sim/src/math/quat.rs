@@ -1,4 +1,4 @@
-//! `Quat`: rotation quaternions stored as (w, x, y, z), DESIGN §8.
+//! `Quat`: rotation quaternions stored as (w, x, y, z), rotating body → world.
 
 use super::{Mat3, Vec3};
 use std::ops::Mul;

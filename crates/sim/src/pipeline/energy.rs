@@ -19,7 +19,7 @@
 //! the bodies apart with `S = Σ fn·|b|` that no force did: Baumgarte's
 //! (ODE's ERP's) known energy gain, the price of removing a penetration
 //! through the velocities. It is recorded, not called created: a sphere of
-//! 1e7 kg sliding on a 1 kg cube (`issue_15_mass_ratio`; μ = 0.5, the
+//! 1e7 kg sliding on a 1 kg cube (`tests/mass_ratio.rs`; μ = 0.5, the
 //! cube's tipping limit) throws the cube into a tumble at its second step
 //! (1.3e6 N·s, ω = 2.5 rad/s), and the contact on the turning face, exact
 //! to first order, sinks by O(h²ω²r) a step, up to 4.7 µm; the correction

@@ -82,7 +82,7 @@ impl World {
         // bodies linked through contacts, one LCP each (each checked to fit in memory)
         self.islands();
         self.reserve_islands()?;
-        // the Stewart–Trinkle LCP of DESIGN §1, per island
+        // the Stewart–Trinkle LCP (`contact::assembly`), per island
         self.assemble_islands(false);
         if halvings > 0 {
             self.ws.parts.keep_start(&self.ws.warm, &self.record);

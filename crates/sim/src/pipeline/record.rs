@@ -191,7 +191,7 @@ impl StepRecord {
             .fold(Vec3::ZERO, |a, b| a + b)
     }
 
-    /// The seed's contact pattern of contact `i`: whether `fn`, `Σ fd`, `λ`
+    /// The source note's contact pattern of contact `i`: whether `fn`, `Σ fd`, `λ`
     /// exceed `zero` (`ContactLayout::pattern` with one absolute threshold).
     pub fn pattern(&self, i: usize, zero: f64) -> [bool; 3] {
         let p = self.layout().pattern(&self.z, i, ZeroLevels::absolute(zero));

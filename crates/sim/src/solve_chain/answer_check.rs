@@ -4,7 +4,7 @@
 //!
 //! An `f64` Lemke answer can pass the LCP's acceptance rule yet be wrong in
 //! the velocities of a heavy body resting on a light one: at 1e8 kg on 1 kg,
-//! `Σ fn` 1.6 % off and the heavy box pushed up at mm/s (issue 15). Such an
+//! `Σ fn` 1.6 % off and the heavy box pushed up at mm/s. Such an
 //! answer is not applied as it is: its basis is solved in body space (with
 //! exchanges, as the previous step's basis is), then
 //! [`lcp::lemke::solve_dd`] re-solves it in double-double and runs Lemke in

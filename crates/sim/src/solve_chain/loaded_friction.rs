@@ -82,7 +82,7 @@ pub(crate) fn solve(
 /// The full answer from the sub-LCP's `z` (zeros at the inactive contacts'
 /// friction): each inactive contact's `γ` (see the module docs) and, in the
 /// basis, `γ` with the `β` of its most opposed direction when `γ > 0`
-/// (the pair that keeps a basis regular: `pipeline::structured`'s seeding).
+/// (the pair that keeps a basis regular: the sliding contacts' friction set by `structured_lemke`).
 fn extend(
     op: &StructuredLcp,
     lay: ContactLayout,

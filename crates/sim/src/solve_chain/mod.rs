@@ -198,9 +198,9 @@ pub const DENSE_FALLBACK_MAX_N: usize = 8000;
 
 /// Lemke's acceptance bound when the body-space basis check serves `method`:
 /// the robust Lemke with warm starts (the classic one starts cold, as the
-/// seed's did). Only islands of two or more dynamic bodies use it; a single
+/// source note's did). Only islands of two or more dynamic bodies use it; a single
 /// body's LCP stays on the dense path, where it is fastest and bit-identical
-/// to earlier releases (the seed corpus is made of such LCPs).
+/// to earlier releases (the cube corpus is made of such LCPs).
 pub fn basis_check_applies(method: &Method) -> Option<BasisCheck> {
     match method {
         Method::Lemke(LemkeOptions {

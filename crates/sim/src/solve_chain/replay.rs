@@ -25,7 +25,7 @@ pub struct StructuredProblem {
     pub physical: Option<StructuredLcp>,
     pub scale: f64,
     pub layout: ContactLayout,
-    /// The warm basis handed over (after seeding), if any.
+    /// The warm basis handed over (with the sliding contacts' friction set), if any.
     pub warm: Option<Vec<bool>>,
     /// Acceptance tolerance.
     pub tol: f64,
