@@ -71,6 +71,16 @@ fn run(w: &mut World, steps: usize) -> Outcome {
     o
 }
 
+/// The heavy-on-light cases: heavy mass (kg), a sphere (else a box) on the
+/// light box, and its initial sliding speed (m/s).
+fn cases() -> impl Iterator<Item = (f64, bool, f64)> {
+    [1e6, 1e7, 1e8].into_iter().flat_map(|heavy| {
+        [false, true]
+            .into_iter()
+            .flat_map(move |sphere| [0.0, 0.5].into_iter().map(move |slide| (heavy, sphere, slide)))
+    })
+}
+
 #[test]
 fn heavy_on_light_every_lcp_is_solved() {
     // Box–box and sphere–box, resting and sliding, at 1e6, 1e7 and 1e8 kg:
@@ -80,36 +90,29 @@ fn heavy_on_light_every_lcp_is_solved() {
     // acceptance rule and failed-step policy: up to 175 failures at 1e6;
     // before the double-double rung, box–box 1e7 and 1e8 failed on 45–944
     // steps of 2,000.
-    for heavy in [1e6, 1e7, 1e8] {
-        for sphere in [false, true] {
-            for slide in [0.0, 0.5] {
-                let mut w = heavy_on_light(heavy, sphere, slide);
-                let Outcome { failed, rise, created, .. } = run(&mut w, 2000);
-                assert_eq!(failed, 0, "{heavy:e} kg, sphere {sphere}, slide {slide}: {failed} failed LCPs");
-                // Energy never grows beyond round-off. Measured over 2,000
-                // steps: at most 3.6e-12 of E₀ (1e8 box–box resting). Before
-                // the body-space check (`pipeline::body_check`) box–box
-                // resting rose by 6.3e-5 of E₀ at 1e8 (4.1e-5 by step 200)
-                // and 1.3e-10 at 1e7: solved steps whose answers, within the
-                // acceptance rule's 1e-9 of rows scaled by the light box's
-                // mobility times 1e8-kg impulses, left the boxes rising at mm/s.
-                let bound = 1e-10;
-                assert!(rise <= bound, "{heavy:e} kg, sphere {sphere}, slide {slide}: energy rose by {rise:e} of E₀");
-                // Nor does one step create energy beyond round-off: at most
-                // 1.3e-12 of E₀. With the warm start's exchanges kept from
-                // islands of two bodies, 2.2e-8 at 1e7 box–box resting (where
-                // 3 answers stayed outside the body-space rule, against 0
-                // now). (The sphere sliding
-                // on the light box is pushed out of a penetration of a few
-                // µm: 6.8e-7 of E₀ in a step, the stabilization's
-                // work, which the audit does not count as created; see
-                // `stabilization_work_is_not_created_energy`.)
-                assert!(
-                    created <= bound,
-                    "{heavy:e} kg, sphere {sphere}, slide {slide}: a step created {created:e} of E₀"
-                );
-            }
-        }
+    for (heavy, sphere, slide) in cases() {
+        let mut w = heavy_on_light(heavy, sphere, slide);
+        let Outcome { failed, rise, created, .. } = run(&mut w, 2000);
+        assert_eq!(failed, 0, "{heavy:e} kg, sphere {sphere}, slide {slide}: {failed} failed LCPs");
+        // Energy never grows beyond round-off. Measured over 2,000
+        // steps: at most 3.6e-12 of E₀ (1e8 box–box resting). Before
+        // the body-space check (`solve_chain::answer_check`) box–box
+        // resting rose by 6.3e-5 of E₀ at 1e8 (4.1e-5 by step 200)
+        // and 1.3e-10 at 1e7: solved steps whose answers, within the
+        // acceptance rule's 1e-9 of rows scaled by the light box's
+        // mobility times 1e8-kg impulses, left the boxes rising at mm/s.
+        let bound = 1e-10;
+        assert!(rise <= bound, "{heavy:e} kg, sphere {sphere}, slide {slide}: energy rose by {rise:e} of E₀");
+        // Nor does one step create energy beyond round-off: at most
+        // 1.3e-12 of E₀. With the warm start's exchanges kept from
+        // islands of two bodies, 2.2e-8 at 1e7 box–box resting (where
+        // 3 answers stayed outside the body-space rule, against 0
+        // now). (The sphere sliding
+        // on the light box is pushed out of a penetration of a few
+        // µm: 6.8e-7 of E₀ in a step, the stabilization's
+        // work, which the audit does not count as created; see
+        // `stabilization_work_is_not_created_energy`.)
+        assert!(created <= bound, "{heavy:e} kg, sphere {sphere}, slide {slide}: a step created {created:e} of E₀");
     }
 }
 
@@ -245,17 +248,13 @@ fn energy_never_grows_resting_and_sliding() {
 #[ignore]
 fn mass_ratio_failures() {
     // cargo test --release -p lcpsim-sim --test mass_ratio -- --ignored --nocapture
-    for heavy in [1e6, 1e7, 1e8] {
-        for sphere in [false, true] {
-            for slide in [0.0, 0.5] {
-                let mut w = heavy_on_light(heavy, sphere, slide);
-                let Outcome { failed, rise, created, outside, worst } = run(&mut w, 2000);
-                println!(
-                    "{heavy:e} kg sphere {sphere} slide {slide}: failed {failed}/2000, rise {rise:e}·E₀, \
-                     max created {created:e}·E₀, outside the body-space rule {outside} (largest η_body {worst:.2e})"
-                );
-            }
-        }
+    for (heavy, sphere, slide) in cases() {
+        let mut w = heavy_on_light(heavy, sphere, slide);
+        let Outcome { failed, rise, created, outside, worst } = run(&mut w, 2000);
+        println!(
+            "{heavy:e} kg sphere {sphere} slide {slide}: failed {failed}/2000, rise {rise:e}·E₀, \
+             max created {created:e}·E₀, outside the body-space rule {outside} (largest η_body {worst:.2e})"
+        );
     }
 }
 

@@ -3,7 +3,7 @@
 //! The acceptance rule judges each row of `w = M z + q` on its own scale,
 //! but a caller may know more than `M`: the simulator sees that a row's
 //! scale can be one body's mobility times impulses that cancel on it, and
-//! judges the same answer in body space (`sim::contact::body_check`). An
+//! judges the same answer in body space (`sim::contact::body_rule`). An
 //! answer the rule accepts from an `f64` basis of cond ~1e17 can fail there
 //! (a 1e8 kg box on a 1 kg one: the heavy box pushed up at mm/s).
 //! [`solve_dd`] then tries, in double-double: the caller's bases (say the

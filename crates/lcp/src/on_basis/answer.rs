@@ -62,7 +62,7 @@ pub(super) fn answer(ws: &mut BasisWorkspace, dropped: usize, reused: bool, othe
         status: Status::Solved,
         pivots: 0,
         residuals,
-        basis: Some(ws.factored.clone()),
+        basis: Some(ws.f.factored.clone()),
         accepted: true,
     };
     let other = other.then(|| (out(&mut ws.z2), out(&mut ws.w2)));

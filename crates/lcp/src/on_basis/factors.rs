@@ -10,7 +10,7 @@
 
 use super::principal;
 use super::refine::{correct, first_solve};
-use super::workspace::{BasisWorkspace, HeldFactors};
+use super::workspace::{BasisWorkspace, Factors};
 use crate::operator::LcpOperator;
 
 /// Factors `M_SS` of the support `ws.mask`: when the support is the factored
@@ -28,7 +28,7 @@ pub(super) fn solve_fresh(op: &dyn LcpOperator, ws: &mut BasisWorkspace, entered
     let n = op.n();
     // The factors of β when the new support is β and the entering index.
     let grown = entered.filter(|&i| {
-        ws.factored.len() == n && !ws.factored[i] && (0..n).all(|j| ws.mask[j] == (ws.factored[j] || j == i))
+        ws.f.factored.len() == n && !ws.f.factored[i] && (0..n).all(|j| ws.mask[j] == (ws.f.factored[j] || j == i))
     });
     // β's factors move aside (into `grown_from`, whose buffers `ws` takes over).
     let old = grown.is_some().then(|| {
@@ -36,10 +36,10 @@ pub(super) fn solve_fresh(op: &dyn LcpOperator, ws: &mut BasisWorkspace, entered
         ws.swap_factors(&mut old);
         old
     });
-    ws.factored.clear();
-    ws.support.clear();
-    ws.support.extend((0..n).filter(|&j| ws.mask[j]));
-    let m = ws.support.len();
+    ws.f.factored.clear();
+    ws.f.support.clear();
+    ws.f.support.extend((0..n).filter(|&j| ws.mask[j]));
+    let m = ws.f.support.len();
     form_block(op, ws);
     if !ws.block.iter().all(|v| v.is_finite()) {
         return false;
@@ -49,9 +49,9 @@ pub(super) fn solve_fresh(op: &dyn LcpOperator, ws: &mut BasisWorkspace, entered
         ws.grown_from = old;
     }
     if !bordered {
-        ws.lu.clone_from(&ws.block);
-        let first = entered.and_then(|i| ws.support.binary_search(&i).ok());
-        ws.rank = principal::factor(&mut ws.lu, m, &mut ws.order, first);
+        ws.f.lu.clone_from(&ws.block);
+        let first = entered.and_then(|i| ws.f.support.binary_search(&i).ok());
+        ws.f.rank = principal::factor(&mut ws.f.lu, m, &mut ws.f.order, first);
     }
     first_solve(op, ws);
     op.w_of(&ws.z, &mut ws.w);
@@ -60,30 +60,30 @@ pub(super) fn solve_fresh(op: &dyn LcpOperator, ws: &mut BasisWorkspace, entered
         return false;
     }
     op.w_of(&ws.z, &mut ws.w);
-    ws.factored.resize(n, false);
-    for &p in &ws.order[..ws.rank] {
-        ws.factored[ws.support[p]] = true;
+    ws.f.factored.resize(n, false);
+    for &p in &ws.f.order[..ws.f.rank] {
+        ws.f.factored[ws.f.support[p]] = true;
     }
     true
 }
 
 /// The factors of `β ∪ {i}` from those of the regular block `β` (`old`, its
-/// `rank` pivots; the new support `ws.support` is exactly `β` and `i`, its
+/// `rank` pivots; the new support `ws.f.support` is exactly `β` and `i`, its
 /// block in `ws.block`): `i` bordered on as the last pivot, `L⁻¹ M_βi` its
 /// column of `U`, `M_iβ U⁻¹` its row of `L` and `M_ii − M_iβ M_ββ⁻¹ M_βi` its
 /// pivot — `O(k²)` where a fresh factorization costs `O(k³)`. `false` (`ws`'s
 /// factors unset) when that pivot is below the rank tolerance of
 /// [`principal::factor`]: `i` depends on `β`, and the fresh factorization
 /// decides which index leaves.
-pub(super) fn border(ws: &mut BasisWorkspace, i: usize, old: &HeldFactors) -> bool {
-    let (m, r, k) = (ws.support.len(), old.rank, old.support.len());
+pub(super) fn border(ws: &mut BasisWorkspace, i: usize, old: &Factors) -> bool {
+    let (m, r, k) = (ws.f.support.len(), old.rank, old.support.len());
     if m != r + 1 {
         return false;
     }
-    let at = |j: usize| ws.support.binary_search(&j).ok();
+    let at = |j: usize| ws.f.support.binary_search(&j).ok();
     let Some(pi) = at(i) else { return false };
     // The new support's position of each pivot of β, in pivot order.
-    let BasisWorkspace { block, lu, order, .. } = ws;
+    let BasisWorkspace { block, f: Factors { lu, order, .. }, .. } = ws;
     order.clear();
     for &p in &old.order[..r] {
         let Some(a) = at(old.support[p]) else { return false };
@@ -110,19 +110,28 @@ pub(super) fn border(ws: &mut BasisWorkspace, i: usize, old: &HeldFactors) -> bo
     }
     lu[r * m + r] = pivot;
     order.push(pi);
-    ws.rank = m;
+    ws.f.rank = m;
     true
 }
 
-/// `ws.block` ← `M_SS` for the support `ws.support`. Within a call, the
+/// `ws.block` ← `M_SS` for the support `ws.f.support`. Within a call, the
 /// entries of the previous block are copied and only the rows and columns of
 /// indices new to the support are formed: an exchange round adds or removes
 /// one index, so a round forms `2k` entries instead of `k²` (on a resting
 /// 10-box stack forming the block was 11 % of the run, a fresh
 /// factorization's share 12 %).
 pub(super) fn form_block(op: &dyn LcpOperator, ws: &mut BasisWorkspace) {
-    let m = ws.support.len();
-    let BasisWorkspace { support, block, block_support, blocked, block_pos, block_prev, block_fresh, .. } = ws;
+    let m = ws.f.support.len();
+    let BasisWorkspace {
+        f: Factors { support, .. },
+        block,
+        block_support,
+        blocked,
+        block_pos,
+        block_prev,
+        block_fresh,
+        ..
+    } = ws;
     // (Every entry of the block is written below: it is sized, not cleared.)
     if !*blocked {
         block.resize(m * m, 0.0);
@@ -187,15 +196,15 @@ mod tests {
             let lcp = crate::generate::p_matrix_lcp(24, seed);
             let (mut ws, old) = factored(&lcp, (0..24).filter(|j| j % 4 != 1).collect());
             let m = old.support.len();
-            assert_eq!(ws.rank, m, "a P-matrix's principal blocks are regular");
+            assert_eq!(ws.f.rank, m, "a P-matrix's principal blocks are regular");
             let i = 5;
-            ws.support = (0..24).filter(|&j| j % 4 != 1 || j == i).collect();
+            ws.f.support = (0..24).filter(|&j| j % 4 != 1 || j == i).collect();
             ws.blocked = true;
             form_block(&lcp, &mut ws);
             assert!(border(&mut ws, i, &old), "seed {seed}");
             let b: Vec<f64> = (0..m + 1).map(|t| (t as f64 * 0.37).sin()).collect();
             let (mut x, mut y) = (b.clone(), Vec::new());
-            principal::solve(&ws.lu, m + 1, &ws.order, ws.rank, &mut x, &mut y);
+            principal::solve(&ws.f.lu, m + 1, &ws.f.order, ws.f.rank, &mut x, &mut y);
             let mut fresh = ws.block.clone();
             let mut order = Vec::new();
             let rank = principal::factor(&mut fresh, m + 1, &mut order, None);
@@ -209,19 +218,20 @@ mod tests {
         let m = vec![2.0, 1.0, 2.0, 1.0, 3.0, 1.0, 2.0, 1.0, 2.0];
         let lcp = Lcp::new(m, vec![-1.0; 3]).unwrap();
         let (mut ws, old) = factored(&lcp, vec![0, 1]);
-        ws.support = vec![0, 1, 2];
+        ws.f.support = vec![0, 1, 2];
         form_block(&lcp, &mut ws);
         assert!(!border(&mut ws, 2, &old), "column 2 is column 0");
     }
 
     /// A workspace holding the factors of `lcp`'s block on `support`, and a copy of them.
-    fn factored(lcp: &Lcp, support: Vec<usize>) -> (BasisWorkspace, HeldFactors) {
-        let mut ws = BasisWorkspace { support: support.clone(), ..Default::default() };
+    fn factored(lcp: &Lcp, support: Vec<usize>) -> (BasisWorkspace, Factors) {
+        let mut ws =
+            BasisWorkspace { f: Factors { support: support.clone(), ..Default::default() }, ..Default::default() };
         form_block(lcp, &mut ws);
-        ws.lu.clone_from(&ws.block);
-        ws.rank = principal::factor(&mut ws.lu, support.len(), &mut ws.order, None);
+        ws.f.lu.clone_from(&ws.block);
+        ws.f.rank = principal::factor(&mut ws.f.lu, support.len(), &mut ws.f.order, None);
         let held =
-            HeldFactors { lu: ws.lu.clone(), support, order: ws.order.clone(), rank: ws.rank, ..Default::default() };
+            Factors { lu: ws.f.lu.clone(), support, order: ws.f.order.clone(), rank: ws.f.rank, ..Default::default() };
         (ws, held)
     }
 
@@ -237,13 +247,13 @@ mod tests {
                 mask[j] = !mask[j];
             }
             ws.blocked = round > 0;
-            ws.support = (0..30).filter(|&j| mask[j]).collect();
+            ws.f.support = (0..30).filter(|&j| mask[j]).collect();
             form_block(&lcp, &mut ws);
-            let m = ws.support.len();
+            let m = ws.f.support.len();
             let mut afresh = vec![0.0; m * m];
-            lcp.block(&ws.support, &ws.support, &mut afresh);
+            lcp.block(&ws.f.support, &ws.f.support, &mut afresh);
             assert_eq!(ws.block, afresh, "round {round}");
-            assert_eq!(ws.block_support, ws.support);
+            assert_eq!(ws.block_support, ws.f.support);
         }
     }
 }

@@ -30,7 +30,7 @@ pub(super) const REFINE_STALL: f64 = 1e-13;
 /// correction is negligible (applied, and `w` formed for it, only if
 /// `polish`: see [`BasisTolerances::polish`](super::BasisTolerances::polish)); `false` (factor afresh) otherwise.
 pub(super) fn refine_on_factor(op: &dyn LcpOperator, ws: &mut BasisWorkspace, polish: bool) -> bool {
-    if ws.factored.len() != op.n() {
+    if ws.f.factored.len() != op.n() {
         return false;
     }
     first_solve(op, ws);
@@ -66,17 +66,17 @@ pub(super) fn refine_on_factor(op: &dyn LcpOperator, ws: &mut BasisWorkspace, po
 /// `z_β = M_ββ⁻¹ (−q_β)` with the factors in `ws`, `z = 0` elsewhere (`w`
 /// sized `n`, its values left for the caller's `w = M z + q`).
 pub(super) fn first_solve(op: &dyn LcpOperator, ws: &mut BasisWorkspace) {
-    let (n, m, q) = (op.n(), ws.support.len(), op.q());
+    let (n, m, q) = (op.n(), ws.f.support.len(), op.q());
     ws.x.clear();
     ws.x.resize(m, 0.0);
-    for &p in &ws.order[..ws.rank] {
-        ws.x[p] = -q[ws.support[p]];
+    for &p in &ws.f.order[..ws.f.rank] {
+        ws.x[p] = -q[ws.f.support[p]];
     }
-    principal::solve(&ws.lu, m, &ws.order, ws.rank, &mut ws.x, &mut ws.y);
+    principal::solve(&ws.f.lu, m, &ws.f.order, ws.f.rank, &mut ws.x, &mut ws.y);
     ws.z.clear();
     ws.z.resize(n, 0.0);
     ws.w.resize(n, 0.0);
-    scatter_add(&ws.x, &ws.order[..ws.rank], &ws.support, &mut ws.z);
+    scatter_add(&ws.x, &ws.f.order[..ws.f.rank], &ws.f.support, &mut ws.z);
 }
 
 /// One refinement step: `z_β += M_ββ⁻¹ (−w_β)` with the kept factors;
@@ -90,20 +90,20 @@ pub(super) fn correct(ws: &mut BasisWorkspace) -> (f64, f64) {
 /// The correction `x_β = M_ββ⁻¹ (−w_β)` into `ws.x` (not applied);
 /// returns `(‖x_β‖∞, ‖z_β‖∞)`.
 pub(super) fn correction(ws: &mut BasisWorkspace) -> (f64, f64) {
-    let m = ws.support.len();
-    for &p in &ws.order[..ws.rank] {
-        ws.x[p] = -ws.w[ws.support[p]];
+    let m = ws.f.support.len();
+    for &p in &ws.f.order[..ws.f.rank] {
+        ws.x[p] = -ws.w[ws.f.support[p]];
     }
-    principal::solve(&ws.lu, m, &ws.order, ws.rank, &mut ws.x, &mut ws.y);
-    let beta = &ws.order[..ws.rank];
+    principal::solve(&ws.f.lu, m, &ws.f.order, ws.f.rank, &mut ws.x, &mut ws.y);
+    let beta = &ws.f.order[..ws.f.rank];
     let dmax = beta.iter().fold(0.0f64, |a, &p| a.max(ws.x[p].abs()));
-    let zmax = beta.iter().fold(0.0f64, |a, &p| a.max(ws.z[ws.support[p]].abs()));
+    let zmax = beta.iter().fold(0.0f64, |a, &p| a.max(ws.z[ws.f.support[p]].abs()));
     (dmax, zmax)
 }
 
 /// `z_β += x_β` (the correction in `ws.x`).
 pub(super) fn apply_correction(ws: &mut BasisWorkspace) {
-    scatter_add(&ws.x, &ws.order[..ws.rank], &ws.support, &mut ws.z);
+    scatter_add(&ws.x, &ws.f.order[..ws.f.rank], &ws.f.support, &mut ws.z);
 }
 
 /// `z[S[p]] += x[p]` for the positions `p` given.

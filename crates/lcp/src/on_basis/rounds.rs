@@ -50,14 +50,14 @@ pub(super) fn solve_rounds(
     // with its largest violation.
     let (mut held, mut ruled) = (None, None);
     for round in 0..=rounds {
-        let reused = round == 0 && ws.factored == ws.mask && refine_on_factor(op, ws, tol.polish);
+        let reused = round == 0 && ws.f.factored == ws.mask && refine_on_factor(op, ws, tol.polish);
         if !reused && !solve_fresh(op, ws, entered) {
             break;
         }
-        let (m, rank) = (ws.support.len(), ws.rank);
+        let (m, rank) = (ws.f.support.len(), ws.f.rank);
         // Dependent indices carry z = 0: they leave the support.
-        for &p in &ws.order[rank..m] {
-            ws.mask[ws.support[p]] = false;
+        for &p in &ws.f.order[rank..m] {
+            ws.mask[ws.f.support[p]] = false;
         }
         // The most violated index (basic z < 0 leaves, nonbasic w < 0 enters).
         let mut worst = (repair, None);
@@ -125,7 +125,7 @@ pub(super) fn solve_rounds(
     // next call, which starts from its basis.
     let (answer, violation) = held.or(ruled)?;
     ws.restore_factors();
-    ws.retry = Some((ws.factored.clone(), RETRY_GROWTH * violation));
+    ws.retry = Some((ws.f.factored.clone(), RETRY_GROWTH * violation));
     Some(answer)
 }
 

@@ -8,10 +8,8 @@
 pub struct BasisWorkspace {
     /// Which `z_j` are basic in the basis being tried.
     pub(super) mask: Vec<bool>,
-    /// Support `S` (basic `z` indices) of the factorization.
-    pub(super) support: Vec<usize>,
-    /// `M_SS`, factored in place by [`principal::factor`](super::principal::factor) (row-major).
-    pub(super) lu: Vec<f64>,
+    /// The factorization of `M_SS` (the last one, kept for the next call).
+    pub(super) f: Factors,
     /// The block `M_SS` of the last fresh factorization of this call, unfactored,
     /// and its support ([`form_block`](super::factors::form_block)); `blocked` is false at a call's start.
     pub(super) block: Vec<f64>,
@@ -22,11 +20,6 @@ pub struct BasisWorkspace {
     pub(super) block_pos: Vec<usize>,
     pub(super) block_prev: Vec<f64>,
     pub(super) block_fresh: Vec<f64>,
-    /// Pivot order (positions in `S`) and rank: `β = S[order[..rank]]`.
-    pub(super) order: Vec<usize>,
-    pub(super) rank: usize,
-    /// `β` as a mask when `lu` holds its factors (empty when it does not).
-    pub(super) factored: Vec<bool>,
     /// Right-hand side and solution, by position in `S`.
     pub(super) x: Vec<f64>,
     pub(super) y: Vec<f64>,
@@ -36,9 +29,9 @@ pub struct BasisWorkspace {
     pub(super) z2: Vec<f64>,
     pub(super) w2: Vec<f64>,
     /// The factorization of the answer held while exchanges are tried.
-    pub(super) held: HeldFactors,
+    pub(super) held: Factors,
     /// The factors [`border`](super::factors::border) grew from, their buffers kept for the next exchange.
-    pub(super) grown_from: HeldFactors,
+    pub(super) grown_from: Factors,
     /// A basis whose exchanges found nothing better than its answer, and the
     /// violation below which they are not tried again from it.
     pub(super) retry: Option<(Vec<bool>, f64)>,
@@ -56,27 +49,37 @@ pub struct BasisWorkspace {
     pub(super) failures: usize,
 }
 
-/// A copy of [`BasisWorkspace`]'s factorization fields (also the factors
-/// [`border`](super::factors::border) grows): packed LU of `principal::factor` (row-major,
-/// `support.len()` square), support, pivot order, rank, and `β` as a mask.
+/// A factorization of a block `M_SS`: the workspace's current one, the one
+/// held aside while exchanges are tried, or the one [`border`](super::factors::border) grows.
 #[derive(Clone, Debug, Default)]
-pub(super) struct HeldFactors {
+pub(super) struct Factors {
+    /// Support `S` (basic `z` indices) of the factorization.
     pub(super) support: Vec<usize>,
+    /// `M_SS`, factored in place by [`principal::factor`](super::principal::factor)
+    /// (packed LU, row-major, `support.len()` square).
     pub(super) lu: Vec<f64>,
+    /// Pivot order (positions in `S`) and rank: `β = S[order[..rank]]`.
     pub(super) order: Vec<usize>,
     pub(super) rank: usize,
+    /// `β` as a mask when `lu` holds its factors (empty when it does not).
     pub(super) factored: Vec<bool>,
+}
+
+impl Factors {
+    /// Copies `other` into `self`, reusing `self`'s buffers.
+    fn copy_from(&mut self, other: &Factors) {
+        self.support.clone_from(&other.support);
+        self.lu.clone_from(&other.lu);
+        self.order.clone_from(&other.order);
+        self.rank = other.rank;
+        self.factored.clone_from(&other.factored);
+    }
 }
 
 impl BasisWorkspace {
     /// Copies the current factorization aside.
     pub(super) fn hold_factors(&mut self) {
-        let h = &mut self.held;
-        h.support.clone_from(&self.support);
-        h.lu.clone_from(&self.lu);
-        h.order.clone_from(&self.order);
-        h.rank = self.rank;
-        h.factored.clone_from(&self.factored);
+        self.held.copy_from(&self.f);
     }
 
     /// Makes the factorization copied aside the current one again.
@@ -87,17 +90,13 @@ impl BasisWorkspace {
     }
 
     /// Exchanges the current factorization, buffers and all, with `h`.
-    pub(super) fn swap_factors(&mut self, h: &mut HeldFactors) {
-        std::mem::swap(&mut h.support, &mut self.support);
-        std::mem::swap(&mut h.lu, &mut self.lu);
-        std::mem::swap(&mut h.order, &mut self.order);
-        std::mem::swap(&mut h.rank, &mut self.rank);
-        std::mem::swap(&mut h.factored, &mut self.factored);
+    pub(super) fn swap_factors(&mut self, h: &mut Factors) {
+        std::mem::swap(h, &mut self.f);
     }
 
     /// Forgets the kept factorization (the next call factors afresh).
     pub fn forget(&mut self) {
-        self.factored.clear();
+        self.f.factored.clear();
     }
 
     /// Forgets the calls that found nothing: the next call tries every

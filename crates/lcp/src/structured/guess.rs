@@ -16,7 +16,7 @@
 //! opposed direction basic; a sticking one the (at most two) adjacent
 //! directions that span its tangential impulse, `w_λ` basic; an unloaded
 //! contact whose velocity opposes a direction `λ` with that direction's `fd`
-//! (the pairing of `pipeline::structured` in the simulator, which keeps the
+//! (the pairing of `solve_chain::structured_lemke` in the simulator, which keeps the
 //! basis regular: opposite directions basic together with `w_λ` would make it
 //! singular).
 
