@@ -304,6 +304,10 @@ def render_pours(res: dict[str, Any]) -> list[str]:
     return lines
 
 
+def _rate(x: float) -> str:
+    return f"{x:,.0f}" if x >= 100 else f"{x:.3g}"
+
+
 def pour_windows(res: dict[str, Any]) -> list[str]:
     """Steps/s over each window of steps, per engine × scene; lcpsim's mean pivots
     per LCP step and most contacts per window below its rate."""
@@ -318,7 +322,7 @@ def pour_windows(res: dict[str, Any]) -> list[str]:
             if not wins:
                 continue
             width = max(width, -(-e["steps"] // w))
-            cells = [("—" if x["steps_per_second"] is None else f"{x['steps_per_second']:,.0f}")
+            cells = [("—" if x["steps_per_second"] is None else _rate(x["steps_per_second"]))
                      + ("" if x["to"] - x["from"] == w else f" ({x['to'] - x['from']} steps)") for x in wins]
             rows.append((key, w, TITLES.get(eng, eng) + " steps/s", cells))
             lcp = s.get("lcp")
