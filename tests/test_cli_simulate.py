@@ -21,7 +21,7 @@ JSON_KEYS = {
     "expected_slide", "lcp", "islands", "wall_time", "steps_per_second", "capture", "captured",
 }
 LCP_KEYS = {"steps", "lcps", "failures", "by_status", "max_residual", "pivots_median", "pivots_max",
-            "max_lcp_size", "max_contacts", "retaken"}
+            "max_lcp_size", "max_contacts", "retaken", "stages", "backstop_fraction"}
 
 
 def simulate_json(capsys, *args: str) -> tuple[int, dict]:
@@ -127,3 +127,11 @@ def test_cube_heap_from_the_command_line(capsys):
     # Five cubes (four over one) fall together: one island once they have landed.
     assert d["islands"]["max"] >= 1 and d["islands"]["max_lcp_size"] > 0
     assert d["world"]["threads"] == 1
+
+
+def test_a_pour_from_the_command_line(capsys):
+    """`lcpsim simulate cube_pour --n N --seed S [--no-walls]`: the islands per stage in the JSON."""
+    rc, d = simulate_json(capsys, "cube_pour", "--n", "6", "--seed", "2", "--no-walls", "--steps", "600")
+    assert rc == 0
+    assert d["lcp"]["failures"] == 0
+    assert set(d["lcp"]["stages"]) == {"previous_basis", "guessed_basis", "structured_lemke", "dense"}

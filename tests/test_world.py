@@ -264,7 +264,7 @@ def test_step_record_holds_exactly_its_fields_with_their_types():
                 assert v is None or (isinstance(v, np.ndarray) and v.dtype == np.bool_ and v.shape == (r.lcp_size,))
             elif name == "retakes":
                 assert v == ()
-            elif name == "island_status":
+            elif name in ("island_status", "island_stage"):
                 assert type(v) is tuple and len(v) == r.islands and all(type(x) is str for x in v)
             elif name == "island_bodies":
                 assert type(v) is tuple and len(v) == r.islands

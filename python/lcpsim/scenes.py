@@ -40,6 +40,7 @@ __all__ = [
     "ball_on_incline",
     "box_pile",
     "cube_heap",
+    "cube_pour",
 ]
 
 G = 9.81
@@ -297,6 +298,27 @@ def cube_heap(
     return _build("cube_heap", locals())
 
 
+def cube_pour(
+    n: int = 45,
+    seed: int = 0,
+    walls: bool = _D["cube_pour"]["walls"],
+    *,
+    size: float = _D["cube_pour"]["size"],
+    mass: float = _D["cube_pour"]["mass"],
+    mu: float = _D["cube_pour"]["mu"],
+    spacing: float = _D["cube_pour"]["spacing"],
+    jitter: float = _D["cube_pour"]["jitter"],
+    **world: Any,
+) -> Scene:
+    """``n`` cubes poured into one heap: each with a uniformly random
+    orientation (seeded), released at rest from a loose column of ``g × g``
+    cells per layer (``g = max(2, ⌈√(n/10)⌉)``, cells ``spacing`` × size
+    apart, each cube shifted by up to ``jitter`` × size per axis) above the
+    floor, so that they tumble and their contacts change every step while the
+    heap forms; ``walls`` puts the column in a bin of four static walls."""
+    return _build("cube_pour", locals())
+
+
 #: Every scene by name.
 SCENES: dict[str, Callable[..., Scene]] = {
     "cube_on_slope": cube_on_slope,
@@ -308,6 +330,7 @@ SCENES: dict[str, Callable[..., Scene]] = {
     "ball_on_incline": ball_on_incline,
     "box_pile": box_pile,
     "cube_heap": cube_heap,
+    "cube_pour": cube_pour,
 }
 
 

@@ -12,7 +12,7 @@ self-contained 3-D page (:meth:`Trajectory.to_html`, :mod:`lcpsim.viewer`).
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Mapping, Sequence
 
 import numpy as np
@@ -21,13 +21,15 @@ from numpy.typing import ArrayLike, NDArray
 from ._json import fields_dict
 from .lcp import STATUSES
 
-__all__ = ["Trajectory", "LcpStats", "ContactLog", "NO_CONTACT", "STATUS_NAMES", "quat_angle"]
+__all__ = ["Trajectory", "LcpStats", "ContactLog", "NO_CONTACT", "STATUS_NAMES", "STAGES", "quat_angle"]
 
 #: Status of a step without contacts (no LCP was solved).
 NO_CONTACT = "no_contact"
 #: Trajectory status codes from the compiled module: -1 = no contact, else an index into STATUSES;
 #: ``STATUS_NAMES[code + 1]`` is the name.
 STATUS_NAMES = np.array([NO_CONTACT, *STATUSES])
+#: The stages of the island solve chain, in chain order (columns of ``Trajectory.stage_counts``).
+STAGES = ("previous_basis", "guessed_basis", "structured_lemke", "dense")
 
 
 def quat_angle(q0: ArrayLike, q1: ArrayLike) -> NDArray[np.float64] | float:
@@ -113,6 +115,8 @@ class LcpStats:
     max_lcp_size: int
     max_contacts: int
     retaken: int = 0  # steps taken again in parts after a failed LCP (``World(max_halvings=)``)
+    stages: dict[str, int] = field(default_factory=dict)  # islands answered per stage of the solve chain
+    backstop_fraction: float = 0.0  # of the islands solved, those answered by the last stage (``"dense"``)
 
     def to_dict(self) -> dict[str, Any]:
         return fields_dict(self)
@@ -130,7 +134,9 @@ class Trajectory:
     impulse on body A), ``max_lambda`` (largest physical λ, m/s), ``islands`` and
     ``max_island_size`` (largest island LCP), ``parts`` (1, or more where a failed LCP had the
     step taken again in halves: ``World(max_halvings=)``; the step is solved only if every part
-    was, ``pivots`` counts every attempt, the other per-step figures are the last part's).
+    was, ``pivots`` counts every attempt, the other per-step figures are the last part's),
+    ``stage_counts`` (T, 4) the islands answered by each stage of the solve chain, columns in the
+    order of :data:`STAGES` (the last part's; zeros in files written before it was recorded).
     ``initial_*`` hold the state before the first step.
     ``config`` is the world's :meth:`World.config` when the run started (its bodies' shapes, the
     parameters, the scene); ``contact_log`` every step's contacts when the run recorded them
@@ -154,6 +160,7 @@ class Trajectory:
     islands: NDArray[np.int64]
     max_island_size: NDArray[np.int64]
     parts: NDArray[np.int64]
+    stage_counts: NDArray[np.int64]
     initial_positions: NDArray[np.float64]
     initial_orientations: NDArray[np.float64]
     initial_velocities: NDArray[np.float64]
@@ -217,6 +224,8 @@ class Trajectory:
             max_lcp_size=int(self.lcp_size.max(initial=0)),
             max_contacts=int(self.contacts.max(initial=0)),
             retaken=int((self.parts > 1).sum()),
+            stages={name: int(c) for name, c in zip(STAGES, self.stage_counts.sum(axis=0))},
+            backstop_fraction=float(self.stage_counts[:, -1].sum() / max(1, self.stage_counts.sum())),
         )
 
     def save(self, path: str | os.PathLike[str]) -> str:
@@ -269,6 +278,7 @@ class Trajectory:
             islands=cat("islands"),
             max_island_size=cat("max_island_size"),
             parts=cat("parts"),
+            stage_counts=cat("stage_counts"),
             initial_positions=initial["position"],
             initial_orientations=initial["orientation"],
             initial_velocities=np.concatenate([initial["velocity"], initial["angular_velocity"]], axis=1),

@@ -116,6 +116,9 @@ class StepRecord:
     (one LCP each): ``island_of_contact`` (nc,), per island ``island_bodies``,
     ``island_lcp_size``/``pivots``/``residual``/``status``; ``status`` is "solved" iff every island
     was, else the first unsolved one's; ``pivots`` total, ``residual`` max.
+    ``island_stage``: the stage of the solve chain that answered each island
+    (``"previous_basis"``, ``"guessed_basis"``, ``"structured_lemke"``,
+    ``"dense"``: see ``docs/architecture.md``; ``"none"`` when nothing was solved).
     ``island_entered``: how many ``z`` of the island's answer are positive that
     the basis its step started from (the previous step's, or every ``w``
     basic when cold) had nonbasic; each had to enter, one per pivot, so any
@@ -190,6 +193,7 @@ class StepRecord:
     island_residual: NDArray[np.float64]
     island_body_eta: NDArray[np.float64]
     island_status: tuple[str, ...]
+    island_stage: tuple[str, ...]
     basis: NDArray[np.bool_] | None = None
 
     @property

@@ -54,6 +54,7 @@ pub use params::WorldParams;
 pub use pipeline::{
     Captured, CapturedLcp, EnergyAudit, IslandRecord, LcpBuffer, LcpSink, OwnedLcp, Retake, StepRecord, Trajectory,
 };
+pub use solve_chain::stage_name::SolveStage;
 pub use world::World;
 
 /// The LCP core this crate builds on (re-exported for `Method`, `Status`, …).

@@ -475,6 +475,102 @@ pub fn cube_heap(n: usize, seed: u64, walls: bool) -> Result<Scene, SimError> {
     CubeHeap { walls, ..CubeHeap::new(n, seed) }.build(WorldParams::default())
 }
 
+/// `n` cubes poured into a heap: each with a uniformly random orientation,
+/// released at rest from a random place in a loose column above a square
+/// floor region, so that they tumble into one heap and their contacts change
+/// every step while it forms; optionally inside a bin of four static walls.
+/// The column has `g × g` cells per layer (`g = max(2, ⌈√(n/10)⌉)`, about ten
+/// layers), cells `spacing·size` apart, each cube at its cell's centre moved
+/// by up to `jitter·size` along each axis; the lowest cubes start 0.1·size
+/// above the largest reach of a turned cube (`√3/2·size`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CubePour {
+    /// Number of cubes (≥ 1).
+    pub n: usize,
+    /// Seed of the orientations and places. Default 0.
+    pub seed: u64,
+    /// A bin of four static walls around the floor region. Default true.
+    pub walls: bool,
+    /// Edge length (m). Default 1.
+    pub size: f64,
+    /// Mass of each cube (kg). Default 1.
+    pub mass: f64,
+    /// Friction coefficient (cubes, ground, walls). Default 0.5.
+    pub mu: f64,
+    /// Distance between neighbouring cells, in `size` (≥ √3 + 2·jitter, so no two cubes touch at the start). Default 1.8.
+    pub spacing: f64,
+    /// Largest shift from a cell's centre along each axis, in `size`, in [0, 0.1]. Default 0.03.
+    pub jitter: f64,
+}
+
+impl CubePour {
+    pub fn new(n: usize, seed: u64) -> Self {
+        CubePour { n, seed, walls: true, size: 1.0, mass: 1.0, mu: 0.5, spacing: 1.8, jitter: 0.03 }
+    }
+
+    /// Cells per side of a layer.
+    pub fn grid(&self) -> usize {
+        ((self.n as f64 / 10.0).sqrt().ceil() as usize).max(2)
+    }
+
+    pub fn build(&self, params: WorldParams) -> Result<Scene, SimError> {
+        if self.n == 0 {
+            return Err(SimError::NotPositive { field: "n", value: 0.0 });
+        }
+        positive("size", self.size)?;
+        positive("mass", self.mass)?;
+        non_negative("mu", self.mu)?;
+        crate::error::in_range("jitter", self.jitter, 0.0, 0.1, "[0, 0.1]")?;
+        let least = 3f64.sqrt() + 2.0 * self.jitter;
+        // Also rejects a NaN spacing.
+        if self.spacing.is_nan() || self.spacing < least {
+            return Err(SimError::OutOfRange {
+                field: "spacing", value: self.spacing, range: "[√3 + 2·jitter, ∞)"
+            });
+        }
+        let mut world = World::new(params)?;
+        // A pour joins into one contact island.
+        limits::check_scene("cube_pour", "n", (Some(self.n), self.n as f64), self.n, world.params().friction_dirs)?;
+        let ground = world.add_ground(self.mu)?;
+        let (g, s) = (self.grid(), self.size);
+        let step = self.spacing * s;
+        let z0 = 0.5 * 3f64.sqrt() * s + 0.1 * s;
+        let mut rng = SplitMix64(self.seed);
+        let mut bodies = Vec::with_capacity(self.n);
+        for i in 0..self.n {
+            let (layer, cell) = (i / (g * g), i % (g * g));
+            let (iy, ix) = (cell / g, cell % g);
+            let mut shift = || self.jitter * s * (2.0 * rng.next_f64() - 1.0);
+            let c = Vec3::new(
+                (ix as f64 - 0.5 * (g - 1) as f64) * step + shift(),
+                (iy as f64 - 0.5 * (g - 1) as f64) * step + shift(),
+                z0 + layer as f64 * step + shift(),
+            );
+            let q = rng.rotation();
+            let desc = BodyDesc::cuboid(Vec3::splat(0.5 * s)).mass(self.mass).mu(self.mu).position(c).orientation(q);
+            bodies.push(world.add_body(desc)?);
+        }
+        if self.walls {
+            // The bin: inner half-width g·spacing/2, 1 m thick walls, 4 size tall,
+            // 1 cm above the ground and 1 cm apart at the corners (static bodies never touch).
+            let (a, t, tall) = (0.5 * g as f64 * step, 0.5 * s, 2.0 * s);
+            let zc = tall + 0.01 * s;
+            for sign in [-1.0, 1.0] {
+                let along_y = BodyDesc::cuboid(Vec3::new(t, a + 2.0 * t, tall));
+                world.add_body(along_y.mu(self.mu).position(Vec3::new(sign * (a + t), 0.0, zc)).fixed(true))?;
+                let along_x = BodyDesc::cuboid(Vec3::new(a - 0.01 * s, t, tall));
+                world.add_body(along_x.mu(self.mu).position(Vec3::new(0.0, sign * (a + t), zc)).fixed(true))?;
+            }
+        }
+        Ok(Scene { world, body: *bodies.last().expect("n ≥ 1"), ground, bodies })
+    }
+}
+
+/// [`CubePour`] of `n` unit cubes with its defaults (inside the bin when `walls`).
+pub fn cube_pour(n: usize, seed: u64, walls: bool) -> Result<Scene, SimError> {
+    CubePour { walls, ..CubePour::new(n, seed) }.build(WorldParams::default())
+}
+
 /// SplitMix64: a tiny seeded generator, enough for scene jitter (and random test scenes).
 #[derive(Clone, Debug)]
 pub struct SplitMix64(pub u64);

@@ -78,7 +78,7 @@ def add_run_arguments(p: argparse.ArgumentParser) -> None:
     for name, users in sorted(_all_scene_params().items()):
         if name in _BOOL_PARAMS:
             g.add_argument(
-                "--" + name.replace("_", "-"), dest=f"scene_{name}", action="store_const", const=True, default=None,
+                "--" + name.replace("_", "-"), dest=f"scene_{name}", action=argparse.BooleanOptionalAction, default=None,
                 help=f"({', '.join(sorted(users))})",
             )
             continue

@@ -7,7 +7,7 @@
     traj.save("slope.h5")
     same = Trajectory.load("slope.h5")          # or: lcpsim view slope.h5 --out slope.html
 
-Layout (format ``lcpsim-trajectory``, version 2; ``T`` steps, ``B`` bodies,
+Layout (format ``lcpsim-trajectory``, version 3; ``T`` steps, ``B`` bodies,
 ``N`` contacts over the whole run):
 
 - root attributes ``format``, ``format_version``, ``lcpsim_version``, ``dt``,
@@ -19,7 +19,8 @@ Layout (format ``lcpsim-trajectory``, version 2; ``T`` steps, ``B`` bodies,
   ``residual``, ``solver_residual``, ``lcp_size``, ``contacts``,
   ``normal_impulse``, ``friction_impulse`` (T, 3), ``max_lambda``,
   ``islands``, ``max_island_size``, ``parts`` (new in version 2: files of
-  version 1 read as one part per step);
+  version 1 read as one part per step), ``stage_counts`` (T, 4) (new in
+  version 3: older files read as zeros, not recorded);
 - the state before the first step: ``initial_positions`` (B, 3),
   ``initial_orientations`` (B, 4), ``initial_velocities`` (B, 6);
 - optional group ``contact_log`` (when the run recorded contacts):
@@ -51,7 +52,7 @@ __all__ = ["FORMAT", "FORMAT_VERSION", "TrajectoryFileError", "save_trajectory",
 #: Value of the root attribute ``format``.
 FORMAT = "lcpsim-trajectory"
 #: Value of the root attribute ``format_version``.
-FORMAT_VERSION = 2
+FORMAT_VERSION = 3
 
 # Per-step datasets: name → (dtype, shape after T; "B" = bodies).
 _PER_STEP: dict[str, tuple[str, tuple[Any, ...]]] = {
@@ -70,6 +71,7 @@ _PER_STEP: dict[str, tuple[str, tuple[Any, ...]]] = {
     "islands": ("i8", ()),
     "max_island_size": ("i8", ()),
     "parts": ("i8", ()),
+    "stage_counts": ("i8", (4,)),
 }
 _INITIAL: dict[str, int] = {"initial_positions": 3, "initial_orientations": 4, "initial_velocities": 6}
 _CONTACT_TAIL: dict[str, tuple[str, tuple[int, ...]]] = {
@@ -199,6 +201,9 @@ def _read(f: Any, path: str | os.PathLike[str], version: int) -> Trajectory:
     for name, (dtype, tail) in _PER_STEP.items():
         if name == "parts" and version < 2:
             data[name] = np.ones(T, dtype=np.int64)  # before retakes every step was one part
+            continue
+        if name == "stage_counts" and version < 3:
+            data[name] = np.zeros((T, 4), dtype=np.int64)  # not recorded before version 3
             continue
         a = f[name][()].astype(dtype)
         want = (T, *(B if d == "B" else d for d in tail))

@@ -165,6 +165,8 @@ pub(super) fn islands_to_dict(py: Python<'_>, r: &StepRecord, d: &Bound<'_, PyDi
     d.set_item(intern!(py, "island_body_eta"), copied(py, &eta, &[count]))?;
     let status = r.islands.iter().map(|i| i.status.as_str());
     d.set_item(intern!(py, "island_status"), pyo3::types::PyTuple::new(py, status)?)?;
+    let stage = r.islands.iter().map(|i| i.stage.map_or("none", sim::SolveStage::as_str));
+    d.set_item(intern!(py, "island_stage"), pyo3::types::PyTuple::new(py, stage)?)?;
     Ok(())
 }
 
@@ -179,6 +181,8 @@ pub(super) fn trajectory_to_dict(py: Python<'_>, t: Trajectory) -> PyResult<Boun
     d.set_item("islands", ints(&t.islands))?;
     d.set_item("max_island_size", ints(&t.max_island_size))?;
     d.set_item("parts", ints(&t.parts))?;
+    let counts: Vec<i64> = t.stage_counts.iter().map(|&c| c as i64).collect();
+    d.set_item("stage_counts", copied(py, &counts, &[n, sim::SolveStage::ALL.len()]))?;
     d.set_item("status", PyArray1::from_vec(py, status))?;
     d.set_item("time", PyArray1::from_vec(py, t.time))?;
     d.set_item("position", shaped(py, t.position, [n, b, 3])?)?;

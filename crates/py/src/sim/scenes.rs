@@ -12,7 +12,9 @@ use super::world::World;
 use crate::errors::value_error;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use sim::scenes::{BallDrop, BallOnIncline, BoxPile, BoxStack, CubeDrop, CubeHeap, CubeOnSlope, PushedCube, Scene};
+use sim::scenes::{
+    BallDrop, BallOnIncline, BoxPile, BoxStack, CubeDrop, CubeHeap, CubeOnSlope, CubePour, PushedCube, Scene,
+};
 use sim::{Downhill, WorldParams};
 
 /// The scene's parameters: the given value of each, else the Rust default.
@@ -178,6 +180,7 @@ scenes! {
     "ball_on_incline" => BallOnIncline::new(angle_deg, mu) { radius, mass, downhill },
     "box_pile" => BoxPile::default() { nx, ny, nz, size, mass, mu, spacing, yaw, seed },
     "cube_heap" => CubeHeap::new(n, seed) { walls, size, mass, mu, spacing, jitter },
+    "cube_pour" => CubePour::new(n, seed) { walls, size, mass, mu, spacing, jitter },
 }
 
 /// `build_scene(name, params, template)`: the scene's world (with the

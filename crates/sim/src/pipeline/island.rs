@@ -6,6 +6,7 @@
 use crate::contact::assembly::{AssemblyParams, BodyDynamics};
 use crate::contact::{BodyCheck, ContactLcp};
 use crate::geometry::Contact;
+use crate::solve_chain::stage_name::SolveStage;
 use lcp::contact::ContactLayout;
 use lcp::on_basis::BasisWorkspace;
 use lcp::{Lcp, LcpError, LemkeOptions, Residuals, Solution};
@@ -24,8 +25,13 @@ pub struct IslandLcp {
     /// The previous step's island with the same bodies and contact count
     /// (`solve_chain::warm_starts::WarmStarts`), whose impulses start the guessed basis.
     pub previous: Option<usize>,
+    /// The previous step's physical impulses mapped contact by contact
+    /// (`solve_chain::warm_by_contact`), when there is no `previous` island.
+    pub z_mapped: Vec<f64>,
     /// Whether this step's solve started from such a basis.
     pub warmed: bool,
+    /// The stage of the solve chain that answered (`None` before the solve or when the LCP was invalid).
+    pub stage: Option<SolveStage>,
     /// Unknowns the answer had to bring into the basis (`IslandRecord::entered`).
     pub entered: Option<usize>,
     /// The solver's answer (scaled LCP), `None` before the solve or when the LCP was invalid.

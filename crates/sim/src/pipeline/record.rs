@@ -120,6 +120,8 @@ pub struct IslandRecord {
     /// to go, beside `pivots`, the way it went (`pivots` can be fewer when a
     /// basis guessed from the previous impulses was the start that solved).
     pub entered: Option<usize>,
+    /// The stage of the solve chain that answered (`None` if nothing was solved).
+    pub stage: Option<crate::solve_chain::stage_name::SolveStage>,
 }
 
 impl StepRecord {

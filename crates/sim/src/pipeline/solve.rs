@@ -28,10 +28,11 @@ impl World {
         if !self.ws.islands.is_ready() {
             self.islands();
         }
-        // Large islands whose contacts changed: the previous basis mapped by contact (read before the record is reset).
+        // Coupled islands whose contacts changed: the previous basis and
+        // impulses mapped by contact (read before the record is reset).
         let mut mapped = if self.sink.is_none() && basis_check_applies(&self.params.method).is_some() {
-            let (k, min_n) = (self.params.friction_dirs, crate::solve_chain::STRUCTURED_MIN_N);
-            crate::solve_chain::warm_by_contact::by_contact(&self.record, &self.ws.contacts, &self.ws.islands, k, min_n)
+            let k = self.params.friction_dirs;
+            crate::solve_chain::warm_by_contact::by_contact(&self.record, &self.ws.contacts, &self.ws.islands, k)
         } else {
             Vec::new()
         };
@@ -49,7 +50,9 @@ impl World {
             let by_contact = mapped.get_mut(i).and_then(Option::take);
             let isl = &mut ws.pool[i];
             let (previous, basis) = ws.warm.take(ws.islands.bodies_of(i), nc);
-            (isl.previous, isl.warm) = (previous, basis.or(by_contact));
+            let (mapped_basis, mapped_z) = by_contact.map_or((None, Vec::new()), |(b, z)| (Some(b), z));
+            (isl.previous, isl.warm) = (previous, basis.or(mapped_basis));
+            isl.z_mapped = if previous.is_none() { mapped_z } else { Vec::new() };
         }
         let method = self.params.method.clone();
         let name = match solver {
@@ -74,7 +77,8 @@ impl World {
                 let warm = &ws.warm;
                 parallel::for_each(&mut ws.pool[..count], &mut ws.solvers[..threads], |solver, isl| {
                     isl.body_check = body.clone();
-                    let z_prev = isl.previous.map_or(&[][..], |p| warm.impulses(p));
+                    let z_mapped = std::mem::take(&mut isl.z_mapped);
+                    let z_prev = isl.previous.map_or(&z_mapped[..], |p| warm.impulses(p));
                     isl.solve(&mut |lcp, warm| lcp::solve_in(lcp, &method, warm, solver), check, z_prev)
                 });
                 method.name()
@@ -191,6 +195,7 @@ impl World {
                 zeroed: isl.zeroed,
                 warm: isl.warmed,
                 entered: isl.entered,
+                stage: isl.stage,
             });
         }
         rec.residuals = Residuals::of(&rec.z, &rec.w);

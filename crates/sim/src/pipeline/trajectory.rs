@@ -5,6 +5,7 @@
 use super::record::StepRecord;
 use crate::contact::FrictionBasis;
 use crate::math::{Quat, Vec3};
+use crate::solve_chain::stage_name::SolveStage;
 use crate::world::World;
 use lcp::Status;
 
@@ -49,6 +50,9 @@ pub struct Trajectory {
     /// Parts each step was taken in: 1, or more where a failed LCP had a
     /// part taken again in halves (`WorldParams::max_halvings`).
     pub parts: Vec<usize>,
+    /// Islands answered by each stage of the solve chain per step, `(steps, 4)`
+    /// in the order of [`SolveStage::ALL`].
+    pub stage_counts: Vec<usize>,
     /// The friction directions' cosines and sines, built once per run.
     basis: Option<FrictionBasis>,
 }
@@ -74,6 +78,7 @@ impl Trajectory {
             islands: Vec::with_capacity(steps),
             max_island_size: Vec::with_capacity(steps),
             parts: Vec::with_capacity(steps),
+            stage_counts: Vec::with_capacity(SolveStage::ALL.len() * steps),
             basis: None,
         }
     }
@@ -97,6 +102,7 @@ impl Trajectory {
         self.islands.push(r.islands.len());
         self.max_island_size.push(r.islands.iter().map(|i| i.lcp_size).max().unwrap_or(0));
         self.parts.push(r.parts);
+        self.stage_counts.extend(SolveStage::ALL.map(|s| r.islands.iter().filter(|i| i.stage == Some(s)).count()));
         self.push_impulses(r);
     }
 

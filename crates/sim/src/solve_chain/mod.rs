@@ -42,6 +42,7 @@ pub(crate) mod loaded_friction;
 mod previous_basis;
 pub mod replay;
 pub(crate) mod stage;
+pub mod stage_name;
 pub mod structured_lemke;
 pub(crate) mod warm_by_contact;
 pub(crate) mod warm_starts;
@@ -51,6 +52,7 @@ use crate::pipeline::island::{IslandLcp, IslandSolver};
 use lcp::operator::LcpOperator;
 use lcp::{LemkeOptions, Method, Pivoting, Residuals, Status};
 use stage::{Attempt, Found, Stage};
+use stage_name::SolveStage;
 
 impl IslandLcp {
     /// Solves the assembled LCP, maps the answer to physical units and
@@ -71,6 +73,7 @@ impl IslandLcp {
         self.sol = None;
         self.error = None;
         self.entered = None;
+        self.stage = None;
         let warm = self.warm.take().filter(|b| b.len() == n);
         self.warmed = warm.is_some();
         // Whether the body-space check judges this island's answer (bodies of
@@ -83,14 +86,14 @@ impl IslandLcp {
         let coupled = basis_check.filter(|_| self.lcp.dynamic_body_count() >= 2);
         let (small, warmed) = (n < STRUCTURED_MIN_N, warm.is_some());
         let rungs = coupled.is_some_and(|c| c.rungs);
-        let stages: [(bool, Stage); 3] = [
+        let stages: [(bool, SolveStage, Stage); 3] = [
             // A small island with a previous basis.
-            (small && warmed, previous_basis::attempt),
+            (small && warmed, SolveStage::PreviousBasis, previous_basis::attempt),
             // The same, with Lemke's full ladder.
-            (small && warmed && rungs, guessed_basis::attempt),
+            (small && warmed && rungs, SolveStage::GuessedBasis, guessed_basis::attempt),
             // A large island, or a small one whose previous and guessed bases
             // failed (a small island's failure goes on to the dense Lemke).
-            (!small || (warmed && rungs), structured_lemke::attempt),
+            (!small || (warmed && rungs), SolveStage::StructuredLemke, structured_lemke::attempt),
         ];
         let found = coupled.and_then(|c| {
             let a = Attempt {
@@ -100,12 +103,12 @@ impl IslandLcp {
                 mixed,
                 dense_fits: n <= DENSE_FALLBACK_MAX_N,
             };
-            stages.iter().filter(|(applies, _)| *applies).find_map(|(_, stage)| stage(self, &a))
+            stages.iter().filter(|(applies, ..)| *applies).find_map(|&(_, id, stage)| Some((id, stage(self, &a)?)))
         });
-        let Found { sol, physical } = match found {
+        let (stage, Found { sol, physical }) = match found {
             Some(found) => found,
             None => match dense_lemke::solve(self, solver, warm.as_deref()) {
-                Ok(sol) => Found { sol, physical: None },
+                Ok(sol) => (SolveStage::Dense, Found { sol, physical: None }),
                 Err(e) => {
                     self.error = Some(e);
                     return;
@@ -170,6 +173,7 @@ impl IslandLcp {
             self.z.iter().enumerate().filter(|&(j, &v)| v > 0.0 && outside(j)).count()
         });
         self.sol = Some(sol);
+        self.stage = Some(stage);
     }
 }
 
