@@ -69,6 +69,8 @@ class LcpsimEngine:
 
     #: The island solve chain's stages, in order; the last one (the dense Lemke) is the backstop.
     STAGES = ("previous_basis", "guessed_basis", "structured_lemke", "dense_lemke")
+    #: lcpsim's names of them where they differ (``lcpsim.trajectory.STAGES``: the last one is "dense").
+    ALIASES = {"dense": "dense_lemke"}
 
     def record_stages(self, traj: Any, k: int) -> None:
         """The solve chain's stages of this call's islands, where ``lcp_stats()`` has them
@@ -80,6 +82,7 @@ class LcpsimEngine:
         islands = None
         if stages is not None:
             s["stages_recorded"] = True
+            stages = {self.ALIASES.get(name, name): v for name, v in stages.items()}
             counts = [int(stages.get(name, 0)) for name in self.STAGES]
             other = sum(int(v) for name, v in stages.items() if name not in self.STAGES)
             s["stage_calls"].append([self.done, k, *counts, other])
