@@ -3,7 +3,7 @@
 
 The readers — ``lcpsim.io.load_lcp`` (``.npz``, HDF5, capture, dump),
 ``open_capture`` (and reading every record), ``load_dump``,
-``load_trajectory`` (the viewer's files), ``read_fclib`` (FCLib files) — are given
+``load_trajectory`` (``Trajectory.load``: the viewer's files), ``read_fclib`` (FCLib files) — are given
 mutations (bit flips, overwritten runs, truncations, spliced bytes) of small
 valid files of each kind. A reader must return or raise a clean error (a
 ``ValueError`` such as ``LcpFileError``/``CaptureError``, or an ``OSError``)
@@ -52,14 +52,14 @@ def _read_capture(path: str) -> None:
 
 def _readers() -> dict[str, Callable[[str], Any]]:
     from lcpsim.io import load_dump, load_lcp
-    from lcpsim.io.trajectory_file import load_trajectory
+    from lcpsim import Trajectory
 
     readers: dict[str, Callable[[str], Any]] = {
         "load_lcp": load_lcp,
         "load_lcp_index0": lambda p: load_lcp(p, 0),
         "open_capture": _read_capture,
         "load_dump": load_dump,
-        "load_trajectory": load_trajectory,
+        "load_trajectory": Trajectory.load,
     }
     from lcpsim.io.fclib import read_fclib
 

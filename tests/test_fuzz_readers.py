@@ -23,7 +23,7 @@ from lcpsim import open_capture, scenes, solve_lcp
 from lcpsim.io import load_dump, load_lcp, save_lcp
 from lcpsim.io.capture import CaptureWriter
 from lcpsim.io.fclib import read_fclib
-from lcpsim.io.trajectory_file import load_trajectory
+from lcpsim.trajectory import Trajectory
 
 FOUND = Path(__file__).parent / "data" / "fuzz"
 CLEAN = (ValueError, OSError)
@@ -32,7 +32,7 @@ CLEAN = (ValueError, OSError)
 def _read_all(path: Path) -> None:
     """Every reader on ``path``; only clean errors may escape each."""
     # (The trajectory reader in this process: its child-process probe is tested below.)
-    trajectory = lambda p: load_trajectory(p, probe=False)  # noqa: E731
+    trajectory = lambda p: Trajectory.load(p, probe=False)  # noqa: E731
     for read in (load_lcp, lambda p: load_lcp(p, 0), load_dump, _capture_records, trajectory, read_fclib):
         try:
             read(path)

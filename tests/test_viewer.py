@@ -16,7 +16,7 @@ import pytest
 from lcpsim import Trajectory, scenes
 from lcpsim.cli import main
 from lcpsim.io import save_lcp
-from lcpsim.io.trajectory_file import TrajectoryFileError, load_trajectory
+from lcpsim.io.trajectory_file import TrajectoryFileError
 from lcpsim.viewer import render_html
 from lcpsim.viewer.encode import choose_frames
 
@@ -96,7 +96,7 @@ def test_save_and_load_round_trip(tmp_path, failing):
         assert np.array_equal(getattr(back.contact_log, f), getattr(traj.contact_log, f)), f
     # Without a contact log, and empty.
     plain = scenes.resting_cube().world.run(0)
-    back = load_trajectory(plain.save(tmp_path / "empty.h5"))
+    back = Trajectory.load(plain.save(tmp_path / "empty.h5"))
     assert len(back) == 0 and back.contact_log is None and back.bodies == plain.bodies
 
 
@@ -105,24 +105,24 @@ def test_bad_files_raise_one_clear_error(tmp_path, failing):
     _, traj = failing
     good = traj.save(tmp_path / "good.h5")
     with pytest.raises(FileNotFoundError):
-        load_trajectory(tmp_path / "missing.h5")
+        Trajectory.load(tmp_path / "missing.h5")
     data = open(good, "rb").read()
     (tmp_path / "trunc.h5").write_bytes(data[: len(data) // 3])
     with pytest.raises(TrajectoryFileError, match="not a readable HDF5 file"):
-        load_trajectory(tmp_path / "trunc.h5")
+        Trajectory.load(tmp_path / "trunc.h5")
     (tmp_path / "text.h5").write_text("hello")
     with pytest.raises(TrajectoryFileError, match="not a readable HDF5 file"):
-        load_trajectory(tmp_path / "text.h5")
+        Trajectory.load(tmp_path / "text.h5")
     save_lcp(tmp_path / "lcp.h5", np.eye(2), -np.ones(2))
     with pytest.raises(TrajectoryFileError, match="not an lcpsim trajectory .it holds M, q"):
-        load_trajectory(tmp_path / "lcp.h5")
+        Trajectory.load(tmp_path / "lcp.h5")
     scenes.resting_cube().world.run(2, capture=tmp_path / "cap.h5")
     with pytest.raises(TrajectoryFileError, match="not an lcpsim trajectory .its format is 'lcpsim-corpus'"):
-        load_trajectory(tmp_path / "cap.h5")
+        Trajectory.load(tmp_path / "cap.h5")
     with h5py.File(good, "a") as f:
         del f["positions"]
     with pytest.raises(TrajectoryFileError, match="damaged trajectory file"):
-        load_trajectory(good)
+        Trajectory.load(good)
 
 
 # ---------------------------------------------------------------- the page

@@ -91,8 +91,8 @@ import sys
 path, index = sys.argv[1], (None if sys.argv[2] == "-" else int(sys.argv[2]))
 try:
     if sys.argv[3] == "trajectory":
-        from lcpsim.io.trajectory_file import load_trajectory
-        load_trajectory(path, probe=False)
+        from lcpsim.io.trajectory_file import read_trajectory
+        read_trajectory(path, probe=False)
     elif sys.argv[3] == "capture":
         from lcpsim.io.capture import open_capture
         with open_capture(path) as c:

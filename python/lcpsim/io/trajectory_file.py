@@ -1,5 +1,6 @@
-"""Trajectories in HDF5: :func:`save_trajectory` / :func:`load_trajectory`
-(also ``Trajectory.save(path)`` and ``Trajectory.load(path)``).
+"""Trajectories in HDF5: :func:`save_trajectory` / :func:`read_trajectory`
+(``Trajectory.save(path)`` and ``Trajectory.load(path)``, which builds the
+trajectory from the fields :func:`read_trajectory` returns).
 
 ::
 
@@ -43,11 +44,11 @@ from typing import Any
 import numpy as np
 
 from .._json import jsonable
-from ..trajectory import STATUS_NAMES, ContactLog, Trajectory
+from ..trajectory_data import STATUS_NAMES, ContactLog, TrajectoryView
 from .hdf5_check import DamagedHdf5Error, check_global_heaps
 from .hdf5_check import probe as probe_file
 
-__all__ = ["FORMAT", "FORMAT_VERSION", "TrajectoryFileError", "save_trajectory", "load_trajectory"]
+__all__ = ["FORMAT", "FORMAT_VERSION", "TrajectoryFileError", "save_trajectory", "read_trajectory"]
 
 #: Value of the root attribute ``format``.
 FORMAT = "lcpsim-trajectory"
@@ -89,7 +90,7 @@ class TrajectoryFileError(ValueError):
     """A file that is not a readable lcpsim trajectory."""
 
 
-def save_trajectory(path: str | os.PathLike[str], traj: Trajectory) -> str:
+def save_trajectory(path: str | os.PathLike[str], traj: TrajectoryView) -> str:
     """Writes ``traj`` to ``path`` (created or overwritten); returns the path."""
     import h5py  # type: ignore[import-untyped]
 
@@ -122,8 +123,10 @@ def save_trajectory(path: str | os.PathLike[str], traj: Trajectory) -> str:
     return os.fspath(path)
 
 
-def load_trajectory(path: str | os.PathLike[str], probe: bool = True) -> Trajectory:
-    """Reads a trajectory written by :func:`save_trajectory`. With ``probe``
+def read_trajectory(path: str | os.PathLike[str], probe: bool = True) -> dict[str, Any]:
+    """Reads a trajectory written by :func:`save_trajectory`: the keyword
+    arguments of :class:`~lcpsim.trajectory.Trajectory` (``Trajectory.load``
+    builds it from them). With ``probe``
     (default) an HDF5 file is first read in a child process
     (:func:`~lcpsim.io.hdf5_check.probe`): the HDF5 library can crash or loop
     on a damaged file where no Python exception reaches; that is then a
@@ -152,8 +155,8 @@ def _is_hdf5(p: Path) -> bool:
     return False
 
 
-def _load(p: Path, path: str | os.PathLike[str]) -> Trajectory:
-    """:func:`load_trajectory` in this process (the probe's child reads with it)."""
+def _load(p: Path, path: str | os.PathLike[str]) -> dict[str, Any]:
+    """:func:`read_trajectory` in this process (the probe's child reads with it)."""
     import h5py
 
     try:
@@ -170,7 +173,7 @@ def _load(p: Path, path: str | os.PathLike[str]) -> Trajectory:
             raise TrajectoryFileError(f"{path}: damaged trajectory file ({_reason(e)})") from None
 
 
-def _checked(f: Any, path: str | os.PathLike[str]) -> Trajectory:
+def _checked(f: Any, path: str | os.PathLike[str]) -> dict[str, Any]:
     """The format checks, then :func:`_read`."""
     fmt = f.attrs.get("format")
     if isinstance(fmt, bytes):
@@ -190,7 +193,7 @@ def _checked(f: Any, path: str | os.PathLike[str]) -> Trajectory:
         raise TrajectoryFileError(f"{path}: damaged trajectory file ({_reason(e)})") from None
 
 
-def _read(f: Any, path: str | os.PathLike[str], version: int) -> Trajectory:
+def _read(f: Any, path: str | os.PathLike[str], version: int) -> dict[str, Any]:
     names = np.array(json.loads(f.attrs["status_names"]))
     codes = f["status"][()].astype(np.int64)
     T = codes.shape[0]
@@ -229,7 +232,7 @@ def _read(f: Any, path: str | os.PathLike[str], version: int) -> Trajectory:
                 raise TrajectoryFileError(f"{path}: damaged trajectory file (contact_log/{name} has shape {a.shape})")
             fields[name] = a
         log = ContactLog(offsets=offsets, **fields)
-    return Trajectory(
+    return dict(
         dt=float(f.attrs["dt"]),
         status=names[codes],
         config=json.loads(f.attrs.get("config", "{}")) or None,
