@@ -237,7 +237,7 @@ class ResultStore:
         self._f: Any = None
         if self.kind == "parquet":
             try:
-                import pyarrow  # type: ignore[import-untyped]  # noqa: F401
+                import pyarrow  # type: ignore[import-untyped, import-not-found]  # noqa: F401
             except ImportError:
                 raise ValueError(f"{path}: Parquet output needs pyarrow (pip install pyarrow); use a .h5 file") from None
             self.path.mkdir(parents=True, exist_ok=True)
@@ -366,7 +366,7 @@ def _read_hdf5(path: Path) -> list[dict[str, Any]]:
 
 def _write_parquet_part(directory: Path, record: Mapping[str, Any]) -> None:
     import pyarrow as pa
-    import pyarrow.parquet as pq  # type: ignore[import-untyped]
+    import pyarrow.parquet as pq  # type: ignore[import-untyped, import-not-found]
 
     table = pa.table(
         {"id": [record["id"]], "experiment": [record["experiment"]], "json": [json.dumps(jsonable(dict(record)))]}

@@ -36,7 +36,7 @@ from numpy.typing import ArrayLike, NDArray
 from .. import _core
 from .._json import jsonable
 from .limits import human_bytes
-from .hdf5 import HDF5_ERRORS, is_hdf5_file
+from .hdf5 import HDF5_ERRORS, HDF5_READ_ERRORS, is_hdf5_file
 from .hdf5_check import DamagedHdf5Error, check_global_heaps
 from .safe_file import SafeTarget, partial_path
 
@@ -537,7 +537,7 @@ class Capture:
         except KeyError as e:
             f.close()
             raise CaptureError(f"{path}: damaged corpus, missing {e}") from None
-        except (TypeError, *HDF5_ERRORS) as e:
+        except HDF5_READ_ERRORS as e:
             f.close()
             if isinstance(e, CaptureError):
                 raise
@@ -700,5 +700,5 @@ def is_capture(path: str | os.PathLike[str]) -> bool:
     with f:
         try:
             return bool(f.attrs.get("format") == FORMAT)
-        except (TypeError, *HDF5_ERRORS):  # a damaged attribute: not a capture we can read
+        except HDF5_READ_ERRORS:  # a damaged attribute: not a capture we can read
             return False

@@ -44,7 +44,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .. import _core
-from .hdf5 import HDF5_ERRORS, hdf5_dataset, open_hdf5
+from .hdf5 import HDF5_READ_ERRORS, hdf5_dataset, open_hdf5
 from .lcp_file import LcpFileError, file_format, validate_lcp
 
 if TYPE_CHECKING:
@@ -157,7 +157,7 @@ def is_dump(path: str | os.PathLike[str]) -> bool:
     try:
         with open_hdf5(p) as f:
             fmt = f.attrs.get("format")
-    except (TypeError, *HDF5_ERRORS):
+    except HDF5_READ_ERRORS:
         return False
     if isinstance(fmt, bytes):
         fmt = fmt.decode(errors="replace")

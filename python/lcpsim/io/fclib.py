@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .hdf5 import HDF5_ERRORS, is_hdf5_file, open_hdf5
+from .hdf5 import HDF5_READ_ERRORS, is_hdf5_file, open_hdf5
 
 __all__ = [
     "FclibError",
@@ -154,7 +154,7 @@ def fclib_kind(path: str | os.PathLike[str]) -> str | None:
                 return "local"
             if "fclib_global" in f:
                 return "global"
-    except (TypeError, *HDF5_ERRORS):  # damaged: not an FCLib file we can read
+    except HDF5_READ_ERRORS:  # damaged: not an FCLib file we can read
         return None
     return None
 

@@ -10,7 +10,7 @@ from typing import Any
 
 from .limits import SizeLimitError, array_bytes, check_bytes
 
-__all__ = ["HDF5_MAGIC", "HDF5_ERRORS", "is_hdf5_file", "open_hdf5", "hdf5_dataset"]
+__all__ = ["HDF5_MAGIC", "HDF5_ERRORS", "HDF5_READ_ERRORS", "is_hdf5_file", "open_hdf5", "hdf5_dataset"]
 
 #: The first 8 bytes of every HDF5 file.
 HDF5_MAGIC = b"\x89HDF\r\n\x1a\n"
@@ -26,6 +26,8 @@ def is_hdf5_file(path: Path) -> bool:
 #: What h5py raises on a damaged file (RuntimeError: e.g. a bad superblock
 #: version; KeyError: an object whose header fails its checksum).
 HDF5_ERRORS: tuple[type[Exception], ...] = (OSError, ValueError, RuntimeError, KeyError)
+#: What reading a damaged dataset or attribute raises: :data:`HDF5_ERRORS` and TypeError.
+HDF5_READ_ERRORS: tuple[type[Exception], ...] = (TypeError, *HDF5_ERRORS)
 
 
 def open_hdf5(path: Path, error: type[ValueError] = ValueError) -> Any:
@@ -65,7 +67,7 @@ def hdf5_dataset(path: Path, f: Any, key: str, error: type[ValueError] = ValueEr
         raise error(f"{path}: '/{key}' is an external link (to {link.filename}:{link.path}); lcpsim reads only data in the file itself")
     try:
         ds = f[key]
-    except (KeyError, *HDF5_ERRORS) as e:
+    except HDF5_ERRORS as e:  # (KeyError among them)
         raise error(f"{path}: cannot open '/{key}' ({e})") from None
     if not isinstance(ds, h5py.Dataset):
         raise error(f"{path}: '/{key}' is a group, not a dataset")

@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .hdf5 import HDF5_ERRORS, HDF5_MAGIC, hdf5_dataset, open_hdf5
+from .hdf5 import HDF5_MAGIC, HDF5_READ_ERRORS, hdf5_dataset, open_hdf5
 from .limits import SizeLimitError, array_bytes, check_bytes, human_bytes
 
 __all__ = ["LcpFileError", "load_lcp", "save_lcp", "file_format", "validate_lcp"]
@@ -86,9 +86,11 @@ def _read_npz(path: Path) -> tuple[Any, Any]:
                 f"{path}: no array {' or '.join(repr(k) for k in missing)} "
                 f"(found: {', '.join(names) if names else 'none'})"
             )
+        zf = data.zip
+        assert zf is not None  # (an open NpzFile holds its archive)
         try:
             for key in ("M", "q"):
-                _npz_header(path, data.zip, key)
+                _npz_header(path, zf, key)
             return data["M"], data["q"]
         except LcpFileError:
             raise
@@ -105,7 +107,7 @@ def _read_hdf5(path: Path) -> tuple[Any, Any]:
             ds = hdf5_dataset(path, f, key, LcpFileError)
             try:
                 out.append(ds[()])
-            except (TypeError, *HDF5_ERRORS) as e:
+            except HDF5_READ_ERRORS as e:
                 raise LcpFileError(f"{path}: cannot read dataset '/{key}' ({e})") from None
         return out[0], out[1]
 
@@ -197,7 +199,7 @@ def save_lcp(
         arrays: dict[str, Any] = {"M": M, "q": q, **{f"attr_{k}": np.asarray(v) for k, v in meta.items()}}
         np.savez(p, **arrays)
     elif suffix in _HDF5_SUFFIXES:
-        import h5py
+        import h5py  # type: ignore[import-untyped]
 
         with h5py.File(p, "w") as f:
             f.create_dataset("M", data=M)
