@@ -27,6 +27,10 @@ pub enum SimError {
     StaticBody { index: usize },
     /// Planes are infinite: they can only be static.
     DynamicPlane,
+    /// Shapes that can only be static (meshes), given a dynamic body.
+    StaticOnly { kind: &'static str },
+    /// Geometry data (hull points, mesh vertices and faces) that does not make its shape.
+    BadGeometry { field: &'static str, reason: String },
     /// An inertia tensor that is not symmetric positive definite.
     BadInertia { reason: &'static str },
     /// The state or the external forces became non-finite during a step, so the
@@ -61,6 +65,8 @@ impl fmt::Display for SimError {
             }
             SimError::StaticBody { index } => write!(f, "body {index} is static"),
             SimError::DynamicPlane => write!(f, "a plane must be static"),
+            SimError::StaticOnly { kind } => write!(f, "a {kind} must be static"),
+            SimError::BadGeometry { field, reason } => write!(f, "{field} {reason}"),
             SimError::BadInertia { reason } => write!(f, "inertia tensor {reason}"),
             SimError::NonFiniteState { body } => write!(f, "body {body} has a non-finite state"),
             SimError::Lcp(e) => write!(f, "contact LCP: {e}"),

@@ -49,7 +49,7 @@ pub mod world;
 pub use contact::{ConeScale, MuCombine, Restitution, Stabilization};
 pub use dynamics::{Body, BodyDesc, BodyId};
 pub use error::SimError;
-pub use geometry::{Contact, Downhill, Plane, Shape};
+pub use geometry::{Contact, ConvexHull, Downhill, Plane, Shape, TriMeshShape};
 pub use params::WorldParams;
 pub use pipeline::{
     Captured, CapturedLcp, EnergyAudit, IslandRecord, LcpBuffer, LcpSink, OwnedLcp, Retake, StepRecord, Trajectory,

@@ -7,7 +7,7 @@ use super::params::{params_dict, world_params};
 use super::records::{arr3, record_to_dict, shaped, trajectory_to_dict};
 use crate::errors::{panic_error, value_error};
 use crate::method::method_from_py;
-use numpy::PyArray1;
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use sim::geometry::Shape;
@@ -62,10 +62,61 @@ impl World {
         guarded(|| set(w, id, value))
     }
 
+    /// The optional fields of a body (None keeps `BodyDesc`'s default), then `add`.
+    #[allow(clippy::too_many_arguments)]
+    fn fill_and_add(
+        &mut self,
+        mut d: BodyDesc,
+        mass: Option<&Bound<'_, PyAny>>,
+        position: Option<&Bound<'_, PyAny>>,
+        orientation: Option<&Bound<'_, PyAny>>,
+        velocity: Option<&Bound<'_, PyAny>>,
+        angular_velocity: Option<&Bound<'_, PyAny>>,
+        mu: Option<&Bound<'_, PyAny>>,
+        is_static: bool,
+        inertia: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        d.mass = or_default(mass, "mass", real, d.mass)?;
+        d.position = or_default(position, "position", vec3, d.position)?;
+        d.orientation = or_default(orientation, "orientation", quat, d.orientation)?;
+        d.velocity = or_default(velocity, "velocity", vec3, d.velocity)?;
+        d.angular_velocity = or_default(angular_velocity, "angular_velocity", vec3, d.angular_velocity)?;
+        d.mu = or_default(mu, "mu", real, d.mu)?;
+        d.inertia = or_default(inertia, "inertia", |v, f| mat3(v, f).map(Some), d.inertia)?;
+        self.add(d.fixed(is_static))
+    }
+
     fn add(&mut self, desc: BodyDesc) -> PyResult<usize> {
         let w = self.inner();
         guarded(|| w.add_body(desc)).map(|id| id.0)
     }
+}
+
+/// Rows of an `(N, 3)` float array as vectors.
+fn rows3(a: &PyReadonlyArray2<'_, f64>, field: &str) -> PyResult<Vec<sim::math::Vec3>> {
+    let v = a.as_array();
+    if v.ncols() != 3 {
+        return Err(value_error(format!("{field} must have shape (N, 3), got {:?}", v.shape())));
+    }
+    Ok(v.rows().into_iter().map(|r| sim::math::Vec3::new(r[0], r[1], r[2])).collect())
+}
+
+/// Rows of an `(M, 3)` integer array as triangles (indices ≥ 0 that fit in u32).
+fn faces3(a: &PyReadonlyArray2<'_, i64>) -> PyResult<Vec<[u32; 3]>> {
+    let v = a.as_array();
+    if v.ncols() != 3 {
+        return Err(value_error(format!("faces must have shape (M, 3), got {:?}", v.shape())));
+    }
+    let mut out = Vec::with_capacity(v.nrows());
+    for (f, r) in v.rows().into_iter().enumerate() {
+        let mut tri = [0u32; 3];
+        for k in 0..3 {
+            tri[k] = u32::try_from(r[k])
+                .map_err(|_| value_error(format!("faces: face {f} has vertex index {}, out of range", r[k])))?;
+        }
+        out.push(tri);
+    }
+    Ok(out)
 }
 
 /// A body index (an int ≥ 0; its range is the world's to check).
@@ -153,21 +204,74 @@ impl World {
         is_static: bool,
         inertia: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
-        let mut d = match shape {
+        let d = match shape {
             "box" => BodyDesc::cuboid(vec3(size, "half_extents")?),
             "sphere" => BodyDesc::sphere(real(size, "radius")?),
-            _ => return Err(value_error(format!("shape must be \"box\" or \"sphere\", got {shape:?}"))),
+            "capsule" | "cylinder" => {
+                let (r, h): (f64, f64) = size
+                    .extract()
+                    .map_err(|_| value_error(format!("size of a {shape} must be (radius, half_length), got {size}")))?;
+                if shape == "capsule" {
+                    BodyDesc::capsule(r, h)
+                } else {
+                    BodyDesc::cylinder(r, h)
+                }
+            }
+            _ => {
+                return Err(value_error(format!(
+                    "shape must be \"box\", \"sphere\", \"capsule\" or \"cylinder\", got {shape:?}"
+                )))
+            }
         };
-        d.mass = or_default(mass, "mass", real, d.mass)?;
-        d.position = or_default(position, "position", vec3, d.position)?;
-        d.orientation = or_default(orientation, "orientation", quat, d.orientation)?;
-        d.velocity = or_default(velocity, "velocity", vec3, d.velocity)?;
-        d.angular_velocity = or_default(angular_velocity, "angular_velocity", vec3, d.angular_velocity)?;
-        d.mu = or_default(mu, "mu", real, d.mu)?;
-        d.inertia = or_default(inertia, "inertia", |v, f| mat3(v, f).map(Some), d.inertia)?;
-        self.add(d.fixed(is_static))
+        self.fill_and_add(d, mass, position, orientation, velocity, angular_velocity, mu, is_static, inertia)
     }
 
+    /// The dynamic convex hull of `vertices` (N, 3); the body frame is at its
+    /// centre of mass (see `sim::ConvexHull`), `position` places that centre.
+    #[pyo3(signature = (vertices, mass = None, position = None, orientation = None, velocity = None,
+                        angular_velocity = None, mu = None, is_static = false, inertia = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_convex(
+        &mut self,
+        vertices: PyReadonlyArray2<'_, f64>,
+        mass: Option<&Bound<'_, PyAny>>,
+        position: Option<&Bound<'_, PyAny>>,
+        orientation: Option<&Bound<'_, PyAny>>,
+        velocity: Option<&Bound<'_, PyAny>>,
+        angular_velocity: Option<&Bound<'_, PyAny>>,
+        mu: Option<&Bound<'_, PyAny>>,
+        is_static: bool,
+        inertia: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        let pts = rows3(&vertices, "vertices")?;
+        let d = guarded(|| BodyDesc::convex(&pts))?;
+        self.fill_and_add(d, mass, position, orientation, velocity, angular_velocity, mu, is_static, inertia)
+    }
+
+    /// A static triangle mesh: `vertices` (N, 3) in its frame, `faces` (M, 3) indices.
+    #[pyo3(signature = (vertices, faces, mu = None, position = None, orientation = None))]
+    fn add_mesh(
+        &mut self,
+        vertices: PyReadonlyArray2<'_, f64>,
+        faces: PyReadonlyArray2<'_, i64>,
+        mu: Option<&Bound<'_, PyAny>>,
+        position: Option<&Bound<'_, PyAny>>,
+        orientation: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        let pts = rows3(&vertices, "vertices")?;
+        let tris = faces3(&faces)?;
+        let d = guarded(|| BodyDesc::mesh(&pts, &tris))?;
+        self.fill_and_add(d, None, position, orientation, None, None, mu, true, None)
+    }
+
+    /// The hull's centre of mass in the frame of the points it was built from
+    /// (zeros for other shapes).
+    fn com_offset<'py>(&self, py: Python<'py>, index: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let id = body_id(index)?;
+        let w = self.shared();
+        let b = w.body(id).map_err(|e| sim_error(&e))?;
+        Ok(arr3(py, if let Shape::Convex(c) = b.shape() { c.com_offset() } else { sim::math::Vec3::ZERO }))
+    }
     /// A static plane `normal·x = offset` (normal normalized; the solid is below it).
     /// `tangent` sets the first friction direction (projected into the plane);
     /// `mu` not given (or None) is `sim::BodyDesc`'s default.
@@ -246,6 +350,23 @@ impl World {
         match b.shape() {
             Shape::Box(x) => d.set_item("half_extents", arr3(py, x.half_extents))?,
             Shape::Sphere { radius } => d.set_item("radius", *radius)?,
+            Shape::Capsule { radius, half_length } | Shape::Cylinder { radius, half_length } => {
+                d.set_item("radius", *radius)?;
+                d.set_item("half_length", *half_length)?;
+            }
+            Shape::Convex(c) => {
+                let v: Vec<f64> = c.vertices().iter().flat_map(|p| p.to_array()).collect();
+                d.set_item("vertices", shaped(py, v, [c.vertices().len(), 3])?)?;
+                let f: Vec<i64> = c.faces().iter().flat_map(|t| t.map(i64::from)).collect();
+                d.set_item("faces", PyArray1::from_vec(py, f).reshape(vec![c.faces().len(), 3])?)?;
+                d.set_item("com_offset", arr3(py, c.com_offset()))?;
+            }
+            Shape::Mesh(m) => {
+                let v: Vec<f64> = m.vertices().iter().flat_map(|p| p.to_array()).collect();
+                d.set_item("vertices", shaped(py, v, [m.vertices().len(), 3])?)?;
+                let f: Vec<i64> = m.faces().iter().flat_map(|t| t.map(i64::from)).collect();
+                d.set_item("faces", PyArray1::from_vec(py, f).reshape(vec![m.faces().len(), 3])?)?;
+            }
             Shape::Plane(p) => {
                 d.set_item("normal", arr3(py, p.normal()))?;
                 d.set_item("offset", p.offset())?;

@@ -27,7 +27,7 @@ impl From<BodyId> for usize {
 /// use sim::{BodyDesc, math::Vec3};
 /// let cube = BodyDesc::cuboid(Vec3::splat(0.5)).mass(2.0).position(Vec3::new(0.0, 0.0, 0.5)).mu(0.8);
 /// ```
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct BodyDesc {
     /// Collision shape (body frame; a plane is in world coordinates).
     pub shape: Shape,
@@ -66,7 +66,6 @@ impl BodyDesc {
     /// A dynamic body of the given shape with the defaults above.
     pub fn new(shape: Shape) -> Self {
         BodyDesc {
-            shape,
             mass: 1.0,
             inertia: None,
             position: Vec3::ZERO,
@@ -74,7 +73,8 @@ impl BodyDesc {
             velocity: Vec3::ZERO,
             angular_velocity: Vec3::ZERO,
             mu: 0.5,
-            is_static: matches!(shape, Shape::Plane(_)),
+            is_static: shape.is_static_only(),
+            shape,
         }
     }
 
@@ -91,6 +91,29 @@ impl BodyDesc {
     /// A static plane.
     pub fn plane(plane: crate::geometry::Plane) -> Self {
         BodyDesc::new(Shape::Plane(plane))
+    }
+
+    /// A dynamic capsule: a segment of half length `half_length` along the body's z,
+    /// swept by a sphere of `radius` (validated when added).
+    pub fn capsule(radius: f64, half_length: f64) -> Self {
+        BodyDesc::new(Shape::Capsule { radius, half_length })
+    }
+
+    /// A dynamic solid cylinder, axis along the body's z (validated when added).
+    pub fn cylinder(radius: f64, half_length: f64) -> Self {
+        BodyDesc::new(Shape::Cylinder { radius, half_length })
+    }
+
+    /// A dynamic convex hull of `points`; the body frame is at the hull's centre
+    /// of mass (uniform density), axes as the points' (`ConvexHull::com_offset`
+    /// says where that centre was), inertia the full tensor of the solid.
+    pub fn convex(points: &[Vec3]) -> Result<Self, SimError> {
+        Ok(BodyDesc::new(Shape::convex(points)?))
+    }
+
+    /// A static triangle mesh (vertices in the body frame; the pose places it).
+    pub fn mesh(vertices: &[Vec3], faces: &[[u32; 3]]) -> Result<Self, SimError> {
+        Ok(BodyDesc::new(Shape::mesh(vertices, faces)?))
     }
 
     setters!(mass: f64, position: Vec3, orientation: Quat, velocity: Vec3, angular_velocity: Vec3, mu: f64);
@@ -131,6 +154,9 @@ impl Body {
         if is_plane && !d.is_static {
             return Err(SimError::DynamicPlane);
         }
+        if d.shape.is_static_only() && !d.is_static {
+            return Err(SimError::StaticOnly { kind: d.shape.kind() });
+        }
         non_negative("mu", d.mu)?;
         finite_vec("position", d.position)?;
         finite_vec("velocity", d.velocity)?;
@@ -141,7 +167,7 @@ impl Body {
             let (position, orientation) =
                 if is_plane { (Vec3::ZERO, Quat::IDENTITY) } else { (d.position, orientation) };
             return Ok(Body {
-                shape: d.shape,
+                shape: d.shape.clone(),
                 mass: f64::INFINITY,
                 inv_mass: 0.0,
                 inertia: Mat3::ZERO,
@@ -169,7 +195,7 @@ impl Body {
             }
         };
         Ok(Body {
-            shape: d.shape,
+            shape: d.shape.clone(),
             mass: d.mass,
             inv_mass: 1.0 / d.mass,
             inertia,

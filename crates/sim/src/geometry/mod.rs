@@ -1,4 +1,7 @@
-//! Shapes and narrow-phase contact detection, one file per shape pair.
+//! Shapes and narrow-phase contact detection: one file per pair of the
+//! primitives (box, sphere, plane), and parry's contact manifolds
+//! (`parry_pair.rs`) for every pair with a capsule, cylinder, convex hull or
+//! triangle mesh (`convex.rs` holds the hull's and the mesh's data).
 //!
 //! Every pair function takes the two shapes in the order of its name
 //! (`box_plane(box, plane)`, `sphere_box(sphere, box)`, …) and appends
@@ -14,6 +17,8 @@
 mod box_box;
 mod box_plane;
 mod contact;
+mod convex;
+mod parry_pair;
 mod plane;
 mod shape;
 mod sphere_box;
@@ -23,6 +28,8 @@ mod sphere_sphere;
 pub use box_box::box_box;
 pub use box_plane::box_plane;
 pub use contact::{Contact, GeomContact};
+pub use convex::{ConvexHull, TriMeshShape, MAX_HULL_POINTS, MAX_MESH_FACES, MAX_MESH_VERTICES};
+pub use parry_pair::{parry_pair, ParryScratch};
 pub use plane::{fixed_tangent, Downhill, Plane};
 pub use shape::{BoxShape, Shape};
 pub use sphere_box::sphere_box;

@@ -1,5 +1,6 @@
 //! Collision shapes, described in the body frame (centred at the centre of mass).
 
+use super::convex::{ConvexHull, TriMeshShape};
 use super::Plane;
 use crate::error::{positive, SimError};
 use crate::math::{Mat3, Vec3};
@@ -38,13 +39,31 @@ impl BoxShape {
     }
 }
 
-/// A collision shape. Boxes and spheres are centred on their body's centre of
-/// mass; a plane is given in world coordinates and its body must be static.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A collision shape. Solids are centred on their body's centre of mass; a
+/// plane is given in world coordinates and its body must be static, as must a
+/// mesh's (in its body's frame). Capsules and cylinders have their axis along
+/// the body's local z (as in MJCF).
+#[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
     Box(BoxShape),
-    Sphere { radius: f64 },
+    Sphere {
+        radius: f64,
+    },
     Plane(Plane),
+    /// A segment of half length `half_length` along z, swept by a sphere of `radius`.
+    Capsule {
+        radius: f64,
+        half_length: f64,
+    },
+    /// A solid cylinder: radius, half its length along z.
+    Cylinder {
+        radius: f64,
+        half_length: f64,
+    },
+    /// The convex hull of points, recentred at its centre of mass.
+    Convex(ConvexHull),
+    /// A triangle mesh (static bodies only).
+    Mesh(TriMeshShape),
 }
 
 impl Shape {
@@ -59,13 +78,53 @@ impl Shape {
         Ok(Shape::Sphere { radius })
     }
 
-    /// Validates the shape's own parameters.
+    /// A capsule (axis z) of the given radius and half length of its segment (validated).
+    pub fn capsule(radius: f64, half_length: f64) -> Result<Shape, SimError> {
+        let s = Shape::Capsule { radius, half_length };
+        s.validate()?;
+        Ok(s)
+    }
+
+    /// A solid cylinder (axis z) of the given radius and half length (validated).
+    pub fn cylinder(radius: f64, half_length: f64) -> Result<Shape, SimError> {
+        let s = Shape::Cylinder { radius, half_length };
+        s.validate()?;
+        Ok(s)
+    }
+
+    /// The convex hull of `points` (see [`ConvexHull::new`]).
+    pub fn convex(points: &[Vec3]) -> Result<Shape, SimError> {
+        Ok(Shape::Convex(ConvexHull::new(points)?))
+    }
+
+    /// A triangle mesh (see [`TriMeshShape::new`]).
+    pub fn mesh(vertices: &[Vec3], faces: &[[u32; 3]]) -> Result<Shape, SimError> {
+        Ok(Shape::Mesh(TriMeshShape::new(vertices, faces)?))
+    }
+
+    /// Validates the shape's own parameters (hulls and meshes were on construction).
     pub fn validate(&self) -> Result<(), SimError> {
         match self {
             Shape::Box(b) => BoxShape::new(b.half_extents).map(|_| ()),
             Shape::Sphere { radius } => positive("radius", *radius).map(|_| ()),
             Shape::Plane(p) => Plane::new(p.normal(), p.offset()).map(|_| ()),
+            Shape::Capsule { radius, half_length } | Shape::Cylinder { radius, half_length } => {
+                positive("radius", *radius)?;
+                positive("half_length", *half_length).map(|_| ())
+            }
+            Shape::Convex(_) | Shape::Mesh(_) => Ok(()),
         }
+    }
+
+    /// Whether the shape is one of the three with hand-written pair routines
+    /// (box, sphere, plane); any pair with another shape goes to parry.
+    pub fn is_primitive(&self) -> bool {
+        matches!(self, Shape::Box(_) | Shape::Sphere { .. } | Shape::Plane(_))
+    }
+
+    /// Whether bodies of this shape must be static (planes and meshes).
+    pub fn is_static_only(&self) -> bool {
+        matches!(self, Shape::Plane(_) | Shape::Mesh(_))
     }
 
     /// Inertia tensor of a solid of this shape and `mass`, in the body frame.
@@ -78,7 +137,20 @@ impl Shape {
                 Some(Mat3::diagonal(Vec3::new(y2 + z2, x2 + z2, x2 + y2) * (mass / 3.0)))
             }
             Shape::Sphere { radius } => Some(Mat3::diagonal(Vec3::splat(0.4 * mass * radius * radius))),
-            Shape::Plane(_) => None,
+            Shape::Capsule { radius: r, half_length: h } => {
+                // Cylinder of length 2h and two hemispheres, by volume.
+                let (vc, vs) = (2.0 * h * r * r, 4.0 / 3.0 * r * r * r);
+                let (mc, ms) = (mass * vc / (vc + vs), mass * vs / (vc + vs));
+                let axial = mc * r * r / 2.0 + ms * 0.4 * r * r;
+                let across = mc * (r * r / 4.0 + h * h / 3.0) + ms * (0.4 * r * r + h * h + 0.75 * h * r);
+                Some(Mat3::diagonal(Vec3::new(across, across, axial)))
+            }
+            Shape::Cylinder { radius: r, half_length: h } => {
+                let across = mass * (r * r / 4.0 + h * h / 3.0);
+                Some(Mat3::diagonal(Vec3::new(across, across, mass * r * r / 2.0)))
+            }
+            Shape::Convex(c) => Some(c.inertia(mass)),
+            Shape::Plane(_) | Shape::Mesh(_) => None,
         }
     }
 
@@ -88,15 +160,23 @@ impl Shape {
             Shape::Box(b) => b.half_extents.norm(),
             Shape::Sphere { radius } => *radius,
             Shape::Plane(_) => f64::INFINITY,
+            Shape::Capsule { radius, half_length } => radius + half_length,
+            Shape::Cylinder { radius, half_length } => radius.hypot(*half_length),
+            Shape::Convex(c) => c.radius(),
+            Shape::Mesh(m) => m.radius(),
         }
     }
 
-    /// Short name (`"box"`, `"sphere"`, `"plane"`).
+    /// Short name (`"box"`, `"sphere"`, `"plane"`, `"capsule"`, `"cylinder"`, `"convex"`, `"mesh"`).
     pub fn kind(&self) -> &'static str {
         match self {
             Shape::Box(_) => "box",
             Shape::Sphere { .. } => "sphere",
             Shape::Plane(_) => "plane",
+            Shape::Capsule { .. } => "capsule",
+            Shape::Cylinder { .. } => "cylinder",
+            Shape::Convex(_) => "convex",
+            Shape::Mesh(_) => "mesh",
         }
     }
 }

@@ -2,6 +2,13 @@
 //! bounding spheres and boxes) gives the pairs, then the narrow-phase file of each
 //! pair's shapes gives its contacts.
 //!
+//! Pairs of primitives (box, sphere, plane) go to their hand-written routine;
+//! every pair with a capsule, cylinder, convex hull or mesh goes to parry's
+//! contact manifolds (`geometry::parry_pair`), with A the lower index unless
+//! that is the plane or mesh (always B). `LCPSIM_NARROW=parry` in the
+//! environment sends the primitives' pairs to parry as well (to compare the
+//! two; read once per process).
+//!
 //! Each contact gets its bodies in the order of the pair function (A = the
 //! first shape of its name; for two shapes of one kind, the lower index), the
 //! combined μ, and its friction tangent: the plane's own tangent (downhill on
@@ -9,7 +16,17 @@
 //! tangent plane (y when the normal is close to x).
 
 use crate::broad_phase::{reach, PairMargin};
-use crate::geometry::{box_box, box_plane, fixed_tangent, sphere_box, sphere_plane, sphere_sphere, Contact, Shape};
+use crate::geometry::{
+    box_box, box_plane, fixed_tangent, parry_pair, sphere_box, sphere_plane, sphere_sphere, Contact, ParryScratch,
+    Shape,
+};
+use std::sync::OnceLock;
+
+/// Whether `LCPSIM_NARROW=parry` sends the primitives' pairs to parry too.
+fn parry_for_primitives() -> bool {
+    static ON: OnceLock<bool> = OnceLock::new();
+    *ON.get_or_init(|| std::env::var("LCPSIM_NARROW").is_ok_and(|v| v == "parry"))
+}
 use crate::world::World;
 
 impl World {
@@ -30,12 +47,32 @@ impl World {
         let margin =
             PairMargin { base: self.params.margin, h, reach: self.params.velocity_margin.then_some(&ws.reach[..]) };
         ws.broad.find(&self.bodies, &margin);
+        let mut scratch = ParryScratch::default();
+        let all_parry = parry_for_primitives();
         for &(i, j) in ws.broad.pairs() {
             let (bi, bj) = (&self.bodies[i], &self.bodies[j]);
             let margin = margin.of(i, j);
             // Narrow phase, with A/B in the order of the pair function.
             ws.geom.clear();
             let (a, b) = match (&bi.shape, &bj.shape) {
+                (Shape::Plane(_), Shape::Plane(_)) => continue,
+                (x, y) if all_parry || !(x.is_primitive() && y.is_primitive()) => {
+                    if x.is_static_only() && y.is_static_only() {
+                        continue;
+                    }
+                    let (a, b) = if x.is_static_only() { (j, i) } else { (i, j) };
+                    let (ba, bb) = (&self.bodies[a], &self.bodies[b]);
+                    parry_pair(
+                        &ba.shape,
+                        &ba.placement(),
+                        &bb.shape,
+                        &bb.placement(),
+                        margin,
+                        &mut scratch,
+                        &mut ws.geom,
+                    );
+                    (a, b)
+                }
                 (Shape::Box(x), Shape::Plane(p)) => {
                     box_plane(x, &bi.placement(), p, margin, &mut ws.geom);
                     (i, j)
@@ -68,7 +105,7 @@ impl World {
                     box_box(x, &bi.placement(), y, &bj.placement(), margin, &mut ws.geom);
                     (i, j)
                 }
-                (Shape::Plane(_), Shape::Plane(_)) => continue,
+                _ => continue,
             };
             if ws.geom.is_empty() {
                 continue;

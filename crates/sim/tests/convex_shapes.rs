@@ -1,0 +1,156 @@
+//! Capsules, cylinders, convex hulls and triangle meshes (parry's contact
+//! manifolds) against analytic answers and against the hand-written box and
+//! plane routines.
+
+mod common;
+use common::*;
+use sim::math::{Quat, Vec3};
+use sim::{BodyDesc, Downhill, Plane, SimError, World, WorldParams};
+
+/// The rotation taking the body's z onto the unit vector `n`.
+fn z_onto(n: Vec3) -> Quat {
+    let axis = Vec3::Z.cross(n);
+    match axis.try_normalize() {
+        Some(a) => Quat::from_axis_angle(a, n.z.clamp(-1.0, 1.0).acos()),
+        None => Quat::IDENTITY,
+    }
+}
+
+/// Downhill speed after `steps` of a body `desc` placed on a slope of `angle`° with μ.
+fn downhill_acceleration(desc: BodyDesc, angle: f64, mu: f64, steps: usize) -> f64 {
+    let plane = Plane::slope_deg(angle, Downhill::PlusX).unwrap();
+    let mut w = World::new(WorldParams::default()).unwrap();
+    w.add_plane(plane, mu).unwrap();
+    let id = w.add_body(desc.mu(mu)).unwrap();
+    run_ok(&mut w, steps);
+    let v = w.body(id).unwrap().velocity();
+    v.dot(plane.downhill().unwrap()) / (steps as f64 * w.params().dt)
+}
+
+#[test]
+fn sphere_and_cylinder_roll_down_an_incline_without_slipping() {
+    let (angle, mu, steps) = (20.0f64, 0.5, 1000);
+    let th = angle.to_radians();
+    let n = Plane::slope_deg(angle, Downhill::PlusX).unwrap().normal();
+    let sphere = BodyDesc::sphere(0.5).position(n * 0.5);
+    let a = downhill_acceleration(sphere, angle, mu, steps);
+    let expect = 5.0 / 7.0 * G * th.sin();
+    eprintln!("sphere: a {a}, expected {expect}, rel {:e}", rel(a, expect));
+    assert!(rel(a, expect) < 1e-2, "sphere: a {a} vs 5/7 g sin θ = {expect}");
+    // Axis along world y (across the slope): body z onto y.
+    let cyl = BodyDesc::cylinder(0.4, 0.5).position(n * 0.4).orientation(z_onto(Vec3::Y));
+    let a = downhill_acceleration(cyl, angle, mu, steps);
+    let expect = 2.0 / 3.0 * G * th.sin();
+    eprintln!("cylinder: a {a}, expected {expect}, rel {:e}", rel(a, expect));
+    assert!(rel(a, expect) < 1e-2, "cylinder: a {a} vs 2/3 g sin θ = {expect}");
+}
+
+#[test]
+fn cylinder_standing_on_its_cap_slides_like_a_box() {
+    let (angle, mu, steps) = (30.0f64, 0.3, 1000);
+    let th = angle.to_radians();
+    let n = Plane::slope_deg(angle, Downhill::PlusX).unwrap().normal();
+    let puck = BodyDesc::cylinder(0.3, 0.1).position(n * 0.1).orientation(z_onto(n));
+    let a = downhill_acceleration(puck, angle, mu, steps);
+    let expect = G * (th.sin() - mu * th.cos());
+    eprintln!("puck: a {a}, expected {expect}, rel {:e}", rel(a, expect));
+    assert!(rel(a, expect) < 1e-2, "a {a} vs g(sin θ − μ cos θ) = {expect}");
+}
+
+#[test]
+fn capsule_lying_on_its_side_stays_at_rest() {
+    let mut w = World::new(WorldParams::default()).unwrap();
+    w.add_ground(0.5).unwrap();
+    let start = Vec3::new(0.0, 0.0, 0.2);
+    let id = w.add_body(BodyDesc::capsule(0.2, 0.5).position(start).orientation(z_onto(Vec3::X))).unwrap();
+    let r = run_ok(&mut w, 2000);
+    let b = w.body(id).unwrap();
+    eprintln!("capsule drift {:e}, contacts {}", (b.position() - start).norm(), r.contacts.len());
+    assert!((b.position() - start).norm() < 1e-6, "drift {:?}", b.position() - start);
+    assert!(b.velocity().norm() < 1e-6 && b.angular_velocity().norm() < 1e-6);
+    assert!(r.contacts.len() >= 2, "a capsule on its side touches along a segment");
+}
+
+#[test]
+fn convex_hull_of_a_cube_moves_like_the_box() {
+    let corners = sim::geometry::BoxShape::cube(1.0).unwrap().corners();
+    let hull = sim::ConvexHull::new(&corners).unwrap();
+    assert!(rel(hull.volume(), 1.0) < 1e-12);
+    assert!(hull.com_offset().norm() < 1e-14);
+    let ib = sim::Shape::cuboid(Vec3::splat(0.5)).unwrap().inertia(2.0).unwrap();
+    let ih = hull.inertia(2.0);
+    for r in 0..3 {
+        for c in 0..3 {
+            assert!((ib.m[r][c] - ih.m[r][c]).abs() < 1e-12, "inertia {ih:?} vs {ib:?}");
+        }
+    }
+    // Dropped tilted onto the ground, sliding and spinning.
+    let q = Quat::from_axis_angle(Vec3::new(1.0, 0.5, 0.0).try_normalize().unwrap(), 0.3);
+    let start =
+        |d: BodyDesc| d.mass(2.0).position(Vec3::new(0.0, 0.0, 1.2)).orientation(q).velocity(Vec3::new(1.0, 0.0, 0.0));
+    let mut worlds: Vec<(World, sim::BodyId)> =
+        [BodyDesc::cuboid(Vec3::splat(0.5)), BodyDesc::convex(&corners).unwrap()]
+            .into_iter()
+            .map(|d| {
+                let mut w = World::new(WorldParams::default()).unwrap();
+                w.add_ground(0.5).unwrap();
+                let id = w.add_body(start(d)).unwrap();
+                (w, id)
+            })
+            .collect();
+    let mut worst = 0.0f64;
+    for _ in 0..1500 {
+        for (w, _) in worlds.iter_mut() {
+            step_ok(w);
+        }
+        let (pa, pb) = (worlds[0].0.body(worlds[0].1).unwrap(), worlds[1].0.body(worlds[1].1).unwrap());
+        worst = worst.max((pa.position() - pb.position()).norm());
+        worst = worst.max(pa.orientation().angle_to(pb.orientation()));
+    }
+    eprintln!("hull vs box: worst {worst:e}");
+    assert!(worst < 1e-6, "hull and box part by {worst:e} m");
+}
+
+#[test]
+fn box_rests_on_a_two_triangle_mesh_as_on_the_plane() {
+    let v =
+        [Vec3::new(-5.0, -5.0, 0.0), Vec3::new(5.0, -5.0, 0.0), Vec3::new(5.0, 5.0, 0.0), Vec3::new(-5.0, 5.0, 0.0)];
+    let f = [[0u32, 1, 2], [0, 2, 3]];
+    let start = Vec3::new(0.3, -0.2, 0.5);
+    let mut out = Vec::new();
+    for mesh in [false, true] {
+        let mut w = World::new(WorldParams::default()).unwrap();
+        if mesh {
+            w.add_body(BodyDesc::mesh(&v, &f).unwrap().mu(0.5)).unwrap();
+        } else {
+            w.add_ground(0.5).unwrap();
+        }
+        let id = w.add_body(BodyDesc::cuboid(Vec3::splat(0.5)).position(start)).unwrap();
+        run_ok(&mut w, 1000);
+        out.push(w.body(id).unwrap().position());
+    }
+    eprintln!("mesh vs plane: {:e}, drift {:e}", (out[0] - out[1]).norm(), (out[1] - start).norm());
+    assert!((out[0] - out[1]).norm() < 1e-9, "plane {:?} vs mesh {:?}", out[0], out[1]);
+    assert!((out[1] - start).norm() < 1e-6, "drift {:?}", out[1] - start);
+}
+
+#[test]
+fn bad_shapes_are_refused_naming_the_field() {
+    let err = |e: SimError| e.to_string();
+    assert!(err(BodyDesc::convex(&[Vec3::ZERO; 3]).unwrap_err()).contains("at least 4"));
+    let flat = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.5, 0.5, 0.0)];
+    assert!(err(BodyDesc::convex(&flat).unwrap_err()).contains("not in one plane"));
+    let nan = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(0.0, 0.0, f64::NAN)];
+    assert!(err(BodyDesc::convex(&nan).unwrap_err()).contains("point 3"));
+    let v = [Vec3::ZERO, Vec3::X, Vec3::Y];
+    assert!(err(BodyDesc::mesh(&v, &[[0, 1, 3]]).unwrap_err()).contains("out of range"));
+    assert!(err(BodyDesc::mesh(&v, &[[0, 1, 1]]).unwrap_err()).contains("degenerate"));
+    let mut w = World::new(WorldParams::default()).unwrap();
+    let e = w.add_body(BodyDesc::capsule(-1.0, 0.5)).unwrap_err();
+    assert_eq!(e, SimError::NotPositive { field: "radius", value: -1.0 });
+    let e = w.add_body(BodyDesc::cylinder(1.0, 0.0)).unwrap_err();
+    assert_eq!(e, SimError::NotPositive { field: "half_length", value: 0.0 });
+    let e = w.add_body(BodyDesc::mesh(&v, &[[0, 1, 2]]).unwrap().fixed(false)).unwrap_err();
+    assert_eq!(e, SimError::StaticOnly { kind: "mesh" });
+    assert_eq!(w.body_count(), 0);
+}
