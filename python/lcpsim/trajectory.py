@@ -12,19 +12,23 @@ self-contained 3-D page (:meth:`Trajectory.to_html`, :mod:`lcpsim.viewer`).
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
 from typing import Any, Mapping, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
 
-from .trajectory_data import NO_CONTACT, STAGES, STATUS_NAMES, ContactLog, LcpStats, quat_angle
+from .trajectory_data import NO_CONTACT, STAGES, STATUS_NAMES, ContactLog, LcpStats, TrajectoryData, quat_angle
 
 __all__ = ["Trajectory", "LcpStats", "ContactLog", "NO_CONTACT", "STATUS_NAMES", "STAGES", "quat_angle"]
 
+# Per-step fields kept under the compiled step's own name.
+_PER_STEP_AS_RECORDED = (
+    "time", "pivots", "residual", "solver_residual", "lcp_size", "contacts", "normal_impulse",
+    "friction_impulse", "max_lambda", "islands", "max_island_size", "parts", "stage_counts",
+)
 
-@dataclass(frozen=True)
-class Trajectory:
+
+class Trajectory(TrajectoryData):
     """The state after every step of a run, and each step's LCP outcome.
 
     ``T`` steps, ``B`` bodies (static ones included, in body order): ``time`` (T,) the time after
@@ -43,91 +47,6 @@ class Trajectory:
     parameters, the scene); ``contact_log`` every step's contacts when the run recorded them
     (``World.run(..., record_contacts=True)``), else None.
     """
-
-    dt: float
-    time: NDArray[np.float64]
-    positions: NDArray[np.float64]
-    orientations: NDArray[np.float64]
-    velocities: NDArray[np.float64]
-    status: NDArray[np.str_]
-    pivots: NDArray[np.int64]
-    residual: NDArray[np.float64]
-    solver_residual: NDArray[np.float64]
-    lcp_size: NDArray[np.int64]
-    contacts: NDArray[np.int64]
-    normal_impulse: NDArray[np.float64]
-    friction_impulse: NDArray[np.float64]
-    max_lambda: NDArray[np.float64]
-    islands: NDArray[np.int64]
-    max_island_size: NDArray[np.int64]
-    parts: NDArray[np.int64]
-    stage_counts: NDArray[np.int64]
-    initial_positions: NDArray[np.float64]
-    initial_orientations: NDArray[np.float64]
-    initial_velocities: NDArray[np.float64]
-    config: Mapping[str, Any] | None = None
-    contact_log: ContactLog | None = None
-
-    def __len__(self) -> int:
-        return int(self.time.shape[0])
-
-    @property
-    def steps(self) -> int:
-        return len(self)
-
-    @property
-    def bodies(self) -> int:
-        return int(self.initial_positions.shape[0])
-
-    @property
-    def linear_velocities(self) -> NDArray[np.float64]:
-        """(T, B, 3)."""
-        return self.velocities[:, :, :3]
-
-    @property
-    def angular_velocities(self) -> NDArray[np.float64]:
-        """(T, B, 3)."""
-        return self.velocities[:, :, 3:]
-
-    @property
-    def ok(self) -> NDArray[np.bool_]:
-        """(T,) True where there was no LCP or it was solved."""
-        return np.isin(self.status, ("solved", NO_CONTACT))
-
-    @property
-    def failures(self) -> int:
-        """Steps whose LCP was not solved."""
-        return int((~self.ok).sum())
-
-    def displacement(self, body: int) -> NDArray[np.float64]:
-        """Final minus initial position of ``body`` (m)."""
-        if len(self) == 0:
-            return np.zeros(3)
-        return np.asarray(self.positions[-1, body] - self.initial_positions[body])
-
-    def tilt(self, body: int) -> NDArray[np.float64]:
-        """(T,) rotation angle of ``body`` from its initial orientation (rad)."""
-        return np.asarray(quat_angle(self.orientations[:, body], self.initial_orientations[body]), dtype=float)
-
-    def lcp_stats(self) -> LcpStats:
-        """Counts, failures by status, max residual and pivot statistics over the LCP steps."""
-        has = self.status != NO_CONTACT
-        statuses, counts = np.unique(self.status[has], return_counts=True)
-        piv = self.pivots[has]
-        return LcpStats(
-            steps=len(self),
-            lcps=int(has.sum()),
-            failures=self.failures,
-            by_status={str(s): int(c) for s, c in zip(statuses, counts)},
-            max_residual=float(self.residual[has].max(initial=0.0)),
-            pivots_median=float(np.median(piv)) if piv.size else 0.0,
-            pivots_max=int(piv.max(initial=0)),
-            max_lcp_size=int(self.lcp_size.max(initial=0)),
-            max_contacts=int(self.contacts.max(initial=0)),
-            retaken=int((self.parts > 1).sum()),
-            stages={name: int(c) for name, c in zip(STAGES, self.stage_counts.sum(axis=0))},
-            backstop_fraction=float(self.stage_counts[:, -1].sum() / max(1, self.stage_counts.sum())),
-        )
 
     def save(self, path: str | os.PathLike[str]) -> str:
         """Writes this trajectory to an HDF5 file (:mod:`lcpsim.io.trajectory_file`); returns the path."""
@@ -164,26 +83,14 @@ class Trajectory:
 
         return cls(
             dt=dt,
-            time=cat("time"),
             positions=cat("position"),
             orientations=cat("orientation"),
             velocities=np.concatenate([cat("velocity"), cat("angular_velocity")], axis=2),
             status=STATUS_NAMES[cat("status").astype(np.int64) + 1],
-            pivots=cat("pivots"),
-            residual=cat("residual"),
-            solver_residual=cat("solver_residual"),
-            lcp_size=cat("lcp_size"),
-            contacts=cat("contacts"),
-            normal_impulse=cat("normal_impulse"),
-            friction_impulse=cat("friction_impulse"),
-            max_lambda=cat("max_lambda"),
-            islands=cat("islands"),
-            max_island_size=cat("max_island_size"),
-            parts=cat("parts"),
-            stage_counts=cat("stage_counts"),
             initial_positions=initial["position"],
             initial_orientations=initial["orientation"],
             initial_velocities=np.concatenate([initial["velocity"], initial["angular_velocity"]], axis=1),
             config=config,
             contact_log=contact_log,
+            **{name: cat(name) for name in _PER_STEP_AS_RECORDED},
         )

@@ -2,15 +2,16 @@
 file (:mod:`lcpsim.io.trajectory_file`) and the viewer (:mod:`lcpsim.viewer`),
 which all import it: the step statuses (:data:`NO_CONTACT`, :data:`STATUS_NAMES`),
 the stages of the solve chain (:data:`STAGES`), every step's contacts
-(:class:`ContactLog`), a run's LCP statistics (:class:`LcpStats`) and what the file
-writer and the viewer read of a trajectory (:class:`TrajectoryView`).
-:mod:`lcpsim.trajectory` re-exports all of them but :class:`TrajectoryView`.
+(:class:`ContactLog`), a run's LCP statistics (:class:`LcpStats`) and a trajectory's
+arrays with what is computed from them alone (:class:`TrajectoryData`, the base of
+:class:`~lcpsim.trajectory.Trajectory`, which adds its file and its page).
+:mod:`lcpsim.trajectory` re-exports all of them but :class:`TrajectoryData`.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Mapping, Protocol, Sequence
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -18,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from ._json import fields_dict
 from .lcp import STATUSES
 
-__all__ = ["ContactLog", "LcpStats", "NO_CONTACT", "STATUS_NAMES", "STAGES", "TrajectoryView", "quat_angle"]
+__all__ = ["ContactLog", "LcpStats", "NO_CONTACT", "STATUS_NAMES", "STAGES", "TrajectoryData", "quat_angle"]
 
 #: Status of a step without contacts (no LCP was solved).
 NO_CONTACT = "no_contact"
@@ -119,34 +120,92 @@ class LcpStats:
         return fields_dict(self)
 
 
-class TrajectoryView(Protocol):
-    """What the trajectory file writer and the viewer read of a
-    :class:`~lcpsim.trajectory.Trajectory` (the writer reads the other per-step
-    arrays by name too)."""
+@dataclass(frozen=True)
+class TrajectoryData:
+    """The arrays of a :class:`~lcpsim.trajectory.Trajectory` (described there) and what is
+    computed from them alone; the trajectory adds its file and its page."""
+
+    dt: float
+    time: NDArray[np.float64]
+    positions: NDArray[np.float64]
+    orientations: NDArray[np.float64]
+    velocities: NDArray[np.float64]
+    status: NDArray[np.str_]
+    pivots: NDArray[np.int64]
+    residual: NDArray[np.float64]
+    solver_residual: NDArray[np.float64]
+    lcp_size: NDArray[np.int64]
+    contacts: NDArray[np.int64]
+    normal_impulse: NDArray[np.float64]
+    friction_impulse: NDArray[np.float64]
+    max_lambda: NDArray[np.float64]
+    islands: NDArray[np.int64]
+    max_island_size: NDArray[np.int64]
+    parts: NDArray[np.int64]
+    stage_counts: NDArray[np.int64]
+    initial_positions: NDArray[np.float64]
+    initial_orientations: NDArray[np.float64]
+    initial_velocities: NDArray[np.float64]
+    config: Mapping[str, Any] | None = None
+    contact_log: ContactLog | None = None
+
+    def __len__(self) -> int:
+        return int(self.time.shape[0])
 
     @property
-    def dt(self) -> float: ...
+    def steps(self) -> int:
+        return len(self)
+
     @property
-    def time(self) -> NDArray[np.float64]: ...
+    def bodies(self) -> int:
+        return int(self.initial_positions.shape[0])
+
     @property
-    def positions(self) -> NDArray[np.float64]: ...
+    def linear_velocities(self) -> NDArray[np.float64]:
+        """(T, B, 3)."""
+        return self.velocities[:, :, :3]
+
     @property
-    def orientations(self) -> NDArray[np.float64]: ...
+    def angular_velocities(self) -> NDArray[np.float64]:
+        """(T, B, 3)."""
+        return self.velocities[:, :, 3:]
+
     @property
-    def status(self) -> NDArray[np.str_]: ...
+    def ok(self) -> NDArray[np.bool_]:
+        """(T,) True where there was no LCP or it was solved."""
+        return np.isin(self.status, ("solved", NO_CONTACT))
+
     @property
-    def pivots(self) -> NDArray[np.int64]: ...
-    @property
-    def residual(self) -> NDArray[np.float64]: ...
-    @property
-    def initial_positions(self) -> NDArray[np.float64]: ...
-    @property
-    def initial_orientations(self) -> NDArray[np.float64]: ...
-    @property
-    def config(self) -> Mapping[str, Any] | None: ...
-    @property
-    def contact_log(self) -> ContactLog | None: ...
-    @property
-    def bodies(self) -> int: ...
-    def __len__(self) -> int: ...
-    def lcp_stats(self) -> LcpStats: ...
+    def failures(self) -> int:
+        """Steps whose LCP was not solved."""
+        return int((~self.ok).sum())
+
+    def displacement(self, body: int) -> NDArray[np.float64]:
+        """Final minus initial position of ``body`` (m)."""
+        if len(self) == 0:
+            return np.zeros(3)
+        return np.asarray(self.positions[-1, body] - self.initial_positions[body])
+
+    def tilt(self, body: int) -> NDArray[np.float64]:
+        """(T,) rotation angle of ``body`` from its initial orientation (rad)."""
+        return np.asarray(quat_angle(self.orientations[:, body], self.initial_orientations[body]), dtype=float)
+
+    def lcp_stats(self) -> LcpStats:
+        """Counts, failures by status, max residual and pivot statistics over the LCP steps."""
+        has = self.status != NO_CONTACT
+        statuses, counts = np.unique(self.status[has], return_counts=True)
+        piv = self.pivots[has]
+        return LcpStats(
+            steps=len(self),
+            lcps=int(has.sum()),
+            failures=self.failures,
+            by_status={str(s): int(c) for s, c in zip(statuses, counts)},
+            max_residual=float(self.residual[has].max(initial=0.0)),
+            pivots_median=float(np.median(piv)) if piv.size else 0.0,
+            pivots_max=int(piv.max(initial=0)),
+            max_lcp_size=int(self.lcp_size.max(initial=0)),
+            max_contacts=int(self.contacts.max(initial=0)),
+            retaken=int((self.parts > 1).sum()),
+            stages={name: int(c) for name, c in zip(STAGES, self.stage_counts.sum(axis=0))},
+            backstop_fraction=float(self.stage_counts[:, -1].sum() / max(1, self.stage_counts.sum())),
+        )

@@ -20,6 +20,7 @@ from .._json import jsonable
 from ..scale import parse_cone_scale as parse_scale
 from ..scale import parse_cone_scales as parse_scales
 from ..scale import scale_label, scale_value
+from .presets import Solver, parse_solver
 
 __all__ = [
     "G",
@@ -89,3 +90,19 @@ def downsample(n: int, max_points: int = 250) -> np.ndarray:
     if n <= max_points:
         return np.arange(n)
     return np.unique(np.linspace(0, n - 1, max_points).round().astype(np.int64))
+
+
+def begin_run(
+    experiment: str, defaults: Mapping[str, Any], config: Mapping[str, Any] | None
+) -> tuple[float, dict[str, Any], Any, Solver, float, int]:
+    """The start of a timed cube run: ``(t0, cfg, scale, solver, dt, steps)`` with ``cfg``
+    the merged configuration and ``steps`` its ``seconds`` at ``dt`` (a ValueError below one)."""
+    t0 = time.perf_counter()
+    cfg = merge_config(experiment, defaults, config)
+    scale = parse_scale(cfg["scale"])
+    solver = parse_solver(cfg["solver"])
+    dt = float(cfg["dt"])
+    steps = int(round(float(cfg["seconds"]) / dt))
+    if steps < 1:
+        raise ValueError(f"{experiment}: seconds must be at least one time step, got {cfg['seconds']}")
+    return t0, cfg, scale, solver, dt, steps

@@ -223,12 +223,12 @@ def report_run(ctx: ReportContext) -> dict[str, Any]:
 
 
 def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
-    d.h(2, "Critical scale")
-    d.p(
-        "`lcpsim critical-scale --angle-deg A --mu 1 --solver classic`: one slope test per decade from s = 1 down to "
-        "1e-8, then bisection in log s between the largest held scale and the slide above it. Each test's outcome "
-        "is decided by the motion's onset (see the slope test), so the answer does not depend on the simulated "
-        "time; the bracket is given with the outcomes at its ends."
+    d.section(
+        "Critical scale",
+        """`lcpsim critical-scale --angle-deg A --mu 1 --solver classic`: one slope test per decade from s = 1 down to
+        1e-8, then bisection in log s between the largest held scale and the slide above it. Each test's outcome is
+        decided by the motion's onset (see the slope test), so the answer does not depend on the simulated time; the
+        bracket is given with the outcomes at its ends.""",
     )
     crows = []
     for r in res["critical_scale"]:

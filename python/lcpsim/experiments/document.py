@@ -23,6 +23,12 @@ class Doc:
     def p(self, text: str) -> None:
         self.blocks.append(("p", text))
 
+    def section(self, title: str, text: str) -> None:
+        """A section's heading (level 2) and its first paragraph, ``text`` with its
+        line breaks and indents read as single spaces."""
+        self.h(2, title)
+        self.p(" ".join(text.split()))
+
     def table(self, header: Sequence[str], rows: Sequence[Sequence[Any]]) -> None:
         self.blocks.append(("table", (list(header), [[_cell(c) for c in r] for r in rows])))
 

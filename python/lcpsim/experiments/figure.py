@@ -21,6 +21,12 @@ def pyplot() -> Any:
     return plt
 
 
+def two_panels(width: float, height: float) -> tuple[Any, Any, Any]:
+    """A figure of two axes side by side: ``(fig, left, right)``."""
+    fig, (ax1, ax2) = pyplot().subplots(1, 2, figsize=(width, height))
+    return fig, ax1, ax2
+
+
 def save(fig: Any, path: str | os.PathLike[str]) -> str:
     """Writes ``fig`` as PNG to ``path`` (creating its directory) and closes it."""
     p = os.fspath(path)

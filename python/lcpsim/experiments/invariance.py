@@ -246,12 +246,12 @@ def report_run(ctx: ReportContext) -> dict[str, Any]:
 
 
 def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
-    d.h(2, "Scaling invariance")
-    d.p(
-        "`lcpsim invariance --scale S --solver P [--digits 20]`: every corpus LCP solved unscaled and scaled; "
-        "fn, fd compared directly, λ_scaled·s against λ. Headline figures over LCPs whose Lemke basis is the "
-        "same both times (then only round-off can differ); an LCP with several solutions may end in another "
-        "basis — counted apart, with how many of those are two valid solutions."
+    d.section(
+        "Scaling invariance",
+        """`lcpsim invariance --scale S --solver P [--digits 20]`: every corpus LCP solved unscaled and scaled; fn, fd
+        compared directly, λ_scaled·s against λ. Headline figures over LCPs whose Lemke basis is the same both times
+        (then only round-off can differ); an LCP with several solutions may end in another basis — counted apart, with
+        how many of those are two valid solutions.""",
     )
     irows = []
     for r in res["invariance"]:

@@ -46,7 +46,7 @@ from .experiment import (
     Experiment, ReportContext, add_common_arguments, add_corpus_arguments, base_config, corpus_config, header,
     scale_argument, scale_pair_runs,
 )
-from .figure import pyplot, save, solver_label
+from .figure import save, solver_label, two_panels
 
 __all__ = ["DEFAULTS", "PATTERNS", "IMPOSSIBLE", "run", "contact_patterns"]
 
@@ -191,9 +191,8 @@ def summary(r: dict[str, Any], args: argparse.Namespace | None = None) -> str:
 
 def plot_patterns(result: Mapping[str, Any], path: str | os.PathLike[str]) -> str:
     """Pattern counts unscaled and scaled, and the cross table."""
-    plt = pyplot()
     pats = list(result["patterns"])
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.4))
+    fig, ax1, ax2 = two_panels(11, 4.4)
     x = np.arange(len(pats))
     u = [result["counts_unscaled"][p] for p in pats]
     s = [result["counts_scaled"][p] for p in pats]
@@ -234,10 +233,10 @@ def report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
 
 
 def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
-    d.h(2, "Contact patterns")
-    d.p(
-        "`lcpsim patterns --scale S --solver P`: sign of (fn, Σfd, λ) per contact, unscaled and scaled; "
-        "(0,+,0), (0,+,+) and (+,0,+) are impossible for an exact solution with μ > 0."
+    d.section(
+        "Contact patterns",
+        """`lcpsim patterns --scale S --solver P`: sign of (fn, Σfd, λ) per contact, unscaled and scaled; (0,+,0),
+        (0,+,+) and (+,0,+) are impossible for an exact solution with μ > 0.""",
     )
     pats_all = res["patterns"][0]["patterns"]
     prow = []

@@ -27,14 +27,14 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from ..scenes import Scene, pushed_cube
-from ._common import G, downsample, envelope, merge_config, parse_scale, scale_label, scale_value
+from ._common import G, begin_run, downsample, envelope, parse_scale, scale_label, scale_value
 from .presets import parse_solver
 from .slope import CUBE_DEFAULTS, classify
 from .document import Doc
 from .experiment import (
     Experiment, ReportContext, add_common_arguments, add_simulation_arguments, base_config, header, scale_argument,
 )
-from .figure import label_axes, pyplot, save, solver_label, traced
+from .figure import label_axes, save, solver_label, traced, two_panels
 
 __all__ = ["DEFAULTS", "run", "NOTE_VALUES"]
 
@@ -60,14 +60,7 @@ def make_scene(config: Mapping[str, Any]) -> Scene:
 
 def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """Runs the push; returns ``{"outcome", "friction_force_N", "lambda_max", …}``."""
-    t0 = time.perf_counter()
-    cfg = merge_config("push", DEFAULTS, config)
-    scale = parse_scale(cfg["scale"])
-    solver = parse_solver(cfg["solver"])
-    dt = float(cfg["dt"])
-    steps = int(round(float(cfg["seconds"]) / dt))
-    if steps < 1:
-        raise ValueError(f"push: seconds must be at least one time step, got {cfg['seconds']}")
+    t0, cfg, scale, solver, dt, steps = begin_run("push", DEFAULTS, config)
     F, mu, m = float(cfg["force"]), float(cfg["mu"]), float(cfg["mass"])
     scene = make_scene(cfg)
     traj = scene.world.run(steps)
@@ -160,8 +153,7 @@ def summary(r: dict[str, Any], args: argparse.Namespace | None = None) -> str:
 
 def plot_push(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str]) -> str:
     """Displacement and friction force against time for push runs with a trace."""
-    plt = pyplot()
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, ax1, ax2 = two_panels(10, 4)
     for i, r, tr in traced(results):
         lab = f"F = {r['config']['force']} N, {solver_label(r)}, s = {r['scale']} → {r['outcome']}"
         ax1.plot(tr["time"], tr["displacement_m"], color=f"C{i}", label=lab)
@@ -174,8 +166,7 @@ def plot_push(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str]
 
 def plot_push_sweep(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str]) -> str:
     """Friction force and displacement against the applied force (one run per force and solver)."""
-    plt = pyplot()
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, ax1, ax2 = two_panels(10, 4)
     by: dict[str, list[Mapping[str, Any]]] = {}
     for r in results:
         by.setdefault(f"{solver_label(r)}, s = {r['scale']}", []).append(r)
@@ -229,10 +220,10 @@ def report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
 
 
 def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
-    d.h(2, "Pushed cube")
-    d.p(
-        "`lcpsim push --force F --mu 1 --solver P`: a 1 kg cube, μ = 1, pushed at its centre of mass; it must "
-        "stay iff F ≤ μmg = 9.81 N with friction exactly F, and slide above."
+    d.section(
+        "Pushed cube",
+        """`lcpsim push --force F --mu 1 --solver P`: a 1 kg cube, μ = 1, pushed at its centre of mass; it must stay iff
+        F ≤ μmg = 9.81 N with friction exactly F, and slide above.""",
     )
     prows = []
     for r in res["push"]:

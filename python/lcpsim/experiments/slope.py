@@ -44,13 +44,13 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from ..scenes import Scene, cube_on_slope
-from ._common import G, body_energy, downsample, envelope, merge_config, parse_scale, scale_label, scale_value
+from ._common import G, begin_run, body_energy, downsample, envelope, parse_scale, scale_label, scale_value
 from .presets import parse_solver
 from .document import Doc
 from .experiment import (
     Experiment, ReportContext, add_common_arguments, add_simulation_arguments, base_config, header, scale_argument,
 )
-from .figure import label_axes, pyplot, save, solver_label, traced
+from .figure import label_axes, save, solver_label, traced, two_panels
 from .onset import OnsetOptions, cone_excess, observe, precise_tilt
 
 __all__ = ["DEFAULTS", "run", "classify", "expected_slide", "TIP_DEG"]
@@ -110,15 +110,8 @@ def make_scene(config: Mapping[str, Any]) -> Scene:
 
 def run(config: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """Runs one slope test; returns ``{"outcome", "slide_distance_m", "expected_slide_m", "tilt_deg", "lcp_failures", …}``."""
-    t0 = time.perf_counter()
-    cfg = merge_config("slope", DEFAULTS, config)
-    scale = parse_scale(cfg["scale"])
-    solver = parse_solver(cfg["solver"])
-    dt = float(cfg["dt"])
+    t0, cfg, scale, solver, dt, steps = begin_run("slope", DEFAULTS, config)
     seconds = float(cfg["seconds"])
-    steps = int(round(seconds / dt))
-    if steps < 1:
-        raise ValueError(f"slope: seconds must be at least one time step, got {seconds}")
     scene = make_scene(cfg)
     angle, mu = float(cfg["angle_deg"]), float(cfg["mu"])
     horizon = float(cfg["horizon_s"])
@@ -245,8 +238,7 @@ def summary(r: dict[str, Any], args: argparse.Namespace | None = None) -> str:
 
 def plot_slope(results: Sequence[Mapping[str, Any]], path: str | os.PathLike[str]) -> str:
     """Down-slope distance (symlog) and tilt against time for slope runs with a trace."""
-    plt = pyplot()
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4.2))
+    fig, ax1, ax2 = two_panels(10, 4.2)
     plotted_expected: set[tuple[float, float]] = set()
     for i, r, tr in traced(results):
         cfg = r["config"]
@@ -302,17 +294,17 @@ def report_figures(res: dict[str, Any], ctx: ReportContext) -> dict[str, str]:
 
 
 def report_section(d: Doc, res: dict[str, Any], figs: dict[str, str], ctx: ReportContext) -> None:
-    d.h(2, "Slope test")
-    d.p(
-        "`lcpsim slope --angle-deg A --mu 1 --scale S --solver P --seconds T`. A μ = 1 cube on a slope just "
-        "steeper than 45° must slide with ½·g·(sin θ − μ cos θ)·T² and not tip. The outcome is decided by the "
-        "motion's onset, whatever T: tip once the cube pivots about its downhill edge (tilt beyond round-off and "
-        "growing, all normal impulse on the downhill points, ω about that edge), slide once it follows the analytic "
-        "distance with its tilt at round-off, rest once it stands on its face — each held for 0.02 s. The window "
-        "verdict (tip if rotated > 5° within T, else slide if it moved ≥ half the analytic distance) is beside it: "
-        "with μ = 1 the sliding state is unstable, so that verdict depends on T. `cone excess` counts solved "
-        "steps whose friction along the downhill line exceeds μ·Σfn (impossible for an exact solution): the "
-        "source note's artifact at work; `first excess` is when the first one happened."
+    d.section(
+        "Slope test",
+        """`lcpsim slope --angle-deg A --mu 1 --scale S --solver P --seconds T`. A μ = 1 cube on a slope just steeper
+        than 45° must slide with ½·g·(sin θ − μ cos θ)·T² and not tip. The outcome is decided by the motion's onset,
+        whatever T: tip once the cube pivots about its downhill edge (tilt beyond round-off and growing, all normal
+        impulse on the downhill points, ω about that edge), slide once it follows the analytic distance with its tilt
+        at round-off, rest once it stands on its face — each held for 0.02 s. The window verdict (tip if rotated > 5°
+        within T, else slide if it moved ≥ half the analytic distance) is beside it: with μ = 1 the sliding state is
+        unstable, so that verdict depends on T. `cone excess` counts solved steps whose friction along the downhill
+        line exceeds μ·Σfn (impossible for an exact solution): the source note's artifact at work; `first excess` is
+        when the first one happened.""",
     )
     srows = []
     for r in res["slope"]:

@@ -44,7 +44,7 @@ from typing import Any
 import numpy as np
 
 from .._json import jsonable
-from ..trajectory_data import STATUS_NAMES, ContactLog, TrajectoryView
+from ..trajectory_data import STATUS_NAMES, ContactLog, TrajectoryData
 from .hdf5_check import DamagedHdf5Error, check_global_heaps
 from .hdf5_check import probe as probe_file
 
@@ -90,7 +90,7 @@ class TrajectoryFileError(ValueError):
     """A file that is not a readable lcpsim trajectory."""
 
 
-def save_trajectory(path: str | os.PathLike[str], traj: TrajectoryView) -> str:
+def save_trajectory(path: str | os.PathLike[str], traj: TrajectoryData) -> str:
     """Writes ``traj`` to ``path`` (created or overwritten); returns the path."""
     import h5py  # type: ignore[import-untyped]
 

@@ -31,7 +31,7 @@ import re
 from pathlib import Path
 from typing import Any, Mapping
 
-from ..trajectory_data import TrajectoryView
+from ..trajectory_data import TrajectoryData
 from .encode import STATUS_COLORS, payload
 
 __all__ = ["write_html", "render_html", "DEFAULT_MAX_BYTES", "THREE_VERSION"]
@@ -47,7 +47,7 @@ _VENDOR = _HERE / "vendor" / "three"
 _THREE_SPECIFIER = "'three'"
 
 
-def write_html(traj: TrajectoryView, path: str | os.PathLike[str], **options: Any) -> str:
+def write_html(traj: TrajectoryData, path: str | os.PathLike[str], **options: Any) -> str:
     """Writes :func:`render_html` of ``traj`` to ``path``; returns the path."""
     text = render_html(traj, **options)
     with open(path, "w", encoding="utf-8") as fh:
@@ -56,7 +56,7 @@ def write_html(traj: TrajectoryView, path: str | os.PathLike[str], **options: An
 
 
 def render_html(
-    traj: TrajectoryView,
+    traj: TrajectoryData,
     *,
     title: str | None = None,
     description: str | None = None,
@@ -136,7 +136,7 @@ def _default_title(config: Mapping[str, Any]) -> str:
     return f"lcpsim: {scene}" + (f" ({params})" if params else "")
 
 
-def _header(traj: TrajectoryView, config: Mapping[str, Any], description: str | None) -> str:
+def _header(traj: TrajectoryData, config: Mapping[str, Any], description: str | None) -> str:
     p = config.get("params") or {}
     lines = []
     if description:
@@ -161,7 +161,7 @@ def _header(traj: TrajectoryView, config: Mapping[str, Any], description: str | 
     return "\n".join(f"<p>{x}</p>" for x in lines)
 
 
-def _notices(traj: TrajectoryView, data: dict[str, Any]) -> str:
+def _notices(traj: TrajectoryData, data: dict[str, Any]) -> str:
     out = []
     if len(traj) == 0:
         out.append('<p class="notice empty" id="empty-notice">This trajectory is empty: it has 0 steps, '

@@ -20,7 +20,7 @@ from typing import Any, Callable, Mapping
 import numpy as np
 from numpy.typing import NDArray
 
-from ..trajectory_data import NO_CONTACT, STATUS_NAMES, TrajectoryView
+from ..trajectory_data import NO_CONTACT, STATUS_NAMES, TrajectoryData
 
 __all__ = ["payload", "choose_frames", "frame_bytes", "STATUS_COLORS"]
 
@@ -90,7 +90,7 @@ def _slope(
 
 
 def payload(
-    traj: TrajectoryView,
+    traj: TrajectoryData,
     *,
     body: int | None,
     direction: Any,
@@ -233,7 +233,7 @@ def _body_size(bodies: list[dict[str, Any]], dynamic: list[int]) -> float:
     return float(np.median(sizes)) if sizes else 1.0
 
 
-def _body_json(b: Mapping[str, Any], i: int, traj: TrajectoryView) -> dict[str, Any]:
+def _body_json(b: Mapping[str, Any], i: int, traj: TrajectoryData) -> dict[str, Any]:
     out = {k: b[k] for k in ("kind", "static", "half_extents", "radius", "normal", "offset") if k in b}
     out["position"] = traj.initial_positions[i].tolist()
     out["orientation"] = traj.initial_orientations[i].tolist()
