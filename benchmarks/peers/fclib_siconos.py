@@ -40,7 +40,8 @@ from pathlib import Path
 import numpy as np
 
 import lcpsim
-from lcpsim import fclib, scenes, solve_lcp
+from lcpsim import faceting, scenes, solve_lcp
+from lcpsim.io import fclib
 
 KS = (4, 8, 16, 32)
 SICONOS_PYTHON = os.environ.get("SICONOS_PYTHON", "/usr/bin/python3")
@@ -104,7 +105,7 @@ def export_scenes(root: Path) -> dict[str, list[Path]]:
 
 
 def lcpsim_solve(p: fclib.FclibLocal, k: int, repeat: int) -> dict:
-    lcp = fclib.to_lcp(p, k)
+    lcp = faceting.to_lcp(p, k)
     best = float("inf")
     for _ in range(repeat):
         t = time.perf_counter()
@@ -113,7 +114,7 @@ def lcpsim_solve(p: fclib.FclibLocal, k: int, repeat: int) -> dict:
         if best > 1.0:  # slow solves are timed once
             break
     r = lcp.impulse(res.z)
-    return {"ok": res.ok, "time": best, "exact": fclib.exact_cone_residual(p.W, p.q, p.mu, r), "n": int(lcp.q.size)}
+    return {"ok": res.ok, "time": best, "exact": faceting.exact_cone_residual(p.W, p.q, p.mu, r), "n": int(lcp.q.size)}
 
 
 def siconos_solve(problems: list[fclib.FclibLocal], tmp: Path, repeat: int, tol: float) -> tuple[str | None, list[dict]]:
@@ -129,7 +130,7 @@ def siconos_solve(problems: list[fclib.FclibLocal], tmp: Path, repeat: int, tol:
     d = json.loads(out.stdout)
     for row, p in zip(d["results"], problems):
         for v in row.values():
-            v["exact"] = fclib.exact_cone_residual(p.W, p.q, p.mu, np.asarray(v.pop("r")))
+            v["exact"] = faceting.exact_cone_residual(p.W, p.q, p.mu, np.asarray(v.pop("r")))
     return d["version"], d["results"]
 
 

@@ -96,10 +96,7 @@ def cube_corpus_sets(scales: list[float], per_size: int, seed: int) -> tuple[lis
     try:
         from lcpsim import ContactLayout
 
-        try:
-            sc = importlib.import_module("lcpsim.experiments.cube_corpus")
-        except ImportError:  # the module's name before the rename
-            sc = importlib.import_module("lcpsim.experiments.seed_corpus")
+        sc = importlib.import_module("lcpsim.experiments.cube_corpus")
         corpus = sc.generate()
     except Exception as e:  # not there yet, or broken: say so in the report
         return [], f"cube corpus not included: `lcpsim.experiments.cube_corpus` unavailable ({type(e).__name__}: {e})"
