@@ -95,10 +95,10 @@ class FacetedLcp(ContactLcpMixin):
     """The Stewart–Trinkle LCP of an FCLib problem: ``M``, ``q`` at cone scale
     ``scale`` (``D M D``, ``D q``), ``unscaled_M``, ``unscaled_q`` at s = 1."""
 
-    M: NDArray[np.float64]
-    q: NDArray[np.float64]
-    unscaled_M: NDArray[np.float64]
-    unscaled_q: NDArray[np.float64]
+    M: NDArray[np.float64]  # D M D at s = scale
+    q: NDArray[np.float64]  # D q
+    unscaled_M: NDArray[np.float64]  # at s = 1
+    unscaled_q: NDArray[np.float64]  # at s = 1
     nc: int
     k: int
     scale: float

@@ -119,14 +119,14 @@ class LcpResult:
     result, else None.
     """
 
-    z: NDArray[np.float64]
-    w: NDArray[np.float64]
+    z: NDArray[np.float64]  # (n,)
+    w: NDArray[np.float64]  # (n,) M z + q
     status: str
     ok: bool
     pivots: int
-    residual: float
-    min_z: float
-    min_w: float
+    residual: float  # ‖min(z, w)‖∞
+    min_z: float  # min_i z_i
+    min_w: float  # min_i w_i
     max_complementarity: float
     method: str
     basis: NDArray[np.bool_] | None = None
@@ -161,12 +161,12 @@ class LcpBatchResult:
     (b,)). Indexing or iterating yields one :class:`LcpResult` per problem.
     ``basis`` is a (b, n) array when every solve returned a basis, else None."""
 
-    z: NDArray[np.float64]
-    w: NDArray[np.float64]
-    status: tuple[str, ...]
+    z: NDArray[np.float64]  # (b, n)
+    w: NDArray[np.float64]  # (b, n)
+    status: tuple[str, ...]  # (b,) from here on
     ok: NDArray[np.bool_]
     pivots: NDArray[np.int64]
-    residual: NDArray[np.float64]
+    residual: NDArray[np.float64]  # ‖min(z, w)‖∞ per problem
     min_z: NDArray[np.float64]
     min_w: NDArray[np.float64]
     max_complementarity: NDArray[np.float64]

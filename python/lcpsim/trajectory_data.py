@@ -126,11 +126,11 @@ class TrajectoryData:
     computed from them alone; the trajectory adds its file and its page."""
 
     dt: float
-    time: NDArray[np.float64]
-    positions: NDArray[np.float64]
-    orientations: NDArray[np.float64]
-    velocities: NDArray[np.float64]
-    status: NDArray[np.str_]
+    time: NDArray[np.float64]  # (T,) s, after each step
+    positions: NDArray[np.float64]  # (T, B, 3) m
+    orientations: NDArray[np.float64]  # (T, B, 4) (w, x, y, z)
+    velocities: NDArray[np.float64]  # (T, B, 6) [v; ω]
+    status: NDArray[np.str_]  # (T,) "no_contact" without an LCP
     pivots: NDArray[np.int64]
     residual: NDArray[np.float64]
     solver_residual: NDArray[np.float64]

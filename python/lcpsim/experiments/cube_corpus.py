@@ -198,9 +198,9 @@ class Group:
     n: int
     contacts: int
     friction_dirs: int
-    M: NDArray[np.float64]
-    q: NDArray[np.float64]
-    z: NDArray[np.float64]
+    M: NDArray[np.float64]  # (b, n, n) unscaled
+    q: NDArray[np.float64]  # (b, n) unscaled
+    z: NDArray[np.float64]  # (b, n) the robust answers
     index: NDArray[np.int64]
     sim: NDArray[np.int64]
     step: NDArray[np.int64]
@@ -350,10 +350,10 @@ class ScaledSolve:
     status: tuple[str, ...]
     ok: NDArray[np.bool_]
     pivots: NDArray[np.int64]
-    z: NDArray[np.float64]
+    z: NDArray[np.float64]  # (b, n), λ mapped back
     w: NDArray[np.float64]
-    residual: NDArray[np.float64]
-    solver_residual: NDArray[np.float64]
+    residual: NDArray[np.float64]  # on the unscaled LCP
+    solver_residual: NDArray[np.float64]  # on the scaled LCP
     basis: NDArray[np.bool_] | None
 
 

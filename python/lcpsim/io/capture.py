@@ -423,12 +423,12 @@ class CaptureRecord:
     """One LCP of a capture: exactly what the solver saw (the scaled LCP) and returned."""
 
     index: int
-    M: NDArray[np.float64]
-    q: NDArray[np.float64]
-    z: NDArray[np.float64]
-    w: NDArray[np.float64]
-    status: str
-    scale: float
+    M: NDArray[np.float64]  # (n, n) as the solver saw it (scaled)
+    q: NDArray[np.float64]  # (n,) scaled
+    z: NDArray[np.float64]  # (n,) the solver's answer
+    w: NDArray[np.float64]  # (n,) M z + q
+    status: str  # the solver's status
+    scale: float  # the cone scale s
     step: int
     time: float
     contacts: int
