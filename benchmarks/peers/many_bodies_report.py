@@ -208,7 +208,9 @@ def _ran(s: dict[str, Any], e: dict[str, Any], budget: float | None) -> str:
 def render_pours(res: dict[str, Any]) -> list[str]:
     """The pours' subsection: one table of every engine × scene, then steps/s
     per window of steps (and lcpsim's pivots per window), from ``--benchmark pours``'s data file."""
-    scenes = res["scenes"]
+    # The pours by size, then the heaps.
+    order = sorted(res["scenes"], key=lambda k: (not k.startswith("pour"), int("".join(filter(str.isdigit, k)) or 0)))
+    scenes = {k: res["scenes"][k] for k in order}
     lines = [
         POURS_HEADING,
         "",
@@ -267,7 +269,7 @@ def render_pours(res: dict[str, Any]) -> list[str]:
             lcp = s.get("lcp")
             if lcp:
                 failed = f"{lcp['failed']:,} of {lcp['lcp_steps']:,}"
-                piv = f"{fmt(lcp['pivots_median'], '.4g')} / {fmt(lcp['pivots_mean'], '.4g')}"
+                piv = f"{fmt(lcp['pivots_median'], ',.4g')} / {fmt(lcp['pivots_mean'], ',.4g')}"
                 if s.get("stats_at_step"):
                     failed += f" (to step {s['stats_at_step']:,})"
             else:
@@ -292,7 +294,9 @@ def render_pours(res: dict[str, Any]) -> list[str]:
         "- **failed LCPs**: lcpsim's steps whose contact LCP was not solved (of the steps with contacts). "
         "**backstop fraction**: the share of contact islands that reached the last stage of lcpsim's island "
         "solve chain, the dense Lemke (whose ladder ends in cold and exact runs), from "
-        "`Trajectory.lcp_stats().stages` (\"not recorded\": the lcpsim built does not report the stages). "
+        "`Trajectory.lcp_stats().stages` (\"not recorded\": the lcpsim built does not report the stages); "
+        "lcpsim answers every single-body island (one cube on the floor or against a wall) by that stage, "
+        "so the fraction counts those too, not only coupled islands that every earlier stage missed. "
         "**pivots per LCP step**: every island's pivots (every attempt's) in one step, over the steps with contacts.",
         "- Contacts: lcpsim the most in any step, the peers the most at a sample (every 250 steps). Penetration: "
         "the deepest box–box, box–wall or box–ground overlap over the samples (the same separating-axis code for "
@@ -313,7 +317,9 @@ def pour_windows(res: dict[str, Any]) -> list[str]:
     per LCP step and most contacts per window below its rate."""
     rows = []
     width = 0
-    for key, e in res["scenes"].items():
+    order = sorted(res["scenes"], key=lambda k: (not k.startswith("pour"), int("".join(filter(str.isdigit, k)) or 0)))
+    for key in order:
+        e = res["scenes"][key]
         w = e.get("window") or 0
         if not w:
             continue
