@@ -76,3 +76,51 @@ fn a_pour_rejects_bad_parameters() {
         assert!(bad.build(WorldParams::default()).is_err(), "{bad:?} was accepted");
     }
 }
+
+/// Every island's answer, whichever stage gave it (most of them in body space,
+/// without a dense `M`), passes the acceptance rule on the island's dense LCP
+/// assembled from the same state.
+#[test]
+fn every_answer_of_a_small_pour_passes_the_rule_on_its_dense_lcp() {
+    let mut s = CubePour::new(10, 4).build(WorldParams::default()).unwrap();
+    let (mut checked, mut by_stage) = (0, [0usize; 4]);
+    for _ in 0..1500 {
+        // The same state stepped stage by stage, up to the dense LCPs.
+        let mut probe = s.world.clone();
+        probe.forces_stage().unwrap();
+        probe.detect();
+        probe.islands();
+        probe.assemble();
+        let r = s.world.step().unwrap();
+        assert_eq!(probe.contact_islands().len(), r.islands.len());
+        for (i, isl) in r.islands.iter().enumerate() {
+            let contact = probe.island_lcp(i).unwrap();
+            assert_eq!(contact.scale(), 1.0);
+            let lcp = contact.to_lcp().unwrap();
+            // The record's physical z, in the island's own layout.
+            let (k, ids) = (r.friction_dirs, r.island_contacts_of(i));
+            let (lay, whole) = (lcp::ContactLayout::new(ids.len(), k), r.layout());
+            let mut z = vec![0.0; lay.n()];
+            for (c, &g) in ids.iter().enumerate() {
+                z[lay.fn_index(c)] = r.z[whole.fn_index(g)];
+                z[lay.fd_of(c)].copy_from_slice(&r.z[whole.fd_of(g)]);
+                z[lay.lambda_index(c)] = r.z[whole.lambda_index(g)];
+            }
+            let mut w = lcp.q().to_vec();
+            for (row, wi) in w.iter_mut().enumerate() {
+                *wi += lcp.m()[row * lay.n()..(row + 1) * lay.n()].iter().zip(&z).map(|(a, b)| a * b).sum::<f64>();
+            }
+            assert!(
+                lcp::accept::accepts(&lcp, &z, &w, 1e-9),
+                "step {}, island {i} ({:?}, n = {}): the rule rejects the answer on the dense LCP",
+                r.step,
+                isl.stage,
+                lay.n()
+            );
+            by_stage[isl.stage.unwrap().index()] += 1;
+            checked += 1;
+        }
+    }
+    println!("{checked} answers checked, by stage {by_stage:?}");
+    assert!(by_stage[0] > 0, "no answer came from the previous basis: {by_stage:?}");
+}
