@@ -285,10 +285,9 @@ def render_pours(res: dict[str, Any]) -> list[str]:
                 f"{fmt(s.get('peak_rss_mb'), ',.0f')} |")
     staged = [(key, e["engines"]["lcpsim"]["lcp"]) for key, e in scenes.items()
               if (e["engines"].get("lcpsim", {}).get("lcp") or {}).get("stages_recorded")]
-    if staged:
-        lines += ["", "lcpsim's contact islands by the stage of the solve chain that answered them (previous basis / "
-                  "guessed basis / structured Lemke / dense Lemke): "
-                  + "; ".join(f"{key} {_stages(lcp)}" for key, lcp in staged) + "."]
+    by_stage = ("" if not staged else " lcpsim's contact islands by the stage of the solve chain that answered "
+                "them (previous basis / guessed basis / structured Lemke / dense Lemke): "
+                + "; ".join(f"{key} {_stages(lcp)}" for key, lcp in staged) + ".")
     lines += [
         "",
         "- **failed LCPs**: lcpsim's steps whose contact LCP was not solved (of the steps with contacts). "
@@ -297,7 +296,8 @@ def render_pours(res: dict[str, Any]) -> list[str]:
         "`Trajectory.lcp_stats().stages` (\"not recorded\": the lcpsim built does not report the stages); "
         "lcpsim answers every single-body island (one cube on the floor or against a wall) by that stage, "
         "so the fraction counts those too, not only coupled islands that every earlier stage missed. "
-        "**pivots per LCP step**: every island's pivots (every attempt's) in one step, over the steps with contacts.",
+        "**pivots per LCP step**: every island's pivots (every attempt's) in one step, over the steps with contacts."
+        + by_stage,
         "- Contacts: lcpsim the most in any step, the peers the most at a sample (every 250 steps). Penetration: "
         "the deepest box–box, box–wall or box–ground overlap over the samples (the same separating-axis code for "
         "every engine; at the last sample in brackets). Engines as in the table above (MuJoCo soft contacts with "
@@ -323,9 +323,10 @@ def pour_windows(res: dict[str, Any]) -> list[str]:
         w = e.get("window") or 0
         if not w:
             continue
+        # lcpsim's and MuJoCo's rows (the other engines' windows are in the data file: --windows).
         for eng, s in e["engines"].items():
             wins = s.get("windows") or []
-            if not wins:
+            if not wins or eng not in ("lcpsim", "mujoco"):
                 continue
             width = max(width, -(-e["steps"] // w))
             cells = [("—" if x["steps_per_second"] is None else _rate(x["steps_per_second"]))
@@ -333,21 +334,23 @@ def pour_windows(res: dict[str, Any]) -> list[str]:
             rows.append((key, w, TITLES.get(eng, eng) + " steps/s", cells))
             lcp = s.get("lcp")
             if lcp and lcp.get("windows"):
-                rows.append((key, w, "lcpsim pivots per LCP step (mean)",
-                             [fmt(x["pivots_mean"], ",.0f") for x in lcp["windows"]]))
-                rows.append((key, w, "lcpsim contacts (max)", [f"{x['contacts_max']:,}" for x in lcp["windows"]]))
                 if lcp.get("stages_recorded"):
-                    rows.append((key, w, "lcpsim backstop fraction",
-                                 [fmt(x.get("backstop_fraction"), ".2g") for x in lcp["windows"]]))
+                    rows.append((key, w, "lcpsim pivots per LCP step (mean) · backstop fraction",
+                                 [f"{fmt(x['pivots_mean'], ',.0f')} · {fmt(x.get('backstop_fraction'), '.2g')}"
+                                  for x in lcp["windows"]]))
+                else:
+                    rows.append((key, w, "lcpsim pivots per LCP step (mean)",
+                                 [fmt(x["pivots_mean"], ",.0f") for x in lcp["windows"]]))
     if not rows:
         return []
     ws = {r[1] for r in rows}
     w = ws.pop() if len(ws) == 1 else None
     head = [f"{i * w}–{(i + 1) * w}" for i in range(width)] if w else [f"window {i + 1}" for i in range(width)]
     lines = [
-        "Where the time goes: steps/s over each window of 250 steps (exact: the workers' stepping calls end "
-        "on the windows' bounds; a run cut short ends with a shorter window), and lcpsim's pivots and contacts "
-        "per window.",
+        "Where the time goes: lcpsim's and MuJoCo's steps/s over each window of 250 steps (exact: the workers' "
+        "stepping calls end on the windows' bounds; a run cut short ends with a shorter window), lcpsim's pivots "
+        "per LCP step and backstop fraction per window (every engine's windows: `many_bodies.py --benchmark pours "
+        "--render --windows 0,250,500,…`).",
         "",
         "| scene | | " + " | ".join(head) + " |",
         "|---|---|" + "---|" * width,
