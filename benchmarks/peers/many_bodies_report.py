@@ -202,6 +202,8 @@ def _ran(s: dict[str, Any], e: dict[str, Any], budget: float | None) -> str:
     if s["outcome"] in ("timed_out", "killed"):
         how = " (killed mid-step)" if s["outcome"] == "killed" else ""
         return f"**{s['steps']:,} of {e['steps']:,}**{b}{how}"
+    if s.get("steps"):
+        return f"**{s['steps']:,} of {e['steps']:,}**, then {ran(s, e)}"
     return ran(s, e)
 
 
