@@ -242,6 +242,21 @@ impl World {
         Ok(())
     }
 
+    /// Stage `assemble` as `step` runs it: each island checked against memory
+    /// (`SimError::TooLarge`), then its rows and `q`, the dense `M` left to
+    /// `solve` (which forms it only where the body-space stages do not
+    /// answer). With `forces_stage`, `detect`, `islands`, `solve` and
+    /// `integrate` it is the step, stage by stage (`examples/step_budget.rs`
+    /// times them).
+    pub fn assemble_for_solve(&mut self) -> Result<(), SimError> {
+        if !self.ws.islands.is_ready() {
+            self.islands();
+        }
+        self.reserve_islands()?;
+        self.assemble_islands(false);
+        Ok(())
+    }
+
     /// Stage `assemble`: each island's LCP from its contacts and the free velocities.
     pub fn assemble(&mut self) {
         self.assemble_islands(true);

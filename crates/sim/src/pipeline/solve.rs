@@ -28,32 +28,44 @@ impl World {
         if !self.ws.islands.is_ready() {
             self.islands();
         }
-        // Coupled islands whose contacts changed: the previous basis and
-        // impulses mapped by contact (read before the record is reset).
-        let mut mapped = if self.sink.is_none() && basis_check_applies(&self.params.method).is_some() {
-            let k = self.params.friction_dirs;
-            crate::solve_chain::warm_by_contact::by_contact(&self.record, &self.ws.contacts, &self.ws.islands, k)
-        } else {
-            Vec::new()
-        };
-        self.record_header();
         let count = self.ws.islands.len();
+        // Each island starts from the previous step's basis of the same island, if any.
+        let ws = &mut self.ws;
+        for i in 0..count {
+            let nc = ws.islands.contacts_of(i).len();
+            let isl = &mut ws.pool[i];
+            (isl.previous, isl.warm) = ws.warm.take(ws.islands.bodies_of(i), nc);
+            isl.z_mapped.clear();
+        }
+        // Coupled islands whose contacts changed (no basis from the same
+        // island): the previous basis and impulses mapped by contact (read
+        // before the record is reset).
+        if count > 0 && self.sink.is_none() && basis_check_applies(&self.params.method).is_some() {
+            let k = self.params.friction_dirs;
+            let pool = &self.ws.pool[..count];
+            let wanted = |i: usize| pool[i].warm.is_none();
+            let mapped = crate::solve_chain::warm_by_contact::by_contact(
+                &self.record,
+                &self.ws.contacts,
+                &self.ws.islands,
+                k,
+                wanted,
+            );
+            for (isl, by_contact) in self.ws.pool.iter_mut().zip(mapped) {
+                let Some((basis, z)) = by_contact else { continue };
+                if isl.previous.is_none() {
+                    isl.z_mapped = z;
+                }
+                isl.warm = Some(basis);
+            }
+        }
+        self.record_header();
         if count == 0 {
             // Nothing to solve.
             self.ws.warm.clear();
             return Ok(());
         }
-        // Each island starts from the previous step's basis of the same island, if any.
         let ws = &mut self.ws;
-        for i in 0..count {
-            let nc = ws.islands.contacts_of(i).len();
-            let by_contact = mapped.get_mut(i).and_then(Option::take);
-            let isl = &mut ws.pool[i];
-            let (previous, basis) = ws.warm.take(ws.islands.bodies_of(i), nc);
-            let (mapped_basis, mapped_z) = by_contact.map_or((None, Vec::new()), |(b, z)| (Some(b), z));
-            (isl.previous, isl.warm) = (previous, basis.or(mapped_basis));
-            isl.z_mapped = if previous.is_none() { mapped_z } else { Vec::new() };
-        }
         let method = self.params.method.clone();
         let name = match solver {
             Some(f) => {

@@ -34,22 +34,28 @@ const SAME_CONTACT: f64 = 0.02;
 const SAME_NORMAL: f64 = 0.9;
 
 /// Per island, a basis and physical impulses mapped from the previous step's
-/// `prev` by contact (`None` for single bodies or when `prev` has no basis).
+/// `prev` by contact (`None` for single bodies, for islands not `wanted`, or
+/// when `prev` has no basis). Each island's mapping depends only on `prev`
+/// and its own contacts, so leaving out an island changes no other's.
 pub(crate) fn by_contact(
     prev: &StepRecord,
     contacts: &[Contact],
     islands: &Islands,
     k: usize,
+    wanted: impl Fn(usize) -> bool,
 ) -> Vec<Option<(Vec<bool>, Vec<f64>)>> {
+    // Only coupled islands that want one (a world of single bodies, or of
+    // islands warm-started by `warm_starts`, need not hash the previous contacts).
+    let coupled = |i: usize| islands.bodies_of(i).len() >= 2 && wanted(i);
+    if !(0..islands.len()).any(coupled) {
+        return Vec::new();
+    }
     let mut out = vec![None; islands.len()];
     let Some(basis) = prev.basis.as_ref().filter(|_| prev.friction_dirs == k) else { return out };
     let old = ContactLayout::new(prev.contacts.len(), k);
-    // Built only when some island is coupled (a world of single bodies need
-    // not hash the previous contacts).
-    let coupled = |i: usize| islands.bodies_of(i).len() >= 2;
     // Impulses are mapped only from a record that holds them all.
     let z_old = (prev.z.len() == old.n()).then_some(&prev.z[..]);
-    if basis.len() != old.n() || !(0..islands.len()).any(coupled) {
+    if basis.len() != old.n() {
         return out;
     }
     let mut by_pair: HashMap<(usize, usize), Vec<usize>> = HashMap::new();

@@ -1,0 +1,110 @@
+"""One step from Python: lcpsim's ``World.step()``, its Rust core's ``step``
+(the record converted to a dict, no ``StepRecord``), ``World.run`` per step,
+beside MuJoCo's ``mj_step`` called from Python and ``mj_step(nstep=)``.
+
+Scenes: a cube sliding down 30° (μ 0.5), a cube resting on 30° (μ 0.7), a
+resting 10-box stack (lcpsim only). MuJoCo's cube is the one of
+``benchmarks/peers/sim_peers.py`` (the same slope, size, mass, μ, dt 1 ms,
+elliptic cone). Each figure is the minimum over repetitions of the mean over
+a batch of steps (the machine is shared). The Rust side stage by stage:
+``crates/sim/examples/step_budget.rs``.
+
+    python benchmarks/step_budget.py [STEPS] [REPS]
+
+MuJoCo is not a dependency of lcpsim: install it beside (``pip install mujoco``).
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from typing import Callable
+
+
+
+def mujoco_xml(angle: float, mu: float, cone: str) -> str:
+    """The cube on a slope of ``benchmarks/peers/sim_peers.py`` (dt 1 ms)."""
+    th = math.radians(angle)
+    qw, qy = math.cos(th / 2), math.sin(th / 2)
+    cx, cz = 0.5 * math.sin(th), 0.5 * math.cos(th)
+    return f"""
+<mujoco>
+  <option timestep="0.001" gravity="0 0 -9.81" cone="{cone}"/>
+  <worldbody>
+    <geom name="slope" type="plane" size="0 0 1" quat="{qw!r} 0 {qy!r} 0" friction="{mu} 0.005 0.0001"/>
+    <body name="cube" pos="{cx!r} 0 {cz!r}" quat="{qw!r} 0 {qy!r} 0">
+      <freejoint/>
+      <geom type="box" size="0.5 0.5 0.5" mass="1" friction="{mu} 0.005 0.0001"/>
+    </body>
+  </worldbody>
+</mujoco>"""
+
+
+def best(f: Callable[[int], object], n: int, reps: int) -> float:
+    """Fastest mean µs per step over `reps` batches of `n` steps."""
+    out = float("inf")
+    for _ in range(reps):
+        t0 = time.perf_counter()
+        f(n)
+        out = min(out, (time.perf_counter() - t0) / n)
+    return out * 1e6
+
+
+def lcpsim_rows(steps: int, reps: int) -> list[tuple[str, float, float, float]]:
+    from lcpsim import scenes
+
+    rows = []
+    for name, make in [
+        ("cube sliding on 30°, μ 0.5", lambda: scenes.cube_on_slope(30.0, 0.5)),
+        ("cube resting on 30°, μ 0.7", lambda: scenes.cube_on_slope(30.0, 0.7)),
+        ("10-box stack, resting", lambda: scenes.box_stack(10)),
+    ]:
+        w = make().world
+        for _ in range(100):
+            w.step()
+        core = w._core
+        n = steps if "stack" not in name else max(steps // 10, 50)
+        step = best(lambda k: [w.step() for _ in range(k)], n, reps)
+        core_step = best(lambda k: [core.step() for _ in range(k)], n, reps)
+        run = best(lambda k: w.run(k), n, reps)
+        rows.append((name, step, core_step, run))
+    return rows
+
+
+def mujoco_rows(steps: int, reps: int) -> list[tuple[str, float, float]]:
+    try:
+        import mujoco
+    except ImportError as e:  # pragma: no cover - optional
+        print(f"(MuJoCo not measured: {e})")
+        return []
+    rows = []
+    for name, angle, mu in [("cube sliding on 30°, μ 0.5", 30.0, 0.5), ("cube resting on 30°, μ 0.7", 30.0, 0.7)]:
+        m = mujoco.MjModel.from_xml_string(mujoco_xml(angle, mu, "elliptic"))
+        d = mujoco.MjData(m)
+        for _ in range(100):
+            mujoco.mj_step(m, d)
+        assert d.ncon > 0, "the cube must touch the slope"
+
+        def loop(k: int) -> None:
+            for _ in range(k):
+                mujoco.mj_step(m, d)
+
+        rows.append((f"{name} (ncon {d.ncon})", best(loop, steps, reps), best(lambda k: mujoco.mj_step(m, d, nstep=k), steps, reps)))
+    return rows
+
+
+def main() -> None:
+    steps = int(sys.argv[1]) if len(sys.argv) > 1 else 2000
+    reps = int(sys.argv[2]) if len(sys.argv) > 2 else 7
+    print(f"µs per step, min over {reps} batches of {steps} steps")
+    print(f"{'lcpsim':<34} {'World.step':>10} {'_core.step':>10} {'World.run':>10}")
+    for name, a, b, c in lcpsim_rows(steps, reps):
+        print(f"{name:<34} {a:>10.2f} {b:>10.2f} {c:>10.2f}")
+    print(f"{'MuJoCo':<34} {'mj_step':>10} {'nstep=':>10}")
+    for name, a, b in mujoco_rows(steps, reps):
+        print(f"{name:<34} {a:>10.2f} {b:>10.2f}")
+
+
+if __name__ == "__main__":
+    main()
