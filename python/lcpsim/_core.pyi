@@ -155,7 +155,28 @@ class World:
         is_static: bool = False,
         inertia: ArrayLike | None = None,
     ) -> int:
-        """shape "box" (size: half extents) or "sphere" (size: radius)."""
+        """shape "box" (size: half extents), "sphere" (size: radius), "capsule" or "cylinder" (size: (radius, half_length))."""
+    def add_convex(
+        self,
+        vertices: NDArray[np.float64],
+        mass: float | None = None,
+        position: ArrayLike | None = None,
+        orientation: ArrayLike | None = None,
+        velocity: ArrayLike | None = None,
+        angular_velocity: ArrayLike | None = None,
+        mu: float | None = None,
+        is_static: bool = False,
+        inertia: ArrayLike | None = None,
+    ) -> int: ...
+    def add_mesh(
+        self,
+        vertices: NDArray[np.float64],
+        faces: NDArray[np.int64],
+        mu: float | None = None,
+        position: ArrayLike | None = None,
+        orientation: ArrayLike | None = None,
+    ) -> int: ...
+    def com_offset(self, index: int) -> NDArray[np.float64]: ...
     def add_plane(
         self, normal: ArrayLike, offset: float, mu: float | None = None, tangent: ArrayLike | None = None
     ) -> int: ...

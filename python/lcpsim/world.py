@@ -36,6 +36,7 @@ from ._json import jsonable
 from .lcp import _new_object, _set_attribute
 from .scale import parse_cone_scale
 from .stabilization import FIELDS as STABILIZATION_FIELDS, Stabilization, as_stabilization
+from ._shapes import MAX_HULL_POINTS, MAX_MESH_FACES, MAX_MESH_VERTICES, faces_array, points_array
 from .trajectory import NO_CONTACT, ContactLog, LcpStats, Trajectory, quat_angle
 
 if TYPE_CHECKING:
@@ -84,7 +85,7 @@ class BodyState:
     """One body: its shape, mass properties and current state."""
 
     index: int
-    kind: str  # "box", "sphere" or "plane"
+    kind: str  # "box", "sphere", "plane", "capsule", "cylinder", "convex" or "mesh"
     is_static: bool
     mass: float  # inf for static bodies
     mu: float
@@ -98,6 +99,10 @@ class BodyState:
     offset: float | None = None
     tangent: NDArray[np.float64] | None = None
     downhill: NDArray[np.float64] | None = None
+    half_length: float | None = None  # capsule, cylinder: half the axis length (body z)
+    vertices: NDArray[np.float64] | None = None  # convex (body frame, centred), mesh (body frame)
+    faces: NDArray[np.int64] | None = None  # convex, mesh: (M, 3) vertex indices
+    com_offset: NDArray[np.float64] | None = None  # convex: its centre of mass in the points' frame
 
 
 @dataclass(frozen=True)
@@ -334,6 +339,7 @@ class World:
         self._core = _core.World(params, **solver_options)
         self._method = method
         self._solver_options = {k: v for k, v in solver_options.items() if v is not None}
+        self._body_names: dict[str, int] = {}
         #: Name and parameters of the scene that built this world (see :mod:`lcpsim.scenes`).
         self.scene: str | None = None
         self.scene_params: dict[str, Any] = {}
@@ -346,7 +352,24 @@ class World:
         w._solver_options = dict(solver_options)
         w.scene = None
         w.scene_params = {}
+        w._body_names = {}
         return w
+
+    @classmethod
+    def from_mjcf(cls, source: "str | os.PathLike[str]", **kwargs: Any) -> "World":
+        """A world from MJCF (a path, or XML starting with ``<``) compiled by MuJoCo; what
+        is supported and refused (:class:`lcpsim.mjcf.MjcfError`): :mod:`lcpsim.mjcf`."""
+        from .mjcf import load_mjcf
+
+        return load_mjcf(source, **kwargs).world
+
+    def body_id(self, name: str) -> int:
+        """The index of the body (or geom) called ``name`` in the model it was loaded from."""
+        try:
+            return self._body_names[name]
+        except KeyError:
+            known = ", ".join(sorted(self._body_names)) or "none"
+            raise KeyError(f"no body named {name!r} (names: {known})") from None
 
     # ----- parameters -----
 
@@ -389,7 +412,7 @@ class World:
             d: dict[str, Any] = {"kind": b.kind, "static": b.is_static, "mu": b.mu}
             if not b.is_static:
                 d["mass"] = b.mass
-            for key in ("half_extents", "radius", "normal", "offset"):
+            for key in ("half_extents", "radius", "normal", "offset", "half_length", "vertices", "faces", "com_offset"):
                 v = getattr(b, key)
                 if v is not None:
                     d[key] = v.tolist() if isinstance(v, np.ndarray) else v
@@ -456,6 +479,79 @@ class World:
         v, wv = _velocities(velocity, angular_velocity)
         return int(self._core.add_body("sphere", radius, mass, position, orientation, v, wv, mu, bool(static), inertia))
 
+    def add_capsule(
+        self,
+        radius: float,
+        half_length: float,
+        mass: float = _BODY["mass"],
+        position: Vec = tuple(_BODY["position"]),
+        orientation: Vec = tuple(_BODY["orientation"]),
+        velocity: Vec = tuple(_BODY["velocity"]),
+        angular_velocity: Vec = tuple(_BODY["angular_velocity"]),
+        mu: float = _BODY["mu"],
+        *,
+        static: bool = _BODY["static"],
+        inertia: ArrayLike | None = None,
+    ) -> int:
+        """Adds a capsule (a segment of ±``half_length`` along body z, swept by ``radius``)."""
+        v, wv = _velocities(velocity, angular_velocity)
+        size = (_real(radius, "radius"), _real(half_length, "half_length"))
+        return int(self._core.add_body("capsule", size, mass, position, orientation, v, wv, mu, bool(static), inertia))
+
+    def add_cylinder(
+        self,
+        radius: float,
+        half_length: float,
+        mass: float = _BODY["mass"],
+        position: Vec = tuple(_BODY["position"]),
+        orientation: Vec = tuple(_BODY["orientation"]),
+        velocity: Vec = tuple(_BODY["velocity"]),
+        angular_velocity: Vec = tuple(_BODY["angular_velocity"]),
+        mu: float = _BODY["mu"],
+        *,
+        static: bool = _BODY["static"],
+        inertia: ArrayLike | None = None,
+    ) -> int:
+        """Adds a solid cylinder, axis along the body's z (as in MJCF), and returns its index."""
+        v, wv = _velocities(velocity, angular_velocity)
+        size = (_real(radius, "radius"), _real(half_length, "half_length"))
+        return int(self._core.add_body("cylinder", size, mass, position, orientation, v, wv, mu, bool(static), inertia))
+
+    def add_convex(
+        self,
+        vertices: ArrayLike,
+        mass: float = _BODY["mass"],
+        position: Vec = tuple(_BODY["position"]),
+        orientation: Vec = tuple(_BODY["orientation"]),
+        velocity: Vec = tuple(_BODY["velocity"]),
+        angular_velocity: Vec = tuple(_BODY["angular_velocity"]),
+        mu: float = _BODY["mu"],
+        *,
+        static: bool = _BODY["static"],
+        inertia: ArrayLike | None = None,
+    ) -> int:
+        """Adds the convex hull of ``vertices`` ((N, 3), ≥ 4 not in one plane, ≤ MAX_HULL_POINTS);
+        the body frame is at the solid hull's centre of mass (``position`` places it;
+        ``body(i).com_offset`` is where it was among the points), inertia its full tensor."""
+        pts = points_array(vertices, "vertices", MAX_HULL_POINTS)
+        v, wv = _velocities(velocity, angular_velocity)
+        return int(self._core.add_convex(pts, mass, position, orientation, v, wv, mu, bool(static), inertia))
+
+    def add_mesh(
+        self,
+        vertices: ArrayLike,
+        faces: ArrayLike,
+        mu: float = _BODY["mu"],
+        *,
+        position: Vec = tuple(_BODY["position"]),
+        orientation: Vec = tuple(_BODY["orientation"]),
+    ) -> int:
+        """Adds a static triangle mesh: ``vertices`` (N, 3) in its frame (placed by ``position``,
+        ``orientation``), ``faces`` (M, 3) indices; limits MAX_MESH_VERTICES, MAX_MESH_FACES."""
+        pts = points_array(vertices, "vertices", MAX_MESH_VERTICES)
+        f = faces_array(faces, MAX_MESH_FACES)
+        return int(self._core.add_mesh(pts, f, mu, position, orientation))
+
     def add_plane(
         self, normal: Vec = (0.0, 0.0, 1.0), offset: float = 0.0, mu: float = _BODY["mu"], *, tangent: Vec | None = None
     ) -> int:
@@ -510,6 +606,10 @@ class World:
             offset=d.get("offset"),
             tangent=d.get("tangent"),
             downhill=d.get("downhill"),
+            half_length=d.get("half_length"),
+            vertices=d.get("vertices"),
+            faces=d.get("faces"),
+            com_offset=d.get("com_offset"),
         )
 
     @property
@@ -675,6 +775,7 @@ class World:
         w = World._wrap(self._core.copy(), self._method, self._solver_options)
         w.scene = self.scene
         w.scene_params = dict(self.scene_params)
+        w._body_names = dict(self._body_names)
         return w
 
     def __repr__(self) -> str:

@@ -4,6 +4,7 @@
 
     lcpsim simulate cube_on_slope --angle-deg 45.2 --mu 1 --steps 2000 --scale dt --pivoting classic
     lcpsim simulate box_stack --n 10 --capture stack.h5 --json
+    lcpsim simulate scene.xml --steps 1000      # an MJCF model (pip install lcpsim[mjcf])
 
 Scene parameters are options (``--angle-deg``, ``--mu``, ``--force``, ``--n``
 …; ``lcpsim simulate --help`` lists them, each scene uses its own); any other
@@ -45,12 +46,19 @@ def _all_scene_params() -> dict[str, set[str]]:
 
 
 def _configure(p: argparse.ArgumentParser) -> None:
-    p.add_argument("scene", choices=list(SCENES), metavar="SCENE", help=f"one of: {', '.join(SCENES)}")
+    p.add_argument("scene", type=_scene_or_xml, metavar="SCENE", help=f"one of: {', '.join(SCENES)}; or an MJCF file (FILE.xml)")
     add_run_arguments(p)
     p.add_argument("--capture", metavar="FILE", default=None, help="stream every LCP solved to this HDF5 capture")
     p.add_argument("--overwrite", action="store_true", help="replace an existing capture FILE (default: refuse it)")
     p.add_argument("--fclib", metavar="DIR", default=None, help="write every LCP solved as an FCLib local problem into DIR")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
+
+
+def _scene_or_xml(text: str) -> str:
+    """A scene name or an MJCF file name (``*.xml``), else argparse's usage error."""
+    if text in SCENES or text.lower().endswith(".xml"):
+        return text
+    raise argparse.ArgumentTypeError(f"invalid choice: {text!r} (choose from {', '.join(SCENES)}, or an MJCF FILE.xml)")
 
 
 def add_run_arguments(p: argparse.ArgumentParser) -> None:
@@ -224,6 +232,10 @@ def build_scene(args: argparse.Namespace) -> Scene:
 
     if args.steps < 0:
         raise CliError(f"--steps must be >= 0, got {args.steps}")
+    if str(args.scene).lower().endswith(".xml"):
+        return _mjcf_scene(args)
+    if args.scene not in SCENES:
+        raise CliError(f"unknown scene {args.scene!r} (valid: {', '.join(SCENES)}, or an MJCF FILE.xml)")
     scene_kw = _scene_kwargs(args)
     world_kw = _world_kwargs(args)
     overlap = set(scene_kw) & set(world_kw)
@@ -233,6 +245,37 @@ def build_scene(args: argparse.Namespace) -> Scene:
         return make_scene(args.scene, **scene_kw, **world_kw)
     except TypeError as e:  # an unknown --set name
         raise CliError(str(e)) from None
+
+
+def _mjcf_scene(args: argparse.Namespace) -> Scene:
+    """An MJCF file as a Scene: its first moving body is the body reported."""
+    from ..mjcf import load_mjcf
+
+    given = [n for n in _all_scene_params() if getattr(args, f"scene_{n}", None) is not None]
+    if given:
+        raise CliError(f"an MJCF scene takes no scene parameters, got --{given[0].replace('_', '-')}")
+    world_kw = _world_kwargs(args)
+    # The model's own time step unless --dt was given.
+    if args.dt == _core.WORLD_DEFAULTS["dt"]:
+        world_kw.pop("dt")
+    try:
+        loaded = load_mjcf(args.scene, **world_kw)
+    except TypeError as e:  # an unknown --set name
+        raise CliError(str(e)) from None
+    w = loaded.world
+    dynamic = tuple(i for i in range(w.body_count) if not w.body(i).is_static)
+    static = [i for i in range(w.body_count) if w.body(i).is_static]
+    g = np.asarray(w.params["gravity"], dtype=float)
+    up = -g / np.linalg.norm(g) if np.linalg.norm(g) > 0 else np.array([0.0, 0.0, 1.0])
+    return Scene(
+        name="mjcf",
+        world=w,
+        body=dynamic[0] if dynamic else 0,
+        ground=static[0] if static else -1,
+        bodies=dynamic,
+        params={"file": str(args.scene)},
+        normal=up,
+    )
 
 
 def _run(args: argparse.Namespace) -> int:

@@ -1,0 +1,247 @@
+"""MJCF scenes through MuJoCo's own compiler (``pip install lcpsim[mjcf]``).
+
+::
+
+    from lcpsim import World
+    w = World.from_mjcf("scene.xml")          # or an XML string starting with "<"
+    ball = w.body_id("ball")
+
+The model is compiled by ``mujoco.MjModel`` and read from its arrays
+(``body_*``, ``geom_*``, ``mesh_*``, ``opt.timestep``, ``opt.gravity``), with
+the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
+
+- bodies with a ``freejoint`` whose parent is the world, each with one
+  colliding geom (sphere, box, capsule, cylinder, mesh — a mesh as the convex
+  hull of its vertices, as MuJoCo collides it); geoms with ``contype`` and
+  ``conaffinity`` both 0 are visual and skipped; mass and inertia are the
+  compiled ``body_mass``, ``body_inertia`` (turned into the geom's frame);
+- static geoms of the world body and of bodies welded to it (plane, box,
+  sphere, capsule, cylinder, mesh as its convex hull);
+- μ = ``geom_friction[0]``, combined by ``max`` as MuJoCo does (unless
+  ``mu_combine`` is given); ``dt`` = ``opt.timestep``, ``gravity`` = ``opt.gravity``.
+
+Everything else is refused with :class:`MjcfError` (a ``ValueError``) naming
+the element and its name: other joints (hinge, slide, ball), a freejoint body
+inside another body, bodies welded to a moving body, several colliding geoms
+on one moving body, ellipsoids, height fields, SDFs, tendons, actuators,
+equality constraints, explicit contact pairs and excludes, and pairs of geoms
+that MuJoCo's contype/conaffinity bits would keep apart (lcpsim has no
+collision filter).
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from .world import World
+
+__all__ = ["MjcfError", "MjcfScene", "load_mjcf", "GEOM_TYPES"]
+
+#: MuJoCo's ``mjtGeom`` codes, by name.
+GEOM_TYPES = {0: "plane", 1: "hfield", 2: "sphere", 3: "capsule", 4: "ellipsoid", 5: "cylinder", 6: "box", 7: "mesh", 8: "sdf"}
+_JOINT_TYPES = {0: "free", 1: "ball", 2: "slide", 3: "hinge"}
+
+
+class MjcfError(ValueError):
+    """An MJCF model lcpsim cannot simulate (or MuJoCo could not compile); one line."""
+
+
+@dataclass
+class MjcfScene:
+    """What :func:`load_mjcf` built: the world, body names → indices, and MuJoCo's model."""
+
+    world: "World"
+    names: dict[str, int]
+    model: Any
+
+
+def _mujoco() -> Any:
+    try:
+        import mujoco  # type: ignore[import-untyped,unused-ignore]
+    except ImportError:
+        raise MjcfError("MJCF needs MuJoCo: pip install 'lcpsim[mjcf]' (or pip install mujoco)") from None
+    return mujoco
+
+
+def _name(mujoco: Any, m: Any, kind: Any, i: int) -> str:
+    n = mujoco.mj_id2name(m, kind, i)
+    return n if n else f"#{i}"
+
+
+def _quat_of(mujoco: Any, mat: NDArray[np.float64]) -> NDArray[np.float64]:
+    q = np.zeros(4)
+    mujoco.mju_mat2Quat(q, np.ascontiguousarray(mat, dtype=np.float64).reshape(9))
+    return q
+
+
+def compile_model(source: str | os.PathLike[str]) -> Any:
+    """``mujoco.MjModel`` from a path or an XML string (starting with ``<``)."""
+    mujoco = _mujoco()
+    try:
+        if isinstance(source, str) and source.lstrip().startswith("<"):
+            return mujoco.MjModel.from_xml_string(source)
+        path = os.fspath(source)
+        if not os.path.exists(path):
+            raise MjcfError(f"MJCF file {path!r} does not exist")
+        return mujoco.MjModel.from_xml_path(path)
+    except MjcfError:
+        raise
+    except Exception as e:  # MuJoCo's compiler errors (ValueError, mujoco.FatalError, ...)
+        msg = " ".join(str(e).split())
+        raise MjcfError(f"MuJoCo could not compile the model: {msg}") from None
+
+
+def load_mjcf(source: str | os.PathLike[str], **world_kwargs: Any) -> MjcfScene:
+    """Builds a :class:`~lcpsim.World` from an MJCF file or string (see the module docs)."""
+    from .world import World
+
+    mujoco = _mujoco()
+    m = compile_model(source)
+    OBJ = mujoco.mjtObj
+    # Whole-model features lcpsim has no counterpart for.
+    for count, what, kind in (
+        (m.ntendon, "tendon", OBJ.mjOBJ_TENDON),
+        (m.nu, "actuator", OBJ.mjOBJ_ACTUATOR),
+        (m.neq, "equality", OBJ.mjOBJ_EQUALITY),
+        (m.npair, "contact pair", OBJ.mjOBJ_PAIR),
+        (m.nexclude, "contact exclude", OBJ.mjOBJ_EXCLUDE),
+    ):
+        if count:
+            raise MjcfError(f"{what} {_name(mujoco, m, kind, 0)!r} is not supported (lcpsim: free bodies and static geoms only)")
+    for j in range(m.njnt):
+        jt = int(m.jnt_type[j])
+        b = int(m.jnt_bodyid[j])
+        if jt != 0:
+            raise MjcfError(
+                f"joint {_name(mujoco, m, OBJ.mjOBJ_JOINT, j)!r} ({_JOINT_TYPES.get(jt, jt)}) of body "
+                f"{_name(mujoco, m, OBJ.mjOBJ_BODY, b)!r} is not supported (only freejoint)"
+            )
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+
+    # Which bodies move: a freejoint directly under the world; which are welded to the world.
+    moving = np.zeros(m.nbody, dtype=bool)
+    for b in range(1, m.nbody):
+        bname = _name(mujoco, m, OBJ.mjOBJ_BODY, b)
+        parent = int(m.body_parentid[b])
+        if int(m.body_jntnum[b]) > 0:
+            if int(m.body_jntnum[b]) > 1:
+                raise MjcfError(f"body {bname!r} has {int(m.body_jntnum[b])} joints (only one freejoint is supported)")
+            if parent != 0:
+                raise MjcfError(
+                    f"body {bname!r} has a freejoint inside body {_name(mujoco, m, OBJ.mjOBJ_BODY, parent)!r} "
+                    "(only bodies directly under the world may move)"
+                )
+            moving[b] = True
+        elif parent != 0 and (moving[parent] or int(m.body_weldid[b]) != 0):
+            raise MjcfError(
+                f"body {bname!r} is welded to the moving body {_name(mujoco, m, OBJ.mjOBJ_BODY, parent)!r} "
+                "(compound bodies are not supported)"
+            )
+
+    colliding = [g for g in range(m.ngeom) if int(m.geom_contype[g]) != 0 or int(m.geom_conaffinity[g]) != 0]
+    for g in colliding:
+        t = int(m.geom_type[g])
+        if t in (1, 4, 8):
+            raise MjcfError(f"geom {_name(mujoco, m, OBJ.mjOBJ_GEOM, g)!r} is a {GEOM_TYPES[t]}, which is not supported")
+    per_body: dict[int, list[int]] = {}
+    for g in colliding:
+        per_body.setdefault(int(m.geom_bodyid[g]), []).append(g)
+    for b in range(1, m.nbody):
+        if moving[b]:
+            gs = per_body.get(b, [])
+            bname = _name(mujoco, m, OBJ.mjOBJ_BODY, b)
+            if len(gs) != 1:
+                raise MjcfError(f"body {bname!r} has {len(gs)} colliding geoms (a moving body needs exactly one)")
+    # MuJoCo's filter: geoms collide iff (contype1 & conaffinity2) | (contype2 & conaffinity1).
+    ct = np.array([int(m.geom_contype[g]) for g in colliding], dtype=np.int64)
+    ca = np.array([int(m.geom_conaffinity[g]) for g in colliding], dtype=np.int64)
+    dyn = np.array([moving[int(m.geom_bodyid[g])] for g in colliding], dtype=bool)
+    if len(colliding) > 1:
+        ok = ((ct[:, None] & ca[None, :]) | (ct[None, :] & ca[:, None])) != 0
+        relevant = dyn[:, None] | dyn[None, :]
+        bad = np.argwhere(relevant & ~ok & ~np.eye(len(colliding), dtype=bool))
+        if len(bad):
+            g1, g2 = colliding[int(bad[0][0])], colliding[int(bad[0][1])]
+            raise MjcfError(
+                f"geoms {_name(mujoco, m, OBJ.mjOBJ_GEOM, g1)!r} and {_name(mujoco, m, OBJ.mjOBJ_GEOM, g2)!r} never "
+                "collide in MuJoCo (contype/conaffinity); lcpsim has no collision filter"
+            )
+
+    world_kwargs.setdefault("dt", float(m.opt.timestep))
+    world_kwargs.setdefault("gravity", tuple(float(x) for x in m.opt.gravity))
+    world_kwargs.setdefault("mu_combine", "max")
+    world = World(**world_kwargs)
+    names: dict[str, int] = {}
+    try:
+        for g in colliding:
+            b = int(m.geom_bodyid[g])
+            _add_geom(mujoco, m, d, world, g, b, bool(moving[b]), names)
+    except ValueError as e:
+        raise MjcfError(f"geom {_name(mujoco, m, OBJ.mjOBJ_GEOM, g)!r}: {e}") from None
+    world.scene = "mjcf"
+    world.scene_params = {"source": source if not (isinstance(source, str) and source.lstrip().startswith("<")) else "<xml>"}
+    world._body_names = dict(names)
+    return MjcfScene(world, names, m)
+
+
+def _mesh(m: Any, g: int) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    k = int(m.geom_dataid[g])
+    va, vn = int(m.mesh_vertadr[k]), int(m.mesh_vertnum[k])
+    fa, fn = int(m.mesh_faceadr[k]), int(m.mesh_facenum[k])
+    return np.array(m.mesh_vert[va : va + vn], dtype=np.float64), np.array(m.mesh_face[fa : fa + fn], dtype=np.int64)
+
+
+def _add_geom(mujoco: Any, m: Any, d: Any, world: "World", g: int, b: int, moving: bool, names: dict[str, int]) -> None:
+    """One colliding geom as an lcpsim body (static unless its body moves)."""
+    t = int(m.geom_type[g])
+    size = np.array(m.geom_size[g], dtype=np.float64)
+    pos = np.array(d.geom_xpos[g], dtype=np.float64)
+    rot = np.array(d.geom_xmat[g], dtype=np.float64).reshape(3, 3)
+    quat = _quat_of(mujoco, rot)
+    mu = float(m.geom_friction[g][0])
+    kw: dict[str, Any] = {"position": pos, "orientation": quat, "mu": mu}
+    if moving:
+        com = np.array(d.xipos[b], dtype=np.float64)
+        scale = max(1.0, float(np.max(np.abs(size))))
+        if np.linalg.norm(com - pos) > 1e-6 * scale and t != 7:
+            raise ValueError(f"the centre of mass of its body is {np.linalg.norm(com - pos):.3g} m off the geom's centre")
+        ri = np.array(d.ximat[b], dtype=np.float64).reshape(3, 3)
+        i_world = ri @ np.diag(np.array(m.body_inertia[b], dtype=np.float64)) @ ri.T
+        i_geom = rot.T @ i_world @ rot
+        kw["mass"] = float(m.body_mass[b])
+        kw["inertia"] = 0.5 * (i_geom + i_geom.T)
+    else:
+        kw["static"] = True
+    if t == 0:  # plane: the geom's z is its normal
+        n = rot[:, 2]
+        idx = world.add_plane(tuple(n), float(n @ pos), mu)
+    elif t == 2:
+        idx = world.add_sphere(float(size[0]), **kw)
+    elif t == 3:
+        idx = world.add_capsule(float(size[0]), float(size[1]), **kw)
+    elif t == 5:
+        idx = world.add_cylinder(float(size[0]), float(size[1]), **kw)
+    elif t == 6:
+        idx = world.add_box(half_extents=tuple(float(x) for x in size[:3]), **kw)
+    elif t == 7:
+        verts, _faces = _mesh(m, g)
+        idx = world.add_convex(verts, **kw)
+        off = world.body(idx).com_offset
+        if off is not None and np.any(off != 0):
+            # The hull's centre in the geom frame: move the body there.
+            world._core.set_position(idx, tuple(pos + rot @ off))
+    else:  # refused before
+        raise ValueError(f"geom type {GEOM_TYPES.get(t, t)} is not supported")
+    bname = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b)
+    gname = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g)
+    if moving and bname:
+        names[bname] = idx
+    if gname:
+        names.setdefault(gname, idx)

@@ -1,0 +1,137 @@
+"""MJCF through MuJoCo's compiler: a scene of free bodies at rest where
+MuJoCo puts them, names, and every unsupported element refused in one line
+(``lcpsim simulate FILE.xml``: exit 2)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+mujoco = pytest.importorskip("mujoco", reason="MJCF needs MuJoCo (pip install 'lcpsim[mjcf]')")
+
+from lcpsim import World  # noqa: E402
+from lcpsim.mjcf import MjcfError  # noqa: E402
+
+SCENE = """
+<mujoco model="shapes">
+  <option timestep="0.002" gravity="0 0 -9.81"/>
+  <asset>
+    <mesh name="tetra" vertex="0 0 0  0.3 0 0  0 0.3 0  0 0 0.3"/>
+  </asset>
+  <worldbody>
+    <geom name="floor" type="plane" size="5 5 0.1" friction="0.8"/>
+    <geom name="block" type="box" size="0.2 0.2 0.1" pos="3 3 0.1"/>
+    <body name="box" pos="0 0 0.25">
+      <freejoint/>
+      <geom type="box" size="0.3 0.2 0.25" mass="2"/>
+    </body>
+    <body name="ball" pos="1 0 0.2">
+      <freejoint/>
+      <geom type="sphere" size="0.2" mass="1"/>
+    </body>
+    <body name="pill" pos="-1 0 0.1" euler="0 90 0">
+      <freejoint/>
+      <geom type="capsule" size="0.1 0.3" mass="1"/>
+    </body>
+    <body name="can" pos="0 1 0.15">
+      <freejoint/>
+      <geom type="cylinder" size="0.2 0.15" mass="1"/>
+    </body>
+    <body name="rock" pos="0 -1 0.0">
+      <freejoint/>
+      <geom type="mesh" mesh="tetra" mass="0.5"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def _mujoco_rest(xml: str, seconds: float) -> tuple[dict[str, np.ndarray], float]:
+    m = mujoco.MjModel.from_xml_string(xml)
+    d = mujoco.MjData(m)
+    deepest = 0.0
+    for _ in range(int(round(seconds / m.opt.timestep))):
+        mujoco.mj_step(m, d)
+        if d.ncon:
+            deepest = max(deepest, float(-min(d.contact.dist[: d.ncon].min(), 0.0)))
+    names = {mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b): d.xipos[b].copy() for b in range(1, m.nbody)}
+    return names, deepest
+
+
+def test_mjcf_scene_rests_where_mujoco_puts_it():
+    w = World.from_mjcf(SCENE)
+    assert w.dt == 0.002
+    assert [w.body(w.body_id(n)).kind for n in ("box", "ball", "pill", "can", "rock")] == [
+        "box", "sphere", "capsule", "cylinder", "convex",
+    ]
+    assert w.body(w.body_id("floor")).kind == "plane" and w.body(w.body_id("block")).is_static
+    assert w.body(w.body_id("box")).mass == pytest.approx(2.0)
+    traj = w.run(500)
+    assert traj.lcp_stats().failures == 0
+    theirs, penetration = _mujoco_rest(SCENE, 1.0)
+    for name, p in theirs.items():
+        ours = traj.positions[-1, w.body_id(name)]
+        # Within MuJoCo's own penetration (its soft contacts sink a little), plus round-off.
+        assert np.abs(ours - p).max() <= penetration + 1e-6, (name, ours, p, penetration)
+        assert np.abs(traj.velocities[-1, w.body_id(name)]).max() < 1e-6, name
+
+
+def test_mjcf_from_a_file_and_names(tmp_path):
+    path = tmp_path / "scene.xml"
+    path.write_text(SCENE)
+    w = World.from_mjcf(path)
+    assert w.body_count == 7
+    with pytest.raises(KeyError, match="no body named 'nope'"):
+        w.body_id("nope")
+    assert w.copy().body_id("ball") == w.body_id("ball")
+
+
+BODY = '<body name="{name}" pos="0 0 1">{inner}</body>'
+
+
+@pytest.mark.parametrize(
+    "xml, words",
+    [
+        (BODY.format(name="arm", inner='<joint name="elbow" type="hinge"/><geom type="box" size=".1 .1 .1"/>'),
+         ["joint 'elbow'", "hinge"]),
+        (BODY.format(name="egg", inner='<freejoint/><geom name="shell" type="ellipsoid" size=".1 .2 .3"/>'),
+         ["geom 'shell'", "ellipsoid"]),
+        (BODY.format(name="two", inner='<freejoint/><geom type="box" size=".1 .1 .1"/><geom type="sphere" size=".1"/>'),
+         ["body 'two'", "2 colliding geoms"]),
+        (BODY.format(name="car", inner='<freejoint/><geom type="box" size=".1 .1 .1"/>'
+         '<body name="wheel"><geom type="sphere" size=".1" pos=".2 0 0"/></body>'),
+         ["body 'wheel'", "welded"]),
+    ],
+)
+def test_unsupported_elements_are_refused_naming_them(xml, words):
+    with pytest.raises(MjcfError) as e:
+        World.from_mjcf(f"<mujoco><worldbody>{xml}</worldbody></mujoco>")
+    msg = str(e.value)
+    assert "\n" not in msg
+    for word in words:
+        assert word in msg, msg
+
+
+def test_actuators_are_refused():
+    xml = ('<mujoco><worldbody><body name="b"><joint name="j" type="slide"/><geom type="box" size=".1 .1 .1"/>'
+           '</body></worldbody><actuator><motor name="push" joint="j"/></actuator></mujoco>')
+    with pytest.raises(MjcfError, match="actuator 'push'"):
+        World.from_mjcf(xml)
+
+
+def test_cli_simulates_an_mjcf_file_and_refuses_with_exit_2(tmp_path):
+    good = tmp_path / "good.xml"
+    good.write_text(SCENE)
+    p = subprocess.run([sys.executable, "-m", "lcpsim", "simulate", str(good), "--steps", "50"],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    assert "mjcf" in p.stdout
+    bad = tmp_path / "bad.xml"
+    bad.write_text("<mujoco><worldbody>" + BODY.format(name="arm", inner='<joint name="elbow"/><geom size=".1"/>')
+                   + "</worldbody></mujoco>")
+    p = subprocess.run([sys.executable, "-m", "lcpsim", "simulate", str(bad)], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 2
+    assert len(p.stderr.strip().splitlines()) == 1 and "joint 'elbow'" in p.stderr

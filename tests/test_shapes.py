@@ -1,0 +1,123 @@
+"""Capsules, cylinders, convex hulls and static meshes from Python: the
+analytic answers (rolling, sliding, resting), the hull of a cube against the
+box, and bad input refused with a ValueError naming the field, nothing added."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from lcpsim import World
+
+G = 9.81
+
+
+def _z_onto(n) -> tuple[float, float, float, float]:
+    """The quaternion turning the body's z onto unit ``n``."""
+    n = np.asarray(n, dtype=float)
+    axis = np.cross([0.0, 0.0, 1.0], n)
+    s = np.linalg.norm(axis)
+    if s < 1e-15:
+        return (1.0, 0.0, 0.0, 0.0)
+    ang = math.acos(max(-1.0, min(1.0, n[2])))
+    a = axis / s * math.sin(ang / 2)
+    return (math.cos(ang / 2), *a)
+
+
+def _slope(angle: float, mu: float) -> tuple[World, np.ndarray, np.ndarray]:
+    w = World()
+    w.add_slope(angle, mu)
+    th = math.radians(angle)
+    normal = np.array([math.sin(th), 0.0, math.cos(th)])
+    downhill = np.array([math.cos(th), 0.0, -math.sin(th)])
+    return w, normal, downhill
+
+
+def _accel(w: World, body: int, downhill: np.ndarray, steps: int = 1000) -> float:
+    traj = w.run(steps)
+    assert traj.lcp_stats().failures == 0
+    return float(traj.velocities[-1, body, :3] @ downhill) / (steps * w.dt)
+
+
+def test_solid_cylinder_rolls_down_an_incline_at_two_thirds_g_sin_theta():
+    w, n, down = _slope(20.0, 0.5)
+    c = w.add_cylinder(0.4, 0.5, position=tuple(n * 0.4), orientation=_z_onto([0, 1, 0]), mu=0.5)
+    a = _accel(w, c, down)
+    expect = 2 / 3 * G * math.sin(math.radians(20))
+    assert abs(a - expect) / expect < 1e-2
+
+
+def test_cylinder_on_its_cap_slides_like_a_box():
+    w, n, down = _slope(30.0, 0.3)
+    c = w.add_cylinder(0.3, 0.1, position=tuple(n * 0.1), orientation=_z_onto(n), mu=0.3)
+    th = math.radians(30)
+    expect = G * (math.sin(th) - 0.3 * math.cos(th))
+    assert abs(_accel(w, c, down) - expect) / expect < 1e-2
+
+
+def test_capsule_on_its_side_stays_put():
+    w = World()
+    w.add_ground()
+    c = w.add_capsule(0.2, 0.5, position=(0, 0, 0.2), orientation=_z_onto([1, 0, 0]))
+    traj = w.run(1000)
+    assert np.abs(traj.positions[-1, c] - [0, 0, 0.2]).max() < 1e-6
+    assert w.body(c).kind == "capsule" and w.body(c).half_length == 0.5
+
+
+def test_hull_of_cube_corners_moves_like_the_box():
+    corners = np.array([[x, y, z] for x in (-0.5, 0.5) for y in (-0.5, 0.5) for z in (-0.5, 0.5)])
+    q = (math.cos(0.15), math.sin(0.15) * 0.8, math.sin(0.15) * 0.6, 0.0)
+    out = []
+    for hull in (False, True):
+        w = World()
+        w.add_ground()
+        kw = dict(mass=2.0, position=(0, 0, 1.2), orientation=q, velocity=(1.0, 0, 0))
+        b = w.add_convex(corners, **kw) if hull else w.add_box(size=1.0, **kw)
+        out.append(w.run(1500).positions[:, b])
+    assert np.abs(out[0] - out[1]).max() < 1e-6
+    w = World()
+    h = w.add_convex(corners + [1.0, 2.0, 3.0], mass=6.0)
+    np.testing.assert_allclose(w.body(h).com_offset, [1, 2, 3], atol=1e-12)
+    np.testing.assert_allclose(w.body(h).inertia, np.eye(3) * 6.0 / 6.0, atol=1e-12)
+    assert w.config()["bodies"][0]["kind"] == "convex"
+
+
+def test_box_rests_on_a_two_triangle_mesh_as_on_the_plane():
+    v = [(-5, -5, 0), (5, -5, 0), (5, 5, 0), (-5, 5, 0)]
+    f = [(0, 1, 2), (0, 2, 3)]
+    ends = []
+    for mesh in (False, True):
+        w = World()
+        w.add_mesh(v, f) if mesh else w.add_ground()
+        b = w.add_box(size=1.0, position=(0.3, -0.2, 0.5))
+        ends.append(w.run(500).positions[-1, b])
+    np.testing.assert_allclose(ends[0], ends[1], atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "call, field, value",
+    [
+        (lambda w: w.add_capsule(-1.0, 0.5), "radius", "-1"),
+        (lambda w: w.add_capsule(0.2, 0.0), "half_length", "0"),
+        (lambda w: w.add_cylinder(0.2, float("nan")), "half_length", "nan"),
+        (lambda w: w.add_cylinder(0.2, 0.3, mass=0.0), "mass", "0"),
+        (lambda w: w.add_convex([[0, 0, 0], [1, 0, 0], [0, 1, 0]]), "vertices", "3 points"),
+        (lambda w: w.add_convex([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]), "vertices", "not in one plane"),
+        (lambda w: w.add_convex([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, np.nan]]), "vertices", "point 3"),
+        (lambda w: w.add_convex([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, np.inf]]), "vertices", "inf"),
+        (lambda w: w.add_convex(np.zeros((100_001, 3))), "vertices", "limit of 100000"),
+        (lambda w: w.add_mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 3]]), "faces", "index 3"),
+        (lambda w: w.add_mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, -1]]), "faces", "-1"),
+        (lambda w: w.add_mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 1]]), "faces", "degenerate"),
+        (lambda w: w.add_mesh([[0, 0, 0], [1, 0, 0], [2, 0, 0]], [[0, 1, 2]]), "faces", "degenerate"),
+        (lambda w: w.add_mesh([[0, 0, 0], [1, 0, 0]], [[0, 1]]), "faces", "(M, 3)"),
+    ],
+)
+def test_bad_shapes_raise_value_error_naming_field_and_value(call, field, value):
+    w = World()
+    with pytest.raises(ValueError) as e:
+        call(w)
+    assert field in str(e.value) and value.lower() in str(e.value).lower(), str(e.value)
+    assert w.body_count == 0
