@@ -90,6 +90,15 @@ impl Bound {
                     (e + 1e-12 * radius).min(radius)
                 })
             }
+            // The axis z turned: e_k = |R_kz| h + r (capsule), |R_kz| h + r √(1 − R_kz²) (cylinder).
+            Shape::Capsule { radius: r, half_length: h } | Shape::Cylinder { radius: r, half_length: h } => {
+                let (rot, capsule) = (b.rotation(), matches!(b.shape, Shape::Capsule { .. }));
+                std::array::from_fn(|k| {
+                    let a = rot.m[k][2].abs().min(1.0);
+                    let e = a * h + if capsule { *r } else { r * (1.0 - a * a).sqrt() };
+                    (e + 1e-12 * radius).min(radius)
+                })
+            }
             _ => [radius; 3],
         };
         Bound { centre: b.position, radius, half }

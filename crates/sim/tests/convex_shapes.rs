@@ -154,3 +154,47 @@ fn bad_shapes_are_refused_naming_the_field() {
     assert_eq!(e, SimError::StaticOnly { kind: "mesh" });
     assert_eq!(w.body_count(), 0);
 }
+
+#[test]
+fn broad_phase_keeps_every_pair_of_capsules_cylinders_and_hulls_that_touch() {
+    use sim::broad_phase::{brute_force_pairs, PairMargin};
+    use sim::geometry::{parry_pair, ParryScratch, Placement};
+    // A deterministic scatter of turned capsules, cylinders and hulls, closely packed.
+    let mut seed = 12345u64;
+    let mut rnd = move || {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let tetra = [Vec3::ZERO, Vec3::new(0.4, 0.0, 0.0), Vec3::new(0.0, 0.3, 0.0), Vec3::new(0.0, 0.0, 0.5)];
+    let mut w = World::new(WorldParams::default()).unwrap();
+    for k in 0..120 {
+        let d = match k % 3 {
+            0 => BodyDesc::capsule(0.05 + 0.1 * rnd(), 0.1 + 0.4 * rnd()),
+            1 => BodyDesc::cylinder(0.05 + 0.2 * rnd(), 0.05 + 0.4 * rnd()),
+            _ => BodyDesc::convex(&tetra).unwrap(),
+        };
+        let axis = Vec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5).try_normalize().unwrap_or(Vec3::X);
+        let p = Vec3::new(3.0 * rnd(), 3.0 * rnd(), 3.0 * rnd());
+        w.add_body(d.position(p).orientation(Quat::from_axis_angle(axis, 6.0 * rnd()))).unwrap();
+    }
+    let margin = PairMargin { base: 1e-3, h: 1e-3, reach: None };
+    let mut pairs = Vec::new();
+    brute_force_pairs(w.bodies(), &margin, &mut pairs);
+    let (mut touching, mut scratch, mut out) = (0, ParryScratch::default(), Vec::new());
+    let bodies = w.bodies();
+    for i in 0..bodies.len() {
+        for j in i + 1..bodies.len() {
+            let (a, b) = (&bodies[i], &bodies[j]);
+            let pa = Placement { center: a.position(), rotation: a.rotation() };
+            let pb = Placement { center: b.position(), rotation: b.rotation() };
+            out.clear();
+            parry_pair(a.shape(), &pa, b.shape(), &pb, 1e-3, &mut scratch, &mut out);
+            if !out.is_empty() {
+                touching += 1;
+                assert!(pairs.contains(&(i, j)), "pair ({i}, {j}) touches but the broad phase dropped it");
+            }
+        }
+    }
+    assert!(touching > 20, "only {touching} touching pairs");
+    assert!(pairs.len() < bodies.len() * (bodies.len() - 1) / 2, "the bounds dropped nothing");
+}
