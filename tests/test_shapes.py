@@ -121,3 +121,34 @@ def test_bad_shapes_raise_value_error_naming_field_and_value(call, field, value)
         call(w)
     assert field in str(e.value) and value.lower() in str(e.value).lower(), str(e.value)
     assert w.body_count == 0
+
+
+@pytest.mark.slow
+def test_bin_of_50_mixed_shapes_pours_and_settles_without_a_failed_lcp():
+    """Boxes, spheres, capsules, cylinders and hulls dropped into a mesh bin
+    (floor and four walls, 10 triangles): 5 s, no failed LCP, every body in
+    the bin and at rest but for rolling in place (no rolling resistance)."""
+    half, height = 0.6, 0.8
+    v = [(-half, -half, 0), (half, -half, 0), (half, half, 0), (-half, half, 0)]
+    v += [(x, y, height) for x, y, _ in v]
+    f = [(0, 1, 2), (0, 2, 3), (0, 4, 5), (0, 5, 1), (1, 5, 6), (1, 6, 2), (2, 6, 7), (2, 7, 3), (3, 7, 4), (3, 4, 0)]
+    w = World(dt=2e-3, max_halvings=3)
+    w.add_mesh(v, f, mu=0.5)
+    rng = np.random.default_rng(7)
+    tetra = np.array([[0, 0, 0], [0.16, 0, 0], [0, 0.16, 0], [0, 0, 0.16]])
+    for k in range(50):
+        p = (-0.3 + 0.3 * (k % 3), -0.3 + 0.3 * ((k // 3) % 3), 0.15 + 0.25 * (k // 9))
+        q = rng.normal(size=4)
+        q /= np.linalg.norm(q)
+        [
+            lambda: w.add_box(half_extents=(0.07, 0.06, 0.05), position=p, orientation=q),
+            lambda: w.add_sphere(0.07, position=p),
+            lambda: w.add_capsule(0.05, 0.06, position=p, orientation=q),
+            lambda: w.add_cylinder(0.06, 0.05, position=p, orientation=q),
+            lambda: w.add_convex(tetra, position=p, orientation=q),
+        ][k % 5]()
+    traj = w.run(2500)
+    assert traj.lcp_stats().failures == 0
+    end = traj.positions[-1, 1:]
+    assert np.abs(end[:, :2]).max() < half and end[:, 2].min() > 0 and end[:, 2].max() < 0.3
+    assert np.linalg.norm(traj.velocities[-1, 1:, :3], axis=1).max() < 0.05
