@@ -198,3 +198,17 @@ fn broad_phase_keeps_every_pair_of_capsules_cylinders_and_hulls_that_touch() {
     assert!(touching > 20, "only {touching} touching pairs");
     assert!(pairs.len() < bodies.len() * (bodies.len() - 1) / 2, "the bounds dropped nothing");
 }
+
+#[test]
+fn a_mesh_holds_from_either_side_whatever_the_winding_of_its_faces() {
+    let v =
+        [Vec3::new(-5.0, -5.0, 0.0), Vec3::new(5.0, -5.0, 0.0), Vec3::new(5.0, 5.0, 0.0), Vec3::new(-5.0, 5.0, 0.0)];
+    for f in [[[0u32, 1, 2], [0, 2, 3]], [[0, 2, 1], [0, 3, 2]]] {
+        let mut w = World::new(WorldParams::default()).unwrap();
+        w.add_body(BodyDesc::mesh(&v, &f).unwrap()).unwrap();
+        let id = w.add_body(BodyDesc::cuboid(Vec3::splat(0.5)).position(Vec3::new(0.3, -0.2, 0.6))).unwrap();
+        run_ok(&mut w, 500);
+        let p = w.body(id).unwrap().position();
+        assert!((p - Vec3::new(0.3, -0.2, 0.5)).norm() < 1e-6, "faces {f:?}: box at {p:?}");
+    }
+}

@@ -236,7 +236,7 @@ impl TriMeshShape {
             }
         }
         let pv: Vec<PVec> = vertices.iter().map(|&p| pvec(p)).collect();
-        let parry = TriMesh::with_flags(pv, faces.to_vec(), TriMeshFlags::FIX_INTERNAL_EDGES)
+        let parry = TriMesh::with_flags(pv, faces.to_vec(), TriMeshFlags::FIX_INTERNAL_EDGES_TWO_SIDED)
             .or_else(|_| TriMesh::new(vertices.iter().map(|&p| pvec(p)).collect(), faces.to_vec()))
             .map_err(|e| bad("faces", format!("do not make a triangle mesh: {e:?}")))?;
         let radius = vertices.iter().fold(0.0f64, |r, v| r.max(v.norm()));
