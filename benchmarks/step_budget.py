@@ -16,29 +16,14 @@ MuJoCo is not a dependency of lcpsim: install it beside (``pip install mujoco``)
 
 from __future__ import annotations
 
-import math
 import sys
 import time
+from pathlib import Path
 from typing import Callable
 
+sys.path.insert(0, str(Path(__file__).resolve().parent / "peers"))
+from sim_peers import mujoco_xml  # noqa: E402  (the same cube on a slope as the peers benchmark)
 
-
-def mujoco_xml(angle: float, mu: float, cone: str) -> str:
-    """The cube on a slope of ``benchmarks/peers/sim_peers.py`` (dt 1 ms)."""
-    th = math.radians(angle)
-    qw, qy = math.cos(th / 2), math.sin(th / 2)
-    cx, cz = 0.5 * math.sin(th), 0.5 * math.cos(th)
-    return f"""
-<mujoco>
-  <option timestep="0.001" gravity="0 0 -9.81" cone="{cone}"/>
-  <worldbody>
-    <geom name="slope" type="plane" size="0 0 1" quat="{qw!r} 0 {qy!r} 0" friction="{mu} 0.005 0.0001"/>
-    <body name="cube" pos="{cx!r} 0 {cz!r}" quat="{qw!r} 0 {qy!r} 0">
-      <freejoint/>
-      <geom type="box" size="0.5 0.5 0.5" mass="1" friction="{mu} 0.005 0.0001"/>
-    </body>
-  </worldbody>
-</mujoco>"""
 
 
 def best(f: Callable[[int], object], n: int, reps: int) -> float:
