@@ -6,7 +6,7 @@
 #     --system-site-packages and numpy stays below 2 in it;
 #   - Drake (PyPI `drake`), MuJoCo (PyPI `mujoco`), PyBullet (PyPI `pybullet`);
 #   - lcpsim itself, built from this checkout as an abi3 wheel (maturin), which
-#     imports with numpy 1.24 (abi3-py310, built against the oldest numpy API);
+#     imports with numpy 1.24 as well as numpy 2 (abi3-py310);
 #   - benchmarks/rapier_bench (Rapier, and the broad-phase comparison), a Rust
 #     crate outside lcpsim's workspace, built with cargo.
 #
