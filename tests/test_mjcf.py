@@ -24,6 +24,12 @@ SCENE = """
   <worldbody>
     <geom name="floor" type="plane" size="5 5 0.1" friction="0.8"/>
     <geom name="block" type="box" size="0.2 0.2 0.1" pos="3 3 0.1"/>
+    <geom name="ramp" type="mesh" mesh="tetra" pos="-3 -3 0"/>
+    <geom name="ghost" type="sphere" size="0.5" pos="0 0 0.25" contype="0" conaffinity="0"/>
+    <body name="post" pos="3 -3 0.5">
+      <geom name="post" type="cylinder" size="0.1 0.5"/>
+      <geom name="rail" type="capsule" size="0.05 0.4" pos="0 0 0.6" euler="90 0 0"/>
+    </body>
     <body name="box" pos="0 0 0.25">
       <freejoint/>
       <geom type="box" size="0.3 0.2 0.25" mass="2"/>
@@ -57,7 +63,11 @@ def _mujoco_rest(xml: str, seconds: float) -> tuple[dict[str, np.ndarray], float
         mujoco.mj_step(m, d)
         if d.ncon:
             deepest = max(deepest, float(-min(d.contact.dist[: d.ncon].min(), 0.0)))
-    names = {mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b): d.xipos[b].copy() for b in range(1, m.nbody)}
+    names = {
+        mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b): d.xipos[b].copy()
+        for b in range(1, m.nbody)
+        if m.body_jntnum[b] > 0  # the moving bodies
+    }
     return names, deepest
 
 
@@ -68,6 +78,10 @@ def test_mjcf_scene_rests_where_mujoco_puts_it():
         "box", "sphere", "capsule", "cylinder", "convex",
     ]
     assert w.body(w.body_id("floor")).kind == "plane" and w.body(w.body_id("block")).is_static
+    statics = {n: w.body(w.body_id(n)) for n in ("ramp", "post", "rail")}
+    assert [b.kind for b in statics.values()] == ["convex", "cylinder", "capsule"]
+    assert all(b.is_static for b in statics.values())
+    np.testing.assert_allclose(statics["rail"].position, [3, -3, 1.1], atol=1e-12)
     assert w.body(w.body_id("box")).mass == pytest.approx(2.0)
     traj = w.run(500)
     assert traj.lcp_stats().failures == 0
@@ -83,7 +97,7 @@ def test_mjcf_from_a_file_and_names(tmp_path):
     path = tmp_path / "scene.xml"
     path.write_text(SCENE)
     w = World.from_mjcf(path)
-    assert w.body_count == 7
+    assert w.body_count == 10  # the visual-only geom is skipped
     with pytest.raises(KeyError, match="no body named 'nope'"):
         w.body_id("nope")
     assert w.copy().body_id("ball") == w.body_id("ball")
