@@ -237,8 +237,9 @@ fn stacks_of_cylinders_and_of_hulls_rest_without_drift() {
         run_ok(&mut w, 1000);
         for (k, &i) in ids.iter().enumerate() {
             let drift = (w.body(i).unwrap().position() - start[k]).norm();
-            // Hull on hull (GJK/EPA normals): the middle prism creeps 1.5e-6 m sideways in 1 s;
-            // cylinder caps (polygon faces of their own): 1e-11 m.
+            // Hull on hull: one jump of the middle prism, 1.5e-6 m sideways at step 10, when
+            // parry's clipping of coincident triangles drops a point for a step; still after.
+            // Cylinder caps: 1e-11 m.
             let tol = if hull { 5e-6 } else { 1e-9 };
             assert!(drift < tol, "{} {k}: drift {drift:e} m", if hull { "hull" } else { "cylinder" });
         }
