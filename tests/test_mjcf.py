@@ -149,3 +149,13 @@ def test_cli_simulates_an_mjcf_file_and_refuses_with_exit_2(tmp_path):
     p = subprocess.run([sys.executable, "-m", "lcpsim", "simulate", str(bad)], capture_output=True, text=True, timeout=120)
     assert p.returncode == 2
     assert len(p.stderr.strip().splitlines()) == 1 and "joint 'elbow'" in p.stderr
+
+
+def test_cli_view_draws_an_mjcf_file(tmp_path):
+    path = tmp_path / "scene.xml"
+    path.write_text(SCENE)
+    out = tmp_path / "scene.html"
+    p = subprocess.run([sys.executable, "-m", "lcpsim", "view", str(path), "--steps", "20", "--out", str(out)],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    assert out.stat().st_size > 0 and "20 steps" in p.stdout

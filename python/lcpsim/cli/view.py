@@ -29,7 +29,7 @@ def _configure(p: argparse.ArgumentParser) -> None:
 
     p.add_argument(
         "source", metavar="SCENE|FILE.h5",
-        help=f"a scene ({', '.join(SCENES)}) or a trajectory file written by Trajectory.save / --save",
+        help=f"a scene ({', '.join(SCENES)}), an MJCF file (FILE.xml) or a trajectory file written by Trajectory.save / --save",
     )
     p.add_argument("--out", metavar="FILE.html", required=True, help="the page to write")
     p.add_argument("--save", metavar="FILE.h5", default=None, help="also save the trajectory (HDF5)")
@@ -50,7 +50,7 @@ def _run(args: argparse.Namespace) -> int:
 
     options: dict[str, Any] = {"title": args.title, "body": args.body,
                                "max_bytes": args.max_bytes or DEFAULT_MAX_BYTES}
-    if args.source in SCENES:
+    if args.source in SCENES or args.source.lower().endswith(".xml"):  # a scene, or MJCF
         args.scene = args.source
         scene = build_scene(args)
         traj = scene.world.run(args.steps, record_contacts=True)
