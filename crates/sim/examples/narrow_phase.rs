@@ -3,9 +3,10 @@
 //! once with `LCPSIM_NARROW=parry`, and compare the lines (steps/s, failures,
 //! deepest penetration, final positions).
 //!
-//! `cargo run --release -p lcpsim-sim --example narrow_phase -- [STEPS]`
-//! prints per scene: name, steps/s, contacts per step, failures, deepest
-//! penetration (m), then the final centre of every dynamic body.
+//! `cargo run --release -p lcpsim-sim --example narrow_phase -- [STEPS] [SCENE]`
+//! prints per scene (all, or the one named): name, steps/s, contacts per step,
+//! failures, deepest penetration (m), steps whose deepest exceeds 0.1 mm, then
+//! the final centre of every dynamic body.
 
 use sim::scenes::{BallOnIncline, BoxPile, BoxStack, CubeHeap, CubeOnSlope, Scene};
 use sim::WorldParams;
@@ -22,18 +23,22 @@ fn main() {
         ("pile3_yaw", BoxPile { yaw: 0.4, seed: 3, ..Default::default() }.build(p()).unwrap()),
         ("heap50", CubeHeap::new(50, 1).build(p()).unwrap()),
     ];
-    for (name, mut s) in scenes {
-        let (mut failures, mut contacts, mut deepest) = (0usize, 0usize, 0.0f64);
+    let only = std::env::args().nth(2);
+    for (name, mut s) in scenes.into_iter().filter(|(n, _)| only.as_deref().is_none_or(|o| o == *n)) {
+        let (mut failures, mut contacts, mut deepest, mut deep_steps) = (0usize, 0usize, 0.0f64, 0usize);
         let t0 = Instant::now();
         for _ in 0..steps {
             let r = s.world.step().unwrap();
             failures += r.islands.iter().filter(|i| i.status != lcp::Status::Solved).count();
             contacts += r.contacts.len();
-            deepest = r.contacts.iter().fold(deepest, |d, c| d.max(-c.gap));
+            let step_deepest = r.contacts.iter().fold(0.0f64, |d, c| d.max(-c.gap));
+            deepest = deepest.max(step_deepest);
+            deep_steps += usize::from(step_deepest > 1e-4);
         }
         let secs = t0.elapsed().as_secs_f64();
         println!(
-            "{which} {name}: {:.0} steps/s, {:.1} contacts/step, {failures} failures, deepest {deepest:.3e} m",
+            "{which} {name}: {:.0} steps/s, {:.1} contacts/step, {failures} failures, deepest {deepest:.3e} m, \
+             {deep_steps} steps deeper than 0.1 mm",
             steps as f64 / secs,
             contacts as f64 / steps as f64
         );
