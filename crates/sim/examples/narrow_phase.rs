@@ -3,7 +3,7 @@
 //! once with `LCPSIM_NARROW=parry`, and compare the lines (steps/s, failures,
 //! deepest penetration, final positions).
 //!
-//! `cargo run --release -p lcpsim-sim --example narrow_phase -- [STEPS] [SCENE]`
+//! `cargo run --release -p lcpsim-sim --example narrow_phase -- [STEPS] [SCENE] [HEAP_SEED]`
 //! prints per scene (all, or the one named): name, steps/s, contacts per step,
 //! failures, deepest penetration (m), steps whose deepest exceeds 0.1 mm, then
 //! the final centre of every dynamic body.
@@ -21,7 +21,10 @@ fn main() {
         ("ball_on_incline", BallOnIncline::new(20.0, 0.5).build(p()).unwrap()),
         ("stack10", BoxStack::new(10).build(p()).unwrap()),
         ("pile3_yaw", BoxPile { yaw: 0.4, seed: 3, ..Default::default() }.build(p()).unwrap()),
-        ("heap50", CubeHeap::new(50, 1).build(p()).unwrap()),
+        (
+            "heap50",
+            CubeHeap::new(50, std::env::args().nth(3).map_or(1, |s| s.parse().expect("HEAP_SEED"))).build(p()).unwrap(),
+        ),
     ];
     let only = std::env::args().nth(2);
     for (name, mut s) in scenes.into_iter().filter(|(n, _)| only.as_deref().is_none_or(|o| o == *n)) {
