@@ -29,19 +29,28 @@ fn main() {
     let only = std::env::args().nth(2);
     for (name, mut s) in scenes.into_iter().filter(|(n, _)| only.as_deref().is_none_or(|o| o == *n)) {
         let (mut failures, mut contacts, mut deepest, mut deep_steps) = (0usize, 0usize, 0.0f64, 0usize);
+        let (mut deep_on_static, mut deep_between) = (0usize, 0usize);
         let t0 = Instant::now();
         for _ in 0..steps {
-            let r = s.world.step().unwrap();
+            let r = s.world.step().unwrap().clone();
             failures += r.islands.iter().filter(|i| i.status != lcp::Status::Solved).count();
             contacts += r.contacts.len();
             let step_deepest = r.contacts.iter().fold(0.0f64, |d, c| d.max(-c.gap));
             deepest = deepest.max(step_deepest);
             deep_steps += usize::from(step_deepest > 1e-4);
+            for c in r.contacts.iter().filter(|c| c.gap < -1e-4) {
+                if s.world.body(sim::BodyId(c.body_b)).unwrap().is_static() {
+                    deep_on_static += 1;
+                } else {
+                    deep_between += 1;
+                }
+            }
         }
         let secs = t0.elapsed().as_secs_f64();
         println!(
             "{which} {name}: {:.0} steps/s, {:.1} contacts/step, {failures} failures, deepest {deepest:.3e} m, \
-             {deep_steps} steps deeper than 0.1 mm",
+             {deep_steps} steps deeper than 0.1 mm ({deep_on_static} such contacts with a static body, \
+             {deep_between} between dynamic ones)",
             steps as f64 / secs,
             contacts as f64 / steps as f64
         );
