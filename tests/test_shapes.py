@@ -152,3 +152,15 @@ def test_bin_of_50_mixed_shapes_pours_and_settles_without_a_failed_lcp():
     end = traj.positions[-1, 1:]
     assert np.abs(end[:, :2]).max() < half and end[:, 2].min() > 0 and end[:, 2].max() < 0.3
     assert np.linalg.norm(traj.velocities[-1, 1:, :3], axis=1).max() < 0.05
+
+
+def test_viewer_page_carries_the_new_shapes(tmp_path):
+    w = World()
+    w.add_ground()
+    w.add_capsule(0.1, 0.3, position=(0, 0, 0.1))
+    w.add_cylinder(0.1, 0.1, position=(1, 0, 0.1))
+    w.add_convex([[0, 0, 0], [0.2, 0, 0], [0, 0.2, 0], [0, 0, 0.2]], position=(2, 0, 0.1))
+    page = w.run(5, record_contacts=True).to_html(tmp_path / "shapes.html")
+    html = open(page, encoding="utf-8").read()
+    for word in ('"capsule"', '"cylinder"', '"convex"', '"half_length"', '"vertices"', '"faces"', "CapsuleGeometry"):
+        assert word in html, word

@@ -230,11 +230,16 @@ def _body_size(bodies: list[dict[str, Any]], dynamic: list[int]) -> float:
             sizes.append(2 * max(b["half_extents"]))
         elif b["kind"] == "sphere":
             sizes.append(2 * b["radius"])
+        elif b["kind"] in ("capsule", "cylinder"):
+            sizes.append(2 * max(b["radius"], b["half_length"]))
+        elif b["kind"] == "convex" and b.get("vertices"):
+            sizes.append(2 * float(np.max(np.linalg.norm(np.asarray(b["vertices"], dtype=float), axis=1))))
     return float(np.median(sizes)) if sizes else 1.0
 
 
 def _body_json(b: Mapping[str, Any], i: int, traj: TrajectoryData) -> dict[str, Any]:
-    out = {k: b[k] for k in ("kind", "static", "half_extents", "radius", "normal", "offset") if k in b}
+    keys = ("kind", "static", "half_extents", "radius", "normal", "offset", "half_length", "vertices", "faces")
+    out = {k: b[k] for k in keys if k in b}
     out["position"] = traj.initial_positions[i].tolist()
     out["orientation"] = traj.initial_orientations[i].tolist()
     return out

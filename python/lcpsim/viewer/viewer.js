@@ -67,6 +67,24 @@ function lcpsimStartViewer(THREE, OrbitControls, D) {
       }
       geo.setAttribute("color", new THREE.Float32BufferAttribute(colors, 3));
       obj = new THREE.Mesh(geo, new THREE.MeshStandardMaterial({ vertexColors: true, roughness: 0.6 }));
+    } else if (b.kind === "capsule" || b.kind === "cylinder") {
+      const geo = b.kind === "capsule"
+        ? new THREE.CapsuleGeometry(b.radius, 2 * b.half_length, 8, 24)
+        : new THREE.CylinderGeometry(b.radius, b.radius, 2 * b.half_length, 32);
+      geo.rotateX(Math.PI / 2);  // three's axis y onto the body's z (lcpsim's, as in MJCF)
+      obj = new THREE.Mesh(geo, new THREE.MeshStandardMaterial({ color: bodyColor(i, b), roughness: 0.6 }));
+      obj.add(new THREE.LineSegments(new THREE.EdgesGeometry(geo, 40), new THREE.LineBasicMaterial({ color: 0x222222 })));
+    } else if ((b.kind === "convex" || b.kind === "mesh") && b.vertices && b.faces) {
+      const geo = new THREE.BufferGeometry();
+      geo.setAttribute("position", new THREE.Float32BufferAttribute(b.vertices.flat(), 3));
+      geo.setIndex(b.faces.flat());
+      geo.computeVertexNormals();
+      const mat = new THREE.MeshStandardMaterial({
+        color: bodyColor(i, b), roughness: 0.7, flatShading: true, side: THREE.DoubleSide,
+        transparent: b.kind === "mesh", opacity: b.kind === "mesh" ? 0.6 : 1,
+      });
+      obj = new THREE.Mesh(geo, mat);
+      obj.add(new THREE.LineSegments(new THREE.EdgesGeometry(geo, 20), new THREE.LineBasicMaterial({ color: 0x222222 })));
     } else {
       obj = new THREE.Mesh(new THREE.SphereGeometry(0.05 * D.view.size), new THREE.MeshBasicMaterial({ color: 0x888888 }));
     }
