@@ -15,7 +15,7 @@ mujoco = pytest.importorskip("mujoco", reason="MJCF needs MuJoCo (pip install 'l
 from lcpsim import World  # noqa: E402
 from lcpsim.mjcf import MjcfError  # noqa: E402
 
-SCENE = """
+SCENE_TEMPLATE = """
 <mujoco model="shapes">
   <option timestep="0.002" gravity="0 0 -9.81"/>
   <asset>
@@ -30,29 +30,28 @@ SCENE = """
       <geom name="post" type="cylinder" size="0.1 0.5"/>
       <geom name="rail" type="capsule" size="0.05 0.4" pos="0 0 0.6" euler="90 0 0"/>
     </body>
-    <body name="box" pos="0 0 0.25">
-      <freejoint/>
-      <geom type="box" size="0.3 0.2 0.25" mass="2"/>
-    </body>
-    <body name="ball" pos="1 0 0.2">
-      <freejoint/>
-      <geom type="sphere" size="0.2" mass="1"/>
-    </body>
-    <body name="pill" pos="-1 0 0.1" euler="0 90 0">
-      <freejoint/>
-      <geom type="capsule" size="0.1 0.3" mass="1"/>
-    </body>
-    <body name="can" pos="0 1 0.15">
-      <freejoint/>
-      <geom type="cylinder" size="0.2 0.15" mass="1"/>
-    </body>
-    <body name="rock" pos="0 -1 0.0">
-      <freejoint/>
-      <geom type="mesh" mesh="tetra" mass="0.5"/>
-    </body>
-  </worldbody>
+{free_bodies}  </worldbody>
 </mujoco>
 """
+
+#: The scene's free bodies: name, pos, euler (or ""), geom type, size, mass.
+FREE_BODIES = [
+    ("box", "0 0 0.25", "", "box", "0.3 0.2 0.25", "2"),
+    ("ball", "1 0 0.2", "", "sphere", "0.2", "1"),
+    ("pill", "-1 0 0.1", "0 90 0", "capsule", "0.1 0.3", "1"),
+    ("can", "0 1 0.15", "", "cylinder", "0.2 0.15", "1"),
+    ("rock", "0 -1 0.0", "", "mesh", "", "0.5"),
+]
+
+
+def _free_body(name: str, pos: str, euler: str, kind: str, size: str, mass: str) -> str:
+    turn = f' euler="{euler}"' if euler else ""
+    shape = 'mesh="tetra"' if kind == "mesh" else f'size="{size}"'
+    return (f'    <body name="{name}" pos="{pos}"{turn}>\n      <freejoint/>\n'
+            f'      <geom type="{kind}" {shape} mass="{mass}"/>\n    </body>\n')
+
+
+SCENE = SCENE_TEMPLATE.format(free_bodies="".join(_free_body(*b) for b in FREE_BODIES))
 
 
 def _mujoco_rest(xml: str, seconds: float) -> tuple[dict[str, np.ndarray], float]:
