@@ -7,8 +7,7 @@ MuJoCo's heap of 1,000 cubes in 4 walls; ``--block`` or no such file: a
 connected block of cubes, lcpsim's ``box_pile`` with towers side by side) is
 cut into sub-heaps — the k cubes nearest the centre of the floor, which rest
 on one another as they did in the heap — put at rest into an lcpsim World, and stepped once with
-``World.run(1, capture=PATH)``; ``lcpsim.open_capture(PATH)`` (formerly
-``open_corpus``) gives the step's
+``World.run(1, capture=PATH)``; ``lcpsim.open_capture(PATH)`` gives the step's
 LCP (the capturing step uses PGS with one iteration so that it costs little;
 the LCP is assembled before any solver sees it). Then ``solve_lcp(M, q)``
 (Lemke, defaults) is timed on it. Whatever form of LCP lcpsim captures and
@@ -136,9 +135,7 @@ def one_size(desc_path: str, k: int, reps: int, max_solve_s: float) -> dict[str,
         del w  # the world's own copy of M, before the corpus's is read
         gc.collect()
         out: dict[str, Any] = {"cubes": k, "capture_s": capture_s, "lcps": []}
-        # open_capture is open_corpus's newer name (the old one stays, deprecated).
-        open_capture = getattr(lcpsim, "open_capture", None) or lcpsim.open_corpus
-        with open_capture(path) as corpus:
+        with lcpsim.open_capture(path) as corpus:
             for rec in corpus:
                 M, q = rec.M, rec.q  # as captured (dense today), handed to solve_lcp unchanged
                 times, r = [], None
@@ -218,14 +215,26 @@ def run_structured_child(binary: Path, boxes: str, k: int, mem_cap: int, timeout
     return row
 
 
+def _sweep_start(desc: dict[str, Any], mem_cap_gb: float) -> tuple[int, int, list[dict[str, Any]], str]:
+    """A size sweep's memory cap (bytes), dynamic cubes, rows so far and stop reason."""
+    return int(mem_cap_gb * (1 << 30)), sum(not b["static"] for b in desc["boxes"]), [], "every size ran"
+
+
+def _predicted_stop(last: dict[str, Any], k: int, n_next: float, p: float, max_solve_s: float) -> str | None:
+    """Why the sweep stops before ``k`` cubes, if one solve at ``n_next`` is predicted (time ∝ n^p) to
+    take longer than ``max_solve_s``."""
+    t_next = last["seconds"] * (n_next / last["n"]) ** p
+    if t_next <= max_solve_s:
+        return None
+    return (f"stopped before {k} cubes: n ≈ {n_next:,.0f}, one solve predicted to take "
+            f"{t_next:.3g} s > {max_solve_s:g} s (time ∝ n^{p:.2f})")
+
+
 def run_structured(desc: dict[str, Any], max_solve_s: float, mem_cap_gb: float, dense_max_n: int,
                    prebuilt: str | None = None) -> dict[str, Any]:
     """Every size up to the whole heap, or until a solve is predicted to exceed ``max_solve_s``."""
     binary = structured_binary(prebuilt)
-    cap = int(mem_cap_gb * (1 << 30))
-    n_dyn = sum(not b["static"] for b in desc["boxes"])
-    rows: list[dict[str, Any]] = []
-    stop = "every size ran"
+    cap, n_dyn, rows, stop = _sweep_start(desc, mem_cap_gb)
     with tempfile.TemporaryDirectory() as tmp:
         boxes = os.path.join(tmp, "boxes.txt")
         write_boxes(desc, boxes)
@@ -233,12 +242,9 @@ def run_structured(desc: dict[str, Any], max_solve_s: float, mem_cap_gb: float, 
             done = [r for r in rows if "error" not in r and r["n"] > 0]
             p = fit_exponent([(r["n"], r["seconds"]) for r in done if r["n"] >= 100])
             if done and p:
-                last = done[-1]
                 n_next = max(r["n"] / r["cubes"] for r in done) * k
-                t_next = last["seconds"] * (n_next / last["n"]) ** p
-                if t_next > max_solve_s:
-                    stop = (f"stopped before {k} cubes: n ≈ {n_next:,.0f}, one solve predicted to take "
-                            f"{t_next:.3g} s > {max_solve_s:g} s (time ∝ n^{p:.2f})")
+                if too_slow := _predicted_stop(done[-1], k, n_next, p, max_solve_s):
+                    stop = too_slow
                     break
             row = run_structured_child(binary, boxes, k, cap, timeout=3 * max_solve_s + 120, dense_max_n=dense_max_n)
             rows.append(row)
@@ -329,10 +335,7 @@ def run_child(desc_path: str, k: int, reps: int, max_solve_s: float, mem_cap: in
 
 
 def run_all(desc: dict[str, Any], source: str, max_solve_s: float, mem_cap_gb: float, reps: int) -> dict[str, Any]:
-    cap = int(mem_cap_gb * (1 << 30))
-    n_dyn = sum(not b["static"] for b in desc["boxes"])
-    rows: list[dict[str, Any]] = []
-    stop = "every size ran"
+    cap, n_dyn, rows, stop = _sweep_start(desc, mem_cap_gb)
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "heap.json")
         with open(path, "w") as f:
@@ -350,12 +353,9 @@ def run_all(desc: dict[str, Any], source: str, max_solve_s: float, mem_cap_gb: f
                     stop = (f"stopped before {k} cubes: n ≈ {n_next:,.0f} predicted, needing about {copies:.1f} × "
                             f"n² · 8 B = {need / 2**30:.1f} GiB > the {mem_cap_gb:g} GiB cap")
                     break
-                p = fit_exponent(lcp_points(done))
-                last = done[-1]
-                t_next = last["seconds"] * (n_next / last["n"]) ** (p if p else 3.0)  # as if one LCP
-                if t_next > max_solve_s:
-                    stop = (f"stopped before {k} cubes: n ≈ {n_next:,.0f}, one solve predicted to take "
-                            f"{t_next:.3g} s > {max_solve_s:g} s (time ∝ n^{p if p else 3.0:.2f})")
+                p = fit_exponent(lcp_points(done)) or 3.0  # as if one LCP
+                if too_slow := _predicted_stop(done[-1], k, n_next, p, max_solve_s):
+                    stop = too_slow
                     break
             row = run_child(path, k, reps, max_solve_s, cap, timeout=3 * max_solve_s + 120)
             rows.append(row)
