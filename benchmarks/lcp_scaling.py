@@ -230,6 +230,15 @@ def _predicted_stop(last: dict[str, Any], k: int, n_next: float, p: float, max_s
             f"{t_next:.3g} s > {max_solve_s:g} s (time ∝ n^{p:.2f})")
 
 
+def _append_row(rows: list[dict[str, Any]], row: dict[str, Any], k: int, label: str = "") -> str | None:
+    """Keeps ``row`` (the run of ``k`` cubes); the sweep's stop reason if it ended in an error."""
+    rows.append(row)
+    if "error" not in row:
+        return None
+    print(f"  {label}{k} cubes: {row['error']}", flush=True)
+    return f"stopped at {k} cubes: {row['error']}"
+
+
 def run_structured(desc: dict[str, Any], max_solve_s: float, mem_cap_gb: float, dense_max_n: int,
                    prebuilt: str | None = None) -> dict[str, Any]:
     """Every size up to the whole heap, or until a solve is predicted to exceed ``max_solve_s``."""
@@ -247,10 +256,8 @@ def run_structured(desc: dict[str, Any], max_solve_s: float, mem_cap_gb: float, 
                     stop = too_slow
                     break
             row = run_structured_child(binary, boxes, k, cap, timeout=3 * max_solve_s + 120, dense_max_n=dense_max_n)
-            rows.append(row)
-            if "error" in row:
-                print(f"  structured, {k} cubes: {row['error']}", flush=True)
-                stop = f"stopped at {k} cubes: {row['error']}"
+            if failed := _append_row(rows, row, k, "structured, "):
+                stop = failed
                 break
             print(f"  structured, {k} cubes: n = {row['n']}, {row['seconds']:.4g} s, {row['pivots']} pivots, "
                   f"{row['status']}, peak RSS {row['peak_rss_mb']:.0f} MB", flush=True)
@@ -358,10 +365,8 @@ def run_all(desc: dict[str, Any], source: str, max_solve_s: float, mem_cap_gb: f
                     stop = too_slow
                     break
             row = run_child(path, k, reps, max_solve_s, cap, timeout=3 * max_solve_s + 120)
-            rows.append(row)
-            if "error" in row:
-                print(f"  {k} cubes: {row['error']}", flush=True)
-                stop = f"stopped at {k} cubes: {row['error']}"
+            if failed := _append_row(rows, row, k):
+                stop = failed
                 break
             print(f"  {k} cubes: {len(row['lcps'])} LCP(s), n = {row['n']}, {row['seconds']:.4g} s, "
                   f"{row['pivots']} pivots, {row['statuses']}, peak RSS ≤ {row['peak_rss_mb_upto']:.0f} MB",
