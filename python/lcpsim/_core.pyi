@@ -155,19 +155,8 @@ class World:
         is_static: bool = False,
         inertia: ArrayLike | None = None,
     ) -> int:
-        """shape "box" (size: half extents), "sphere" (size: radius), "capsule" or "cylinder" (size: (radius, half_length))."""
-    def add_convex(
-        self,
-        vertices: NDArray[np.float64],
-        mass: float | None = None,
-        position: ArrayLike | None = None,
-        orientation: ArrayLike | None = None,
-        velocity: ArrayLike | None = None,
-        angular_velocity: ArrayLike | None = None,
-        mu: float | None = None,
-        is_static: bool = False,
-        inertia: ArrayLike | None = None,
-    ) -> int: ...
+        """shape "box" (size: half extents), "sphere" (size: radius), "capsule" or "cylinder" (size: (radius, half_length)),
+        "convex" (size: the (N, 3) float64 points of the hull)."""
     def add_mesh(
         self,
         vertices: NDArray[np.float64],

@@ -535,7 +535,7 @@ class World:
         ``body(i).com_offset`` is where it was among the points), inertia its full tensor."""
         pts = points_array(vertices, "vertices", MAX_HULL_POINTS)
         v, wv = _velocities(velocity, angular_velocity)
-        return int(self._core.add_convex(pts, mass, position, orientation, v, wv, mu, bool(static), inertia))
+        return int(self._core.add_body("convex", pts, mass, position, orientation, v, wv, mu, bool(static), inertia))
 
     def add_mesh(
         self,

@@ -62,30 +62,6 @@ impl World {
         guarded(|| set(w, id, value))
     }
 
-    /// The optional fields of a body (None keeps `BodyDesc`'s default), then `add`.
-    #[allow(clippy::too_many_arguments)]
-    fn fill_and_add(
-        &mut self,
-        mut d: BodyDesc,
-        mass: Option<&Bound<'_, PyAny>>,
-        position: Option<&Bound<'_, PyAny>>,
-        orientation: Option<&Bound<'_, PyAny>>,
-        velocity: Option<&Bound<'_, PyAny>>,
-        angular_velocity: Option<&Bound<'_, PyAny>>,
-        mu: Option<&Bound<'_, PyAny>>,
-        is_static: bool,
-        inertia: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<usize> {
-        d.mass = or_default(mass, "mass", real, d.mass)?;
-        d.position = or_default(position, "position", vec3, d.position)?;
-        d.orientation = or_default(orientation, "orientation", quat, d.orientation)?;
-        d.velocity = or_default(velocity, "velocity", vec3, d.velocity)?;
-        d.angular_velocity = or_default(angular_velocity, "angular_velocity", vec3, d.angular_velocity)?;
-        d.mu = or_default(mu, "mu", real, d.mu)?;
-        d.inertia = or_default(inertia, "inertia", |v, f| mat3(v, f).map(Some), d.inertia)?;
-        self.add(d.fixed(is_static))
-    }
-
     fn add(&mut self, desc: BodyDesc) -> PyResult<usize> {
         let w = self.inner();
         guarded(|| w.add_body(desc)).map(|id| id.0)
@@ -184,8 +160,12 @@ impl World {
 
     // ----- bodies -----
 
-    /// A box (`shape` "box", `size` its half extents) or a solid sphere
-    /// ("sphere", `size` its radius). Values not given (or None) keep
+    /// A box (`shape` "box", `size` its half extents), a solid sphere
+    /// ("sphere", `size` its radius), capsule or cylinder ("capsule",
+    /// "cylinder", `size` (radius, half_length)) or the dynamic convex hull of
+    /// points ("convex", `size` an (N, 3) float64 array; the body frame is at
+    /// its centre of mass, see `sim::ConvexHull`, `position` places that
+    /// centre). Values not given (or None) keep
     /// `sim::BodyDesc`'s defaults: mass 1, at the origin, upright, at rest,
     /// μ 0.5, dynamic, the solid's inertia.
     #[pyo3(signature = (shape, size, mass = None, position = None, orientation = None, velocity = None,
@@ -217,35 +197,29 @@ impl World {
                     BodyDesc::cylinder(r, h)
                 }
             }
+            "convex" => {
+                let vertices: PyReadonlyArray2<'_, f64> = size
+                    .extract()
+                    .map_err(|_| value_error(format!("vertices must be an (N, 3) float64 array, got {size}")))?;
+                let pts = rows3(&vertices, "vertices")?;
+                guarded(|| BodyDesc::convex(&pts))?
+            }
             _ => {
                 return Err(value_error(format!(
-                    "shape must be \"box\", \"sphere\", \"capsule\" or \"cylinder\", got {shape:?}"
+                    "shape must be \"box\", \"sphere\", \"capsule\", \"cylinder\" or \"convex\", got {shape:?}"
                 )))
             }
         };
-        self.fill_and_add(d, mass, position, orientation, velocity, angular_velocity, mu, is_static, inertia)
-    }
-
-    /// The dynamic convex hull of `vertices` (N, 3); the body frame is at its
-    /// centre of mass (see `sim::ConvexHull`), `position` places that centre.
-    #[pyo3(signature = (vertices, mass = None, position = None, orientation = None, velocity = None,
-                        angular_velocity = None, mu = None, is_static = false, inertia = None))]
-    #[allow(clippy::too_many_arguments)]
-    fn add_convex(
-        &mut self,
-        vertices: PyReadonlyArray2<'_, f64>,
-        mass: Option<&Bound<'_, PyAny>>,
-        position: Option<&Bound<'_, PyAny>>,
-        orientation: Option<&Bound<'_, PyAny>>,
-        velocity: Option<&Bound<'_, PyAny>>,
-        angular_velocity: Option<&Bound<'_, PyAny>>,
-        mu: Option<&Bound<'_, PyAny>>,
-        is_static: bool,
-        inertia: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<usize> {
-        let pts = rows3(&vertices, "vertices")?;
-        let d = guarded(|| BodyDesc::convex(&pts))?;
-        self.fill_and_add(d, mass, position, orientation, velocity, angular_velocity, mu, is_static, inertia)
+        // The optional fields (None keeps `BodyDesc`'s default).
+        let mut d = d;
+        d.mass = or_default(mass, "mass", real, d.mass)?;
+        d.position = or_default(position, "position", vec3, d.position)?;
+        d.orientation = or_default(orientation, "orientation", quat, d.orientation)?;
+        d.velocity = or_default(velocity, "velocity", vec3, d.velocity)?;
+        d.angular_velocity = or_default(angular_velocity, "angular_velocity", vec3, d.angular_velocity)?;
+        d.mu = or_default(mu, "mu", real, d.mu)?;
+        d.inertia = or_default(inertia, "inertia", |v, f| mat3(v, f).map(Some), d.inertia)?;
+        self.add(d.fixed(is_static))
     }
 
     /// A static triangle mesh: `vertices` (N, 3) in its frame, `faces` (M, 3) indices.
@@ -260,8 +234,11 @@ impl World {
     ) -> PyResult<usize> {
         let pts = rows3(&vertices, "vertices")?;
         let tris = faces3(&faces)?;
-        let d = guarded(|| BodyDesc::mesh(&pts, &tris))?;
-        self.fill_and_add(d, None, position, orientation, None, None, mu, true, None)
+        let mut d = guarded(|| BodyDesc::mesh(&pts, &tris))?;
+        d.position = or_default(position, "position", vec3, d.position)?;
+        d.orientation = or_default(orientation, "orientation", quat, d.orientation)?;
+        d.mu = or_default(mu, "mu", real, d.mu)?;
+        self.add(d.fixed(true))
     }
 
     /// The hull's centre of mass in the frame of the points it was built from
