@@ -33,13 +33,10 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any, Callable
 
 import numpy as np
 from numpy.typing import NDArray
-
-if TYPE_CHECKING:
-    from .world import World
 
 __all__ = ["MjcfError", "MjcfScene", "load_mjcf", "GEOM_TYPES"]
 
@@ -56,7 +53,7 @@ class MjcfError(ValueError):
 class MjcfScene:
     """What :func:`load_mjcf` built: the world, body names → indices, and MuJoCo's model."""
 
-    world: "World"
+    world: Any  # the lcpsim.World built
     names: dict[str, int]
     model: Any
 
@@ -97,10 +94,9 @@ def compile_model(source: str | os.PathLike[str]) -> Any:
         raise MjcfError(f"MuJoCo could not compile the model: {msg}") from None
 
 
-def load_mjcf(source: str | os.PathLike[str], **world_kwargs: Any) -> MjcfScene:
-    """Builds a :class:`~lcpsim.World` from an MJCF file or string (see the module docs)."""
-    from .world import World
-
+def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **world_kwargs: Any) -> MjcfScene:
+    """Builds a world with ``new_world(**world_kwargs)`` (:class:`lcpsim.World`; the model's time
+    step and gravity unless given) from an MJCF file or string (see the module docs)."""
     mujoco = _mujoco()
     m = compile_model(source)
     OBJ = mujoco.mjtObj
@@ -177,7 +173,7 @@ def load_mjcf(source: str | os.PathLike[str], **world_kwargs: Any) -> MjcfScene:
     world_kwargs.setdefault("dt", float(m.opt.timestep))
     world_kwargs.setdefault("gravity", tuple(float(x) for x in m.opt.gravity))
     world_kwargs.setdefault("mu_combine", "max")
-    world = World(**world_kwargs)
+    world = new_world(**world_kwargs)
     names: dict[str, int] = {}
     try:
         for g in colliding:
@@ -198,7 +194,7 @@ def _mesh(m: Any, g: int) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     return np.array(m.mesh_vert[va : va + vn], dtype=np.float64), np.array(m.mesh_face[fa : fa + fn], dtype=np.int64)
 
 
-def _add_geom(mujoco: Any, m: Any, d: Any, world: "World", g: int, b: int, moving: bool, names: dict[str, int]) -> None:
+def _add_geom(mujoco: Any, m: Any, d: Any, world: Any, g: int, b: int, moving: bool, names: dict[str, int]) -> None:
     """One colliding geom as an lcpsim body (static unless its body moves)."""
     t = int(m.geom_type[g])
     size = np.array(m.geom_size[g], dtype=np.float64)

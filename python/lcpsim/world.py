@@ -361,7 +361,7 @@ class World:
         is supported and refused (:class:`lcpsim.mjcf.MjcfError`): :mod:`lcpsim.mjcf`."""
         from .mjcf import load_mjcf
 
-        return load_mjcf(source, **kwargs).world
+        return load_mjcf(source, cls, **kwargs).world
 
     def body_id(self, name: str) -> int:
         """The index of the body (or geom) called ``name`` in the model it was loaded from."""

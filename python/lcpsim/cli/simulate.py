@@ -27,7 +27,7 @@ from .. import _core
 from ..lcp import METHODS, PIVOTINGS
 from ..scale import cone_scale_argument
 from ..scenes import SCENES, Scene, scene_parameters
-from ..world import Trajectory
+from ..world import Trajectory, World
 
 __all__ = ["simulate_summary", "add_run_arguments", "build_scene"]
 
@@ -259,7 +259,7 @@ def _mjcf_scene(args: argparse.Namespace) -> Scene:
     if args.dt == _core.WORLD_DEFAULTS["dt"]:
         world_kw.pop("dt")
     try:
-        loaded = load_mjcf(args.scene, **world_kw)
+        loaded = load_mjcf(args.scene, World, **world_kw)
     except TypeError as e:  # an unknown --set name
         raise CliError(str(e)) from None
     w = loaded.world
