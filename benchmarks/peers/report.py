@@ -59,23 +59,13 @@ def table(summary: dict[str, Any], solvers: list[Solver], b2b: bool) -> list[str
     return lines
 
 
-#: Set-key prefixes and the family each names (``seed/`` is the cube corpus's key in runs before its rename).
+#: Set-key prefixes and the family each names.
 FAMILIES = [
     (("contact/",), "Contact LCPs of the one-cube generator"),
-    (("cubes/", "seed/"), "Cube corpus (LCPs of seeded one-cube simulations)"),
+    (("cubes/",), "Cube corpus (LCPs of seeded one-cube simulations)"),
     (("hard/",), "Hard contact LCPs"),
     (("spd/",), "Random SPD LCPs"),
 ]
-
-
-def clean(text: str) -> str:
-    """Titles and notes of runs recorded before the renames, in today's words."""
-    for old, new in (("Contact LCPs (DESIGN §5 cube)", "Contact LCPs (one-cube generator)"),
-                     ("Seed corpus", "Cube corpus"), ("seed corpus", "cube corpus"),
-                     ("lcpsim.experiments.seed_corpus", "lcpsim.experiments.cube_corpus"),
-                     ("the seven families of issue 5", "the hard corpus's seven families")):
-        text = text.replace(old, new)
-    return text
 
 
 def family_table(sets: list[tuple[str, dict[str, Any]]], solvers: list[Solver]) -> list[str]:
@@ -243,14 +233,14 @@ def write_report(results: dict[str, Any], solvers: list[Solver], sim_md: list[st
               "(own word, residuals in given and physical units, median times) are in `results.json.gz`; "
               "`report.table` renders them.", ""]
     for note in results.get("notes", []):
-        lines.append(f"- {clean(note)}")
+        lines.append(f"- {note}")
     if results.get("notes"):
         lines.append("")
     for prefixes, title in FAMILIES:
         fam = [(k, s) for k, s in results["sets"].items() if k.startswith(prefixes)]
         if not fam:
             continue
-        first = re.sub(r"(s|n) = [^ ,.]+\.$", r"\1 as in each column.", clean(fam[0][1]["description"]))
+        first = re.sub(r"(s|n) = [^ ,.]+\.$", r"\1 as in each column.", fam[0][1]["description"])
         lines += [f"### {title}", "", first, ""]
         lines += family_table(fam, solvers)
         lines.append("")
