@@ -102,7 +102,9 @@ impl Trajectory {
         self.islands.push(r.islands.len());
         self.max_island_size.push(r.islands.iter().map(|i| i.lcp_size).max().unwrap_or(0));
         self.parts.push(r.parts);
-        self.stage_counts.extend(SolveStage::ALL.map(|s| r.islands.iter().filter(|i| i.stage == Some(s)).count()));
+        let mut counts = [0; SolveStage::ALL.len()];
+        r.islands.iter().filter_map(|i| i.stage).for_each(|s| counts[s.index()] += 1);
+        self.stage_counts.extend(counts);
         self.push_impulses(r);
     }
 
