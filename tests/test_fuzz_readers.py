@@ -214,3 +214,79 @@ def test_open_capture_with_probe_survives_a_file_that_crashes_hdf5(tmp_path, nam
     """
     p = subprocess.run([sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, timeout=120)
     assert p.returncode == 0 and p.stdout.startswith("clean:"), (p.returncode, p.stdout, p.stderr[-2000:])
+
+
+# ----- the shape constructors and the MJCF reader on arbitrary input -----
+
+_REAL = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True, width=64),
+    st.sampled_from([0.0, 1.0, -1.0, 1e-300, 1e300, 0.5]),
+)
+
+
+def _unchanged_or_one_more(w, before: int, add) -> None:
+    """``add(w)`` adds one valid body or raises a ValueError and adds nothing."""
+    try:
+        i = add(w)
+    except ValueError as e:
+        assert "\n" not in str(e).strip() and w.body_count == before, str(e)
+        return
+    assert w.body_count == before + 1 and i == before
+    b = w.body(i)
+    assert np.all(np.isfinite(b.position)) and (b.is_static or (b.mass > 0 and np.all(np.isfinite(b.inertia))))
+
+
+@settings(max_examples=150, deadline=None)
+@given(points=st.lists(st.tuples(_REAL, _REAL, _REAL), max_size=12))
+def test_add_convex_on_any_points_adds_a_valid_hull_or_nothing(points):
+    from lcpsim import World
+
+    w = World()
+    w.add_ground()
+    _unchanged_or_one_more(w, 1, lambda w: w.add_convex(np.array(points, dtype=float).reshape(-1, 3)))
+
+
+@settings(max_examples=150, deadline=None)
+@given(
+    points=st.lists(st.tuples(_REAL, _REAL, _REAL), max_size=8),
+    faces=st.lists(st.tuples(*[st.integers(-2, 9)] * 3), max_size=6),
+)
+def test_add_mesh_on_any_vertices_and_faces_adds_a_valid_mesh_or_nothing(points, faces):
+    from lcpsim import World
+
+    w = World()
+    _unchanged_or_one_more(
+        w, 0, lambda w: w.add_mesh(np.array(points, dtype=float).reshape(-1, 3), np.array(faces, dtype=np.int64).reshape(-1, 3))
+    )
+
+
+_MJCF = """<mujoco><option timestep="0.002"/><asset><mesh name="m" vertex="0 0 0 1 0 0 0 1 0 0 0 1"/></asset>
+<worldbody><geom type="plane" size="1 1 1"/><geom type="box" size=".1 .2 .3" pos="1 0 0"/>
+<body name="a" pos="0 0 1"><freejoint/><geom type="capsule" size=".1 .2" contype="2" conaffinity="3"/></body>
+<body name="b" pos="0 1 1"><freejoint/><geom type="mesh" mesh="m"/></body></worldbody></mujoco>"""
+
+
+@settings(max_examples=150, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), edits=st.integers(1, 6))
+def test_from_mjcf_on_mutated_xml_builds_a_world_or_raises_mjcf_error(seed, edits):
+    pytest.importorskip("mujoco")
+    from lcpsim import World
+    from lcpsim.mjcf import MjcfError
+
+    rng = random.Random(seed)
+    s = list(_MJCF)
+    for _ in range(edits):
+        k = rng.randrange(len(s))
+        op = rng.randrange(3)
+        if op == 0:
+            del s[k]
+        elif op == 1:
+            s.insert(k, rng.choice('<>/="-. 019aefxyz'))
+        else:
+            s[k] = rng.choice('<>/="-. 019aefxyz')
+    try:
+        w = World.from_mjcf("".join(s))
+    except MjcfError as e:
+        assert "\n" not in str(e).strip()
+        return
+    w.run(3)

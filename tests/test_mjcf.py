@@ -158,3 +158,61 @@ def test_cli_view_draws_an_mjcf_file(tmp_path):
                        capture_output=True, text=True, timeout=120)
     assert p.returncode == 0, p.stderr
     assert out.stat().st_size > 0 and "20 steps" in p.stdout
+
+
+FILTER_SCENE = """
+<mujoco model="filter">
+  <option timestep="0.002"/>
+  <worldbody>
+    <geom name="floor" type="plane" size="5 5 0.1" contype="1" conaffinity="3"/>
+    <geom name="shelf" type="box" size="0.5 0.5 0.05" pos="0 0 0.6"/>
+    <body name="ghost" pos="0 0 1"><freejoint/><geom type="sphere" size="0.1" contype="2" conaffinity="2"/></body>
+    <body name="crate" pos="1.2 0 1"><freejoint/><geom type="box" size="0.1 0.1 0.1"/></body>
+    <body name="lid" pos="0.3 0.3 0.8"><freejoint/><geom type="box" size="0.1 0.1 0.1"/></body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_mjcf_contype_conaffinity_filter_agrees_with_mujoco():
+    # The ghost ball (2/2) shares no bit with the shelf (1/1): it falls through the shelf onto
+    # the floor, whose affinity 3 takes its type 2; the lid (1/1) lands on the shelf.
+    w = World.from_mjcf(FILTER_SCENE)
+    assert w.collision_filter(w.body_id("ghost")) == (2, 2)
+    assert w.collision_filter(w.body_id("floor")) == (1, 3)
+    traj = w.run(500)
+    assert traj.lcp_stats().failures == 0
+    theirs, penetration = _mujoco_rest(FILTER_SCENE, 1.0)
+    assert theirs["ghost"][2] < 0.2 and theirs["lid"][2] > 0.6  # MuJoCo filters the same way
+    for name, p in theirs.items():
+        ours = traj.positions[-1, w.body_id(name)]
+        assert np.abs(ours - p).max() <= penetration + 1e-6, (name, ours, p, penetration)
+    np.testing.assert_allclose(traj.positions[-1, w.body_id("ghost")], [0, 0, 0.1], atol=1e-6)
+    np.testing.assert_allclose(traj.positions[-1, w.body_id("lid")], [0.3, 0.3, 0.75], atol=1e-6)
+
+
+@pytest.mark.parametrize(
+    "source, words",
+    [
+        ("<mujoco><worldbody><geom type='box' size='.1 .1 .1'></worldbody></mujoco>", ["could not compile"]),
+        ("<mujoco><worldbody><geom type='box' size='.1 .1 .1'/></worldbody>", ["could not compile"]),
+        ('<mujoco><asset><mesh name="rock" file="no_such_rock.stl"/></asset><worldbody>'
+         '<geom type="mesh" mesh="rock"/></worldbody></mujoco>', ["no_such_rock.stl"]),
+        ('<mujoco><asset><mesh name="flat" vertex="0 0 0 1 0 0 0 1 0 1 1 0"/></asset><worldbody>'
+         '<body name="f"><freejoint/><geom type="mesh" mesh="flat"/></body></worldbody></mujoco>', ["flat"]),
+        ('<mujoco><worldbody><body name="b"><freejoint/><geom type="sphere" size="nan"/></body></worldbody></mujoco>',
+         ["could not compile"]),
+    ],
+)
+def test_bad_mjcf_raises_one_line_naming_what_is_wrong(source, words):
+    with pytest.raises(MjcfError) as e:
+        World.from_mjcf(source)
+    msg = str(e.value)
+    assert "\n" not in msg
+    for word in words:
+        assert word in msg, msg
+
+
+def test_missing_mjcf_file_is_named(tmp_path):
+    with pytest.raises(MjcfError, match="nowhere.xml"):
+        World.from_mjcf(tmp_path / "nowhere.xml")

@@ -113,6 +113,10 @@ def test_box_rests_on_a_two_triangle_mesh_as_on_the_plane():
         (lambda w: w.add_mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 1]]), "faces", "degenerate"),
         (lambda w: w.add_mesh([[0, 0, 0], [1, 0, 0], [2, 0, 0]], [[0, 1, 2]]), "faces", "degenerate"),
         (lambda w: w.add_mesh([[0, 0, 0], [1, 0, 0]], [[0, 1]]), "faces", "(M, 3)"),
+        (lambda w: w.add_sphere(0.1, contype=-1), "contype", "-1"),
+        (lambda w: w.add_box(size=1.0, conaffinity=2**32), "conaffinity", "4294967296"),
+        (lambda w: w.add_plane(contype=1.5), "contype", "1.5"),
+        (lambda w: w.add_mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]], conaffinity="1"), "conaffinity", "'1'"),
     ],
 )
 def test_bad_shapes_raise_value_error_naming_field_and_value(call, field, value):
@@ -121,6 +125,29 @@ def test_bad_shapes_raise_value_error_naming_field_and_value(call, field, value)
         call(w)
     assert field in str(e.value) and value.lower() in str(e.value).lower(), str(e.value)
     assert w.body_count == 0
+
+
+def test_filtered_pair_passes_through_and_the_rest_still_collide():
+    """MuJoCo's rule, (contype1 & conaffinity2) | (contype2 & conaffinity1): a capsule of type 2,
+    affinity 2 falls through a static box (1, 1) as in free fall and lands on a mesh floor of
+    affinity 3; a sphere of the defaults lands on the box."""
+    w = World(dt=1e-3)
+    w.add_mesh([(-5, -5, 0), (5, -5, 0), (5, 5, 0), (-5, 5, 0)], [(0, 1, 2), (0, 2, 3)], conaffinity=3)
+    w.add_box(half_extents=(1, 1, 0.1), position=(0, 0, 1.0), static=True)
+    pill = w.add_capsule(0.1, 0.2, position=(0, 0, 1.5), orientation=_z_onto((1, 0, 0)), contype=2, conaffinity=2)
+    ball = w.add_sphere(0.1, position=(0.5, 0.5, 1.5))
+    assert w.collision_filter(pill) == (2, 2) and w.collision_filter(ball) == (1, 1)
+    traj = w.run(300)
+    n = np.arange(1, 301)
+    free_fall = 1.5 - G * 1e-6 * n * (n + 1) / 2  # semi-implicit Euler, exactly
+    np.testing.assert_allclose(traj.positions[:, pill, 2], free_fall, atol=1e-9)
+    traj = w.run(1200)
+    assert traj.lcp_stats().failures == 0
+    np.testing.assert_allclose(traj.positions[-1, pill], [0, 0, 0.1], atol=1e-4)  # on the floor, on its side
+    np.testing.assert_allclose(traj.positions[-1, ball], [0.5, 0.5, 1.2], atol=1e-4)  # on the box
+    w.set_collision_filter(ball, 0, 0)  # now it touches nothing
+    traj = w.run(200)
+    assert traj.positions[-1, ball, 2] < 1.2 - 0.15
 
 
 @pytest.mark.slow

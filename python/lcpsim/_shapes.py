@@ -1,13 +1,21 @@
-"""Array checks of the shapes with data (:meth:`lcpsim.World.add_convex`,
-:meth:`lcpsim.World.add_mesh`): shapes and size limits here, the rest
-(finite values, index ranges, degenerate faces) in Rust (``sim::geometry``)."""
+"""The shapes beyond boxes, spheres and planes — :meth:`World.add_capsule`,
+``add_cylinder``, ``add_convex``, ``add_mesh`` (:class:`ShapesMixin`, a base of
+:class:`lcpsim.World`) — and every body's collision bits (MuJoCo's
+``contype``/``conaffinity``). Array shapes, size limits and the bits are checked
+here, the rest (finite values, index ranges, degenerate faces) in Rust
+(``sim::geometry``), always before a body is added: a refused one adds nothing."""
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Callable, Sequence, Union
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
+
+from . import _core
+
+_BODY = _core.BODY_DEFAULTS
+Vec = Union[Sequence[float], NDArray[np.float64]]
 
 #: The most points :meth:`World.add_convex` takes, and the most vertices and
 #: triangles of :meth:`World.add_mesh` (``sim::geometry::MAX_*``).
@@ -40,3 +48,130 @@ def faces_array(faces: Any, limit: int) -> NDArray[np.int64]:
     if f.shape[0] > limit:
         raise ValueError(f"faces has {f.shape[0]} triangles, more than the limit of {limit}")
     return np.ascontiguousarray(f, dtype=np.int64)
+
+
+def collision_bits(contype: Any, conaffinity: Any) -> tuple[int, int]:
+    """MuJoCo's ``contype``, ``conaffinity`` as integers in [0, 2**32), else a ValueError
+    naming the field and value (checked before a body is added, so a bad one adds nothing)."""
+    out = []
+    for name, v in (("contype", contype), ("conaffinity", conaffinity)):
+        if isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, np.integer)) or not 0 <= int(v) < 2**32:
+            raise ValueError(f"{name} must be an integer in [0, 2**32), got {v!r}")
+        out.append(int(v))
+    return out[0], out[1]
+
+
+class ShapesMixin:
+    """The methods of :class:`lcpsim.World` for capsules, cylinders, hulls, meshes and
+    collision bits."""
+
+    _core: Any
+
+    def add_capsule(
+        self,
+        radius: float,
+        half_length: float,
+        mass: float = _BODY["mass"],
+        position: Vec = tuple(_BODY["position"]),
+        orientation: Vec = tuple(_BODY["orientation"]),
+        velocity: Vec = tuple(_BODY["velocity"]),
+        angular_velocity: Vec = tuple(_BODY["angular_velocity"]),
+        mu: float = _BODY["mu"],
+        *,
+        static: bool = _BODY["static"],
+        inertia: ArrayLike | None = None,
+        contype: int = _BODY["contype"],
+        conaffinity: int = _BODY["conaffinity"],
+    ) -> int:
+        """Adds a capsule (a segment of ±``half_length`` along body z, swept by ``radius``)."""
+        from .world import _real, _velocities  # (world imports this module)
+
+        v, wv = _velocities(velocity, angular_velocity)
+        size = (_real(radius, "radius"), _real(half_length, "half_length"))
+        return self._filtered(contype, conaffinity, lambda: self._core.add_body(
+            "capsule", size, mass, position, orientation, v, wv, mu, bool(static), inertia))
+
+    def add_cylinder(
+        self,
+        radius: float,
+        half_length: float,
+        mass: float = _BODY["mass"],
+        position: Vec = tuple(_BODY["position"]),
+        orientation: Vec = tuple(_BODY["orientation"]),
+        velocity: Vec = tuple(_BODY["velocity"]),
+        angular_velocity: Vec = tuple(_BODY["angular_velocity"]),
+        mu: float = _BODY["mu"],
+        *,
+        static: bool = _BODY["static"],
+        inertia: ArrayLike | None = None,
+        contype: int = _BODY["contype"],
+        conaffinity: int = _BODY["conaffinity"],
+    ) -> int:
+        """Adds a solid cylinder, axis along the body's z (as in MJCF), and returns its index."""
+        from .world import _real, _velocities
+
+        v, wv = _velocities(velocity, angular_velocity)
+        size = (_real(radius, "radius"), _real(half_length, "half_length"))
+        return self._filtered(contype, conaffinity, lambda: self._core.add_body(
+            "cylinder", size, mass, position, orientation, v, wv, mu, bool(static), inertia))
+
+    def add_convex(
+        self,
+        vertices: ArrayLike,
+        mass: float = _BODY["mass"],
+        position: Vec = tuple(_BODY["position"]),
+        orientation: Vec = tuple(_BODY["orientation"]),
+        velocity: Vec = tuple(_BODY["velocity"]),
+        angular_velocity: Vec = tuple(_BODY["angular_velocity"]),
+        mu: float = _BODY["mu"],
+        *,
+        static: bool = _BODY["static"],
+        inertia: ArrayLike | None = None,
+        contype: int = _BODY["contype"],
+        conaffinity: int = _BODY["conaffinity"],
+    ) -> int:
+        """Adds the convex hull of ``vertices`` ((N, 3), ≥ 4 not in one plane, ≤ MAX_HULL_POINTS);
+        the body frame is at the solid hull's centre of mass (``position`` places it;
+        ``body(i).com_offset`` is where it was among the points), inertia its full tensor."""
+        from .world import _velocities
+
+        pts = points_array(vertices, "vertices", MAX_HULL_POINTS)
+        v, wv = _velocities(velocity, angular_velocity)
+        return self._filtered(contype, conaffinity, lambda: self._core.add_body(
+            "convex", pts, mass, position, orientation, v, wv, mu, bool(static), inertia))
+
+    def add_mesh(
+        self,
+        vertices: ArrayLike,
+        faces: ArrayLike,
+        mu: float = _BODY["mu"],
+        *,
+        position: Vec = tuple(_BODY["position"]),
+        orientation: Vec = tuple(_BODY["orientation"]),
+        contype: int = _BODY["contype"],
+        conaffinity: int = _BODY["conaffinity"],
+    ) -> int:
+        """Adds a static triangle mesh: ``vertices`` (N, 3) in its frame (placed by ``position``,
+        ``orientation``), ``faces`` (M, 3) indices; limits MAX_MESH_VERTICES, MAX_MESH_FACES."""
+        pts = points_array(vertices, "vertices", MAX_MESH_VERTICES)
+        f = faces_array(faces, MAX_MESH_FACES)
+        return self._filtered(contype, conaffinity, lambda: self._core.add_mesh(pts, f, mu, position, orientation))
+
+    def _filtered(self, contype: Any, conaffinity: Any, add: Callable[[], Any]) -> int:
+        """``add()``'s body with its collision bits, checked first: bad bits add nothing."""
+        bits = collision_bits(contype, conaffinity)
+        index = int(add())
+        if bits != (_BODY["contype"], _BODY["conaffinity"]):
+            self._core.set_collision_filter(index, *bits)
+        return index
+
+    def set_collision_filter(self, body: int, contype: int, conaffinity: int) -> None:
+        """Sets which bodies ``body`` may touch, by MuJoCo's rule: two bodies collide iff
+        ``(contype1 & conaffinity2) | (contype2 & conaffinity1) != 0``. Every ``add_*``
+        takes ``contype``, ``conaffinity`` too (default 1, 1: everything collides)."""
+        self._core.set_collision_filter(body, *collision_bits(contype, conaffinity))
+
+    def collision_filter(self, body: int) -> tuple[int, int]:
+        """``(contype, conaffinity)`` of a body."""
+        d = self._core.body(body)
+        return int(d["contype"]), int(d["conaffinity"])

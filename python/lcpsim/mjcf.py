@@ -18,15 +18,15 @@ the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
 - static geoms of the world body and of bodies welded to it (plane, box,
   sphere, capsule, cylinder, mesh as its convex hull);
 - μ = ``geom_friction[0]``, combined by ``max`` as MuJoCo does (unless
-  ``mu_combine`` is given); ``dt`` = ``opt.timestep``, ``gravity`` = ``opt.gravity``.
+  ``mu_combine`` is given); ``dt`` = ``opt.timestep``, ``gravity`` = ``opt.gravity``;
+- ``geom_contype``, ``geom_conaffinity`` as each body's collision bits (MuJoCo's
+  rule: two geoms collide iff ``(contype1 & conaffinity2) | (contype2 & conaffinity1)``).
 
 Everything else is refused with :class:`MjcfError` (a ``ValueError``) naming
 the element and its name: other joints (hinge, slide, ball), a freejoint body
 inside another body, bodies welded to a moving body, several colliding geoms
 on one moving body, ellipsoids, height fields, SDFs, tendons, actuators,
-equality constraints, explicit contact pairs and excludes, and pairs of geoms
-that MuJoCo's contype/conaffinity bits would keep apart (lcpsim has no
-collision filter).
+equality constraints, explicit contact pairs and excludes.
 """
 
 from __future__ import annotations
@@ -155,21 +155,6 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
             bname = _name(mujoco, m, OBJ.mjOBJ_BODY, b)
             if len(gs) != 1:
                 raise MjcfError(f"body {bname!r} has {len(gs)} colliding geoms (a moving body needs exactly one)")
-    # MuJoCo's filter: geoms collide iff (contype1 & conaffinity2) | (contype2 & conaffinity1).
-    ct = np.array([int(m.geom_contype[g]) for g in colliding], dtype=np.int64)
-    ca = np.array([int(m.geom_conaffinity[g]) for g in colliding], dtype=np.int64)
-    dyn = np.array([moving[int(m.geom_bodyid[g])] for g in colliding], dtype=bool)
-    if len(colliding) > 1:
-        ok = ((ct[:, None] & ca[None, :]) | (ct[None, :] & ca[:, None])) != 0
-        relevant = dyn[:, None] | dyn[None, :]
-        bad = np.argwhere(relevant & ~ok & ~np.eye(len(colliding), dtype=bool))
-        if len(bad):
-            g1, g2 = colliding[int(bad[0][0])], colliding[int(bad[0][1])]
-            raise MjcfError(
-                f"geoms {_name(mujoco, m, OBJ.mjOBJ_GEOM, g1)!r} and {_name(mujoco, m, OBJ.mjOBJ_GEOM, g2)!r} never "
-                "collide in MuJoCo (contype/conaffinity); lcpsim has no collision filter"
-            )
-
     world_kwargs.setdefault("dt", float(m.opt.timestep))
     world_kwargs.setdefault("gravity", tuple(float(x) for x in m.opt.gravity))
     world_kwargs.setdefault("mu_combine", "max")
@@ -202,7 +187,8 @@ def _add_geom(mujoco: Any, m: Any, d: Any, world: Any, g: int, b: int, moving: b
     rot = np.array(d.geom_xmat[g], dtype=np.float64).reshape(3, 3)
     quat = _quat_of(mujoco, rot)
     mu = float(m.geom_friction[g][0])
-    kw: dict[str, Any] = {"position": pos, "orientation": quat, "mu": mu}
+    bits = {"contype": int(m.geom_contype[g]), "conaffinity": int(m.geom_conaffinity[g])}
+    kw: dict[str, Any] = {"position": pos, "orientation": quat, "mu": mu, **bits}
     if moving:
         com = np.array(d.xipos[b], dtype=np.float64)
         scale = max(1.0, float(np.max(np.abs(size))))
@@ -217,7 +203,7 @@ def _add_geom(mujoco: Any, m: Any, d: Any, world: Any, g: int, b: int, moving: b
         kw["static"] = True
     if t == 0:  # plane: the geom's z is its normal
         n = rot[:, 2]
-        idx = world.add_plane(tuple(n), float(n @ pos), mu)
+        idx = world.add_plane(tuple(n), float(n @ pos), mu, **bits)
     elif t == 2:
         idx = world.add_sphere(float(size[0]), **kw)
     elif t == 3:

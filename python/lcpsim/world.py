@@ -36,7 +36,7 @@ from ._json import jsonable
 from .lcp import _new_object, _set_attribute
 from .scale import parse_cone_scale
 from .stabilization import FIELDS as STABILIZATION_FIELDS, Stabilization, as_stabilization
-from ._shapes import MAX_HULL_POINTS, MAX_MESH_FACES, MAX_MESH_VERTICES, faces_array, points_array
+from ._shapes import ShapesMixin
 from .trajectory import NO_CONTACT, ContactLog, LcpStats, Trajectory, quat_angle
 
 if TYPE_CHECKING:
@@ -245,7 +245,7 @@ class StepRecord:
 
 
 
-class World:
+class World(ShapesMixin):
     """A rigid-body world stepped with the Stewart–Trinkle contact LCP.
 
     Parameters
@@ -442,6 +442,8 @@ class World:
         size: float | Vec | None = None,
         static: bool = _BODY["static"],
         inertia: ArrayLike | None = None,
+        contype: int = _BODY["contype"],
+        conaffinity: int = _BODY["conaffinity"],
     ) -> int:
         """Adds a box and returns its index.
 
@@ -460,7 +462,8 @@ class World:
         else:
             he = half_extents
         v, wv = _velocities(velocity, angular_velocity)
-        return int(self._core.add_body("box", he, mass, position, orientation, v, wv, mu, bool(static), inertia))
+        return self._filtered(contype, conaffinity, lambda: self._core.add_body(
+            "box", he, mass, position, orientation, v, wv, mu, bool(static), inertia))
 
     def add_sphere(
         self,
@@ -474,91 +477,22 @@ class World:
         *,
         static: bool = _BODY["static"],
         inertia: ArrayLike | None = None,
+        contype: int = _BODY["contype"],
+        conaffinity: int = _BODY["conaffinity"],
     ) -> int:
         """Adds a solid sphere and returns its index (``velocity`` may hold ``[v; ω]``)."""
         v, wv = _velocities(velocity, angular_velocity)
-        return int(self._core.add_body("sphere", radius, mass, position, orientation, v, wv, mu, bool(static), inertia))
-
-    def add_capsule(
-        self,
-        radius: float,
-        half_length: float,
-        mass: float = _BODY["mass"],
-        position: Vec = tuple(_BODY["position"]),
-        orientation: Vec = tuple(_BODY["orientation"]),
-        velocity: Vec = tuple(_BODY["velocity"]),
-        angular_velocity: Vec = tuple(_BODY["angular_velocity"]),
-        mu: float = _BODY["mu"],
-        *,
-        static: bool = _BODY["static"],
-        inertia: ArrayLike | None = None,
-    ) -> int:
-        """Adds a capsule (a segment of ±``half_length`` along body z, swept by ``radius``)."""
-        v, wv = _velocities(velocity, angular_velocity)
-        size = (_real(radius, "radius"), _real(half_length, "half_length"))
-        return int(self._core.add_body("capsule", size, mass, position, orientation, v, wv, mu, bool(static), inertia))
-
-    def add_cylinder(
-        self,
-        radius: float,
-        half_length: float,
-        mass: float = _BODY["mass"],
-        position: Vec = tuple(_BODY["position"]),
-        orientation: Vec = tuple(_BODY["orientation"]),
-        velocity: Vec = tuple(_BODY["velocity"]),
-        angular_velocity: Vec = tuple(_BODY["angular_velocity"]),
-        mu: float = _BODY["mu"],
-        *,
-        static: bool = _BODY["static"],
-        inertia: ArrayLike | None = None,
-    ) -> int:
-        """Adds a solid cylinder, axis along the body's z (as in MJCF), and returns its index."""
-        v, wv = _velocities(velocity, angular_velocity)
-        size = (_real(radius, "radius"), _real(half_length, "half_length"))
-        return int(self._core.add_body("cylinder", size, mass, position, orientation, v, wv, mu, bool(static), inertia))
-
-    def add_convex(
-        self,
-        vertices: ArrayLike,
-        mass: float = _BODY["mass"],
-        position: Vec = tuple(_BODY["position"]),
-        orientation: Vec = tuple(_BODY["orientation"]),
-        velocity: Vec = tuple(_BODY["velocity"]),
-        angular_velocity: Vec = tuple(_BODY["angular_velocity"]),
-        mu: float = _BODY["mu"],
-        *,
-        static: bool = _BODY["static"],
-        inertia: ArrayLike | None = None,
-    ) -> int:
-        """Adds the convex hull of ``vertices`` ((N, 3), ≥ 4 not in one plane, ≤ MAX_HULL_POINTS);
-        the body frame is at the solid hull's centre of mass (``position`` places it;
-        ``body(i).com_offset`` is where it was among the points), inertia its full tensor."""
-        pts = points_array(vertices, "vertices", MAX_HULL_POINTS)
-        v, wv = _velocities(velocity, angular_velocity)
-        return int(self._core.add_body("convex", pts, mass, position, orientation, v, wv, mu, bool(static), inertia))
-
-    def add_mesh(
-        self,
-        vertices: ArrayLike,
-        faces: ArrayLike,
-        mu: float = _BODY["mu"],
-        *,
-        position: Vec = tuple(_BODY["position"]),
-        orientation: Vec = tuple(_BODY["orientation"]),
-    ) -> int:
-        """Adds a static triangle mesh: ``vertices`` (N, 3) in its frame (placed by ``position``,
-        ``orientation``), ``faces`` (M, 3) indices; limits MAX_MESH_VERTICES, MAX_MESH_FACES."""
-        pts = points_array(vertices, "vertices", MAX_MESH_VERTICES)
-        f = faces_array(faces, MAX_MESH_FACES)
-        return int(self._core.add_mesh(pts, f, mu, position, orientation))
+        return self._filtered(contype, conaffinity, lambda: self._core.add_body(
+            "sphere", radius, mass, position, orientation, v, wv, mu, bool(static), inertia))
 
     def add_plane(
-        self, normal: Vec = (0.0, 0.0, 1.0), offset: float = 0.0, mu: float = _BODY["mu"], *, tangent: Vec | None = None
+        self, normal: Vec = (0.0, 0.0, 1.0), offset: float = 0.0, mu: float = _BODY["mu"], *, tangent: Vec | None = None,
+        contype: int = _BODY["contype"], conaffinity: int = _BODY["conaffinity"],
     ) -> int:
         """Adds a static plane ``normal·x = offset`` (solid below it) and returns
         its index. ``tangent`` sets its contacts' first friction direction
         (default: downhill on a tilted plane, else x projected into the plane)."""
-        return int(self._core.add_plane(normal, offset, mu, tangent))
+        return self._filtered(contype, conaffinity, lambda: self._core.add_plane(normal, offset, mu, tangent))
 
     def add_ground(self, mu: float = _BODY["mu"], height: float = 0.0) -> int:
         """Adds the level ground ``z = height``."""

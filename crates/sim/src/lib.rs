@@ -47,7 +47,7 @@ pub mod solve_chain;
 pub mod world;
 
 pub use contact::{ConeScale, MuCombine, Restitution, Stabilization};
-pub use dynamics::{Body, BodyDesc, BodyId};
+pub use dynamics::{Body, BodyDesc, BodyId, CollisionFilter};
 pub use error::SimError;
 pub use geometry::{Contact, ConvexHull, Downhill, Plane, Shape, TriMeshShape};
 pub use params::WorldParams;

@@ -246,6 +246,13 @@ impl World {
         Ok(())
     }
 
+    /// Sets which bodies this one may touch (MuJoCo's contype/conaffinity rule,
+    /// [`crate::CollisionFilter`]); any body, static ones and planes too.
+    pub fn set_collision_filter(&mut self, id: BodyId, contype: u32, conaffinity: u32) -> Result<(), SimError> {
+        self.body_mut(id)?.filter = crate::CollisionFilter::new(contype, conaffinity);
+        Ok(())
+    }
+
     // ----- external forces -----
 
     /// Applies a constant force (world frame, N) every step until

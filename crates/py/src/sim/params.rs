@@ -68,6 +68,8 @@ pub fn body_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     d.set_item("angular_velocity", b.angular_velocity.to_array().to_vec())?;
     d.set_item("mu", b.mu)?;
     d.set_item("static", b.is_static)?;
+    d.set_item("contype", b.filter.contype)?;
+    d.set_item("conaffinity", b.filter.conaffinity)?;
     Ok(d)
 }
 

@@ -318,6 +318,8 @@ impl World {
         d.set_item("is_static", b.is_static())?;
         d.set_item("mass", b.mass())?;
         d.set_item("mu", b.mu())?;
+        d.set_item("contype", b.collision_filter().contype)?;
+        d.set_item("conaffinity", b.collision_filter().conaffinity)?;
         d.set_item("position", arr3(py, b.position()))?;
         d.set_item("orientation", PyArray1::from_vec(py, b.orientation().to_array().to_vec()))?;
         d.set_item("velocity", arr3(py, b.velocity()))?;
@@ -392,6 +394,15 @@ impl World {
 
     fn set_mu(&mut self, body: &Bound<'_, PyAny>, mu: &Bound<'_, PyAny>) -> PyResult<()> {
         self.on_body(body, real(mu, "mu")?, sim::World::set_mu)
+    }
+
+    /// MuJoCo's collision bits of a body (any body; both integers in [0, 2³²)).
+    fn set_collision_filter(&mut self, body: &Bound<'_, PyAny>, contype: u64, conaffinity: u64) -> PyResult<()> {
+        let bits = |v: u64, field: &str| {
+            u32::try_from(v).map_err(|_| value_error(format!("{field} must be an integer in [0, 2**32), got {v}")))
+        };
+        let (t, a) = (bits(contype, "contype")?, bits(conaffinity, "conaffinity")?);
+        self.on_body(body, (t, a), |w, id, (t, a)| w.set_collision_filter(id, t, a))
     }
 
     // ----- forces -----

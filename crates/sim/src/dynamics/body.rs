@@ -1,5 +1,6 @@
 //! `Body` (validated, owned by the world) and `BodyDesc` (what a user fills in).
 
+use super::collision_filter::CollisionFilter;
 use crate::error::{finite_vec, non_negative, positive, SimError};
 use crate::geometry::{Placement, Shape};
 use crate::math::{Mat3, Quat, Vec3};
@@ -48,6 +49,8 @@ pub struct BodyDesc {
     pub mu: f64,
     /// A static body never moves (infinite mass). Planes must be static. Default false.
     pub is_static: bool,
+    /// Which other bodies this one may touch (MuJoCo's contype/conaffinity). Default 1, 1: all.
+    pub filter: CollisionFilter,
 }
 
 /// Builder methods `field(self, value) -> Self`, one per field named.
@@ -74,6 +77,7 @@ impl BodyDesc {
             angular_velocity: Vec3::ZERO,
             mu: 0.5,
             is_static: shape.is_static_only(),
+            filter: CollisionFilter::default(),
             shape,
         }
     }
@@ -126,6 +130,11 @@ impl BodyDesc {
         self.is_static = is_static;
         self
     }
+    /// The collision bits `contype`, `conaffinity` (see [`CollisionFilter`]).
+    pub fn collision_filter(mut self, contype: u32, conaffinity: u32) -> Self {
+        self.filter = CollisionFilter::new(contype, conaffinity);
+        self
+    }
 }
 
 /// A validated rigid body. Read it through `World::body`; change it through
@@ -143,6 +152,7 @@ pub struct Body {
     pub(crate) angular_velocity: Vec3,
     pub(crate) mu: f64,
     pub(crate) is_static: bool,
+    pub(crate) filter: CollisionFilter,
 }
 
 impl Body {
@@ -178,6 +188,7 @@ impl Body {
                 angular_velocity: Vec3::ZERO,
                 mu: d.mu,
                 is_static: true,
+                filter: d.filter,
             });
         }
         positive("mass", d.mass)?;
@@ -206,6 +217,7 @@ impl Body {
             angular_velocity: d.angular_velocity,
             mu: d.mu,
             is_static: false,
+            filter: d.filter,
         })
     }
 
@@ -245,6 +257,10 @@ impl Body {
     }
     pub fn is_static(&self) -> bool {
         self.is_static
+    }
+    /// Its collision bits (MuJoCo's contype/conaffinity).
+    pub fn collision_filter(&self) -> CollisionFilter {
+        self.filter
     }
 
     /// Rotation matrix body → world.

@@ -6,9 +6,11 @@
 //! to the contact LCP's `A = J M_b⁻¹ Jᵀ`.
 
 pub(crate) mod body;
+mod collision_filter;
 mod forces;
 mod integrate;
 
 pub use body::{Body, BodyDesc, BodyId};
+pub use collision_filter::CollisionFilter;
 pub use forces::{AppliedForce, AppliedTorque};
 pub use integrate::{free_velocity, integrate_positions};

@@ -187,5 +187,6 @@ fn principal_body(
         angular_velocity: angular,
         mu: 0.0,
         is_static: false,
+        filter: Default::default(),
     }
 }

@@ -9,6 +9,10 @@
 //! environment sends the primitives' pairs to parry as well (to compare the
 //! two; read once per process).
 //!
+//! Pairs that the bodies' collision filters keep apart
+//! (`CollisionFilter`, MuJoCo's contype/conaffinity rule) are skipped before
+//! the narrow phase.
+//!
 //! Each contact gets its bodies in the order of the pair function (A = the
 //! first shape of its name; for two shapes of one kind, the lower index), the
 //! combined μ, and its friction tangent: the plane's own tangent (downhill on
@@ -51,6 +55,10 @@ impl World {
         let all_parry = parry_for_primitives();
         for &(i, j) in ws.broad.pairs() {
             let (bi, bj) = (&self.bodies[i], &self.bodies[j]);
+            // MuJoCo's contype/conaffinity rule: a filtered pair gets no contact.
+            if !bi.filter.collides_with(&bj.filter) {
+                continue;
+            }
             let margin = margin.of(i, j);
             // Narrow phase, with A/B in the order of the pair function.
             ws.geom.clear();
