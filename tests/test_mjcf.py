@@ -200,8 +200,8 @@ def test_mjcf_contype_conaffinity_filter_agrees_with_mujoco():
          '<geom type="mesh" mesh="rock"/></worldbody></mujoco>', ["no_such_rock.stl"]),
         ('<mujoco><asset><mesh name="flat" vertex="0 0 0 1 0 0 0 1 0 1 1 0"/></asset><worldbody>'
          '<body name="f"><freejoint/><geom type="mesh" mesh="flat"/></body></worldbody></mujoco>', ["flat"]),
-        ('<mujoco><worldbody><body name="b"><freejoint/><geom type="sphere" size="nan"/></body></worldbody></mujoco>',
-         ["could not compile"]),
+        ('<mujoco><worldbody><body name="b"><freejoint/><geom type="sphere" size="-1"/></body></worldbody></mujoco>',
+         ["could not compile", "must be positive"]),
     ],
 )
 def test_bad_mjcf_raises_one_line_naming_what_is_wrong(source, words):
@@ -216,3 +216,24 @@ def test_bad_mjcf_raises_one_line_naming_what_is_wrong(source, words):
 def test_missing_mjcf_file_is_named(tmp_path):
     with pytest.raises(MjcfError, match="nowhere.xml"):
         World.from_mjcf(tmp_path / "nowhere.xml")
+
+
+def test_the_benchmark_bin_file_loads_alike_in_both_engines():
+    """benchmarks/scenes/mixed_bin.xml (benchmarks/mjcf_bin.py): every free body where MuJoCo
+    puts its centre of mass, with MuJoCo's mass; the bin's static geoms; the file's time step."""
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parent.parent / "benchmarks" / "scenes" / "mixed_bin.xml"
+    m = mujoco.MjModel.from_xml_path(str(path))
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    w = World.from_mjcf(path)
+    assert w.dt == m.opt.timestep and w.body_count == m.ngeom  # one lcpsim body per colliding geom
+    kinds = {"box": "box", "sphere": "sphere", "capsule": "capsule", "cylinder": "cylinder", "mesh": "convex"}
+    for b in range(1, m.nbody):
+        name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b)
+        body = w.body(w.body_id(name))
+        assert body.kind == kinds[name.rstrip("0123456789")]
+        assert body.mass == pytest.approx(float(m.body_mass[b]), rel=1e-12)
+        np.testing.assert_allclose(body.position, d.xipos[b], atol=1e-9, err_msg=name)
+    assert sum(w.body(i).is_static for i in range(w.body_count)) == 5  # floor and four walls
