@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs every fuzz target for a fixed time (see docs/reliability.md):
 #   bash scripts/fuzz.sh [SECONDS per target, default 180] [TARGET ...]
-# TARGETs (default: all, one after another): lcp_solvers, world — Rust
+# TARGETs (default: all, one after another): lcp_solvers, world, shapes — Rust
 # (fuzz/, cargo-fuzz on nightly), one process each (-jobs=1 workers), corpus in
 # fuzz/corpus/TARGET, crashes in fuzz/artifacts/TARGET; readers — the Python
 # readers (scripts/fuzz_readers.py), findings in fuzz/artifacts/readers;
@@ -12,7 +12,7 @@ set -uo pipefail
 secs="${1:-180}"
 shift || true
 targets=("$@")
-[ "${#targets[@]}" -gt 0 ] || targets=(lcp_solvers world readers fclib)
+[ "${#targets[@]}" -gt 0 ] || targets=(lcp_solvers world shapes readers fclib)
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cd "$root"
 status=0
@@ -22,7 +22,7 @@ readers() {  # OUT [READERS]
 }
 for target in "${targets[@]}"; do
   case "$target" in
-    lcp_solvers | world)
+    lcp_solvers | world | shapes)
       command -v cargo-fuzz >/dev/null || cargo install cargo-fuzz --locked
       mkdir -p "fuzz/corpus/$target" "fuzz/artifacts/$target"
       log="fuzz/artifacts/$target/run.log"

@@ -1,0 +1,40 @@
+//! The `shapes` fuzz target's properties (`tests/shape_properties/mod.rs`) in
+//! the normal test suite: any hull points and mesh vertices and faces give a
+//! shape or a `BadGeometry` naming the field, never a panic, and a world with
+//! the shape steps cleanly.
+
+mod properties;
+mod shape_properties;
+
+use proptest::prelude::*;
+use proptest::strategy::ValueTree;
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
+
+    #[test]
+    fn any_hull_or_mesh_is_a_shape_or_a_named_refusal(data in proptest::collection::vec(any::<u8>(), 0..400)) {
+        if let Err(e) = shape_properties::check(&data) {
+            prop_assert!(false, "{}", e);
+        }
+    }
+}
+
+/// The decoder reaches both sides: random inputs give accepted hulls and
+/// meshes that step, and refusals.
+#[test]
+fn random_shapes_are_accepted_and_refused_and_step() {
+    let mut runner = proptest::test_runner::TestRunner::deterministic();
+    let (mut accepted, mut refused, mut steps) = (0, 0, 0);
+    for _ in 0..300 {
+        let data = proptest::collection::vec(any::<u8>(), 0..400).new_tree(&mut runner).unwrap().current();
+        let s = shape_properties::check(&data).unwrap();
+        if s.accepted {
+            accepted += 1;
+        } else {
+            refused += 1;
+        }
+        steps += s.steps;
+    }
+    assert!(accepted >= 30 && refused >= 30 && steps >= 100, "accepted {accepted}, refused {refused}, steps {steps}");
+}
