@@ -23,6 +23,8 @@ pub enum SimError {
     FrictionDirs { k: usize },
     /// A body index that the world does not hold.
     UnknownBody { index: usize, bodies: usize },
+    /// A joint index that the world does not hold.
+    UnknownJoint { index: usize, joints: usize },
     /// An operation that needs a dynamic body got a static one (forces on static bodies).
     StaticBody { index: usize },
     /// Planes are infinite: they can only be static.
@@ -62,6 +64,9 @@ impl fmt::Display for SimError {
             SimError::FrictionDirs { k } => write!(f, "friction_dirs must be even and >= 2, got {k}"),
             SimError::UnknownBody { index, bodies } => {
                 write!(f, "body {index} does not exist (the world has {bodies} bodies)")
+            }
+            SimError::UnknownJoint { index, joints } => {
+                write!(f, "joint {index} does not exist (the world has {joints} joints)")
             }
             SimError::StaticBody { index } => write!(f, "body {index} is static"),
             SimError::DynamicPlane => write!(f, "a plane must be static"),

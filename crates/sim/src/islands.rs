@@ -101,9 +101,21 @@ impl Islands {
 
     /// Groups `contacts` (between `bodies`) into islands.
     pub fn build(&mut self, contacts: &[Contact], bodies: &[Body]) {
+        self.build_linked(contacts, bodies, &[]);
+    }
+
+    /// As [`Islands::build`], with `links` (pairs of dynamic bodies joined
+    /// by a joint) joining islands as contacts do. An island still needs a
+    /// contact: bodies linked only by joints are in no island.
+    pub fn build_linked(&mut self, contacts: &[Contact], bodies: &[Body], links: &[(usize, usize)]) {
         let nb = bodies.len();
         self.parent.clear();
         self.parent.extend(0..nb);
+        for &(a, b) in links {
+            let (ra, rb) = (self.find(a), self.find(b));
+            let (lo, hi) = (ra.min(rb), ra.max(rb));
+            self.parent[hi] = lo;
+        }
         // Join the dynamic bodies of every contact (the lower root wins: deterministic).
         for c in contacts {
             if bodies[c.body_a].is_static || bodies[c.body_b].is_static {

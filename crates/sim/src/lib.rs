@@ -37,6 +37,7 @@ pub mod error;
 pub mod generate;
 pub mod geometry;
 pub mod islands;
+pub mod joints;
 pub mod limits;
 pub mod math;
 pub mod parallel;
@@ -50,6 +51,7 @@ pub use contact::{ConeScale, MuCombine, Restitution, Stabilization};
 pub use dynamics::{Body, BodyDesc, BodyId, CollisionFilter};
 pub use error::SimError;
 pub use geometry::{Contact, ConvexHull, Downhill, Plane, Shape, TriMeshShape};
+pub use joints::{Joint, JointDesc, JointId, JointKind, JointParams, JointReaction};
 pub use params::WorldParams;
 pub use pipeline::{
     Captured, CapturedLcp, EnergyAudit, IslandRecord, LcpBuffer, LcpSink, OwnedLcp, Retake, StepRecord, Trajectory,

@@ -31,6 +31,9 @@ pub struct World {
     pub(crate) sink: Option<Box<dyn LcpSink>>,
     pub(crate) ws: Workspace,
     pub(crate) record: StepRecord,
+    /// Joints between bodies (`joints`), and their parameters.
+    pub(crate) joints: Vec<crate::joints::Joint>,
+    pub(crate) joint_params: crate::joints::JointParams,
 }
 
 impl Clone for World {
@@ -48,6 +51,8 @@ impl Clone for World {
             // The warm starts go along: the copy steps as the original would.
             ws: Workspace { warm: self.ws.warm.clone(), ..Workspace::default() },
             record: self.record.clone(),
+            joints: self.joints.clone(),
+            joint_params: self.joint_params,
         }
     }
 }
@@ -88,6 +93,8 @@ pub(crate) struct Workspace {
     pub part_h: Option<f64>,
     /// The parts of the step being taken.
     pub parts: Parts,
+    /// This step's joint rows, their factorization and impulses (`joints`).
+    pub joints: crate::joints::JointSystem,
 }
 
 impl std::fmt::Debug for World {
@@ -115,6 +122,8 @@ impl World {
             sink: None,
             ws: Workspace::default(),
             record: StepRecord::default(),
+            joints: Vec::new(),
+            joint_params: Default::default(),
         })
     }
 

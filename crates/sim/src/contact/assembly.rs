@@ -466,6 +466,70 @@ impl ContactLcp {
         }
     }
 
+    /// Replaces contact `c`'s rows by a row that is not a point's (a joint
+    /// limit, `joints::limits`): normal row `jac` per side (`None`: no body
+    /// on that side), zero friction rows, `q` of its normal `q_n` (of its
+    /// friction rows 0). Call before the dense `M` is formed (or form it again).
+    pub fn set_generalized_row(
+        &mut self,
+        c: usize,
+        body: [Option<usize>; 2],
+        jac: [Row6; 2],
+        minv: [Row6; 2],
+        q_n: f64,
+    ) {
+        for side in 0..2 {
+            let k = 2 * c + side;
+            self.side_body[k] = body[side];
+            self.side_slot[k] = body[side].map(|b| self.seen.partition_point(|&x| x < b));
+            self.jac[k] = [jac[side], [0.0; 6], [0.0; 6]];
+            self.minv_jt[k] = [minv[side], [0.0; 6], [0.0; 6]];
+        }
+        let nn = (0..2).filter(|&s| body[s].is_some()).map(|s| dot6(&jac[s], &minv[s])).sum();
+        self.delassus[c] = [nn, 0.0, 0.0, 0.0];
+        let lay = self.layout;
+        self.q[c] = q_n;
+        for f in lay.fd_of(c) {
+            self.q[f] = 0.0;
+        }
+        self.matrix_ready = false;
+    }
+
+    /// Subtracts from the impulse block of the formed `M` a symmetric block
+    /// `c` given on the contacts' frame rows (`3·nc` square, row-major, rows
+    /// `n, t1, t2` per contact), expanded as the rows of `fn` and each `d_j`
+    /// are (`joints::elimination`: the joints' coupling `Bᵀ S⁺ B`).
+    pub fn subtract_frame_block(&mut self, c: &[f64]) {
+        let lay = self.layout;
+        let (n, na, nf) = (lay.n(), lay.impulses(), 3 * lay.nc);
+        debug_assert!(self.has_matrix() && c.len() == nf * nf);
+        // Each impulse unknown as (contact, weights on its n, t1, t2 rows).
+        let weights: Vec<(usize, [f64; 3])> = (0..na)
+            .map(|i| {
+                let k = lay.contact_of(i);
+                if i == lay.fn_index(k) {
+                    (k, [1.0, 0.0, 0.0])
+                } else {
+                    let (cj, sj) = self.trig[i - lay.fd_of(k).start];
+                    (k, [0.0, cj, sj])
+                }
+            })
+            .collect();
+        for (i, &(ci, wi)) in weights.iter().enumerate() {
+            for (j, &(cj, wj)) in weights.iter().enumerate().skip(i) {
+                let mut v = 0.0;
+                for (a, &wa) in wi.iter().enumerate().filter(|(_, w)| **w != 0.0) {
+                    let crow = &c[(3 * ci + a) * nf + 3 * cj..(3 * ci + a) * nf + 3 * cj + 3];
+                    v += wa * (crow[0] * wj[0] + crow[1] * wj[1] + crow[2] * wj[2]);
+                }
+                self.m[i * n + j] -= v;
+                if i != j {
+                    self.m[j * n + i] -= v;
+                }
+            }
+        }
+    }
+
     /// Room for the dense `M` of `n` unknowns (`try_reserve`: an allocation the
     /// system refuses is an error, not an abort).
     pub fn reserve_matrix(&mut self, n: usize) -> Result<(), lcp::limits::SizeError> {

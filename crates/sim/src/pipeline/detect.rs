@@ -59,6 +59,10 @@ impl World {
             if !bi.filter.collides_with(&bj.filter) {
                 continue;
             }
+            // Bodies joined by a joint do not collide.
+            if ws.joints.joins(i, j) {
+                continue;
+            }
             let margin = margin.of(i, j);
             // Narrow phase, with A/B in the order of the pair function.
             ws.geom.clear();
@@ -139,6 +143,8 @@ impl World {
                 });
             }
         }
+        // the joint limits this step may reach, as frictionless contacts
+        self.joint_limit_contacts();
     }
 
     /// The pairs the last `detect` handed to the narrow phase, sorted by `(i, j)`.

@@ -57,6 +57,9 @@ pub struct IslandLcp {
     pub body_eta: f64,
     /// Buffers of that check.
     pub check: BodyCheck,
+    /// A joint holds one of its bodies: its `M` is coupled through the
+    /// joints (`joints::elimination`) and it is solved on the dense path.
+    pub jointed: bool,
 }
 
 impl IslandLcp {

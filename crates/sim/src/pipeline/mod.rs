@@ -195,6 +195,8 @@ impl World {
             ws.v_free.push(v);
             ws.w_free.push(w);
         }
+        // v* projected onto the joints (nothing without joints)
+        self.joints_project();
         Ok(())
     }
 
@@ -208,7 +210,7 @@ impl World {
     /// and hands each island its contacts.
     pub fn islands(&mut self) {
         let ws = &mut self.ws;
-        ws.islands.build(&ws.contacts, &self.bodies);
+        ws.islands.build_linked(&ws.contacts, &self.bodies, &ws.joints.links);
         let count = ws.islands.len();
         if ws.pool.len() < count {
             ws.pool.resize_with(count, Default::default);
@@ -293,6 +295,8 @@ impl World {
         };
         let mut states = vec![(); threads];
         parallel::for_each(&mut ws.pool[..count], &mut states, |_, isl| isl.assemble(&dynamics, &p, matrix));
+        // islands with a joint: the dense M coupled through the joints
+        self.joints_couple();
     }
 
     /// Stage `integrate`: `v⁺ = v* + M⁻¹ Jᵀ z` with the impulses chosen by
@@ -313,6 +317,8 @@ impl World {
         }
         // failed islands: their answer made admissible, scaled not to add energy
         self.fallback_impulses();
+        // the joint impulses of the contact impulses; the joints' reactions
+        self.joints_apply();
         let (ws, g) = (&mut self.ws, self.params.gravity);
         let mut work = 0.0;
         for (i, b) in self.bodies.iter_mut().enumerate() {
@@ -324,6 +330,9 @@ impl World {
             work += h * ((ws.force[i] - g * b.mass).dot(b.velocity) + ws.torque[i].dot(b.angular_velocity));
             integrate_positions(b, h);
         }
+        // the joints' position error projected away (nothing without joints)
+        self.joints_settle();
+        let ws = &mut self.ws;
         self.time += h;
         // the parts of a retaken step count as one (`step_inner` counts it)
         self.steps += u64::from(ws.part_h.is_none());

@@ -52,6 +52,8 @@ pub struct StepRecord {
     /// first contact (how `status`, `pivots` and the residuals summarise
     /// them: `pipeline::solve`).
     pub islands: Vec<IslandRecord>,
+    /// Each joint's reaction over the step (`JointId` order; empty without joints).
+    pub joints: Vec<crate::joints::JointReaction>,
     /// Dynamic bodies of every island, island after island (see [`IslandRecord::bodies`]).
     pub island_bodies: Vec<usize>,
     /// Contact indices of every island, island after island (see [`IslandRecord::contacts`]).

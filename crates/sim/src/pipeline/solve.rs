@@ -88,9 +88,12 @@ impl World {
                 let body = crate::solve_chain::answer_check::body_check_applies(&method);
                 let warm = &ws.warm;
                 parallel::for_each(&mut ws.pool[..count], &mut ws.solvers[..threads], |solver, isl| {
-                    isl.body_check = body.clone();
+                    // (The body-space check assumes M_b⁻¹; a jointed island's M is coupled.)
+                    isl.body_check = if isl.jointed { None } else { body.clone() };
                     let z_mapped = std::mem::take(&mut isl.z_mapped);
                     let z_prev = isl.previous.map_or(&z_mapped[..], |p| warm.impulses(p));
+                    // (Nor do the body-space stages: a jointed island goes to the dense Lemke.)
+                    let check = if isl.jointed { None } else { check };
                     isl.solve(&mut |lcp, warm| lcp::solve_in(lcp, &method, warm, solver), check, z_prev)
                 });
                 method.name()

@@ -1,0 +1,276 @@
+//! The joint rows eliminated from the step (Drake's `ConstraintSolver` way):
+//! `S = G M⁻¹ Gᵀ` factored once per step, the free velocity projected onto
+//! the joints, each contact island's LCP coupled through `S⁺`, and the joint
+//! impulses the contacts add.
+//!
+//! For an island's contact rows `J` (per contact `n, t1, t2`, the frame
+//! rows every friction direction is a combination of), `B = G M⁻¹ Jᵀ` and
+//! `X = S⁺ B`. The LCP's impulse block `J M⁻¹ Jᵀ` becomes `J P Jᵀ =
+//! J M⁻¹ Jᵀ − Bᵀ X`, and an answer `z` (frame impulses `f`) adds the joint
+//! impulse `−X f`, so that `v⁺ = v*ₚ + M⁻¹Jᵀz − M⁻¹GᵀX f = v*ₚ + P Jᵀ z`.
+
+use super::joint::{Joint, JointReaction};
+use super::pivoted_cholesky::PivotedCholesky;
+use super::rows::JointRow;
+use crate::contact::assembly::{dot6, row, Row6};
+use crate::contact::ContactLcp;
+use crate::dynamics::Body;
+use crate::math::{Mat3, Vec3};
+
+/// One step's joint rows and their factorization (buffers kept between steps).
+#[derive(Clone, Debug, Default)]
+pub struct JointSystem {
+    pub rows: Vec<JointRow>,
+    /// `M_b⁻¹ Gᵀ` per row and side.
+    minv: Vec<[Row6; 2]>,
+    s: Vec<f64>,
+    factor: PivotedCholesky,
+    /// Impulse per row this step (N·s, N·m·s): the projection's, then the contacts' added.
+    pub lambda: Vec<f64>,
+    /// Pairs of dynamic bodies joined by a joint (they share an island).
+    pub links: Vec<(usize, usize)>,
+    /// Pairs of bodies joined by a joint, sorted (they do not collide).
+    pub pairs: Vec<(usize, usize)>,
+    /// Per body, whether a joint holds it.
+    pub jointed: Vec<bool>,
+    /// Per island slot: `X = S⁺ B` (rows × 3 nc, row-major) of a jointed island, empty otherwise.
+    pub coupling: Vec<Vec<f64>>,
+    scratch: Vec<f64>,
+    /// This step's limits in the LCP, and the step's contact index of the first
+    /// (they follow the geometric contacts, in this order).
+    pub limits: Vec<super::limits::LimitRow>,
+    pub first_limit: usize,
+}
+
+impl JointSystem {
+    /// Rows, `S` and its factor at the bodies' current poses.
+    pub fn build(&mut self, joints: &[Joint], bodies: &[Body], inv_inertia: &[Mat3], rank_tol: f64) {
+        self.rows.clear();
+        for (j, joint) in joints.iter().enumerate() {
+            joint.push_rows(j, bodies, &mut self.rows);
+        }
+        self.minv.clear();
+        self.minv.extend(self.rows.iter().map(|r| {
+            [0, 1].map(|s| match r.body[s] {
+                None => [0.0; 6],
+                Some(b) => {
+                    let j = &r.jac[s];
+                    let (lin, ang) = (Vec3::new(j[0], j[1], j[2]), Vec3::new(j[3], j[4], j[5]));
+                    row(lin * bodies[b].inv_mass, inv_inertia[b] * ang)
+                }
+            })
+        }));
+        let m = self.rows.len();
+        self.s.clear();
+        self.s.resize(m * m, 0.0);
+        for a in 0..m {
+            for b in a..m {
+                let v = self.g_minv(a, b);
+                self.s[a * m + b] = v;
+                self.s[b * m + a] = v;
+            }
+        }
+        self.factor.factor(&self.s, m, rank_tol);
+        self.lambda.clear();
+        self.lambda.resize(m, 0.0);
+        // Who is joined to whom.
+        self.jointed.clear();
+        self.jointed.resize(bodies.len(), false);
+        self.links.clear();
+        self.pairs.clear();
+        for joint in joints {
+            let dynamic = [joint.dynamic_side(bodies, 0), joint.dynamic_side(bodies, 1)];
+            for b in dynamic.into_iter().flatten() {
+                self.jointed[b] = true;
+            }
+            if let [Some(a), Some(b)] = dynamic {
+                self.links.push((a, b));
+            }
+            if let [Some(a), Some(b)] = joint.bodies {
+                self.pairs.push((a.min(b), a.max(b)));
+            }
+        }
+        self.pairs.sort_unstable();
+        self.pairs.dedup();
+    }
+
+    /// `G_a M⁻¹ G_bᵀ`: the two rows' products over the bodies they share.
+    fn g_minv(&self, a: usize, b: usize) -> f64 {
+        let (ra, rb) = (&self.rows[a], &self.rows[b]);
+        let mut v = 0.0;
+        for sa in 0..2 {
+            let Some(body) = ra.body[sa] else { continue };
+            for sb in 0..2 {
+                if rb.body[sb] == Some(body) {
+                    v += dot6(&ra.jac[sa], &self.minv[b][sb]);
+                }
+            }
+        }
+        v
+    }
+
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.rows.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.rows.is_empty()
+    }
+
+    /// Whether a joint joins bodies `i` and `j` (they get no contact).
+    pub fn joins(&self, i: usize, j: usize) -> bool {
+        !self.pairs.is_empty() && self.pairs.binary_search(&(i.min(j), i.max(j))).is_ok()
+    }
+
+    /// Rank of `S` (rows minus the dependent ones dropped).
+    pub fn rank(&self) -> usize {
+        self.factor.rank()
+    }
+
+    /// Projects the free velocities onto the joints: `λ₀ = −S⁺(G v* + β C/h)`,
+    /// `v* += M⁻¹ Gᵀ λ₀`.
+    pub fn project(&mut self, v: &mut [Vec3], w: &mut [Vec3], h: f64, drift: f64) {
+        let m = self.rows.len();
+        self.scratch.clear();
+        self.scratch.extend(self.rows.iter().map(|r| {
+            let gv: f64 = (0..2).filter_map(|s| r.body[s].map(|b| dot6(&r.jac[s], &row(v[b], w[b])))).sum();
+            -(gv + drift * r.error / h)
+        }));
+        let mut lambda = std::mem::take(&mut self.lambda);
+        lambda.resize(m, 0.0);
+        self.factor.solve(&self.scratch, &mut lambda);
+        self.add_velocity(&lambda, v, w);
+        self.lambda = lambda;
+    }
+
+    /// One position projection: `δ = S⁺(−C)`, each body moved by `M⁻¹Gᵀδ`
+    /// (rotations as a rotation vector). The largest row error before it.
+    pub fn settle(&mut self, bodies: &mut [Body]) -> f64 {
+        let worst = self.rows.iter().fold(0.0f64, |m, r| m.max(r.error.abs()));
+        self.scratch.clear();
+        self.scratch.extend(self.rows.iter().map(|r| -r.error));
+        let mut delta = vec![0.0; self.rows.len()];
+        self.factor.solve(&self.scratch, &mut delta);
+        let (mut dx, mut dr) = (vec![Vec3::ZERO; bodies.len()], vec![Vec3::ZERO; bodies.len()]);
+        self.add_velocity(&delta, &mut dx, &mut dr);
+        for ((b, x), r) in bodies.iter_mut().zip(dx).zip(dr) {
+            if b.is_static {
+                continue;
+            }
+            b.position += x;
+            b.orientation = b.orientation.integrate(r, 1.0);
+        }
+        worst
+    }
+
+    /// `v += M⁻¹ Gᵀ λ` for row impulses `λ`.
+    fn add_velocity(&self, lambda: &[f64], v: &mut [Vec3], w: &mut [Vec3]) {
+        for ((r, minv), &l) in self.rows.iter().zip(&self.minv).zip(lambda) {
+            if l == 0.0 {
+                continue;
+            }
+            for s in 0..2 {
+                let Some(b) = r.body[s] else { continue };
+                let x = &minv[s];
+                v[b] += Vec3::new(x[0], x[1], x[2]) * l;
+                w[b] += Vec3::new(x[3], x[4], x[5]) * l;
+            }
+        }
+    }
+
+    /// Couples island `slot`'s contacts through the joints: `X = S⁺ B` kept,
+    /// and `−Bᵀ X` added to the impulse block of its LCP (whose dense `M`
+    /// must be formed).
+    pub fn couple(&mut self, slot: usize, lcp: &mut ContactLcp) {
+        let (m, nf) = (self.rows.len(), 3 * lcp.nc());
+        if self.coupling.len() <= slot {
+            self.coupling.resize_with(slot + 1, Vec::new);
+        }
+        // B = G M⁻¹ J_frameᵀ over the bodies a joint row and a contact side share.
+        let mut b = vec![0.0; m * nf];
+        for (r, jr) in self.rows.iter().enumerate() {
+            for c in 0..lcp.nc() {
+                for side in 0..2 {
+                    let Some(body) = lcp.side_body(c, side) else { continue };
+                    let minv_c = lcp.side_rows(c, side).1;
+                    for js in (0..2).filter(|&js| jr.body[js] == Some(body)) {
+                        for k in 0..3 {
+                            b[r * nf + 3 * c + k] += dot6(&jr.jac[js], &minv_c[k]);
+                        }
+                    }
+                }
+            }
+        }
+        // X = S⁺ B, column by column.
+        let mut x = vec![0.0; m * nf];
+        let (mut col, mut sol) = (vec![0.0; m], vec![0.0; m]);
+        for f in 0..nf {
+            for r in 0..m {
+                col[r] = b[r * nf + f];
+            }
+            if col.iter().all(|&v| v == 0.0) {
+                continue;
+            }
+            self.factor.solve(&col, &mut sol);
+            for r in 0..m {
+                x[r * nf + f] = sol[r];
+            }
+        }
+        // C = Bᵀ X, symmetrized (it is in exact arithmetic).
+        let mut cm = vec![0.0; nf * nf];
+        for i in 0..nf {
+            for j in i..nf {
+                let v: f64 = (0..m).map(|r| b[r * nf + i] * x[r * nf + j] + b[r * nf + j] * x[r * nf + i]).sum();
+                cm[i * nf + j] = 0.5 * v;
+                cm[j * nf + i] = 0.5 * v;
+            }
+        }
+        lcp.subtract_frame_block(&cm);
+        self.coupling[slot] = x;
+    }
+
+    /// The joint impulses of island `slot`'s applied contact impulses `z`
+    /// (physical): `λ += −X f`, and their velocity change added to `dv`, `dw`.
+    pub fn add_contact_response(&mut self, slot: usize, lcp: &ContactLcp, z: &[f64], dv: &mut [Vec3], dw: &mut [Vec3]) {
+        let Some(x) = self.coupling.get(slot).filter(|x| !x.is_empty()) else { return };
+        let (m, nf) = (self.rows.len(), 3 * lcp.nc());
+        if x.len() != m * nf || z.len() != lcp.n() {
+            return;
+        }
+        let f: Vec<f64> = (0..lcp.nc()).flat_map(|c| lcp.frame_impulse(c, z)).collect();
+        let dl: Vec<f64> = (0..m).map(|r| -(0..nf).map(|k| x[r * nf + k] * f[k]).sum::<f64>()).collect();
+        self.add_velocity(&dl, dv, dw);
+        for (l, d) in self.lambda.iter_mut().zip(&dl) {
+            *l += d;
+        }
+    }
+
+    /// Forgets the islands' couplings (a new step).
+    pub fn clear_couplings(&mut self) {
+        self.coupling.iter_mut().for_each(Vec::clear);
+    }
+
+    /// Each joint's reaction from the row impulses: what side A exerts on
+    /// side B, at B's anchor, over a step of `h`.
+    pub fn reactions(&self, joints: &[Joint], bodies: &[Body], h: f64, out: &mut Vec<JointReaction>) {
+        out.clear();
+        out.resize(joints.len(), JointReaction::default());
+        for (r, &l) in self.rows.iter().zip(&self.lambda) {
+            // B's row is −(the row A sees); the impulse on B is jac_B·λ.
+            let j = &r.jac[1];
+            let (p, a) = (Vec3::new(j[0], j[1], j[2]) * l, Vec3::new(j[3], j[4], j[5]) * l);
+            let rec = &mut out[r.joint];
+            rec.force += p;
+            rec.torque += a;
+        }
+        for (rec, joint) in out.iter_mut().zip(joints) {
+            // Angular impulse about B's centre of mass → about the anchor.
+            let xb = joint.anchors_world(bodies)[1];
+            let pb = super::joint::pose(bodies, joint.bodies[1]).0;
+            rec.torque -= (xb - pb).cross(rec.force);
+            rec.force = rec.force / h;
+            rec.torque = rec.torque / h;
+        }
+    }
+}

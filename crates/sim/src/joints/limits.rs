@@ -1,0 +1,81 @@
+//! Joint limits: a hinge's angle or a slider's displacement kept in
+//! `[lower, upper]` by unilateral rows with complementarity — a hard stop,
+//! not a spring.
+//!
+//! A limit that the joint may reach within the step enters the island's
+//! contact LCP as one more contact, frictionless (μ = 0), whose normal row
+//! is the limit's row instead of a point's: `w = g_lim v⁺ + gap/h ≥ 0 ⊥
+//! fn ≥ 0` (a positive gap speculative, so the joint stops on the limit; a
+//! negative one corrected with the joints' `β`). Its friction rows are zero,
+//! so with μ = 0 its `fd` stay 0. In the step record it is a contact at B's
+//! anchor with normal ± the axis (its `body_a` is `body_b` when side A is the
+//! world); its `fn` is the limit's impulse.
+//!
+//! ```text
+//! hinge   θ = angle of B about a from A      upper: gap = θ_u − θ, row A: [0, a],               B: −[0, a]
+//! slider  d = a·(x_B − x_A)                  upper: gap = d_u − d, row A: [a, (x_B − p_A) × a], B: −[a, (x_B − p_B) × a]
+//!         lower: gap = θ − θ_l (d − d_l), the rows negated
+//! ```
+
+use super::joint::{normal_to, pose, Joint, JointKind};
+use crate::contact::assembly::{row, Row6};
+use crate::dynamics::Body;
+use crate::geometry::Contact;
+use crate::math::Vec3;
+
+/// One limit in this step's LCP.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LimitRow {
+    pub joint: usize,
+    /// Dynamic body per side.
+    pub body: [Option<usize>; 2],
+    /// The row per side (`fn` along it).
+    pub jac: [Row6; 2],
+    /// Distance to the limit (rad or m), negative past it.
+    pub gap: f64,
+}
+
+impl Joint {
+    /// The joint's coordinate (hinge angle, slider displacement) and the rows
+    /// of its rate `d/dt coordinate = −(row_A·v_A + row_B·v_B)` (the upper limit's rows).
+    fn limit_rows(&self, bodies: &[Body]) -> (f64, [Row6; 2], Vec3, Vec3) {
+        let (pa, qa) = pose(bodies, self.bodies[0]);
+        let pb = pose(bodies, self.bodies[1]).0;
+        let a = qa.rotate(self.axis[0]);
+        let xb = self.anchors_world(bodies)[1];
+        match self.kind {
+            JointKind::Slider => {
+                let (ra, rb) = (xb - pa, xb - pb);
+                let jac = [row(a, ra.cross(a)), row(-a, -rb.cross(a))];
+                (self.displacement(bodies), jac, a, xb)
+            }
+            _ => (self.angle(bodies), [row(Vec3::ZERO, a), row(Vec3::ZERO, -a)], a, xb),
+        }
+    }
+
+    /// Appends the limits the joint may reach within `reach` (rad or m) as
+    /// [`LimitRow`]s and their contacts.
+    pub fn push_limits(&self, j: usize, bodies: &[Body], reach: f64, rows: &mut Vec<LimitRow>, out: &mut Vec<Contact>) {
+        let Some((lower, upper)) = self.limits else { return };
+        let (x, up, axis, point) = self.limit_rows(bodies);
+        let body = [self.dynamic_side(bodies, 0), self.dynamic_side(bodies, 1)];
+        let b = self.bodies[1].expect("side B is a body");
+        for (gap, sign) in [(upper - x, 1.0), (x - lower, -1.0)] {
+            if !(gap <= reach) {
+                continue;
+            }
+            let jac = up.map(|r| r.map(|v| v * sign));
+            rows.push(LimitRow { joint: j, body, jac, gap });
+            let normal = axis * sign;
+            out.push(Contact {
+                body_a: self.bodies[0].unwrap_or(b),
+                body_b: b,
+                point,
+                normal,
+                gap,
+                mu: 0.0,
+                tangent: normal_to(normal),
+            });
+        }
+    }
+}

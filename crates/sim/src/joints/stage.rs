@@ -1,0 +1,172 @@
+//! The world's side of the joints: adding them, and the three places the
+//! step calls on them (`pipeline`):
+//!
+//! ```text
+//! forces     … then the rows G at this step's poses, S = G M⁻¹ Gᵀ factored, v* projected (`joints_project`)
+//! detect     bodies joined by a joint get no contact between them
+//! islands    bodies joined by a joint share an island
+//! assemble   … then each island with a jointed body gets its dense M with −Bᵀ S⁺ B (`joints_couple`)
+//! integrate  … the joint impulses of the contact impulses added to Δv, the reactions recorded (`joints_apply`);
+//!            after the positions, their joint error projected away (`joints_settle`)
+//! ```
+//!
+//! An island with a joint is solved on its dense `M` (the body-space stages
+//! of the solve chain assume the block-diagonal `M_b⁻¹` and decline it), and
+//! its answer is accepted by the same rule as every other.
+
+use super::elimination::JointSystem;
+use super::joint::{Joint, JointDesc, JointId, JointParams};
+use crate::contact::assembly::{dot6, row};
+use crate::error::SimError;
+use crate::math::Vec3;
+use crate::world::World;
+
+impl World {
+    /// Adds a joint after validating it (bodies exist, one is dynamic, they
+    /// differ; a finite anchor; a finite, non-zero axis for hinges and sliders).
+    pub fn add_joint(&mut self, desc: JointDesc) -> Result<JointId, SimError> {
+        let joint = Joint::new(&desc, &self.bodies)?;
+        self.joints.push(joint);
+        Ok(JointId(self.joints.len() - 1))
+    }
+
+    /// The joints, in `JointId` order.
+    pub fn joints(&self) -> &[Joint] {
+        &self.joints
+    }
+
+    /// The joints' parameters.
+    pub fn joint_params(&self) -> JointParams {
+        self.joint_params
+    }
+
+    /// Replaces the joints' parameters (validated first).
+    pub fn set_joint_params(&mut self, p: JointParams) -> Result<(), SimError> {
+        p.validate()?;
+        self.joint_params = p;
+        Ok(())
+    }
+
+    /// Joint `j`'s position error now: the largest linear (m) and angular (rad) row error.
+    pub fn joint_error(&self, j: JointId) -> Result<(f64, f64), SimError> {
+        let joint = self.joints.get(j.0).ok_or(SimError::UnknownJoint { index: j.0, joints: self.joints.len() })?;
+        Ok(joint.error(&self.bodies))
+    }
+
+    /// After the free velocities: the rows at this step's poses, `S` factored,
+    /// and `v*` projected onto the joints (nothing without joints).
+    pub(crate) fn joints_project(&mut self) {
+        let ws = &mut self.ws;
+        ws.joints.clear_couplings();
+        if self.joints.is_empty() {
+            if !ws.joints.is_empty() || !ws.joints.pairs.is_empty() {
+                ws.joints = Default::default();
+            }
+            return;
+        }
+        let h = self.ws.part_h.unwrap_or(self.params.dt);
+        let ws = &mut self.ws;
+        ws.joints.build(&self.joints, &self.bodies, &ws.inv_inertia, self.joint_params.rank_tol);
+        ws.joints.project(&mut ws.v_free, &mut ws.w_free, h, self.joint_params.drift);
+    }
+
+    /// Limits of joint `j` (`None`: free), checked as `add_joint` checks them.
+    pub fn set_joint_limits(&mut self, j: JointId, limits: Option<(f64, f64)>) -> Result<(), SimError> {
+        let n = self.joints.len();
+        let joint = self.joints.get_mut(j.0).ok_or(SimError::UnknownJoint { index: j.0, joints: n })?;
+        joint.limits = super::joint::check_limits(joint.kind, limits)?;
+        Ok(())
+    }
+
+    /// At the end of `detect`: the limits each joint may reach this step
+    /// (within its rate times `2h` plus the margin) appended to the contacts.
+    pub(crate) fn joint_limit_contacts(&mut self) {
+        let ws = &mut self.ws;
+        ws.joints.limits.clear();
+        ws.joints.first_limit = ws.contacts.len();
+        if self.joints.iter().all(|j| j.limits.is_none()) {
+            return;
+        }
+        let h = ws.part_h.unwrap_or(self.params.dt);
+        for (j, joint) in self.joints.iter().enumerate().filter(|(_, j)| j.limits.is_some()) {
+            // How fast the coordinate can change: the free velocities' speeds.
+            let sides = [joint.dynamic_side(&self.bodies, 0), joint.dynamic_side(&self.bodies, 1)];
+            let rate: f64 = sides.iter().flatten().map(|&b| ws.w_free[b].norm() + ws.v_free[b].norm()).sum();
+            let reach = 2.0 * h * rate + self.params.margin;
+            joint.push_limits(j, &self.bodies, reach, &mut ws.joints.limits, &mut ws.contacts);
+        }
+    }
+
+    /// After assembly: each island holding a jointed body gets its dense `M`
+    /// coupled through the joints, and is marked so that the solve chain
+    /// takes it on the dense path.
+    pub(crate) fn joints_couple(&mut self) {
+        let h = self.ws.part_h.unwrap_or(self.params.dt);
+        let ws = &mut self.ws;
+        let count = ws.islands.len();
+        for (i, isl) in ws.pool[..count].iter_mut().enumerate() {
+            isl.jointed =
+                !ws.joints.jointed.is_empty() && ws.islands.bodies_of(i).iter().any(|&b| ws.joints.jointed[b]);
+            if !isl.jointed {
+                continue;
+            }
+            // Its limits' rows in place of the contacts' point rows.
+            let first = ws.joints.first_limit;
+            for (c, &g) in ws.islands.contacts_of(i).iter().enumerate().filter(|(_, &g)| g >= first) {
+                let lim = &ws.joints.limits[g - first];
+                let minv = [0, 1].map(|s| {
+                    lim.body[s].map_or([0.0; 6], |b| {
+                        let r = &lim.jac[s];
+                        let (l, a) = (Vec3::new(r[0], r[1], r[2]), Vec3::new(r[3], r[4], r[5]));
+                        row(l * self.bodies[b].inv_mass(), ws.inv_inertia[b] * a)
+                    })
+                });
+                let jv: f64 = (0..2)
+                    .filter_map(|s| lim.body[s].map(|b| dot6(&lim.jac[s], &row(ws.v_free[b], ws.w_free[b]))))
+                    .sum();
+                // Speculative before the limit (stop on it), β of the joints past it.
+                let bias = if lim.gap > 0.0 { lim.gap / h } else { self.joint_params.drift * lim.gap / h };
+                isl.lcp.set_generalized_row(c, lim.body, lim.jac, minv, jv + bias);
+            }
+            if !isl.lcp.has_matrix() {
+                isl.lcp.assemble_matrix();
+            }
+            ws.joints.couple(i, &mut isl.lcp);
+        }
+    }
+
+    /// After the positions: the joints' remaining position error projected
+    /// away ([`JointParams::settle_passes`]); velocities unchanged.
+    pub(crate) fn joints_settle(&mut self) {
+        let p = self.joint_params;
+        if self.joints.is_empty() || p.settle_passes == 0 {
+            return;
+        }
+        let mut sys = JointSystem::default();
+        for _ in 0..p.settle_passes {
+            let inv: Vec<_> = self.bodies.iter().map(|b| b.inv_inertia_world()).collect();
+            sys.build(&self.joints, &self.bodies, &inv, p.rank_tol);
+            if sys.rows.iter().all(|r| r.error.abs() <= p.settle_tol) {
+                return;
+            }
+            sys.settle(&mut self.bodies);
+        }
+    }
+
+    /// In `integrate`, after the contact impulses: the joint impulses they
+    /// cause, into `Δv`, and every joint's reaction into the record.
+    pub(crate) fn joints_apply(&mut self) {
+        if self.joints.is_empty() {
+            self.record.joints.clear();
+            return;
+        }
+        let h = self.ws.part_h.unwrap_or(self.params.dt);
+        let ws = &mut self.ws;
+        for (i, isl) in ws.pool[..ws.islands.len()].iter().enumerate() {
+            if isl.jointed && isl.z_apply.len() == isl.lcp.n() {
+                ws.joints.add_contact_response(i, &isl.lcp, &isl.z_apply, &mut ws.dv, &mut ws.dw);
+            }
+        }
+        ws.joints.reactions(&self.joints, &self.bodies, h, &mut self.record.joints);
+    }
+}
