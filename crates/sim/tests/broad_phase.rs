@@ -1,4 +1,4 @@
-//! Sweep and prune finds exactly the pairs of the all-pairs
+//! Sweep and prune and the BVH find exactly the pairs of the all-pairs
 //! loop (bounding spheres and boxes), in the same order, on random scenes (boxes, spheres,
 //! static boxes, planes, fast bodies with velocity margins).
 
@@ -76,7 +76,7 @@ fn sweep_and_prune_finds_the_pairs_of_the_all_pairs_loop() {
 
 #[test]
 fn a_sweep_and_prune_reused_across_worlds_keeps_no_stale_pairs() {
-    let mut bp = BroadPhase::new();
+    let mut bp = BroadPhase::with_method(sim::broad_phase::BroadMethod::Sweep);
     for seed in [3u64, 4, 5] {
         let mut w = random_world(seed, 80, 4.0, true);
         w.forces_stage().unwrap();
@@ -157,4 +157,38 @@ fn the_broad_phase_drops_no_pair_the_narrow_phase_would_touch() {
     }
     assert!(touching > 500, "only {touching} touching pairs");
     assert!(dropped > 100, "the box test dropped only {dropped} pairs");
+}
+
+#[test]
+fn the_bvh_and_the_sweep_find_the_pairs_of_the_all_pairs_loop_as_bodies_move() {
+    // One BVH kept across steps (built once, then refitted) and across a world
+    // with more bodies (rebuilt), one sweep likewise: the reference pairs every time.
+    use sim::broad_phase::BroadMethod;
+    let mut bvh = BroadPhase::with_method(BroadMethod::Bvh);
+    let mut sweep = BroadPhase::with_method(BroadMethod::Sweep);
+    let mut total = 0;
+    for seed in 0..24u64 {
+        let n = [5, 40, 150, 300][seed as usize % 4];
+        let extent = [2.0, 6.0, 15.0][seed as usize % 3];
+        let mut w = random_world(500 + seed, n, extent, seed % 5 != 0);
+        for step in 0..4 {
+            w.forces_stage().unwrap();
+            let (v, o) = w.free_velocities();
+            let r: Vec<f64> = w.bodies().iter().enumerate().map(|(k, b)| reach(b, v[k], o[k])).collect();
+            let p = w.params();
+            let margin = PairMargin { base: p.margin, h: p.dt, reach: p.velocity_margin.then_some(&r[..]) };
+            let expect = reference(&w);
+            assert_eq!(bvh.find(w.bodies(), &margin), &expect[..], "BVH, seed {seed}, step {step}");
+            assert_eq!(sweep.find(w.bodies(), &margin), &expect[..], "sweep, seed {seed}, step {step}");
+            total += expect.len();
+            for b in 0..w.body_count() {
+                let id = sim::BodyId(b);
+                if !w.body(id).unwrap().is_static() {
+                    let p = w.body(id).unwrap().position() + Vec3::new(0.3, -0.2, 0.1) * (step as f64 + 1.0);
+                    w.set_position(id, p).unwrap();
+                }
+            }
+        }
+    }
+    assert!(total > 5_000, "only {total} pairs");
 }
