@@ -36,6 +36,7 @@ from ._json import jsonable
 from .lcp import _new_object, _set_attribute
 from .scale import parse_cone_scale
 from .stabilization import FIELDS as STABILIZATION_FIELDS, Stabilization, as_stabilization
+from .joints import JointsMixin
 from ._shapes import ShapesMixin
 from .trajectory import NO_CONTACT, ContactLog, LcpStats, Trajectory, quat_angle
 
@@ -245,7 +246,7 @@ class StepRecord:
 
 
 
-class World(ShapesMixin):
+class World(JointsMixin, ShapesMixin):
     """A rigid-body world stepped with the Stewart–Trinkle contact LCP.
 
     Parameters

@@ -60,6 +60,7 @@ fn hinge_pendulum_swings_at_the_physical_pendulum_period_with_its_length_held() 
     let (t, worst) = swing(w, b, l, 10.0);
     // T = 2π √(I_pivot / (m g l)), I_pivot = 2/5 m r² + m l²; the amplitude adds θ₀²/16.
     let expect = 2.0 * std::f64::consts::PI * ((0.4 * r * r + l * l) / (G * l)).sqrt() * (1.0 + theta0 * theta0 / 16.0);
+    eprintln!("hinge pendulum: period {t} s vs {expect} s ({:.2e} off), length off by {worst:e} m", rel(t, expect));
     assert!(rel(t, expect) < 5e-3, "period {t} vs {expect}");
     assert!(worst <= 1e-6, "link length off by {worst:e} m");
 }
@@ -246,6 +247,9 @@ fn a_ball_chain_dropped_on_the_ground_piles_up_closed() {
     }
     assert!(contacts > 0, "the chain never reached the ground");
     assert!(worst <= 1e-6, "a joint opened by {worst:e} m");
+    eprintln!(
+        "10-link chain on the ground: joint error {worst:e} m, deepest {deepest:e} m, {contacts} contacts at most"
+    );
     assert!(deepest < 1e-3, "penetration {deepest}");
 }
 
@@ -283,4 +287,82 @@ fn a_hinge_limit_stops_a_falling_bar_without_overshoot() {
     let torque = r.z[0] / 1e-3;
     let expect = G * 0.5 * 0.6f64.cos();
     assert!(rel(torque, expect) < 1e-6, "limit torque {torque} vs {expect}");
+}
+
+#[test]
+fn a_motor_drives_a_hinge_at_its_speed_within_its_force() {
+    // A 1 kg bar hinged at one end (axis y) starts level: a motor at 1 rad/s
+    // with 10 N·m (more than m g L/2 = 4.9) turns it at 1 rad/s; with 2 N·m
+    // (less) it loses to gravity and its torque stays at the bound.
+    for (max_force, holds) in [(10.0, true), (2.0, false)] {
+        let mut w = world();
+        let bar = w
+            .add_body(BodyDesc::cuboid(Vec3::new(0.5, 0.03, 0.03)).mass(1.0).position(Vec3::new(0.5, 0.0, 2.0)))
+            .unwrap()
+            .0;
+        let j = w.add_joint(joint(JointKind::Hinge, None, bar, Vec3::new(0.0, 0.0, 2.0), Vec3::Y)).unwrap();
+        // Negative speed: up (the angle grows as it falls).
+        w.set_motor(j, -1.0, max_force).unwrap();
+        let rec = run_ok(&mut w, 300);
+        let rate = w.bodies()[bar].angular_velocity().y;
+        // The motor's impulse is its first friction row's: Σ c_j fd_j.
+        let lay = sim::lcp::ContactLayout::new(rec.contacts.len(), rec.friction_dirs);
+        let imp: f64 = lay
+            .fd_of(0)
+            .enumerate()
+            .map(|(jj, f)| (2.0 * std::f64::consts::PI * jj as f64 / 8.0).cos() * rec.z[f])
+            .sum();
+        if holds {
+            assert!((rate + 1.0).abs() < 1e-9, "rate {rate}");
+            assert!(imp.abs() / 1e-3 <= max_force * (1.0 + 1e-9));
+        } else {
+            assert!(rate > 0.0, "it should fall: rate {rate}");
+            assert!(rel(imp.abs() / 1e-3, max_force) < 1e-9, "torque {} vs bound {max_force}", imp / 1e-3);
+        }
+    }
+}
+
+#[test]
+fn a_two_finger_gripper_lifts_a_cube_and_holds_it_without_slip() {
+    // Fingers on sliders to a palm close on a 1 kg cube (μ = 1) with 20 N
+    // each; the palm, on a vertical slider to the world, lifts 0.2 m in 2.2 s
+    // (0.1 m/s, reached and left over 0.2 s: friction of 40 N can give the
+    // cube 0.5 m/s² against gravity, not a step change of speed) and holds 2 s.
+    let mut w = world();
+    w.add_ground(1.0).unwrap();
+    let cube = w.add_box(Vec3::splat(0.05), 1.0, Vec3::new(0.0, 0.0, 0.05), 1.0).unwrap().0;
+    let palm = w
+        .add_body(BodyDesc::cuboid(Vec3::new(0.15, 0.05, 0.02)).mass(1.0).position(Vec3::new(0.0, 0.0, 0.2)).mu(1.0))
+        .unwrap()
+        .0;
+    let finger = BodyDesc::cuboid(Vec3::new(0.01, 0.04, 0.08)).mass(0.2).mu(1.0);
+    let left = w.add_body(finger.clone().position(Vec3::new(-0.1, 0.0, 0.1))).unwrap().0;
+    let right = w.add_body(finger.position(Vec3::new(0.1, 0.0, 0.1))).unwrap().0;
+    let lift = w.add_joint(joint(JointKind::Slider, None, palm, Vec3::new(0.0, 0.0, 0.2), Vec3::Z)).unwrap();
+    let jl = w.add_joint(joint(JointKind::Slider, Some(palm), left, Vec3::new(-0.1, 0.0, 0.18), Vec3::X)).unwrap();
+    let jr = w.add_joint(joint(JointKind::Slider, Some(palm), right, Vec3::new(0.1, 0.0, 0.18), -Vec3::X)).unwrap();
+    w.set_motor(lift, 0.0, 200.0).unwrap();
+    w.set_motor(jl, 0.1, 20.0).unwrap();
+    w.set_motor(jr, 0.1, 20.0).unwrap();
+    let rel_z = |w: &World| w.bodies()[cube].position().z - w.bodies()[left].position().z;
+    run_ok(&mut w, 1000);
+    // Closed: the fingers touch the cube and squeeze it.
+    assert!(w.joints()[jl.0].displacement(w.bodies()) > 0.035);
+    let grip = rel_z(&w);
+    for s in 0..2200 {
+        let speed = 0.1 * (s as f64 / 200.0).min(1.0).min((2200 - s) as f64 / 200.0);
+        w.set_motor(lift, speed, 200.0).unwrap();
+        step_ok(&mut w);
+    }
+    w.set_motor(lift, 0.0, 200.0).unwrap();
+    let held = rel_z(&w);
+    run_ok(&mut w, 2000);
+    let z = w.bodies()[cube].position().z;
+    assert!((z - 0.25).abs() < 2e-3, "cube at {z}, lifted {}", z - 0.05);
+    let (slip_lift, slip_hold) = ((held - grip).abs(), (rel_z(&w) - held).abs());
+    eprintln!("gripper: cube lifted {:.6} m, slip {slip_lift:e} m lifting, {slip_hold:e} m holding", z - 0.05);
+    assert!(slip_lift <= 1e-3 && slip_hold <= 1e-3, "slip {slip_lift:e} m lifting, {slip_hold:e} m holding");
+    for j in 0..3 {
+        assert!(w.joint_error(JointId(j)).unwrap().0 <= 1e-6);
+    }
 }

@@ -405,6 +405,118 @@ impl World {
         self.on_body(body, (t, a), |w, id, (t, a)| w.set_collision_filter(id, t, a))
     }
 
+    // ----- joints -----
+
+    /// A joint of `kind` ("ball", "hinge", "slider", "fixed") between
+    /// `body_a` (None: the world) and `body_b`, anchor and axis given in the
+    /// world; returns its index.
+    #[pyo3(signature = (kind, body_a, body_b, anchor, axis = None, limits = None))]
+    fn add_joint(
+        &mut self,
+        kind: &str,
+        body_a: Option<&Bound<'_, PyAny>>,
+        body_b: &Bound<'_, PyAny>,
+        anchor: &Bound<'_, PyAny>,
+        axis: Option<&Bound<'_, PyAny>>,
+        limits: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        let kind = match kind {
+            "ball" => sim::JointKind::Ball,
+            "hinge" => sim::JointKind::Hinge,
+            "slider" => sim::JointKind::Slider,
+            "fixed" => sim::JointKind::Fixed,
+            _ => return Err(value_error(format!("kind must be ball, hinge, slider or fixed, got {kind:?}"))),
+        };
+        let body_a = match body_a {
+            Some(b) if !b.is_none() => Some(convert::count(b, "body_a")?),
+            _ => None,
+        };
+        let body_b = convert::count(body_b, "body_b")?;
+        let anchor = vec3(anchor, "anchor")?;
+        let axis = opt_vec3(axis, "axis")?.unwrap_or(sim::math::Vec3::Z);
+        let w = self.inner();
+        let limits = match limits {
+            Some(l) if !l.is_none() => {
+                let bad = || value_error(format!("limits must be (lower, upper), got {}", l));
+                let v: Vec<f64> = l.extract().map_err(|_| bad())?;
+                let [lo, hi]: [f64; 2] = v.try_into().map_err(|_| bad())?;
+                Some((lo, hi))
+            }
+            _ => None,
+        };
+        guarded(|| w.add_joint(sim::JointDesc { kind, body_a, body_b, anchor, axis, limits })).map(|j| j.0)
+    }
+
+    /// A velocity motor on a hinge or slider: its rate driven to `speed`
+    /// (rad/s, m/s) with at most `max_force` (N·m, N); 0 turns it off.
+    fn set_motor(&mut self, joint: &Bound<'_, PyAny>, speed: f64, max_force: f64) -> PyResult<()> {
+        let j = sim::JointId(convert::count(joint, "joint")?);
+        let w = self.inner();
+        guarded(|| w.set_motor(j, speed, max_force))
+    }
+
+    #[getter]
+    fn joint_count(&self) -> usize {
+        self.shared().joints().len()
+    }
+
+    /// A joint's position error now: (largest linear row error in m, largest angular in rad).
+    fn joint_error(&self, joint: &Bound<'_, PyAny>) -> PyResult<(f64, f64)> {
+        let j = sim::JointId(convert::count(joint, "joint")?);
+        let w = self.shared();
+        guarded(|| w.joint_error(j))
+    }
+
+    /// A hinge's angle (rad) or a slider's displacement (m) now, 0 at creation.
+    fn joint_position(&self, joint: &Bound<'_, PyAny>) -> PyResult<f64> {
+        let j = convert::count(joint, "joint")?;
+        let w = self.shared();
+        let n = w.joints().len();
+        let joint = w.joints().get(j).ok_or_else(|| sim_error(&sim::SimError::UnknownJoint { index: j, joints: n }))?;
+        Ok(match joint.kind {
+            sim::JointKind::Slider => joint.displacement(w.bodies()),
+            _ => joint.angle(w.bodies()),
+        })
+    }
+
+    /// The last step's joint reactions (what side A exerts on side B at the
+    /// anchor): forces (J, 3) in N and torques (J, 3) in N·m.
+    fn joint_reactions<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let w = self.shared();
+        let r = &w.last_record().joints;
+        let f: Vec<f64> = r.iter().flat_map(|x| x.force.to_array()).collect();
+        let t: Vec<f64> = r.iter().flat_map(|x| x.torque.to_array()).collect();
+        Ok((shaped(py, f, [r.len(), 3])?, shaped(py, t, [r.len(), 3])?))
+    }
+
+    /// The joints' drift factor β, settle passes and rank tolerance (`sim::JointParams`).
+    fn joint_params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let p = self.shared().joint_params();
+        let d = PyDict::new(py);
+        d.set_item("drift", p.drift)?;
+        d.set_item("rank_tol", p.rank_tol)?;
+        d.set_item("settle_passes", p.settle_passes)?;
+        d.set_item("settle_tol", p.settle_tol)?;
+        Ok(d)
+    }
+
+    #[pyo3(signature = (drift = None, rank_tol = None, settle_passes = None, settle_tol = None))]
+    fn set_joint_params(
+        &mut self,
+        drift: Option<f64>,
+        rank_tol: Option<f64>,
+        settle_passes: Option<u32>,
+        settle_tol: Option<f64>,
+    ) -> PyResult<()> {
+        let w = self.inner();
+        let mut p = w.joint_params();
+        p.drift = drift.unwrap_or(p.drift);
+        p.rank_tol = rank_tol.unwrap_or(p.rank_tol);
+        p.settle_passes = settle_passes.unwrap_or(p.settle_passes);
+        p.settle_tol = settle_tol.unwrap_or(p.settle_tol);
+        guarded(|| w.set_joint_params(p))
+    }
+
     // ----- forces -----
 
     /// A constant force (world frame, N); `point` relative to the centre of

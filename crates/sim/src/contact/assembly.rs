@@ -466,10 +466,55 @@ impl ContactLcp {
         }
     }
 
-    /// Replaces contact `c`'s rows by a row that is not a point's (a joint
-    /// limit, `joints::limits`): normal row `jac` per side (`None`: no body
-    /// on that side), zero friction rows, `q` of its normal `q_n` (of its
-    /// friction rows 0). Call before the dense `M` is formed (or form it again).
+    /// Replaces contact `c`'s rows by rows that are not a point's (a joint
+    /// limit or motor, `joints::limits`): rows `[n, t1, t2]` and `M_b⁻¹` of
+    /// them per side (`None`: no body on that side), and `q` of its `n`, `t1`,
+    /// `t2` (each friction direction's a combination). Call before the dense
+    /// `M` is formed (or form it again).
+    pub fn set_generalized_rows(
+        &mut self,
+        c: usize,
+        body: [Option<usize>; 2],
+        jac: [[Row6; 3]; 2],
+        minv: [[Row6; 3]; 2],
+        q_frame: [f64; 3],
+    ) {
+        for side in 0..2 {
+            let k = 2 * c + side;
+            self.side_body[k] = body[side];
+            self.side_slot[k] = body[side].map(|b| self.seen.partition_point(|&x| x < b));
+            self.jac[k] = jac[side];
+            self.minv_jt[k] = minv[side];
+        }
+        let mut d = [0.0; 4];
+        for s in (0..2).filter(|&s| body[s].is_some()) {
+            d[0] += dot6(&jac[s][0], &minv[s][0]);
+            d[1] += dot6(&jac[s][1], &minv[s][1]);
+            d[2] += dot6(&jac[s][1], &minv[s][2]);
+            d[3] += dot6(&jac[s][2], &minv[s][2]);
+        }
+        self.delassus[c] = d;
+        let lay = self.layout;
+        self.q[c] = q_frame[0];
+        for (f, &(cj, sj)) in lay.fd_of(c).zip(&self.trig) {
+            self.q[f] = cj * q_frame[1] + sj * q_frame[2];
+        }
+        self.matrix_ready = false;
+    }
+
+    /// Makes contact `c`'s normal a virtual unit row pinned at `value`
+    /// (`M_cc = 1`, `q_c = −value`: `fn = value` is the only complementary
+    /// answer), on a formed `M` whose row `c` has no velocity part (a joint
+    /// motor's bound, `joints::limits`).
+    pub fn pin_normal(&mut self, c: usize, value: f64) {
+        let n = self.layout.n();
+        debug_assert!(self.has_matrix());
+        self.m[c * n + c] = 1.0;
+        self.q[c] = -value;
+        self.delassus[c][0] = 1.0;
+    }
+
+    /// As [`ContactLcp::set_generalized_rows`] with only a normal row.
     pub fn set_generalized_row(
         &mut self,
         c: usize,
@@ -478,21 +523,9 @@ impl ContactLcp {
         minv: [Row6; 2],
         q_n: f64,
     ) {
-        for side in 0..2 {
-            let k = 2 * c + side;
-            self.side_body[k] = body[side];
-            self.side_slot[k] = body[side].map(|b| self.seen.partition_point(|&x| x < b));
-            self.jac[k] = [jac[side], [0.0; 6], [0.0; 6]];
-            self.minv_jt[k] = [minv[side], [0.0; 6], [0.0; 6]];
-        }
-        let nn = (0..2).filter(|&s| body[s].is_some()).map(|s| dot6(&jac[s], &minv[s])).sum();
-        self.delassus[c] = [nn, 0.0, 0.0, 0.0];
-        let lay = self.layout;
-        self.q[c] = q_n;
-        for f in lay.fd_of(c) {
-            self.q[f] = 0.0;
-        }
-        self.matrix_ready = false;
+        let z = [0.0; 6];
+        let rows = |r: [Row6; 2]| r.map(|x| [x, z, z]);
+        self.set_generalized_rows(c, body, rows(jac), rows(minv), [q_n, 0.0, 0.0]);
     }
 
     /// Subtracts from the impulse block of the formed `M` a symmetric block

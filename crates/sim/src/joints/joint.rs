@@ -78,6 +78,16 @@ pub struct Joint {
     pub rest: Quat,
     /// The hinge's or slider's `(lower, upper)`, if limited.
     pub limits: Option<(f64, f64)>,
+    /// A velocity motor on the hinge or slider (`joints::limits`), if any.
+    pub motor: Option<Motor>,
+}
+
+/// A velocity motor: drives the joint's rate (rad/s, m/s) to `speed` with at
+/// most `max_force` (N·m, N) either way.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Motor {
+    pub speed: f64,
+    pub max_force: f64,
 }
 
 /// A joint's reaction over the last step: what side A exerted on side B,
@@ -151,6 +161,19 @@ pub(crate) fn check_limits(kind: JointKind, limits: Option<(f64, f64)>) -> Resul
     Ok(Some((lo, hi)))
 }
 
+/// A motor for a joint of `kind`: a hinge or slider, a finite speed, a finite `max_force ≥ 0`.
+pub(crate) fn check_motor(kind: JointKind, speed: f64, max_force: f64) -> Result<Motor, SimError> {
+    if !matches!(kind, JointKind::Hinge | JointKind::Slider) {
+        return Err(SimError::BadGeometry {
+            field: "motor",
+            reason: format!("is for hinges and sliders, not a {} joint", kind.name()),
+        });
+    }
+    crate::error::finite("speed", speed)?;
+    crate::error::non_negative("max_force", max_force)?;
+    Ok(Motor { speed, max_force })
+}
+
 /// Where a side is: `(position, orientation)`; the world's is the origin.
 pub(crate) fn pose(bodies: &[Body], side: Option<usize>) -> (Vec3, Quat) {
     side.map_or((Vec3::ZERO, Quat::IDENTITY), |b| (bodies[b].position, bodies[b].orientation))
@@ -208,6 +231,7 @@ impl Joint {
             reference: reference_local,
             rest: qa.conjugate() * qb,
             limits,
+            motor: None,
         })
     }
 

@@ -35,4 +35,4 @@ pub mod rows;
 pub mod stage;
 
 pub use elimination::JointSystem;
-pub use joint::{Joint, JointDesc, JointId, JointKind, JointParams, JointReaction};
+pub use joint::{Joint, JointDesc, JointId, JointKind, JointParams, JointReaction, Motor};

@@ -78,13 +78,22 @@ impl World {
         Ok(())
     }
 
+    /// A velocity motor on joint `j` (a hinge or slider): its rate driven to
+    /// `speed` (rad/s, m/s) with at most `max_force` (N·m, N); 0 turns it off.
+    pub fn set_motor(&mut self, j: JointId, speed: f64, max_force: f64) -> Result<(), SimError> {
+        let n = self.joints.len();
+        let joint = self.joints.get_mut(j.0).ok_or(SimError::UnknownJoint { index: j.0, joints: n })?;
+        joint.motor = Some(super::joint::check_motor(joint.kind, speed, max_force)?);
+        Ok(())
+    }
+
     /// At the end of `detect`: the limits each joint may reach this step
     /// (within its rate times `2h` plus the margin) appended to the contacts.
     pub(crate) fn joint_limit_contacts(&mut self) {
         let ws = &mut self.ws;
         ws.joints.limits.clear();
         ws.joints.first_limit = ws.contacts.len();
-        if self.joints.iter().all(|j| j.limits.is_none()) {
+        if self.joints.iter().all(|j| j.limits.is_none() && j.motor.is_none()) {
             return;
         }
         let h = ws.part_h.unwrap_or(self.params.dt);
@@ -94,6 +103,9 @@ impl World {
             let rate: f64 = sides.iter().flatten().map(|&b| ws.w_free[b].norm() + ws.v_free[b].norm()).sum();
             let reach = 2.0 * h * rate + self.params.margin;
             joint.push_limits(j, &self.bodies, reach, &mut ws.joints.limits, &mut ws.contacts);
+        }
+        for (j, joint) in self.joints.iter().enumerate() {
+            joint.push_motor(j, &self.bodies, h, &mut ws.joints.limits, &mut ws.contacts);
         }
     }
 
@@ -124,6 +136,13 @@ impl World {
                 let jv: f64 = (0..2)
                     .filter_map(|s| lim.body[s].map(|b| dot6(&lim.jac[s], &row(ws.v_free[b], ws.w_free[b]))))
                     .sum();
+                if let Some((speed, _)) = lim.motor {
+                    // The rate row as the first friction direction, driven to `speed`.
+                    let z = [0.0; 6];
+                    let (jac, minv) = (lim.jac.map(|r| [z, r, z]), minv.map(|r| [z, r, z]));
+                    isl.lcp.set_generalized_rows(c, lim.body, jac, minv, [0.0, jv - speed, 0.0]);
+                    continue;
+                }
                 // Speculative before the limit (stop on it), β of the joints past it.
                 let bias = if lim.gap > 0.0 { lim.gap / h } else { self.joint_params.drift * lim.gap / h };
                 isl.lcp.set_generalized_row(c, lim.body, lim.jac, minv, jv + bias);
@@ -132,6 +151,12 @@ impl World {
                 isl.lcp.assemble_matrix();
             }
             ws.joints.couple(i, &mut isl.lcp);
+            // Motors: their normal pinned at the force bound.
+            for (c, &g) in ws.islands.contacts_of(i).iter().enumerate().filter(|(_, &g)| g >= first) {
+                if let Some((_, bound)) = ws.joints.limits[g - first].motor {
+                    isl.lcp.pin_normal(c, bound);
+                }
+            }
         }
     }
 

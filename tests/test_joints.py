@@ -1,0 +1,137 @@
+"""Joints from Python (World.add_hinge, add_slider, add_ball, add_fixed):
+a pendulum's period and length, a chain that stays closed on the ground with
+every LCP solved, the reactions, and bad input as ValueError naming the field."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from lcpsim import World
+
+G = 9.81
+
+
+def hinge_pendulum(length: float = 1.0, radius: float = 0.05, theta0: float = 0.05) -> tuple[World, int]:
+    w = World()
+    anchor = np.array([0.0, 0.0, 2.0])
+    p = anchor + length * np.array([math.sin(theta0), 0.0, -math.cos(theta0)])
+    ball = w.add_sphere(radius, mass=1.0, position=p)
+    w.add_hinge(None, ball, anchor, (0, 1, 0))
+    return w, ball
+
+
+def test_hinge_pendulum_period_and_length():
+    length, radius, theta0 = 1.0, 0.05, 0.05
+    w, ball = hinge_pendulum(length, radius, theta0)
+    traj = w.run(10_000)
+    x = traj.positions[:, ball, 0]
+    ups = [i - 1 + x[i - 1] / (x[i - 1] - x[i]) for i in range(1, len(x)) if x[i - 1] < 0 <= x[i]]
+    period = (ups[-1] - ups[0]) / (len(ups) - 1) * w.dt
+    expect = 2 * math.pi * math.sqrt((0.4 * radius**2 + length**2) / (G * length)) * (1 + theta0**2 / 16)
+    assert abs(period - expect) / expect < 5e-3, (period, expect)
+    arm = np.linalg.norm(traj.positions[:, ball] - np.array([0.0, 0.0, 2.0]), axis=1)
+    assert np.max(np.abs(arm - length)) <= 1e-6
+    # The hinge holds the ball's weight and its centripetal pull: about m g at the bottom.
+    force, _ = w.joint_reactions()
+    assert force.shape == (1, 3) and 0.9 * G < force[0, 2] < 1.1 * G
+
+
+def test_ball_chain_on_the_ground_stays_closed_with_every_lcp_solved():
+    w = World()
+    w.add_ground(mu=0.5)
+    links = []
+    for i in range(8):
+        links.append(w.add_box(half_extents=(0.1, 0.02, 0.02), mass=0.5, position=(0.2 * i + 0.1, 0, 1.2)))
+        w.add_ball(links[i - 1] if i else None, links[i], (0.2 * i, 0, 1.2))
+    worst = 0.0
+    for _ in range(1500):
+        rec = w.step()
+        assert rec.ok
+        worst = max(worst, max(w.joint_error(j)[0] for j in range(w.joint_count)))
+    assert worst <= 1e-6
+    assert w.positions[links[-1], 2] < 0.1  # the far end lies on the ground
+
+
+def test_fixed_joint_and_copy():
+    w = World()
+    box = w.add_box(size=0.2, mass=2.0, position=(0.5, 0, 1))
+    w.add_fixed(None, box)
+    twin = w.copy()
+    w.run(200)
+    twin.run(200)
+    for world in (w, twin):
+        assert np.allclose(world.positions[box], (0.5, 0, 1), atol=1e-9)
+        force, torque = world.joint_reactions()
+        assert np.allclose(force[0], (0, 0, 2 * G), atol=1e-9) and np.allclose(torque[0], 0, atol=1e-9)
+
+
+def test_hinge_limit_stops_a_falling_bar_at_the_limit():
+    w = World()
+    bar = w.add_box(half_extents=(0.5, 0.03, 0.03), mass=1.0, position=(0.5, 0, 2))
+    j = w.add_hinge(None, bar, (0, 0, 2), (0, 1, 0), limits=(-0.2, 0.6))
+    angles = []
+    for _ in range(1500):
+        assert w.step().ok
+        angles.append(w.joint_position(j))
+    step = np.max(np.abs(np.diff(angles)))
+    assert max(angles) <= 0.6 + step and abs(angles[-1] - 0.6) < 1e-6
+
+
+def test_slider_displacement_follows_gravity_along_its_axis():
+    w = World()
+    box = w.add_box(size=0.2, mass=1.0, position=(0, 0, 1))
+    j = w.add_slider(None, box, (0, 0, 1), (0, 0, 2))
+    w.run(1000)
+    assert w.joint_position(j) == pytest.approx(-0.5 * G * 1.0 * (1.0 + 1e-3), rel=2e-3)
+    assert np.allclose(w.positions[box, :2], 0, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "call, match",
+    [
+        (lambda w, b: w.add_hinge(None, b, (math.nan, 0, 0), (0, 1, 0)), "anchor must be finite, got nan"),
+        (lambda w, b: w.add_hinge(None, b, (0, 0, 0), (0, 0, 0)), r"axis must be a non-zero vector, got \(0, 0, 0\)"),
+        (lambda w, b: w.add_ball(None, 7, (0, 0, 0)), r"body_b must be a body index in \[0, 1\), got 7"),
+        (lambda w, b: w.add_ball(5, b, (0, 0, 0)), r"body_a must be None \(the world\) or a body index"),
+        (lambda w, b: w.add_slider(None, b, (0, 0, 0), (1, 0, 0), limits=(1.0, -1.0)), "lower <= upper"),
+        (lambda w, b: w.set_motor(w.add_hinge(None, b, (0, 0, 0), (0, 1, 0)), 1.0, -2.0),
+         "max_force must be finite and >= 0, got -2.0"),
+        (lambda w, b: w.set_motor(w.add_ball(None, b, (0, 0, 0)), 1.0, 2.0), "motor is for hinges and sliders"),
+        (lambda w, b: w.add_hinge(None, b, (0, 0, 0), (0, 1, 0), motor=(math.inf, 1.0)), "speed must be finite"),
+        (lambda w, b: w.joint_error(3), r"joint must be a joint index in \[0, 0\), got 3"),
+        (lambda w, b: w.set_joint_params(drift=2.0), r"joint_drift must be in \[0, 1\], got 2"),
+    ],
+)
+def test_bad_joint_input_is_a_value_error_naming_the_field(call, match):
+    w = World()
+    b = w.add_box(size=0.2, position=(0, 0, 1))
+    with pytest.raises(ValueError, match=match):
+        call(w, b)
+
+
+def test_two_finger_gripper_lifts_a_cube_and_holds_it():
+    w = World()
+    w.add_ground(mu=1.0)
+    cube = w.add_box(size=0.1, mass=1.0, position=(0, 0, 0.05), mu=1.0)
+    palm = w.add_box(half_extents=(0.15, 0.05, 0.02), mass=1.0, position=(0, 0, 0.2), mu=1.0)
+    fingers = [w.add_box(half_extents=(0.01, 0.04, 0.08), mass=0.2, position=(x, 0, 0.1), mu=1.0)
+               for x in (-0.1, 0.1)]
+    lift = w.add_slider(None, palm, (0, 0, 0.2), (0, 0, 1), motor=(0.0, 200.0))
+    for f, x in zip(fingers, (-0.1, 0.1)):
+        w.add_slider(palm, f, (x, 0, 0.18), (-x, 0, 0), motor=(0.1, 20.0))  # towards the cube
+    grip = lambda: w.positions[cube, 2] - w.positions[fingers[0], 2]
+    for _ in range(1000):  # the fingers close
+        assert w.step().ok
+    start = grip()
+    for s in range(2200):  # up 0.2 m at 0.1 m/s, reached and left over 0.2 s
+        w.set_motor(lift, 0.1 * min(1.0, s / 200, (2200 - s) / 200), 200.0)
+        assert w.step().ok
+    lifted = grip()
+    for _ in range(2000):  # held
+        assert w.step().ok
+    assert abs(lifted - start) <= 1e-3 and abs(grip() - lifted) <= 1e-3  # no slip
+    assert w.positions[cube, 2] == pytest.approx(0.25, abs=2e-3)
+    assert max(w.joint_error(j)[0] for j in range(w.joint_count)) <= 1e-6
