@@ -248,6 +248,12 @@ impl World {
         Ok(())
     }
 
+    /// How the broad phase finds its candidate pairs (`BroadMethod::Auto` by
+    /// default, and in a copy; every method gives the same pairs, so the same trajectory).
+    pub fn set_broad_method(&mut self, method: crate::broad_phase::BroadMethod) {
+        self.ws.broad.method = method;
+    }
+
     /// Sets a body's friction coefficient.
     pub fn set_mu(&mut self, id: BodyId, mu: f64) -> Result<(), SimError> {
         non_negative("mu", mu)?;
