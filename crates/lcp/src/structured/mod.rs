@@ -9,6 +9,8 @@
 //! - [`guess`]: a basis guessed by projected Gauss–Seidel in body space (contact LCPs).
 //! - [`bpp`]: block principal pivoting, which improves a complementary basis
 //!   many pairs per factorization (before Lemke's warm start).
+//! - [`kept`]: one complementary basis factored once and solved again as the
+//!   operator's values change under the same sparsity (a resting island, step after step).
 //!
 //! Every answer is judged by the acceptance rule of [`crate::accept`] on the
 //! operator (each row's scale from its sparse row of `M`); nothing about the
@@ -19,6 +21,7 @@
 pub mod bpp;
 mod factor;
 pub mod guess;
+pub mod kept;
 mod lu;
 mod operator;
 mod pivot;

@@ -26,7 +26,15 @@ pub struct StructuredLcp {
     k_rows: Compressed,
     /// Scratch of [`StructuredLcp::row_into`] and of the `p`-space product.
     scratch: RefCell<Scratch>,
+    /// Where each entry of `G`, `H`, `K` went, when built to be refilled
+    /// ([`StructuredLcp::refillable`]).
+    slots: Option<Box<Slots>>,
 }
+
+/// The places of the entries in the six compressed matrices, in the order of
+/// the fields of [`StructuredLcp`] (`g_rows`, `g_cols`, `h_cols`, `h_rows`, `k_cols`, `k_rows`).
+#[derive(Clone, Debug)]
+struct Slots([Vec<usize>; 6]);
 
 /// Buffers of the products: a sparse accumulator over `n` and a `p`-vector.
 #[derive(Clone, Debug, Default)]
@@ -40,28 +48,46 @@ struct Scratch {
 /// A sparse entry `(row, column, value)`.
 pub type Entry = (usize, usize, f64);
 
+impl Scratch {
+    fn new(n: usize, p: usize) -> Self {
+        Scratch { acc: vec![0.0; n], mark: vec![false; n], touched: Vec::new(), u: vec![0.0; p] }
+    }
+}
+
+/// The entries of the transpose.
+fn transposed(e: &[Entry]) -> impl ExactSizeIterator<Item = Entry> + Clone + '_ {
+    e.iter().map(|&(r, c, v)| (c, r, v))
+}
+
+/// Errors of `G` (`n × p`), `H` (`p × n`), `K` (`n × n`) and `q`: an empty
+/// problem, an index out of range, a non-finite value.
+fn check(n: usize, p: usize, g: &[Entry], h: &[Entry], k: &[Entry], q: &[f64]) -> Result<(), LcpError> {
+    if n == 0 {
+        return Err(LcpError::Empty);
+    }
+    for (field, entries, rows, cols) in [("G", g, n, p), ("H", h, p, n), ("K", k, n, n)] {
+        for (index, &(r, c, v)) in entries.iter().enumerate() {
+            if r >= rows || c >= cols {
+                return Err(LcpError::NotSquare { entries: r.max(c) + 1, n: rows.max(cols) });
+            }
+            if !v.is_finite() {
+                return Err(LcpError::NonFinite { field, index, value: v });
+            }
+        }
+    }
+    if let Some((index, &value)) = q.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(LcpError::NonFinite { field: "q", index, value });
+    }
+    Ok(())
+}
+
 impl StructuredLcp {
     /// `M = G H + K` from the entries of `G` (`n × p`), `H` (`p × n`) and
     /// `K` (`n × n`) (repeated entries are summed) and `q` (length `n`).
     /// Errors on an empty problem, an index out of range or a non-finite value.
     pub fn new(p: usize, g: &[Entry], h: &[Entry], k: &[Entry], q: Vec<f64>) -> Result<Self, LcpError> {
         let n = q.len();
-        if n == 0 {
-            return Err(LcpError::Empty);
-        }
-        for (field, entries, rows, cols) in [("G", g, n, p), ("H", h, p, n), ("K", k, n, n)] {
-            for (index, &(r, c, v)) in entries.iter().enumerate() {
-                if r >= rows || c >= cols {
-                    return Err(LcpError::NotSquare { entries: r.max(c) + 1, n: rows.max(cols) });
-                }
-                if !v.is_finite() {
-                    return Err(LcpError::NonFinite { field, index, value: v });
-                }
-            }
-        }
-        if let Some((index, &value)) = q.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(LcpError::NonFinite { field: "q", index, value });
-        }
+        check(n, p, g, h, k, &q)?;
         let transpose = |e: &[Entry]| e.iter().map(|&(r, c, v)| (c, r, v)).collect::<Vec<_>>();
         Ok(StructuredLcp {
             n,
@@ -72,14 +98,65 @@ impl StructuredLcp {
             h_rows: Compressed::new(p, h),
             k_cols: Compressed::new(n, &transpose(k)),
             k_rows: Compressed::new(n, k),
+            scratch: RefCell::new(Scratch::new(n, p)),
             q,
-            scratch: RefCell::new(Scratch {
-                acc: vec![0.0; n],
-                mark: vec![false; n],
-                touched: Vec::new(),
-                u: vec![0.0; p],
-            }),
+            slots: None,
         })
+    }
+
+    /// [`StructuredLcp::new`], keeping where each entry went so that
+    /// [`StructuredLcp::refill`] can give it new values in place: a
+    /// simulator's LCP keeps its sparsity from step to step while its
+    /// contacts do (only `J` and `M_b⁻¹` move), and the sorting of the six
+    /// compressed matrices was a fifth of a settled heap's step.
+    pub fn refillable(p: usize, g: &[Entry], h: &[Entry], k: &[Entry], q: Vec<f64>) -> Result<Self, LcpError> {
+        let n = q.len();
+        check(n, p, g, h, k, &q)?;
+        let t = transposed;
+        let (g_rows, s0) = Compressed::with_slots(n, g.iter().copied());
+        let (g_cols, s1) = Compressed::with_slots(p, t(g));
+        let (h_cols, s2) = Compressed::with_slots(n, t(h));
+        let (h_rows, s3) = Compressed::with_slots(p, h.iter().copied());
+        let (k_cols, s4) = Compressed::with_slots(n, t(k));
+        let (k_rows, s5) = Compressed::with_slots(n, k.iter().copied());
+        Ok(StructuredLcp {
+            n,
+            p,
+            g_rows,
+            g_cols,
+            h_cols,
+            h_rows,
+            k_cols,
+            k_rows,
+            scratch: RefCell::new(Scratch::new(n, p)),
+            q,
+            slots: Some(Box::new(Slots([s0, s1, s2, s3, s4, s5]))),
+        })
+    }
+
+    /// New values for an operator built by [`StructuredLcp::refillable`]
+    /// from entries at the same `(row, column)` places, in the same order:
+    /// the result is the operator [`StructuredLcp::new`] would build from
+    /// them, to the bit. `Ok(false)`, the operator then unusable until
+    /// refilled or rebuilt, when it was not built so or the places differ;
+    /// an error on a non-finite value or a `q` of another length.
+    pub fn refill(&mut self, g: &[Entry], h: &[Entry], k: &[Entry], q: &[f64]) -> Result<bool, LcpError> {
+        if q.len() != self.n {
+            return Err(LcpError::LengthMismatch { q_len: q.len(), n: self.n });
+        }
+        check(self.n, self.p, g, h, k, q)?;
+        let Some(s) = self.slots.as_deref() else { return Ok(false) };
+        let t = transposed;
+        let ok = self.g_rows.refill(&s.0[0], g.iter().copied())
+            && self.g_cols.refill(&s.0[1], t(g))
+            && self.h_cols.refill(&s.0[2], t(h))
+            && self.h_rows.refill(&s.0[3], h.iter().copied())
+            && self.k_cols.refill(&s.0[4], t(k))
+            && self.k_rows.refill(&s.0[5], k.iter().copied());
+        if ok {
+            self.q.copy_from_slice(q);
+        }
+        Ok(ok)
     }
 
     /// The same `M` with another `q` (same length, finite).

@@ -17,38 +17,85 @@ impl Compressed {
     /// given, as a stable sort of all entries would (a sort of all entries
     /// took 8 % of a 52-cube heap's solve, n = 1,440).
     pub(crate) fn new(majors: usize, entries: &[(usize, usize, f64)]) -> Self {
+        Self::build(majors, entries.iter().copied(), entries.len(), None)
+    }
+
+    /// [`Compressed::new`], with where each entry went: `slots[e]` is the
+    /// place in `val` that entry `e` was summed into (for [`Compressed::refill`]).
+    pub(crate) fn with_slots(
+        majors: usize,
+        entries: impl Iterator<Item = (usize, usize, f64)> + Clone,
+    ) -> (Self, Vec<usize>) {
+        let count = entries.clone().count();
+        let mut slots = vec![0; count];
+        let c = Self::build(majors, entries, count, Some(&mut slots));
+        (c, slots)
+    }
+
+    fn build(
+        majors: usize,
+        entries: impl Iterator<Item = (usize, usize, f64)> + Clone,
+        count: usize,
+        mut slots: Option<&mut Vec<usize>>,
+    ) -> Self {
         let mut start = vec![0; majors + 1];
-        entries.iter().for_each(|&(a, _, _)| start[a + 1] += 1);
+        entries.clone().for_each(|(a, _, _)| start[a + 1] += 1);
         for a in 0..majors {
             start[a + 1] += start[a];
         }
         let mut next = start.clone();
-        let mut sorted = vec![(0, 0.0); entries.len()];
-        for &(a, b, v) in entries {
-            sorted[next[a]] = (b, v);
+        let mut sorted = vec![(0, 0.0, 0); count];
+        for (e, (a, b, v)) in entries.enumerate() {
+            sorted[next[a]] = (b, v, e);
             next[a] += 1;
         }
         let mut ptr = vec![0; majors + 1];
-        let (mut idx, mut val) = (Vec::with_capacity(entries.len()), Vec::with_capacity(entries.len()));
+        let (mut idx, mut val) = (Vec::with_capacity(count), Vec::with_capacity(count));
         for a in 0..majors {
             let run = &mut sorted[start[a]..start[a + 1]];
             // Contact LCPs come in order: a check is cheaper than a sort.
-            if !run.is_sorted_by_key(|&(b, _)| b) {
-                run.sort_by_key(|&(b, _)| b);
+            if !run.is_sorted_by_key(|&(b, _, _)| b) {
+                run.sort_by_key(|&(b, _, _)| b);
             }
             let mut last = None;
-            for &(b, v) in run.iter() {
-                if last == Some(b) {
+            for &(b, v, e) in run.iter() {
+                if last != Some(b) {
+                    last = Some(b);
+                    idx.push(b);
+                    val.push(v);
+                } else {
                     *val.last_mut().expect("a previous entry") += v;
-                    continue;
                 }
-                last = Some(b);
-                idx.push(b);
-                val.push(v);
+                if let Some(s) = slots.as_deref_mut() {
+                    s[e] = idx.len() - 1;
+                }
             }
             ptr[a + 1] = idx.len();
         }
         Compressed { ptr, idx, val }
+    }
+
+    /// New values for the same entries as those `slots` came from
+    /// ([`Compressed::with_slots`]): each summed into its place in the order
+    /// given, as [`Compressed::new`] sums them, so the result is the same to
+    /// the bit. `false` (and the values left partly written) when an entry's
+    /// place does not hold its `(major, minor)`: another pattern.
+    pub(crate) fn refill(
+        &mut self,
+        slots: &[usize],
+        entries: impl ExactSizeIterator<Item = (usize, usize, f64)>,
+    ) -> bool {
+        if entries.len() != slots.len() {
+            return false;
+        }
+        self.val.iter_mut().for_each(|v| *v = 0.0);
+        for ((a, b, v), &s) in entries.zip(slots) {
+            if a + 1 >= self.ptr.len() || !(self.ptr[a]..self.ptr[a + 1]).contains(&s) || self.idx[s] != b {
+                return false;
+            }
+            self.val[s] += v;
+        }
+        true
     }
 
     /// `(minor, value)` of major index `a`.

@@ -50,6 +50,9 @@ pub struct IslandLcp {
     pub z_apply: Vec<f64>,
     /// Buffers of the body-space check of the previous basis.
     pub basis_ws: BasisWorkspace,
+    /// The structured stage's operators and basis factors from this slot's
+    /// last solve (`solve_chain::kept_factors`).
+    pub kept: crate::solve_chain::kept_factors::KeptFactors,
     /// Options of the body-space check of the answer and its double-double
     /// re-solve (`solve_chain::answer_check`), `None` for no check; set per solve.
     pub body_check: Option<LemkeOptions>,

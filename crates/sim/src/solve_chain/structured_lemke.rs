@@ -11,6 +11,7 @@
 //! `None` sends the island to the dense Lemke, unless `keep_failure` (the
 //! dense `M` would not fit): then the failed answer is returned as it is.
 
+use super::kept_factors::{self, KeptFactors};
 use super::replay::{self, StructuredProblem};
 use super::stage::{Attempt, Found};
 use crate::contact::body_factors::structured_lcp;
@@ -47,7 +48,11 @@ pub enum Start {
 /// The stage: the island from its warm basis; a failed answer is kept as
 /// it is when the dense `M` would not fit.
 pub(super) fn attempt(isl: &mut IslandLcp, a: &Attempt<'_>) -> Option<Found> {
-    let sol = solve(&isl.lcp, a.warm, a.accept_tol, !a.dense_fits)?;
+    let sol = if kept_factors::enabled() {
+        solve_kept(&isl.lcp, a.warm, a.accept_tol, !a.dense_fits, &mut isl.kept)?
+    } else {
+        solve(&isl.lcp, a.warm, a.accept_tol, !a.dense_fits)?
+    };
     Some(Found { sol, physical: None })
 }
 
@@ -66,6 +71,43 @@ pub fn solve(lcp: &ContactLcp, warm: Option<&[bool]>, tol: f64, keep_failure: bo
     let problem = StructuredProblem { op, physical, scale: lcp.scale(), layout: lcp.layout(), warm, tol };
     replay::dump(&problem);
     let sol = solve_problem(&problem, Start::Step);
+    (sol.ok() || keep_failure).then_some(sol)
+}
+
+/// [`solve`] with the operators and basis factors `kept` from the island's
+/// last step ([`super::kept_factors`]): the operators refilled in place when
+/// the island's contacts join the same bodies, and then, for an island that
+/// skips the previous-basis stage (n ≥ [`super::STRUCTURED_MIN_N`]), its warm
+/// basis solved on kept factors first; the structured Lemke as in [`solve`]
+/// when that basis is not accepted.
+fn solve_kept(
+    lcp: &ContactLcp,
+    warm: Option<&[bool]>,
+    tol: f64,
+    keep_failure: bool,
+    kept: &mut KeptFactors,
+) -> Option<Solution> {
+    let refilled = kept.prepare(lcp)?;
+    let (op, physical) = kept.take()?;
+    let warm = warm.map(|b| with_sliding_friction(lcp, b));
+    let problem = StructuredProblem { op, physical, scale: lcp.scale(), layout: lcp.layout(), warm, tol };
+    replay::dump(&problem);
+    let at_once = match &problem.warm {
+        Some(alpha) if refilled && lcp.n() >= super::STRUCTURED_MIN_N => {
+            kept.answer(&problem.op, problem.physical.as_ref(), problem.layout, problem.scale, alpha, tol)
+        }
+        _ => None,
+    };
+    if std::env::var_os("KEPT_DEBUG").is_some() {
+        eprintln!(
+            "kept n {} refilled {refilled} warm {} at_once {}",
+            lcp.n(),
+            problem.warm.is_some(),
+            at_once.is_some()
+        );
+    }
+    let sol = at_once.unwrap_or_else(|| solve_problem(&problem, Start::Step));
+    kept.give_back(problem.op, problem.physical);
     (sol.ok() || keep_failure).then_some(sol)
 }
 
