@@ -347,3 +347,11 @@ def test_conformance_never_lies(solver, dataset):
         check_solution(M, q, res.z, rel=1e-5 if solver == "lemke-classic" else 1e-8)
     if solver == "lemke":
         assert res.ok, f"default Lemke failed on {dataset}: {res.status}"
+
+
+def test_unrepresentable_answer_is_reported_not_solved():
+    """z = 2.5e-324 lies between 0 and the smallest subnormal: neither meets the rule, and
+    the result must say so rather than come back `solved`."""
+    res = solve_lcp(np.array([[2.0]]), np.array([-5e-324]))
+    assert not res.ok
+    assert res.status != "solved"
