@@ -13,7 +13,7 @@ fn penetration(r: &sim::StepRecord) -> f64 {
 #[test]
 fn a_45_cube_pour_runs_3_s_with_every_island_solved_and_no_cube_sunk() {
     let mut s = CubePour::new(45, 0).build(WorldParams::default()).unwrap();
-    let (mut deepest, mut deepest_late, mut islands) = (0.0f64, 0.0f64, 0usize);
+    let (mut deepest, mut islands) = (0.0f64, 0usize);
     let mut by_stage = [0usize; 4];
     for step in 0..3000 {
         let r = s.world.step().unwrap();
@@ -24,11 +24,8 @@ fn a_45_cube_pour_runs_3_s_with_every_island_solved_and_no_cube_sunk() {
             islands += 1;
         }
         deepest = deepest.max(penetration(r));
-        if step >= 2750 {
-            deepest_late = deepest_late.max(penetration(r));
-        }
     }
-    println!("islands {islands}, by stage {by_stage:?}, deepest penetration {deepest:.2e} m, over the last 250 steps {deepest_late:.2e} m");
+    println!("islands {islands}, by stage {by_stage:?}, deepest penetration {deepest:.2e} m");
     // Every cube inside the bin and on or above the floor (a turned cube's
     // centre stands at least half an edge up; the bin's inner half-width is
     // g·spacing/2 = 2.7 m for 45 cubes).
@@ -36,10 +33,10 @@ fn a_45_cube_pour_runs_3_s_with_every_island_solved_and_no_cube_sunk() {
         let p = s.world.body(b).unwrap().position();
         assert!(p.z > 0.5 - 1e-3 && p.x.abs() < 2.7 && p.y.abs() < 2.7, "cube {b:?} at {p:?}");
     }
-    assert!(deepest_late <= 1e-3, "penetration over the last 250 steps {deepest_late:.2e} m");
-    // While the heap forms, tumbling cubes meet at edges and corners; the
-    // deepest overlap then (4.8 mm on this seed) is corrected within a few steps.
-    assert!(deepest <= 1e-2, "penetration {deepest:.2e} m");
+    // While the heap forms, tumbling cubes meet at edges and corners (0.11 mm
+    // at most on this seed): a box coming down nearly flat across another's
+    // edge has contact points at both ends of its edge before it lands.
+    assert!(deepest <= 1e-3, "penetration {deepest:.2e} m");
     assert_eq!(by_stage.iter().sum::<usize>(), islands);
 }
 

@@ -6,8 +6,10 @@
 //! For a face axis the *incident* face of the other box is clipped
 //! (Sutherland–Hodgman) against the side planes of the *reference* face, and
 //! every clipped vertex within the margin becomes a contact (up to 8: a square
-//! clipped by a square). An edge–edge axis gives one contact at the closest
-//! points of the two edges.
+//! clipped by a square). For an edge–edge axis the two faces turned towards
+//! each other are clipped the same way but along the axis itself, so an edge
+//! or face coming down nearly flat gets its far end's points too; edges that
+//! cross at an angle give the one point where they cross.
 
 use super::{BoxShape, GeomContact, Placement};
 use crate::math::Vec3;
@@ -86,8 +88,12 @@ pub fn box_box(a: &BoxShape, pa: &Placement, b: &BoxShape, pb: &Placement, margi
             (pa.center - n * ha[i], side_axes(&axes_a, &ha, i), incident_face(&axes_b, &hb, pb.center, n), -1.0)
         }
         Axis::Edge(i, j) => {
-            let point = edge_point((pa.center, &axes_a, &ha, i), (pb.center, &axes_b, &hb, j), n);
-            out.push(GeomContact { point, normal: n, gap: sep });
+            let first = out.len();
+            edge_manifold((pa.center, &axes_a, &ha), (pb.center, &axes_b, &hb), n, margin, scale, out);
+            if out.len() == first {
+                let point = edge_point((pa.center, &axes_a, &ha, i), (pb.center, &axes_b, &hb, j), n);
+                out.push(GeomContact { point, normal: n, gap: sep });
+            }
             return;
         }
     };
@@ -95,7 +101,55 @@ pub fn box_box(a: &BoxShape, pa: &Placement, b: &BoxShape, pb: &Placement, margi
         let gap = s * n.dot(p - fc);
         (gap, p - n * (s * 0.5 * gap))
     };
-    clip_and_emit(&poly, fc, u1, e1, u2, e2, margin, scale, out, gap_point, n);
+    let planes = [(u1, e1), (-u1, e1), (u2, e2), (-u2, e2)];
+    clip_and_emit(&poly, fc, planes, margin, scale, out, gap_point, n);
+}
+
+/// The contacts of an edge–edge axis `n` (from B to A): the two boxes' faces
+/// turned most towards each other along `n`, one clipped against the prism
+/// that the other sweeps along `n`, every clipped point within the margin
+/// (gap measured along `n`). Where a tumbling box's edge or face comes down
+/// nearly flat on the other's face, the axis is an edge–edge one, and the
+/// points at its far end (a few mm up) must enter the LCP now: a single point
+/// where the edges cross lets the box turn about it into the face within the
+/// step. For edges that cross at an angle this gives the crossing point alone.
+fn edge_manifold(
+    a: (Vec3, &[Vec3; 3], &[f64; 3]),
+    b: (Vec3, &[Vec3; 3], &[f64; 3]),
+    n: Vec3,
+    margin: f64,
+    scale: f64,
+    out: &mut Vec<GeomContact>,
+) {
+    let ((ca, axes_a, ha), (cb, axes_b, hb)) = (a, b);
+    let most =
+        |axes: &[Vec3; 3]| (0..3).fold(0, |k, m| if axes[m].dot(n).abs() > axes[k].dot(n).abs() { m } else { k });
+    let (ka, kb) = (most(axes_a), most(axes_b));
+    // The reference face is the one whose normal is closer to ±n (outward
+    // normal `nr`; s = 1 for B's face, −1 for A's); n ⟂ both edges, so
+    // |nr·n| ≥ 1/√2 and the prism's side planes are well conditioned.
+    let (k, axes, h, c, s, poly) = if axes_b[kb].dot(n).abs() >= axes_a[ka].dot(n).abs() {
+        (kb, axes_b, hb, cb, 1.0, incident_face(axes_a, ha, ca, -n))
+    } else {
+        (ka, axes_a, ha, ca, -1.0, incident_face(axes_b, hb, cb, n))
+    };
+    let nr = axes[k] * sign(axes[k].dot(n) * s);
+    let fc = c + nr * h[k];
+    let (u1, e1, u2, e2) = side_axes(axes, h, k);
+    // A side plane holds its face edge (along w) and n; it keeps u·(p − fc) ≤ e
+    // for u its unit normal turned outward (towards the in-face axis ±v).
+    let side = |v: Vec3, e: f64, w: Vec3| {
+        let m = w.cross(n);
+        let m = m * (sign(m.dot(v)) / m.norm());
+        (m, m.dot(v) * e)
+    };
+    let planes = [side(u1, e1, u2), side(-u1, e1, u2), side(u2, e2, u1), side(-u2, e2, u1)];
+    let cos = nr.dot(n).abs();
+    let gap_point = |p: Vec3| {
+        let gap = nr.dot(p - fc) / cos;
+        (gap, p - n * (s * 0.5 * gap))
+    };
+    clip_and_emit(&poly, fc, planes, margin, scale, out, gap_point, n);
 }
 
 /// Edge `i` of box A and edge `j` of box B (each given as centre, axes, half
@@ -153,16 +207,14 @@ fn incident_face(axes: &[Vec3; 3], h: &[f64; 3], center: Vec3, dir: Vec3) -> [Ve
     [fc + a + b, fc - a + b, fc - a - b, fc + a - b]
 }
 
-/// Clips the incident polygon against the reference face's 4 side planes and
-/// emits every vertex whose gap (from `gap_point`) is within the margin.
+/// Clips the incident polygon against the reference face's 4 side planes
+/// (`u·(p − fc) ≤ e` each) and emits every vertex whose gap (from
+/// `gap_point`) is within the margin.
 #[allow(clippy::too_many_arguments)]
 fn clip_and_emit(
     poly: &[Vec3; 4],
     fc: Vec3,
-    u1: Vec3,
-    e1: f64,
-    u2: Vec3,
-    e2: f64,
+    planes: [(Vec3, f64); 4],
     margin: f64,
     scale: f64,
     out: &mut Vec<GeomContact>,
@@ -176,7 +228,7 @@ fn clip_and_emit(
     let mut len = 4;
     // 1 nm on a 1 m box: far below any physical feature, far above round-off.
     let tol = 1e-9 * scale;
-    for (u, e) in [(u1, e1), (-u1, e1), (u2, e2), (-u2, e2)] {
+    for (u, e) in planes {
         len = clip_polygon(&buf_a[..len], fc, u, e, tol, &mut buf_b);
         buf_a[..len].copy_from_slice(&buf_b[..len]);
         if len == 0 {
@@ -293,6 +345,67 @@ mod tests {
         assert!((out[0].normal - Vec3::Z).max_abs() < 1e-9);
         assert!((out[0].gap + 1e-4).abs() < 1e-9);
         assert!((out[0].point - Vec3::new(0.0, 0.0, r - 0.5e-4)).max_abs() < 1e-9);
+    }
+
+    /// A cube whose bottom edge (direction e = (cos α, 0, −sin α)) crosses the
+    /// top edge x = 0.5 of the axis-aligned cube below at height 0.5 + g,
+    /// sloping down past it, its bottom face rising by γ towards +y: the
+    /// edge–edge axis n = (sin α, 0, cos α) separates them. Returns the upper
+    /// cube's placement, n, and the two points of its edge at the crossing
+    /// and at the inner end (0.8 back along the edge).
+    fn edge_across_edge(alpha: f64, gamma: f64, g: f64) -> (Placement, Vec3, Vec3, Vec3) {
+        let (sa, ca, sg, cg) = (alpha.sin(), alpha.cos(), gamma.sin(), gamma.cos());
+        let e = Vec3::new(ca, 0.0, -sa);
+        let f = Vec3::new(sg * sa, cg, sg * ca); // in the bottom face, away from the edge
+        let up = e.cross(f); // the bottom face's inward normal
+        let cross = Vec3::new(0.5, 0.0, 0.5 + g);
+        let center = cross - e * 0.3 + f * 0.5 + up * 0.5;
+        let n = Vec3::new(sa, 0.0, ca);
+        (Placement { center, rotation: Mat3::from_cols(e, f, up) }, n, cross, cross - e * 0.8)
+    }
+
+    #[test]
+    fn an_edge_coming_down_nearly_flat_across_an_edge_gets_both_ends() {
+        // α = 5 mrad: the inner end is 4 mm up, within a 1 cm margin; the far
+        // side of the bottom face (γ = 0.05) is 5 cm up, outside it.
+        let (alpha, g) = (5e-3, 1e-4);
+        let (pa, n, cross, inner) = edge_across_edge(alpha, 0.05, g);
+        let pb = place(Vec3::ZERO, Quat::IDENTITY);
+        let b = BoxShape::cube(1.0).unwrap();
+        let mut out = Vec::new();
+        box_box(&b, &pa, &b, &pb, 1e-2, &mut out);
+        assert_eq!(out.len(), 2, "{out:?}");
+        assert!(out.iter().all(|c| (c.normal - n).max_abs() < 1e-12), "{out:?}");
+        // Where the edges cross: the lines' distance g·cos α, their closest
+        // points' midpoint (the upper one is g·sin α along the edge from `cross`).
+        let upper = cross + Vec3::new(alpha.cos(), 0.0, -alpha.sin()) * (g * alpha.sin());
+        let mid = (upper + Vec3::new(0.5, 0.0, 0.5)) * 0.5;
+        let at_cross = out.iter().find(|c| (c.point - mid).max_abs() < 1e-9).expect("a contact where the edges cross");
+        assert!((at_cross.gap - g * alpha.cos()).abs() < 1e-12, "{at_cross:?}");
+        // The inner end, above the top face z = 0.5: its gap along n.
+        let gap = (inner.z - 0.5) / alpha.cos();
+        let at_end = out.iter().find(|c| (c.point - (inner - n * (0.5 * gap))).max_abs() < 1e-9);
+        let at_end = at_end.expect("a contact at the edge's inner end");
+        assert!((at_end.gap - gap).abs() < 1e-12 && gap > 4e-3, "{at_end:?}, expected gap {gap}");
+        // Swapped (the lower cube as A): the same points and gaps, the normal reversed.
+        let mut swapped = Vec::new();
+        box_box(&b, &pb, &b, &pa, 1e-2, &mut swapped);
+        assert_eq!(swapped.len(), 2, "{swapped:?}");
+        for c in &out {
+            let twin = swapped.iter().find(|d| (d.point - c.point).max_abs() < 1e-12).expect("the same point");
+            assert!((twin.gap - c.gap).abs() < 1e-12 && (twin.normal + c.normal).max_abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn an_edge_across_an_edge_keeps_only_the_points_within_the_margin() {
+        // With a 1 mm margin the inner end (4 mm up) is left out.
+        let (pa, n, ..) = edge_across_edge(5e-3, 0.05, 1e-4);
+        let b = BoxShape::cube(1.0).unwrap();
+        let mut out = Vec::new();
+        box_box(&b, &pa, &b, &place(Vec3::ZERO, Quat::IDENTITY), 1e-3, &mut out);
+        assert_eq!(out.len(), 1, "{out:?}");
+        assert!((out[0].normal - n).max_abs() < 1e-12 && (out[0].gap - 1e-4 * 5e-3f64.cos()).abs() < 1e-12);
     }
 
     #[test]
