@@ -108,15 +108,15 @@ BODY = '<body name="{name}" pos="0 0 1">{inner}</body>'
 @pytest.mark.parametrize(
     "xml, words",
     [
-        (BODY.format(name="arm", inner='<joint name="elbow" type="hinge"/><geom type="box" size=".1 .1 .1"/>'),
-         ["joint 'elbow'", "hinge"]),
+        (BODY.format(name="arm", inner='<joint name="elbow" type="hinge" stiffness="5"/><geom type="box" size=".1 .1 .1"/>'),
+         ["joint 'elbow'", "hinge", "stiffness"]),
         (BODY.format(name="egg", inner='<freejoint/><geom name="shell" type="ellipsoid" size=".1 .2 .3"/>'),
          ["geom 'shell'", "ellipsoid"]),
         (BODY.format(name="two", inner='<freejoint/><geom type="box" size=".1 .1 .1"/><geom type="sphere" size=".1"/>'),
          ["body 'two'", "2 colliding geoms"]),
         (BODY.format(name="car", inner='<freejoint/><geom type="box" size=".1 .1 .1"/>'
-         '<body name="wheel"><geom type="sphere" size=".1" pos=".2 0 0"/></body>'),
-         ["body 'wheel'", "welded"]),
+         '<body name="wheel"><geom type="sphere" size=".1" pos=".2 0 0" contype="0" conaffinity="0"/></body>'),
+         ["body 'wheel'", "0 colliding geoms"]),
     ],
 )
 def test_unsupported_elements_are_refused_naming_them(xml, words):
@@ -143,7 +143,7 @@ def test_cli_simulates_an_mjcf_file_and_refuses_with_exit_2(tmp_path):
     assert p.returncode == 0, p.stderr
     assert "mjcf" in p.stdout
     bad = tmp_path / "bad.xml"
-    bad.write_text("<mujoco><worldbody>" + BODY.format(name="arm", inner='<joint name="elbow"/><geom size=".1"/>')
+    bad.write_text("<mujoco><worldbody>" + BODY.format(name="arm", inner='<joint name="elbow" damping="1"/><geom size=".1"/>')
                    + "</worldbody></mujoco>")
     p = subprocess.run([sys.executable, "-m", "lcpsim", "simulate", str(bad)], capture_output=True, text=True, timeout=120)
     assert p.returncode == 2

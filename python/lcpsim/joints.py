@@ -131,6 +131,33 @@ class JointsMixin:
         friction pattern with a constant bound). ``max_force=0`` turns it off."""
         self._core.set_motor(self._joint(joint), *_motor(speed, max_force))
 
+    def set_control(self, actuator: int | str, value: float) -> None:
+        """Sets an MJCF ``<velocity>`` actuator's control (by name or index, in
+        the model's order): its joint's motor drives the actuator's rate to
+        ``value`` (clamped to ``ctrlrange`` if the model limits it; the joint's
+        rate is ``value / gear``) with at most ``forcerange`` (× ``gear``)."""
+        acts = getattr(self, "_actuators", [])
+        if isinstance(actuator, str):
+            found = [i for i, a in enumerate(acts) if a.name == actuator]
+            if not found:
+                known = ", ".join(a.name for a in acts) or "none"
+                raise ValueError(f"actuator must name an actuator of the model, got {actuator!r} (actuators: {known})")
+            k = found[0]
+        elif isinstance(actuator, bool) or not isinstance(actuator, (int, np.integer)) or not 0 <= int(actuator) < len(acts):
+            raise ValueError(f"actuator must be an actuator name or an index in [0, {len(acts)}), got {actuator!r}")
+        else:
+            k = int(actuator)
+        try:
+            v = float(value)
+        except (TypeError, ValueError):
+            raise ValueError(f"value must be a real number, got {value!r}") from None
+        if not math.isfinite(v):
+            raise ValueError(f"value must be finite, got {value!r}")
+        a = acts[k]
+        if a.ctrlrange is not None:
+            v = min(max(v, a.ctrlrange[0]), a.ctrlrange[1])
+        self._core.set_motor(a.joint, v / a.gear, a.max_force)
+
     def _joint(self, joint: Any) -> int:
         n = self._core.joint_count
         if isinstance(joint, bool) or not isinstance(joint, (int, np.integer)) or not 0 <= int(joint) < n:

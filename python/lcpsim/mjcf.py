@@ -10,11 +10,21 @@ The model is compiled by ``mujoco.MjModel`` and read from its arrays
 (``body_*``, ``geom_*``, ``mesh_*``, ``opt.timestep``, ``opt.gravity``), with
 the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
 
-- bodies with a ``freejoint`` whose parent is the world, each with one
+- moving bodies (a joint, or welded to a moving body), each with one
   colliding geom (sphere, box, capsule, cylinder, mesh — a mesh as the convex
   hull of its vertices, as MuJoCo collides it); geoms with ``contype`` and
   ``conaffinity`` both 0 are visual and skipped; mass and inertia are the
   compiled ``body_mass``, ``body_inertia`` (turned into the geom's frame);
+- ``hinge``, ``slide`` and ``ball`` joints, one per body, between a body and
+  its parent (the world when the parent is the world or welded to it): anchor
+  ``xanchor`` and axis ``xaxis`` at ``qpos0``, ``range`` (when ``limited``) as
+  the joint's limits, measured from ``qpos0``; bodies nested in bodies, a body
+  with no joint welded to its moving parent (``add_fixed``); a body and its
+  parent do not collide (bodies joined by a joint never do);
+- ``<velocity>`` actuators on a hinge or slide joint with a symmetric
+  ``forcerange``: a motor on the joint (``kv`` is not used: lcpsim's motor is a
+  hard velocity constraint with the force bound), driven by
+  :meth:`lcpsim.World.set_control` (``ctrl`` starts at 0: the joint is held still);
 - static geoms of the world body and of bodies welded to it (plane, box,
   sphere, capsule, cylinder, mesh as its convex hull);
 - μ = ``geom_friction[0]``, combined by ``max`` as MuJoCo does (unless
@@ -23,10 +33,12 @@ the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
   rule: two geoms collide iff ``(contype1 & conaffinity2) | (contype2 & conaffinity1)``).
 
 Everything else is refused with :class:`MjcfError` (a ``ValueError``) naming
-the element and its name: other joints (hinge, slide, ball), a freejoint body
-inside another body, bodies welded to a moving body, several colliding geoms
-on one moving body, ellipsoids, height fields, SDFs, tendons, actuators,
-equality constraints, explicit contact pairs and excludes.
+the element and its name: several joints on one body, a ball joint's
+``range``, joint stiffness, damping, armature or friction loss, a moving body
+with no colliding geom or several, other actuators (motor, position, ...; a
+velocity actuator without a symmetric ``forcerange`` or on a ball joint),
+ellipsoids, height fields, SDFs, tendons, equality constraints, explicit
+contact pairs and excludes.
 """
 
 from __future__ import annotations
@@ -103,43 +115,21 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
     # Whole-model features lcpsim has no counterpart for.
     for count, what, kind in (
         (m.ntendon, "tendon", OBJ.mjOBJ_TENDON),
-        (m.nu, "actuator", OBJ.mjOBJ_ACTUATOR),
         (m.neq, "equality", OBJ.mjOBJ_EQUALITY),
         (m.npair, "contact pair", OBJ.mjOBJ_PAIR),
         (m.nexclude, "contact exclude", OBJ.mjOBJ_EXCLUDE),
     ):
         if count:
-            raise MjcfError(f"{what} {_name(mujoco, m, kind, 0)!r} is not supported (lcpsim: free bodies and static geoms only)")
-    for j in range(m.njnt):
-        jt = int(m.jnt_type[j])
-        b = int(m.jnt_bodyid[j])
-        if jt != 0:
-            raise MjcfError(
-                f"joint {_name(mujoco, m, OBJ.mjOBJ_JOINT, j)!r} ({_JOINT_TYPES.get(jt, jt)}) of body "
-                f"{_name(mujoco, m, OBJ.mjOBJ_BODY, b)!r} is not supported (only freejoint)"
-            )
+            raise MjcfError(f"{what} {_name(mujoco, m, kind, 0)!r} is not supported (lcpsim: bodies, joints, velocity actuators)")
+    _check_joints(mujoco, m)
     d = mujoco.MjData(m)
     mujoco.mj_forward(m, d)
 
-    # Which bodies move: a freejoint directly under the world; which are welded to the world.
+    # Which bodies move: those with a joint, and those welded (no joint) to a moving body.
     moving = np.zeros(m.nbody, dtype=bool)
-    for b in range(1, m.nbody):
-        bname = _name(mujoco, m, OBJ.mjOBJ_BODY, b)
+    for b in range(1, m.nbody):  # parents come before their children
         parent = int(m.body_parentid[b])
-        if int(m.body_jntnum[b]) > 0:
-            if int(m.body_jntnum[b]) > 1:
-                raise MjcfError(f"body {bname!r} has {int(m.body_jntnum[b])} joints (only one freejoint is supported)")
-            if parent != 0:
-                raise MjcfError(
-                    f"body {bname!r} has a freejoint inside body {_name(mujoco, m, OBJ.mjOBJ_BODY, parent)!r} "
-                    "(only bodies directly under the world may move)"
-                )
-            moving[b] = True
-        elif parent != 0 and (moving[parent] or int(m.body_weldid[b]) != 0):
-            raise MjcfError(
-                f"body {bname!r} is welded to the moving body {_name(mujoco, m, OBJ.mjOBJ_BODY, parent)!r} "
-                "(compound bodies are not supported)"
-            )
+        moving[b] = int(m.body_jntnum[b]) > 0 or bool(moving[parent])
 
     colliding = [g for g in range(m.ngeom) if int(m.geom_contype[g]) != 0 or int(m.geom_conaffinity[g]) != 0]
     for g in colliding:
@@ -160,16 +150,143 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
     world_kwargs.setdefault("mu_combine", "max")
     world = new_world(**world_kwargs)
     names: dict[str, int] = {}
+    body_index: dict[int, int] = {}  # a moving MuJoCo body -> its lcpsim body
     try:
         for g in colliding:
             b = int(m.geom_bodyid[g])
-            _add_geom(mujoco, m, d, world, g, b, bool(moving[b]), names)
+            idx = _add_geom(mujoco, m, d, world, g, b, bool(moving[b]), names)
+            if moving[b]:
+                body_index[b] = idx
     except ValueError as e:
         raise MjcfError(f"geom {_name(mujoco, m, OBJ.mjOBJ_GEOM, g)!r}: {e}") from None
+    joint_index = _add_joints(mujoco, m, d, world, moving, body_index)
+    world._actuators = _actuators(mujoco, m, world, joint_index)
     world.scene = "mjcf"
     world.scene_params = {"source": source if not (isinstance(source, str) and source.lstrip().startswith("<")) else "<xml>"}
     world._body_names = dict(names)
     return MjcfScene(world, names, m)
+
+
+def _check_joints(mujoco: Any, m: Any) -> None:
+    """Refuses what the joints cannot express: several joints on a body, a
+    limited ball joint, joint springs, damping, armature or friction loss."""
+    OBJ = mujoco.mjtObj
+    for b in range(1, m.nbody):
+        n = int(m.body_jntnum[b])
+        if n > 1:
+            first = int(m.body_jntadr[b])
+            kinds = "+".join(_JOINT_TYPES.get(int(m.jnt_type[j]), str(int(m.jnt_type[j]))) for j in range(first, first + n))
+            raise MjcfError(
+                f"body {_name(mujoco, m, OBJ.mjOBJ_BODY, b)!r} has {n} joints ({kinds}); "
+                "lcpsim takes one joint per body (hinge, slide, ball or free)"
+            )
+    for j in range(m.njnt):
+        jt = int(m.jnt_type[j])
+        what = f"joint {_name(mujoco, m, OBJ.mjOBJ_JOINT, j)!r} ({_JOINT_TYPES.get(jt, jt)})"
+        if jt == 1 and bool(m.jnt_limited[j]):
+            raise MjcfError(f"{what} has a range: cone limits of ball joints are not supported")
+        dofs = range(int(m.jnt_dofadr[j]), int(m.jnt_dofadr[j]) + {0: 6, 1: 3}.get(jt, 1))
+        for field, value in (
+            ("stiffness", float(m.jnt_stiffness[j])),
+            ("damping", max(abs(float(m.dof_damping[k])) for k in dofs)),
+            ("armature", max(abs(float(m.dof_armature[k])) for k in dofs)),
+            ("frictionloss", max(abs(float(m.dof_frictionloss[k])) for k in dofs)),
+        ):
+            if value != 0.0:
+                raise MjcfError(f"{what} has {field}={value:g}, which is not supported")
+
+
+def _add_joints(
+    mujoco: Any, m: Any, d: Any, world: Any, moving: NDArray[np.bool_], body_index: dict[int, int]
+) -> dict[int, int]:
+    """Each moving body's joint to its parent (``None``: the world or a static
+    body): hinge, slide and ball at MuJoCo's anchor and axis at ``qpos0``,
+    ranges as limits (relative to ``qpos0``); a body with no joint welded to
+    its parent. A freejoint adds nothing. Returns MuJoCo's joint id -> lcpsim's."""
+    out: dict[int, int] = {}
+    for b in range(1, m.nbody):
+        if not moving[b]:
+            continue
+        parent = int(m.body_parentid[b])
+        a = body_index[parent] if moving[parent] else None
+        child = body_index[b]
+        if int(m.body_jntnum[b]) == 0:
+            world.add_fixed(a, child)
+            continue
+        j = int(m.body_jntadr[b])
+        jt = int(m.jnt_type[j])
+        anchor = tuple(float(x) for x in d.xanchor[j])
+        axis = tuple(float(x) for x in d.xaxis[j])
+        limits = None
+        if jt in (2, 3) and bool(m.jnt_limited[j]):
+            q0 = float(m.qpos0[int(m.jnt_qposadr[j])])
+            limits = (float(m.jnt_range[j][0]) - q0, float(m.jnt_range[j][1]) - q0)
+        if jt == 3:
+            out[j] = world.add_hinge(a, child, anchor, axis, limits=limits)
+        elif jt == 2:
+            out[j] = world.add_slider(a, child, anchor, axis, limits=limits)
+        elif jt == 1:
+            out[j] = world.add_ball(a, child, anchor)
+    return out
+
+
+@dataclass
+class Actuator:
+    """A ``<velocity>`` actuator as a joint motor: the control is the target
+    rate of the actuator (``gear`` × the joint's), its force bounded by
+    ``forcerange``; :meth:`lcpsim.World.set_control` drives it."""
+
+    name: str
+    joint: int  # lcpsim's joint index
+    gear: float
+    max_force: float
+    ctrlrange: tuple[float, float] | None
+
+
+def _actuators(mujoco: Any, m: Any, world: Any, joint_index: dict[int, int]) -> list[Actuator]:
+    """``<velocity>`` actuators on hinge or slide joints with a symmetric
+    ``forcerange``, each a motor held at speed 0 (MuJoCo's ``ctrl`` starts at
+    0); every other actuator refused naming it."""
+    OBJ = mujoco.mjtObj
+    out: list[Actuator] = []
+    used: set[int] = set()
+    for u in range(m.nu):
+        name = _name(mujoco, m, OBJ.mjOBJ_ACTUATOR, u)
+        what = f"actuator {name!r}"
+        kv = float(m.actuator_gainprm[u][0])
+        velocity = (
+            int(m.actuator_gaintype[u]) == 0
+            and int(m.actuator_biastype[u]) == 1
+            and int(m.actuator_dyntype[u]) == 0
+            and kv > 0
+            and float(m.actuator_biasprm[u][0]) == 0.0
+            and float(m.actuator_biasprm[u][1]) == 0.0
+            and float(m.actuator_biasprm[u][2]) == -kv
+        )
+        if not velocity:
+            raise MjcfError(f"{what} is not supported (only <velocity> actuators on a hinge or slide joint)")
+        if int(m.actuator_trntype[u]) != 0:
+            raise MjcfError(f"{what} does not act on a joint (only joint transmissions are supported)")
+        j = int(m.actuator_trnid[u][0])
+        jt = int(m.jnt_type[j])
+        if jt not in (2, 3):
+            raise MjcfError(f"{what} drives the {_JOINT_TYPES.get(jt, jt)} joint {_name(mujoco, m, OBJ.mjOBJ_JOINT, j)!r} (only hinge or slide)")
+        if j in used:
+            raise MjcfError(f"{what} is a second actuator on joint {_name(mujoco, m, OBJ.mjOBJ_JOINT, j)!r} (one per joint)")
+        used.add(j)
+        lo, hi = (float(x) for x in m.actuator_forcerange[u])
+        if not bool(m.actuator_forcelimited[u]) or lo != -hi or hi <= 0:
+            raise MjcfError(f"{what} needs a symmetric forcerange (-f f), got limited={bool(m.actuator_forcelimited[u])} range=({lo:g}, {hi:g})")
+        gear = float(m.actuator_gear[u][0])
+        if gear == 0.0:
+            raise MjcfError(f"{what} has gear 0")
+        ctrl = None
+        if bool(m.actuator_ctrllimited[u]):
+            ctrl = (float(m.actuator_ctrlrange[u][0]), float(m.actuator_ctrlrange[u][1]))
+        act = Actuator(name, joint_index[j], gear, abs(gear) * hi, ctrl)
+        world.set_motor(act.joint, 0.0, act.max_force)
+        out.append(act)
+    return out
 
 
 def _mesh(m: Any, g: int) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
@@ -179,7 +296,7 @@ def _mesh(m: Any, g: int) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     return np.array(m.mesh_vert[va : va + vn], dtype=np.float64), np.array(m.mesh_face[fa : fa + fn], dtype=np.int64)
 
 
-def _add_geom(mujoco: Any, m: Any, d: Any, world: Any, g: int, b: int, moving: bool, names: dict[str, int]) -> None:
+def _add_geom(mujoco: Any, m: Any, d: Any, world: Any, g: int, b: int, moving: bool, names: dict[str, int]) -> int:
     """One colliding geom as an lcpsim body (static unless its body moves)."""
     t = int(m.geom_type[g])
     size = np.array(m.geom_size[g], dtype=np.float64)
@@ -227,3 +344,4 @@ def _add_geom(mujoco: Any, m: Any, d: Any, world: Any, g: int, b: int, moving: b
         names[bname] = idx
     if gname:
         names.setdefault(gname, idx)
+    return int(idx)

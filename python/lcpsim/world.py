@@ -711,6 +711,7 @@ class World(JointsMixin, ShapesMixin):
         w.scene = self.scene
         w.scene_params = dict(self.scene_params)
         w._body_names = dict(self._body_names)
+        w._actuators = list(getattr(self, "_actuators", []))  # type: ignore[attr-defined]
         return w
 
     def __repr__(self) -> str:
