@@ -2,10 +2,11 @@
 """Joints beside MuJoCo: a 20-link chain piled on the ground, and a
 two-finger gripper lifting a cube.
 
-Both engines get the same scene, written twice: as MJCF for MuJoCo (nested
-bodies; MuJoCo's joints are reduced coordinates, so its joints never open)
-and through lcpsim's joint API (``add_ball``, ``add_slider``, ``set_motor``;
-``World.from_mjcf`` does not read joints yet). Same masses, sizes, μ, dt.
+Both engines run the same MJCF string (nested bodies, ball and slide joints,
+``velocity`` actuators): MuJoCo compiles it (its joints are reduced
+coordinates, so they never open), lcpsim reads it with ``World.from_mjcf``
+(joints as ``add_ball``/``add_slider``, actuators as motors driven by
+``World.set_control``). Same masses, sizes, μ, dt.
 
 chain    20 boxes 0.1 m × 0.03 m × 0.03 m, 0.1 kg, on ball joints end to end,
          standing almost upright (tilted 0.1 rad) with its foot 1 cm above the
@@ -17,6 +18,10 @@ gripper  a 1 kg, 0.1 m cube (μ = 1) on the ground; a 1 kg palm on a vertical
          holds (2 s). lcpsim: velocity motors
          (hard complementarity rows with a force bound); MuJoCo: ``velocity``
          actuators (kv = 1000 N·s/m, forcerange ±20 N; palm ±200 N).
+
+MuJoCo's default (Euler) integrator goes unstable on the chain (it
+reports a bad acceleration and resets the state): it is run as it comes and
+with RK4, which stays stable, and the step it went unstable at is printed.
 
 Reported per engine and scene: steps/s of the stepping loop (median of
 ``--rounds`` runs, engines interleaved in the same process), lcpsim's failed
@@ -33,6 +38,8 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
+import tempfile
 import time
 
 import numpy as np
@@ -49,20 +56,7 @@ def chain_axis() -> np.ndarray:
 
 
 def chain_lcpsim() -> World:
-    w = World(dt=DT)
-    w.add_ground(mu=0.5)
-    a, prev = chain_axis(), None
-    base = np.array([0.0, 0.0, 0.01])
-    # Each box's long axis along the chain: a rotation about y by (π/2 − tilt).
-    ang = math.pi / 2 - TILT
-    q = (math.cos(ang / 2), 0.0, -math.sin(ang / 2), 0.0)
-    for i in range(LINKS):
-        centre = base + a * (2 * HALF[0] * i + HALF[0])
-        b = w.add_box(half_extents=HALF, mass=LINK_MASS, position=centre, orientation=q, mu=0.5)
-        if prev is not None:
-            w.add_ball(prev, b, base + a * 2 * HALF[0] * i)
-        prev = b
-    return w
+    return World.from_mjcf(chain_mjcf())
 
 
 def chain_mjcf() -> str:
@@ -82,19 +76,6 @@ def chain_mjcf() -> str:
             f'<worldbody><geom type="plane" size="5 5 0.1"/>{links}</worldbody></mujoco>')
 
 
-def gripper_lcpsim() -> tuple[World, dict]:
-    w = World(dt=DT)
-    w.add_ground(mu=1.0)
-    cube = w.add_box(size=0.1, mass=1.0, position=(0, 0, 0.05), mu=1.0)
-    palm = w.add_box(half_extents=(0.15, 0.05, 0.02), mass=1.0, position=(0, 0, 0.2), mu=1.0)
-    fingers = [w.add_box(half_extents=(0.01, 0.04, 0.08), mass=0.2, position=(x, 0, 0.1), mu=1.0)
-               for x in (-0.1, 0.1)]
-    lift = w.add_slider(None, palm, (0, 0, 0.2), (0, 0, 1), motor=(0.0, 200.0))
-    for f, x in zip(fingers, (-0.1, 0.1)):
-        w.add_slider(palm, f, (x, 0, 0.18), (-x, 0, 0), motor=(0.1, 20.0))
-    return w, {"cube": cube, "finger": fingers[0], "lift": lift}
-
-
 GRIPPER_XML = f"""<mujoco><option timestep="{DT}"/><default><geom friction="1 0.005 0.0001"/></default>
 <worldbody><geom type="plane" size="5 5 0.1"/>
  <body name="cube" pos="0 0 0.05"><freejoint/><geom type="box" size="0.05 0.05 0.05" mass="1"/></body>
@@ -108,6 +89,14 @@ GRIPPER_XML = f"""<mujoco><option timestep="{DT}"/><default><geom friction="1 0.
 <actuator><velocity name="lift" joint="lift" kv="1000" forcerange="-200 200" forcelimited="true"/>
  <velocity name="jl" joint="jl" kv="1000" forcerange="-20 20" forcelimited="true"/>
  <velocity name="jr" joint="jr" kv="1000" forcerange="-20 20" forcelimited="true"/></actuator></mujoco>"""
+
+
+def gripper_lcpsim() -> tuple[World, dict]:
+    w = World.from_mjcf(GRIPPER_XML)
+    w.set_control("jl", 0.1)
+    w.set_control("jr", 0.1)
+    return w, {"cube": w.body_id("cube"), "finger": w.body_id("left")}
+
 
 PHASES = (1000, 2200, 2000)  # steps closing, lifting, holding; fingers close at 0.1 m/s throughout
 
@@ -133,20 +122,25 @@ def run_lcpsim_chain() -> dict:
             "top": float(np.max(w.positions[:, 2]))}
 
 
-def run_mujoco_chain() -> dict:
+def run_mujoco_chain(integrator: str = "Euler") -> dict:
+    """MuJoCo on the chain; ``unstable_at``: the step where it reported a bad
+    acceleration (and reset the state), if it did."""
     import mujoco
 
-    m = mujoco.MjModel.from_xml_string(chain_mjcf())
+    xml = chain_mjcf().replace("<option ", f'<option integrator="{integrator}" ')
+    m = mujoco.MjModel.from_xml_string(xml)
     d = mujoco.MjData(m)
-    deepest, t = 0.0, 0.0
-    for _ in range(3000):
+    deepest, t, unstable = 0.0, 0.0, None
+    for i in range(3000):
         t0 = time.perf_counter()
         mujoco.mj_step(m, d)
         t += time.perf_counter() - t0
+        if unstable is None and d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number:
+            unstable = i
         if d.ncon:
             deepest = max(deepest, -float(np.min(d.contact.dist[: d.ncon])))
     return {"steps_per_s": 3000 / t, "failed": 0, "joint_error": 0.0, "deepest": deepest,
-            "top": float(np.max(d.xpos[1:, 2]))}
+            "top": float(np.max(d.xpos[1:, 2])), "unstable_at": unstable}
 
 
 def run_lcpsim_gripper() -> dict:
@@ -156,7 +150,7 @@ def run_lcpsim_gripper() -> dict:
     for phase, steps in enumerate(PHASES):
         start = grip()
         for s in range(steps):
-            w.set_motor(ids["lift"], lift_speed(phase, s), 200.0)
+            w.set_control("lift", lift_speed(phase, s))
             t0 = time.perf_counter()
             rec = w.step()
             t += time.perf_counter() - t0
@@ -194,15 +188,19 @@ def main() -> None:
     ap.add_argument("--rounds", type=int, default=3)
     args = ap.parse_args()
     print(f"lcpsim {lcpsim.__version__}, dt = {DT} s, {args.rounds} rounds (median steps/s)")
-    for scene, runs in (("chain", (run_lcpsim_chain, run_mujoco_chain)),
-                        ("gripper", (run_lcpsim_gripper, run_mujoco_gripper))):
-        results: dict[str, list[dict]] = {"lcpsim": [], "mujoco": []}
+    # MuJoCo writes its warnings (the chain's instability) to MUJOCO_LOG.TXT in the working directory.
+    os.chdir(tempfile.mkdtemp(prefix="joints_bench_"))
+    chain = {"lcpsim": run_lcpsim_chain, "mujoco": run_mujoco_chain,
+             "mujoco_rk4": lambda: run_mujoco_chain("RK4")}
+    gripper = {"lcpsim": run_lcpsim_gripper, "mujoco": run_mujoco_gripper}
+    for scene, runs in (("chain", chain), ("gripper", gripper)):
+        results: dict[str, list[dict]] = {name: [] for name in runs}
         for _ in range(args.rounds):
-            for name, run in zip(results, runs):
+            for name, run in runs.items():
                 results[name].append(run())
         med = {k: float(np.median([r["steps_per_s"] for r in v])) for k, v in results.items()}
-        print(f"\n{scene}: lcpsim {med['lcpsim']:,.0f} steps/s, MuJoCo {med['mujoco']:,.0f} steps/s, "
-              f"ratio {med['lcpsim'] / med['mujoco']:.3f}x")
+        print(f"\n{scene}: " + ", ".join(f"{k} {v:,.0f} steps/s" for k, v in med.items()) + "; lcpsim ÷ "
+              + ", ".join(f"{k} {med['lcpsim'] / v:.3f}x" for k, v in med.items() if k != "lcpsim"))
         for name, rs in results.items():
             r = rs[-1]
             extra = {k: v for k, v in r.items() if k != "steps_per_s"}
