@@ -113,6 +113,22 @@ def test_welded_child_moves_with_its_parent_without_colliding():
     assert w.joint_position(0) > 1.0  # it swung down
 
 
+def test_a_massless_frame_between_arm_and_hand_is_skipped():
+    # The hand hangs on the arm through a "mount" body with no joint, no geom and no mass.
+    xml = (DATA / "welded_child_joint.xml").read_text().replace(
+        '<body name="hand" pos="0.5 0 0">', '<body name="mount" pos="0.5 0 0"><body name="hand">'
+    ).replace("</body>\n    </body>\n  </worldbody>", "</body></body>\n    </body>\n  </worldbody>")
+    assert mujoco.MjModel.from_xml_string(xml).nbody == 5  # world, post, arm, mount, hand
+    w = World.from_mjcf(xml)
+    assert (w.body_count, w.joint_count) == (3, 2)
+    arm, hand = w.body_id("arm"), w.body_id("hand")
+    p0, _ = _relative_pose(w, arm, hand)
+    for _ in range(300):
+        assert w.step().ok
+    assert np.linalg.norm(_relative_pose(w, arm, hand)[0] - p0) < 1e-6
+    assert w.joint_position(0) > 0.5
+
+
 def test_parent_and_child_on_a_hinge_do_not_collide():
     # The two links' boxes overlap by 0.04 m around the elbow.
     w = World.from_mjcf(DATA / "two_link_joint.xml")
@@ -182,6 +198,8 @@ BOX = '<geom type="box" size=".1 .1 .1"/>'
          ["actuator 'v'", "ball"]),
         (f'<joint name="j" type="hinge"/><geom type="box" size=".1 .1 .1"/><geom type="sphere" size=".1"/>', "",
          ["body 'b'", "2 colliding geoms"]),
+        (f'<joint name="j" type="hinge"/>{BOX}<body name="weight"><inertial pos="0 0 0" mass="1" diaginertia="1 1 1"/>'
+         '</body>', "", ["body 'weight'", "0 colliding geoms"]),
     ],
 )
 def test_unsupported_joint_models_are_refused_naming_the_element(body, actuator, words):

@@ -19,8 +19,10 @@ the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
   its parent (the world when the parent is the world or welded to it): anchor
   ``xanchor`` and axis ``xaxis`` at ``qpos0``, ``range`` (when ``limited``) as
   the joint's limits, measured from ``qpos0``; bodies nested in bodies, a body
-  with no joint welded to its moving parent (``add_fixed``); a body and its
-  parent do not collide (bodies joined by a joint never do);
+  with no joint welded to its moving parent (``add_fixed``), a massless one
+  with no joint and no colliding geom (a frame) skipped, its children hung on
+  the body above it; a body and its parent do not collide (bodies joined by a
+  joint never do);
 - ``<velocity>`` actuators on a hinge or slide joint with a symmetric
   ``forcerange``: a motor on the joint (``kv`` is not used: lcpsim's motor is a
   hard velocity constraint with the force bound), driven by
@@ -139,8 +141,13 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
     per_body: dict[int, list[int]] = {}
     for g in colliding:
         per_body.setdefault(int(m.geom_bodyid[g]), []).append(g)
+    # A massless body with no joint and no colliding geom under a moving body is a
+    # frame (a site, a camera mount): it adds nothing, its children hang on its parent.
+    frame = np.zeros(m.nbody, dtype=bool)
     for b in range(1, m.nbody):
-        if moving[b]:
+        frame[b] = moving[b] and int(m.body_jntnum[b]) == 0 and b not in per_body and float(m.body_mass[b]) == 0.0
+    for b in range(1, m.nbody):
+        if moving[b] and not frame[b]:
             gs = per_body.get(b, [])
             bname = _name(mujoco, m, OBJ.mjOBJ_BODY, b)
             if len(gs) != 1:
@@ -159,7 +166,7 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
                 body_index[b] = idx
     except ValueError as e:
         raise MjcfError(f"geom {_name(mujoco, m, OBJ.mjOBJ_GEOM, g)!r}: {e}") from None
-    joint_index = _add_joints(mujoco, m, d, world, moving, body_index)
+    joint_index = _add_joints(mujoco, m, d, world, moving & ~frame, body_index)
     world._actuators = _actuators(mujoco, m, world, joint_index)
     world.scene = "mjcf"
     world.scene_params = {"source": source if not (isinstance(source, str) and source.lstrip().startswith("<")) else "<xml>"}
@@ -202,32 +209,43 @@ def _add_joints(
     """Each moving body's joint to its parent (``None``: the world or a static
     body): hinge, slide and ball at MuJoCo's anchor and axis at ``qpos0``,
     ranges as limits (relative to ``qpos0``); a body with no joint welded to
-    its parent. A freejoint adds nothing. Returns MuJoCo's joint id -> lcpsim's."""
+    its parent; ``moving`` leaves out frames (their children hang on the nearest
+    body above them). A freejoint adds nothing. Returns MuJoCo's joint id -> lcpsim's."""
     out: dict[int, int] = {}
     for b in range(1, m.nbody):
         if not moving[b]:
             continue
         parent = int(m.body_parentid[b])
-        a = body_index[parent] if moving[parent] else None
+        while parent not in body_index and int(m.body_weldid[parent]) != 0:  # past frames
+            parent = int(m.body_parentid[parent])
+        a = body_index.get(parent)
         child = body_index[b]
-        if int(m.body_jntnum[b]) == 0:
-            world.add_fixed(a, child)
-            continue
-        j = int(m.body_jntadr[b])
-        jt = int(m.jnt_type[j])
-        anchor = tuple(float(x) for x in d.xanchor[j])
-        axis = tuple(float(x) for x in d.xaxis[j])
-        limits = None
-        if jt in (2, 3) and bool(m.jnt_limited[j]):
-            q0 = float(m.qpos0[int(m.jnt_qposadr[j])])
-            limits = (float(m.jnt_range[j][0]) - q0, float(m.jnt_range[j][1]) - q0)
-        if jt == 3:
-            out[j] = world.add_hinge(a, child, anchor, axis, limits=limits)
-        elif jt == 2:
-            out[j] = world.add_slider(a, child, anchor, axis, limits=limits)
-        elif jt == 1:
-            out[j] = world.add_ball(a, child, anchor)
+        try:
+            _add_joint(m, d, world, a, child, b, out)
+        except ValueError as e:
+            raise MjcfError(f"body {_name(mujoco, m, mujoco.mjtObj.mjOBJ_BODY, b)!r}: {e}") from None
     return out
+
+
+def _add_joint(m: Any, d: Any, world: Any, a: int | None, child: int, b: int, out: dict[int, int]) -> None:
+    """Body ``b``'s joint (or weld) to ``a`` (None: the world), recorded in ``out``."""
+    if int(m.body_jntnum[b]) == 0:
+        world.add_fixed(a, child)
+        return
+    j = int(m.body_jntadr[b])
+    jt = int(m.jnt_type[j])
+    anchor = tuple(float(x) for x in d.xanchor[j])
+    axis = tuple(float(x) for x in d.xaxis[j])
+    limits = None
+    if jt in (2, 3) and bool(m.jnt_limited[j]):
+        q0 = float(m.qpos0[int(m.jnt_qposadr[j])])
+        limits = (float(m.jnt_range[j][0]) - q0, float(m.jnt_range[j][1]) - q0)
+    if jt == 3:
+        out[j] = world.add_hinge(a, child, anchor, axis, limits=limits)
+    elif jt == 2:
+        out[j] = world.add_slider(a, child, anchor, axis, limits=limits)
+    elif jt == 1:
+        out[j] = world.add_ball(a, child, anchor)
 
 
 @dataclass
