@@ -77,10 +77,13 @@ def test_slider_range_stops_the_body_at_its_limit():
     assert abs(w.joint_position(0) - float(d.qpos[0])) <= abs(float(d.qpos[0]) + 0.3) + 1e-6
 
 
-def test_hinge_range_in_degrees_stops_the_bar_at_its_limit():
+@pytest.mark.parametrize("ref", [0, 20])
+def test_hinge_range_in_degrees_stops_the_bar_at_its_limit(ref):
     # range="-10 30" (degrees, compiled to radians by MuJoCo): the bar swings down onto +30°.
-    w = World.from_mjcf(DATA / "hinge_limit_joint.xml")
-    limit = math.radians(30)
+    # With ref="20" the file's pose is qpos = 20°: lcpsim's angle (0 there) stops at 10°.
+    xml = (DATA / "hinge_limit_joint.xml").read_text().replace('range="-10 30"', f'range="-10 30" ref="{ref}"')
+    w = World.from_mjcf(xml)
+    limit = math.radians(30 - ref)
     highest = 0.0
     for _ in range(2000):
         assert w.step().ok
@@ -88,10 +91,12 @@ def test_hinge_range_in_degrees_stops_the_bar_at_its_limit():
     # At most one step's motion past the limit (ω ≤ √(3 g sin 30° / L) for a bar hinged at its end).
     assert highest <= limit + math.sqrt(3 * G * 0.5 / 1.0) * w.dt
     assert w.joint_position(0) == pytest.approx(limit, abs=1e-6)
-    m, d = _mujoco("hinge_limit_joint.xml")
+    m = mujoco.MjModel.from_xml_string(xml)
+    d = mujoco.MjData(m)
     for _ in range(2000):
         mujoco.mj_step(m, d)
-    assert abs(w.joint_position(0) - float(d.qpos[0])) <= abs(float(d.qpos[0]) - limit) + 1e-6
+    q = float(d.qpos[0]) - math.radians(ref)
+    assert abs(w.joint_position(0) - q) <= abs(q - limit) + 1e-6
 
 
 def test_ball_chain_of_nested_bodies_stays_closed():
@@ -195,6 +200,24 @@ def test_velocity_actuator_drives_a_hinge_at_its_target_speed():
         w.step()
     assert w.velocities[disc, 5] == pytest.approx(-1.0, abs=1e-9)
     assert w.copy().velocities[disc, 5] == pytest.approx(-1.0)
+
+
+def test_velocity_actuator_gear_scales_speed_and_force_as_mujoco():
+    # gear 2: the joint turns at ctrl / 2 = 1 rad/s, with up to 2 × 0.05 N·m (20 rad/s²).
+    xml = (DATA / "turntable_joint.xml").read_text().replace('kv="1"', 'kv="1" gear="2"')
+    w = World.from_mjcf(xml)
+    m = mujoco.MjModel.from_xml_string(xml)
+    d = mujoco.MjData(m)
+    w.set_control("spin", 2.0)
+    d.ctrl[0] = 2.0
+    for i in range(300):
+        w.step()
+        mujoco.mj_step(m, d)
+        if i == 24:
+            assert w.velocities[0, 5] == pytest.approx(0.5, abs=1e-9)
+            assert float(d.qvel[0]) == pytest.approx(0.5, abs=1e-6)
+    assert w.velocities[0, 5] == pytest.approx(1.0, abs=1e-9)
+    assert float(d.qvel[0]) == pytest.approx(1.0, abs=1e-4)
 
 
 @pytest.mark.parametrize(
