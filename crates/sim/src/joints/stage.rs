@@ -167,13 +167,18 @@ impl World {
         if self.joints.is_empty() || p.settle_passes == 0 {
             return;
         }
-        let mut sys = JointSystem::default();
+        let (mut sys, mut rows) = (JointSystem::default(), Vec::new());
         for _ in 0..p.settle_passes {
-            let inv: Vec<_> = self.bodies.iter().map(|b| b.inv_inertia_world()).collect();
-            sys.build(&self.joints, &self.bodies, &inv, p.rank_tol);
-            if sys.rows.iter().all(|r| r.error.abs() <= p.settle_tol) {
+            // The errors first (rows only): S is formed and factored only for a projection.
+            rows.clear();
+            for (j, joint) in self.joints.iter().enumerate() {
+                joint.push_rows(j, &self.bodies, &mut rows);
+            }
+            if rows.iter().all(|r| r.error.abs() <= p.settle_tol) {
                 return;
             }
+            let inv: Vec<_> = self.bodies.iter().map(|b| b.inv_inertia_world()).collect();
+            sys.build(&self.joints, &self.bodies, &inv, p.rank_tol);
             sys.settle(&mut self.bodies);
         }
     }
