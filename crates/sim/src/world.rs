@@ -48,8 +48,9 @@ impl Clone for World {
             time: self.time,
             steps: self.steps,
             sink: None,
-            // The warm starts go along: the copy steps as the original would.
-            ws: Workspace { warm: self.ws.warm.clone(), ..Workspace::default() },
+            // The warm starts go along, and the islands' kept factorizations
+            // (`IslandLcp::basis_ws`): the copy steps as the original would.
+            ws: Workspace { warm: self.ws.warm.clone(), pool: self.ws.pool.clone(), ..Workspace::default() },
             record: self.record.clone(),
             joints: self.joints.clone(),
             joint_params: self.joint_params,

@@ -49,10 +49,33 @@ enum Role {
 pub struct BodySpaceLcp<'a> {
     lcp: &'a ContactLcp,
     s: f64,
+    /// Its buffers, taken from this thread's spares and given back on drop.
+    bufs: RefCell<Buffers>,
+}
+
+/// The buffers of a [`BodySpaceLcp`]: a step builds a few operators per
+/// island, and a steady step should not allocate (`tests/steady_step_allocations.rs`).
+#[derive(Default)]
+struct Buffers {
     /// Per-body velocity change `Δv`, `Δω` of a product (island body slots).
-    dv: RefCell<(Vec<Vec3>, Vec<Vec3>)>,
+    dv: Vec<Vec3>,
+    dw: Vec<Vec3>,
     /// Rows and columns of a block, by index (reused across calls).
-    sides: RefCell<(Vec<IndexRows>, Vec<IndexRows>)>,
+    rows: Vec<IndexRows>,
+    cols: Vec<IndexRows>,
+}
+
+thread_local! {
+    /// Buffers of dropped operators, for the next ones on this thread.
+    static SPARE: RefCell<Vec<Buffers>> = const { RefCell::new(Vec::new()) };
+}
+
+impl Drop for BodySpaceLcp<'_> {
+    fn drop(&mut self) {
+        let bufs = std::mem::take(self.bufs.get_mut());
+        // (A thread being torn down keeps nothing.)
+        let _ = SPARE.try_with(|s| s.borrow_mut().push(bufs));
+    }
 }
 
 impl<'a> BodySpaceLcp<'a> {
@@ -64,12 +87,12 @@ impl<'a> BodySpaceLcp<'a> {
     /// The same rows at cone scale `s`.
     pub fn at_scale(lcp: &'a ContactLcp, s: f64) -> Self {
         let nb = lcp.dynamic_body_count();
-        BodySpaceLcp {
-            lcp,
-            s,
-            dv: RefCell::new((vec![Vec3::ZERO; nb], vec![Vec3::ZERO; nb])),
-            sides: RefCell::default(),
+        let mut bufs = SPARE.try_with(|s| s.borrow_mut().pop()).ok().flatten().unwrap_or_default();
+        for v in [&mut bufs.dv, &mut bufs.dw] {
+            v.clear();
+            v.resize(nb, Vec3::ZERO);
         }
+        BodySpaceLcp { lcp, s, bufs: RefCell::new(bufs) }
     }
 
     fn var(&self, i: usize) -> Var {
@@ -138,8 +161,8 @@ impl LcpOperator for BodySpaceLcp<'_> {
     fn block(&self, rows: &[usize], cols: &[usize], out: &mut [f64]) {
         // Each index's kind and rows per side, computed once: an entry is then
         // one or two 6-term dots (bodies shared by the two contacts).
-        let mut guard = self.sides.borrow_mut();
-        let (rs, cs) = &mut *guard;
+        let mut guard = self.bufs.borrow_mut();
+        let Buffers { rows: rs, cols: cs, .. } = &mut *guard;
         self.index_rows(rows, Role::Row, rs);
         self.index_rows(cols, Role::Col, cs);
         let width = cols.len();
@@ -213,8 +236,8 @@ impl LcpOperator for BodySpaceLcp<'_> {
         let (lay, s) = (self.lcp.layout(), self.s);
         let nc = lay.nc;
         // Δv = M_b⁻¹ Jᵀ z per body (the integrator's own map of impulses).
-        let mut guard = self.dv.borrow_mut();
-        let (dv, dw) = &mut *guard;
+        let mut guard = self.bufs.borrow_mut();
+        let Buffers { dv, dw, .. } = &mut *guard;
         dv.fill(Vec3::ZERO);
         dw.fill(Vec3::ZERO);
         self.lcp.apply_impulses_local(z, dv, dw);

@@ -6,9 +6,11 @@ use std::sync::{Arc, Mutex};
 
 /// One solved LCP with its arrays of type `D`: borrowed slices in
 /// [`CapturedLcp`] (for the duration of the `capture` call), owned vectors in
-/// [`OwnedLcp`]. `m`, `q`, `z`, `w` are exactly what the solver saw and
-/// returned — the *scaled* problem (`D M D, D q` with `D = diag(I, I, s·I)`);
-/// the physical answer is in the step record.
+/// [`OwnedLcp`]. `m`, `q`, `z`, `w` are the *scaled* problem (`D M D, D q`
+/// with `D = diag(I, I, s·I)`) and the answer the world applied, as the
+/// solver returned it; the physical answer is in the step record. An island
+/// a body-space stage answered never formed `M`: it is formed for the sink
+/// after the solve, so a captured run steps exactly as an uncaptured one.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Captured<D> {
     /// Step index and time at its start (s).

@@ -40,7 +40,7 @@ impl World {
         // Coupled islands whose contacts changed (no basis from the same
         // island): the previous basis and impulses mapped by contact (read
         // before the record is reset).
-        if count > 0 && self.sink.is_none() && basis_check_applies(&self.params.method).is_some() {
+        if count > 0 && basis_check_applies(&self.params.method).is_some() {
             let k = self.params.friction_dirs;
             let pool = &self.ws.pool[..count];
             let wanted = |i: usize| pool[i].warm.is_none();
@@ -83,8 +83,8 @@ impl World {
                 if ws.solvers.len() < threads {
                     ws.solvers.resize_with(threads, Default::default);
                 }
-                // A sink captures every island's dense M: no body-space shortcut then.
-                let check = if self.sink.is_none() { basis_check_applies(&method) } else { None };
+                // The same stages with or without a sink (`capture` forms M for it).
+                let check = basis_check_applies(&method);
                 let body = crate::solve_chain::answer_check::body_check_applies(&method);
                 let warm = &ws.warm;
                 parallel::for_each(&mut ws.pool[..count], &mut ws.solvers[..threads], |solver, isl| {
@@ -144,10 +144,18 @@ impl World {
         rec.island_contacts.clear();
     }
 
-    /// Hands every island's LCP, in island order, to the sink.
+    /// Hands every island's LCP, in island order, to the sink, forming the
+    /// dense `M` of those a body-space stage answered (after the solve, so
+    /// the answer is the one an uncaptured run gets).
     fn capture(&mut self, method: &'static str) {
         let Some(sink) = self.sink.as_mut() else { return };
-        for (i, isl) in self.ws.pool[..self.ws.islands.len()].iter().enumerate() {
+        for (i, isl) in self.ws.pool[..self.ws.islands.len()].iter_mut().enumerate() {
+            if isl.sol.is_none() {
+                continue;
+            }
+            if !isl.lcp.has_matrix() {
+                isl.lcp.assemble_matrix();
+            }
             let Some(sol) = &isl.sol else { continue };
             sink.capture(&CapturedLcp {
                 step: self.steps,

@@ -12,8 +12,15 @@ use lcp::Solution;
 /// The stage: the island's warm basis, if it has one.
 pub(super) fn attempt(isl: &mut IslandLcp, a: &Attempt<'_>) -> Option<Found> {
     let basis = a.warm?;
-    let (sol, zw) = solve_in_body_space(&isl.lcp, basis, a.accept_tol, a.mixed, &mut isl.basis_ws)?;
-    Some(Found { sol, physical: Some(zw) })
+    // The island's last physical z and w are its buffers for this answer's.
+    let mut spare = (std::mem::take(&mut isl.z), std::mem::take(&mut isl.w));
+    match solve_into(&isl.lcp, basis, a.accept_tol, a.mixed, &mut isl.basis_ws, &mut spare) {
+        Some((sol, zw)) => Some(Found { sol, physical: Some(zw) }),
+        None => {
+            (isl.z, isl.w) = spare;
+            None
+        }
+    }
 }
 
 /// The body-space check accepts a previous basis only if its residual is this
@@ -38,6 +45,19 @@ pub(super) fn solve_in_body_space(
     accept_tol: f64,
     mixed: bool,
     ws: &mut BasisWorkspace,
+) -> Option<(Solution, PhysicalZw)> {
+    solve_into(lcp, basis, accept_tol, mixed, ws, &mut Default::default())
+}
+
+/// [`solve_in_body_space`], the physical `z` and `w` at scale 1 copied into
+/// `spare`'s buffers (a steady step then allocates no new ones).
+fn solve_into(
+    lcp: &ContactLcp,
+    basis: &[bool],
+    accept_tol: f64,
+    mixed: bool,
+    ws: &mut BasisWorkspace,
+    spare: &mut PhysicalZw,
 ) -> Option<(Solution, PhysicalZw)> {
     let scaled = BodySpaceLcp::new(lcp);
     let physical = BodySpaceLcp::at_scale(lcp, 1.0);
@@ -67,6 +87,11 @@ pub(super) fn solve_in_body_space(
     };
     let a = lcp::on_basis::solve_on_basis_ruled(&scaled, basis, tol, also, ws)?;
     // At scale 1, z and w are the physical ones (λ·1 and the same products).
-    let zw = a.other.unwrap_or_else(|| (a.solution.z.clone(), a.solution.w.clone()));
+    let zw = a.other.unwrap_or_else(|| {
+        let (mut z, mut w) = std::mem::take(spare);
+        z.clone_from(&a.solution.z);
+        w.clone_from(&a.solution.w);
+        (z, w)
+    });
     Some((a.solution, zw))
 }
