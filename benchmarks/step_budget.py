@@ -1,6 +1,7 @@
-"""One step from Python: lcpsim's ``World.step()``, its Rust core's ``step``
-(the record converted to a dict, no ``StepRecord``), ``World.run`` per step,
-beside MuJoCo's ``mj_step`` called from Python and ``mj_step(nstep=)``.
+"""One step from Python: lcpsim's ``World.step()`` (its record's fields are
+converted when read), the same with one field read (``.fn``), its Rust
+core's ``step`` (no ``StepRecord`` wrapper), ``World.run`` per step, beside
+MuJoCo's ``mj_step`` called from Python and ``mj_step(nstep=)``.
 
 Scenes: a cube sliding down 30° (μ 0.5), a cube resting on 30° (μ 0.7), a
 resting 10-box stack (lcpsim only). MuJoCo's cube is the one of
@@ -36,7 +37,7 @@ def best(f: Callable[[int], object], n: int, reps: int) -> float:
     return out * 1e6
 
 
-def lcpsim_rows(steps: int, reps: int) -> list[tuple[str, float, float, float]]:
+def lcpsim_rows(steps: int, reps: int) -> list[tuple[str, float, float, float, float]]:
     from lcpsim import scenes
 
     rows = []
@@ -51,9 +52,10 @@ def lcpsim_rows(steps: int, reps: int) -> list[tuple[str, float, float, float]]:
         core = w._core
         n = steps if "stack" not in name else max(steps // 10, 50)
         step = best(lambda k: [w.step() for _ in range(k)], n, reps)
+        step_fn = best(lambda k: [w.step().fn for _ in range(k)], n, reps)
         core_step = best(lambda k: [core.step() for _ in range(k)], n, reps)
         run = best(lambda k: w.run(k), n, reps)
-        rows.append((name, step, core_step, run))
+        rows.append((name, step, step_fn, core_step, run))
     return rows
 
 
@@ -83,9 +85,9 @@ def main() -> None:
     steps = int(sys.argv[1]) if len(sys.argv) > 1 else 2000
     reps = int(sys.argv[2]) if len(sys.argv) > 2 else 7
     print(f"µs per step, min over {reps} batches of {steps} steps")
-    print(f"{'lcpsim':<34} {'World.step':>10} {'_core.step':>10} {'World.run':>10}")
-    for name, a, b, c in lcpsim_rows(steps, reps):
-        print(f"{name:<34} {a:>10.2f} {b:>10.2f} {c:>10.2f}")
+    print(f"{'lcpsim':<34} {'World.step':>10} {'step().fn':>10} {'_core.step':>10} {'World.run':>10}")
+    for name, a, b, c, d in lcpsim_rows(steps, reps):
+        print(f"{name:<34} {a:>10.2f} {b:>10.2f} {c:>10.2f} {d:>10.2f}")
     print(f"{'MuJoCo':<34} {'mj_step':>10} {'nstep=':>10}")
     for name, a, b in mujoco_rows(steps, reps):
         print(f"{name:<34} {a:>10.2f} {b:>10.2f}")

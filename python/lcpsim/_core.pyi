@@ -12,7 +12,7 @@ from numpy.typing import ArrayLike, NDArray
 # Checked against the compiled module by tests/test_stubs.py (mypy.stubtest).
 __all__ = [
     "__version__", "METHODS", "PIVOTINGS", "STATUSES", "METHOD_OPTIONS", "LEMKE_DEFAULTS", "solve_lcp",
-    "solve_lcp_batch", "lcp_residual", "lcp_residuals", "World", "build_scene", "SCENES", "MU_COMBINE",
+    "solve_lcp_batch", "lcp_residual", "lcp_residuals", "World", "StepRecord", "build_scene", "SCENES", "MU_COMBINE",
     "SCENE_DEFAULTS", "WORLD_DEFAULTS", "BODY_DEFAULTS",
     "contact_lcp", "spd_lcp", "p_matrix_lcp", "hard_contact_lcp", "hard_corpus", "HARD_KINDS", "certify_lcp",
     "certify_lcp_batch", "solve_lcp_traced", "ContactLayout", "quat_from_axis_angle", "quat_mul", "quat_to_matrix",
@@ -77,9 +77,14 @@ BODY_DEFAULTS: dict[str, Any]
 #: ["min", "max", "product", "geometric_mean", "average"]
 MU_COMBINE: list[str]
 
-#: Keyed by exactly the fields of ``lcpsim.world.StepRecord`` (it becomes the
-#: record's ``__dict__``; tests/test_world.py checks the keys and types).
-StepDict = dict[str, Any]
+@final
+class StepRecord:
+    """One step's record as the core wrote it; ``lcpsim.world.StepRecord``
+    reads each of its fields once, on first access (tests/test_world.py
+    checks the names and types)."""
+
+    def field(self, name: str) -> Any:
+        """Field ``name`` of ``lcpsim.world.StepRecord``; AttributeError for any other name."""
 
 class RunDict(TypedDict):
     time: NDArray[np.float64]  # (T,)
@@ -205,8 +210,8 @@ class World:
     def apply_force(self, body: int, force: ArrayLike, point: ArrayLike | None = None) -> None: ...
     def apply_torque(self, body: int, torque: ArrayLike) -> None: ...
     def clear_forces(self) -> None: ...
-    def step(self) -> StepDict: ...
-    def last_record(self) -> StepDict: ...
+    def step(self) -> StepRecord: ...
+    def last_record(self) -> StepRecord: ...
     def run(self, steps: int, max_capture_bytes: int | None = None) -> RunDict:
         """Runs with the GIL released; stops early once the capture holds max_capture_bytes."""
     def start_capture(self) -> None: ...

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any, Mapping, Sequence, Union
 
 import numpy as np
@@ -200,7 +200,7 @@ class StepRecord:
     island_body_eta: NDArray[np.float64]
     island_status: tuple[str, ...]
     island_stage: tuple[str, ...]
-    basis: NDArray[np.bool_] | None = None
+    basis: NDArray[np.bool_] | None  # None when some island reported no basis
 
     @property
     def ok(self) -> bool:
@@ -236,14 +236,30 @@ class StepRecord:
         return np.asarray(((self.body_a == a) & (self.body_b == b)) | ((self.body_a == b) & (self.body_b == a)))
 
     @classmethod
-    def _from_core(cls, d: Mapping[str, Any]) -> "StepRecord":
-        # The compiled step's dict holds exactly these fields, with their
-        # types (tested), so it becomes the record's __dict__: a dataclass
-        # __init__ of 30 frozen fields would cost more than the step itself.
+    def _from_core(cls, core: Any) -> "StepRecord":
+        # The compiled record (``_core.StepRecord``) is kept as it is; each
+        # field is converted on its first access (``__getattr__``): a step from
+        # Python would otherwise cost the conversion of ~25 arrays, many times
+        # the step itself, whether they are read or not.
         rec = _new_object(cls)
-        _set_attribute(rec, "__dict__", d)
+        _set_attribute(rec, "__dict__", {"_core": core})
         return rec
 
+    def __getattr__(self, name: str) -> Any:
+        # Only reached for a field not yet read (or a name that is no field).
+        core = self.__dict__.get("_core")
+        if core is None or name not in _STEP_FIELDS:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        value = self.__dict__[name] = core.field(name)
+        return value
+
+    def __getstate__(self) -> dict[str, Any]:
+        # Every field converted (pickle, copy): the compiled record is not picklable.
+        return {name: getattr(self, name) for name in _STEP_FIELDS}
+
+
+#: The fields of ``StepRecord``, read from its compiled record on first access.
+_STEP_FIELDS = frozenset(f.name for f in fields(StepRecord))
 
 
 class World(JointsMixin, ShapesMixin):
@@ -666,7 +682,7 @@ class World(JointsMixin, ShapesMixin):
             parts, records = [self._core.run(0)], []
             for _ in range(int(steps)):
                 parts.append(self._core.run(1))
-                records.append(self._core.last_record())
+                records.append(StepRecord._from_core(self._core.last_record()))
             return Trajectory._from_parts(self.dt, parts, initial, config, ContactLog.from_records(records))
         if capture is None and fclib is None:
             parts = []

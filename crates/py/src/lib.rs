@@ -51,6 +51,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     add_functions!(m; lcp::solve_lcp, lcp::solve_lcp_batch, lcp::lcp_residual, lcp::lcp_residuals);
     // The simulator; its defaults (the Python wrappers' defaults) and scenes.
     m.add_class::<sim::World>()?;
+    m.add_class::<sim::PyStepRecord>()?;
     add_functions!(m; sim::build_scene);
     m.add("SCENES", names_table(py, sim::SCENES.iter().copied())?)?;
     m.add("SCENE_DEFAULTS", sim::scene_defaults(py)?)?;

@@ -1,5 +1,6 @@
 //! Bindings of the `sim` crate: `World` (a `sim::World` behind a mutex, so the
-//! class is `Sync`), its step records and trajectories as dicts of numpy
+//! class is `Sync`), its step records (fields converted when read) and
+//! trajectories as dicts of numpy
 //! arrays, scenes and LCP capture.
 //!
 //! `run` releases the GIL; any `SimError` is a `ValueError` naming the field
@@ -7,7 +8,7 @@
 //!
 //! - [`world`]: the `World` class (bodies, forces, stepping, capture);
 //! - [`params`]: world parameters to and from dicts, and the body defaults;
-//! - [`records`]: step records and trajectories as dicts of numpy arrays;
+//! - [`records`]: step records read field by field, trajectories as dicts of arrays;
 //! - [`scenes`]: the scene builders; [`capture`]: the LCP capture buffer;
 //! - [`convert`]: Python values to the core's, with the validation messages.
 
@@ -20,5 +21,6 @@ mod world;
 
 pub use convert::MU_COMBINE;
 pub use params::{body_defaults, params_dict};
+pub use records::PyStepRecord;
 pub use scenes::{build_scene, defaults as scene_defaults, SCENES};
 pub use world::World;

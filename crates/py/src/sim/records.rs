@@ -1,12 +1,12 @@
-//! Step records and trajectories as dicts of numpy arrays (`World.step`,
-//! `World.last_record`, `World.run`), and the small array helpers they share
-//! with `World.body` and `World.state`.
+//! Step records, converted field by field when read (`World.step`,
+//! `World.last_record`), trajectories as dicts of numpy arrays (`World.run`),
+//! and the small array helpers they share with `World.body` and `World.state`.
 
 use super::capture::status_code;
 use numpy::{PyArray1, PyArrayMethods};
-use pyo3::intern;
+use pyo3::exceptions::PyAttributeError;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyBool, PyDict, PyString, PyTuple};
 use sim::contact::FrictionBasis;
 use sim::math::Vec3;
 use sim::{StepRecord, Trajectory};
@@ -60,37 +60,37 @@ pub(super) fn retakes_to_py<'py>(py: Python<'py>, r: &StepRecord) -> PyResult<Bo
 /// Status of a step without contacts (`lcpsim.world.NO_CONTACT`).
 const NO_CONTACT: &str = "no_contact";
 
-/// One step record as a dict whose keys are exactly the fields of
-/// `lcpsim.world.StepRecord`, which takes it as its `__dict__` (a step from
-/// Python costs microseconds, so the keys are interned and each array is one
-/// object).
-pub(super) fn record_to_dict<'py>(py: Python<'py>, r: &StepRecord) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
+/// One step's record as the core wrote it (`World.step`, `World.last_record`).
+/// Its fields become Python values only when read (`field`, which
+/// `lcpsim.world.StepRecord` calls on first access of an attribute): a step
+/// from Python then costs the step and one copy of the record, not the
+/// conversion of ~25 numpy arrays it may never read.
+#[pyclass(module = "lcpsim._core", name = "StepRecord", frozen)]
+pub struct PyStepRecord {
+    rec: StepRecord,
+}
+
+impl PyStepRecord {
+    pub(super) fn new(rec: StepRecord) -> Self {
+        PyStepRecord { rec }
+    }
+}
+
+#[pymethods]
+impl PyStepRecord {
+    /// Field `name` of `lcpsim.world.StepRecord`, converted now (each array a
+    /// new numpy array of its own); an `AttributeError` for any other name.
+    fn field<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+        field(py, &self.rec, name)
+    }
+}
+
+/// One field of a step record as `lcpsim.world.StepRecord` holds it.
+fn field<'py>(py: Python<'py>, r: &StepRecord, name: &str) -> PyResult<Bound<'py, PyAny>> {
     let nc = r.nc();
     let k = r.friction_dirs;
-    d.set_item(intern!(py, "step"), r.step)?;
-    d.set_item(intern!(py, "time"), r.time)?;
-    d.set_item(intern!(py, "dt"), r.dt)?;
-    d.set_item(intern!(py, "contacts"), nc)?;
-    d.set_item(intern!(py, "friction_dirs"), k)?;
-    d.set_item(intern!(py, "lcp_size"), r.lcp_size)?;
-    d.set_item(intern!(py, "scale"), r.scale)?;
-    d.set_item(intern!(py, "status"), r.status.map_or(NO_CONTACT, |s| s.as_str()))?;
-    d.set_item(intern!(py, "pivots"), r.pivots)?;
-    d.set_item(intern!(py, "residual"), r.residuals.residual)?;
-    d.set_item(intern!(py, "min_z"), r.residuals.min_z)?;
-    d.set_item(intern!(py, "min_w"), r.residuals.min_w)?;
-    d.set_item(intern!(py, "max_complementarity"), r.residuals.max_complementarity)?;
-    d.set_item(intern!(py, "solver_residual"), r.solver_residuals.residual)?;
-    d.set_item(intern!(py, "zeroed"), r.zeroed)?;
-    d.set_item(intern!(py, "parts"), r.parts)?;
-    d.set_item(intern!(py, "retakes"), retakes_to_py(py, r)?)?;
-    d.set_item(intern!(py, "energy_before"), r.energy.before)?;
-    d.set_item(intern!(py, "energy_after"), r.energy.after)?;
-    d.set_item(intern!(py, "external_work"), r.energy.external_work)?;
-    d.set_item(intern!(py, "stabilization_work"), r.energy.stabilization)?;
-    // The solver's z, or zeros where it was unusable (then also no friction).
     let lay = r.layout();
+    // The solver's z, or zeros where it was unusable (then also no friction).
     let has_z = r.z.len() == lay.n();
     let zeros;
     let z: &[f64] = if has_z {
@@ -99,75 +99,100 @@ pub(super) fn record_to_dict<'py>(py: Python<'py>, r: &StepRecord) -> PyResult<B
         zeros = vec![0.0; lay.n()];
         &zeros
     };
-    d.set_item(intern!(py, "fn"), copied(py, &z[lay.fn_range()], &[nc]))?;
-    d.set_item(intern!(py, "fd"), copied(py, &z[lay.fd_range()], &[nc, k]))?;
-    d.set_item(intern!(py, "lam"), copied(py, &z[lay.lambda_range()], &[nc]))?;
-    d.set_item(intern!(py, "z"), copied(py, z, &[z.len()]))?;
-    d.set_item(intern!(py, "w"), copied(py, &r.w, &[r.w.len()]))?;
-    let mut points = Vec::with_capacity(3 * nc);
-    let mut normals = Vec::with_capacity(3 * nc);
-    let mut tangents = Vec::with_capacity(3 * nc);
-    let mut friction = Vec::with_capacity(3 * nc);
-    let mut directions = Vec::with_capacity(3 * nc * k);
-    let basis = FrictionBasis::new(k.max(2));
-    for (i, c) in r.contacts.iter().enumerate() {
-        points.extend_from_slice(&c.point.to_array());
-        normals.extend_from_slice(&c.normal.to_array());
-        tangents.extend_from_slice(&c.tangent.to_array());
-        friction.extend_from_slice(&if has_z { r.friction_impulse(i) } else { Vec3::ZERO }.to_array());
-        for j in 0..k {
-            directions.extend_from_slice(&basis.direction(c.normal, c.tangent, j).to_array());
+    // Per contact, a vector of 3 (or k·3) numbers.
+    let per_contact3 = |f: &dyn Fn(usize, &sim::Contact, &mut Vec<f64>), width: usize, shape: &[usize]| {
+        let mut out = Vec::with_capacity(width * nc);
+        for (i, c) in r.contacts.iter().enumerate() {
+            f(i, c, &mut out);
         }
-    }
-    d.set_item(intern!(py, "points"), copied(py, &points, &[nc, 3]))?;
-    d.set_item(intern!(py, "normals"), copied(py, &normals, &[nc, 3]))?;
-    d.set_item(intern!(py, "tangents"), copied(py, &tangents, &[nc, 3]))?;
-    d.set_item(intern!(py, "friction"), copied(py, &friction, &[nc, 3]))?;
-    d.set_item(intern!(py, "directions"), copied(py, &directions, &[nc, k, 3]))?;
-    let per_contact = |f: fn(&sim::Contact) -> f64| r.contacts.iter().map(f).collect::<Vec<_>>();
-    d.set_item(intern!(py, "gaps"), copied(py, &per_contact(|c| c.gap), &[nc]))?;
-    d.set_item(intern!(py, "mu"), copied(py, &per_contact(|c| c.mu), &[nc]))?;
-    let body = |f: fn(&sim::Contact) -> usize| r.contacts.iter().map(|c| f(c) as i64).collect::<Vec<_>>();
-    d.set_item(intern!(py, "body_a"), copied(py, &body(|c| c.body_a), &[nc]))?;
-    d.set_item(intern!(py, "body_b"), copied(py, &body(|c| c.body_b), &[nc]))?;
-    match &r.basis {
-        Some(b) => d.set_item(intern!(py, "basis"), copied(py, b, &[b.len()]))?,
-        None => d.set_item(intern!(py, "basis"), py.None())?,
-    }
-    islands_to_dict(py, r, &d)?;
-    Ok(d)
-}
-
-/// The step's contact islands into the record's dict (`StepRecord.islands` … in Python).
-pub(super) fn islands_to_dict(py: Python<'_>, r: &StepRecord, d: &Bound<'_, PyDict>) -> PyResult<()> {
+        copied(py, &out, shape)
+    };
+    let per_contact = |f: fn(&sim::Contact) -> f64| copied(py, &r.contacts.iter().map(f).collect::<Vec<_>>(), &[nc]);
+    let body =
+        |f: fn(&sim::Contact) -> usize| copied(py, &r.contacts.iter().map(|c| f(c) as i64).collect::<Vec<_>>(), &[nc]);
     let count = r.islands.len();
-    let mut of_contact = vec![0i64; r.nc()];
-    for (i, isl) in r.islands.iter().enumerate() {
-        for &c in &r.island_contacts[isl.contacts.clone()] {
-            of_contact[c] = i as i64;
+    let each = |f: fn(&sim::IslandRecord) -> i64| copied(py, &r.islands.iter().map(f).collect::<Vec<_>>(), &[count]);
+    let each_f = |f: fn(&sim::IslandRecord) -> f64| copied(py, &r.islands.iter().map(f).collect::<Vec<_>>(), &[count]);
+    Ok(match name {
+        "step" => r.step.into_pyobject(py)?.into_any(),
+        "time" => r.time.into_pyobject(py)?.into_any(),
+        "dt" => r.dt.into_pyobject(py)?.into_any(),
+        "contacts" => nc.into_pyobject(py)?.into_any(),
+        "friction_dirs" => k.into_pyobject(py)?.into_any(),
+        "lcp_size" => r.lcp_size.into_pyobject(py)?.into_any(),
+        "scale" => r.scale.into_pyobject(py)?.into_any(),
+        "status" => PyString::new(py, r.status.map_or(NO_CONTACT, |s| s.as_str())).into_any(),
+        "pivots" => r.pivots.into_pyobject(py)?.into_any(),
+        "residual" => r.residuals.residual.into_pyobject(py)?.into_any(),
+        "min_z" => r.residuals.min_z.into_pyobject(py)?.into_any(),
+        "min_w" => r.residuals.min_w.into_pyobject(py)?.into_any(),
+        "max_complementarity" => r.residuals.max_complementarity.into_pyobject(py)?.into_any(),
+        "solver_residual" => r.solver_residuals.residual.into_pyobject(py)?.into_any(),
+        "zeroed" => PyBool::new(py, r.zeroed).to_owned().into_any(),
+        "parts" => r.parts.into_pyobject(py)?.into_any(),
+        "retakes" => retakes_to_py(py, r)?.into_any(),
+        "energy_before" => r.energy.before.into_pyobject(py)?.into_any(),
+        "energy_after" => r.energy.after.into_pyobject(py)?.into_any(),
+        "external_work" => r.energy.external_work.into_pyobject(py)?.into_any(),
+        "stabilization_work" => r.energy.stabilization.into_pyobject(py)?.into_any(),
+        "fn" => copied(py, &z[lay.fn_range()], &[nc]),
+        "fd" => copied(py, &z[lay.fd_range()], &[nc, k]),
+        "lam" => copied(py, &z[lay.lambda_range()], &[nc]),
+        "z" => copied(py, z, &[lay.n()]),
+        "w" => copied(py, &r.w, &[r.w.len()]),
+        "points" => per_contact3(&|_, c, o| o.extend_from_slice(&c.point.to_array()), 3, &[nc, 3]),
+        "normals" => per_contact3(&|_, c, o| o.extend_from_slice(&c.normal.to_array()), 3, &[nc, 3]),
+        "tangents" => per_contact3(&|_, c, o| o.extend_from_slice(&c.tangent.to_array()), 3, &[nc, 3]),
+        "friction" => per_contact3(
+            &|i, _, o| o.extend_from_slice(&if has_z { r.friction_impulse(i) } else { Vec3::ZERO }.to_array()),
+            3,
+            &[nc, 3],
+        ),
+        "directions" => {
+            let basis = FrictionBasis::new(k.max(2));
+            let dirs = |_: usize, c: &sim::Contact, o: &mut Vec<f64>| {
+                for j in 0..k {
+                    o.extend_from_slice(&basis.direction(c.normal, c.tangent, j).to_array());
+                }
+            };
+            per_contact3(&dirs, 3 * k, &[nc, k, 3])
         }
-    }
-    let each = |f: fn(&sim::IslandRecord) -> i64| r.islands.iter().map(f).collect::<Vec<_>>();
-    let bodies = (0..count).map(|i| {
-        let b: Vec<i64> = r.island_bodies_of(i).iter().map(|&b| b as i64).collect();
-        copied(py, &b, &[b.len()])
-    });
-    d.set_item(intern!(py, "islands"), count)?;
-    d.set_item(intern!(py, "island_of_contact"), copied(py, &of_contact, &[r.nc()]))?;
-    d.set_item(intern!(py, "island_bodies"), pyo3::types::PyTuple::new(py, bodies)?)?;
-    d.set_item(intern!(py, "island_lcp_size"), copied(py, &each(|i| i.lcp_size as i64), &[count]))?;
-    d.set_item(intern!(py, "island_pivots"), copied(py, &each(|i| i.pivots as i64), &[count]))?;
-    let entered = each(|i| i.entered.map_or(-1, |e| e as i64));
-    d.set_item(intern!(py, "island_entered"), copied(py, &entered, &[count]))?;
-    let res: Vec<f64> = r.islands.iter().map(|i| i.residual).collect();
-    d.set_item(intern!(py, "island_residual"), copied(py, &res, &[count]))?;
-    let eta: Vec<f64> = r.islands.iter().map(|i| i.body_eta).collect();
-    d.set_item(intern!(py, "island_body_eta"), copied(py, &eta, &[count]))?;
-    let status = r.islands.iter().map(|i| i.status.as_str());
-    d.set_item(intern!(py, "island_status"), pyo3::types::PyTuple::new(py, status)?)?;
-    let stage = r.islands.iter().map(|i| i.stage.map_or("none", sim::SolveStage::as_str));
-    d.set_item(intern!(py, "island_stage"), pyo3::types::PyTuple::new(py, stage)?)?;
-    Ok(())
+        "gaps" => per_contact(|c| c.gap),
+        "mu" => per_contact(|c| c.mu),
+        "body_a" => body(|c| c.body_a),
+        "body_b" => body(|c| c.body_b),
+        "basis" => match &r.basis {
+            Some(b) => copied(py, b, &[b.len()]),
+            None => py.None().into_bound(py),
+        },
+        "islands" => count.into_pyobject(py)?.into_any(),
+        "island_of_contact" => {
+            let mut of_contact = vec![0i64; nc];
+            for (i, isl) in r.islands.iter().enumerate() {
+                for &c in &r.island_contacts[isl.contacts.clone()] {
+                    of_contact[c] = i as i64;
+                }
+            }
+            copied(py, &of_contact, &[nc])
+        }
+        "island_bodies" => {
+            let bodies = (0..count).map(|i| {
+                let b: Vec<i64> = r.island_bodies_of(i).iter().map(|&b| b as i64).collect();
+                copied(py, &b, &[b.len()])
+            });
+            PyTuple::new(py, bodies)?.into_any()
+        }
+        "island_lcp_size" => each(|i| i.lcp_size as i64),
+        "island_pivots" => each(|i| i.pivots as i64),
+        "island_entered" => each(|i| i.entered.map_or(-1, |e| e as i64)),
+        "island_residual" => each_f(|i| i.residual),
+        "island_body_eta" => each_f(|i| i.body_eta),
+        "island_status" => PyTuple::new(py, r.islands.iter().map(|i| i.status.as_str()))?.into_any(),
+        "island_stage" => {
+            PyTuple::new(py, r.islands.iter().map(|i| i.stage.map_or("none", sim::SolveStage::as_str)))?.into_any()
+        }
+        _ => return Err(PyAttributeError::new_err(format!("StepRecord has no field {name:?}"))),
+    })
 }
 
 pub(super) fn trajectory_to_dict(py: Python<'_>, t: Trajectory) -> PyResult<Bound<'_, PyDict>> {

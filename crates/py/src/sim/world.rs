@@ -4,7 +4,7 @@
 use super::capture::CaptureBuffer;
 use super::convert::{self, cone_scale, mat3, opt_vec3, or_default, quat, real, sim_error, vec3};
 use super::params::{params_dict, world_params};
-use super::records::{arr3, record_to_dict, shaped, trajectory_to_dict};
+use super::records::{arr3, shaped, trajectory_to_dict, PyStepRecord};
 use crate::errors::{panic_error, value_error};
 use crate::method::method_from_py;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2};
@@ -544,16 +544,15 @@ impl World {
 
     // ----- stepping -----
 
-    /// One step; returns its record as a dict.
-    fn step<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+    /// One step; returns its record (fields converted when read).
+    fn step(&mut self) -> PyResult<PyStepRecord> {
         let w = self.inner();
-        let rec = guarded(|| w.step().cloned())?;
-        record_to_dict(py, &rec)
+        guarded(|| w.step().cloned()).map(PyStepRecord::new)
     }
 
     /// The record of the last step.
-    fn last_record<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        record_to_dict(py, self.shared().last_record())
+    fn last_record(&self) -> PyStepRecord {
+        PyStepRecord::new(self.shared().last_record().clone())
     }
 
     /// Runs up to `steps` steps with the GIL released and returns the
