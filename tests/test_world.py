@@ -258,6 +258,7 @@ def test_step_record_holds_exactly_its_fields_with_their_types():
               "island_pivots": np.int64, "island_entered": np.int64}
     for r in records:
         assert not set(vars(r)) & set(names), "nothing converted before it is read"
+        assert set(names) <= set(dir(r)), "dir() lists the fields not yet read"
         for name in names:
             v = getattr(r, name)
             if name in scalars:

@@ -253,6 +253,10 @@ class StepRecord:
         value = self.__dict__[name] = core.field(name)
         return value
 
+    def __dir__(self) -> list[str]:
+        # The fields not yet read are listed too (completion, help()).
+        return sorted(set(super().__dir__()) | _STEP_FIELDS)
+
     def __getstate__(self) -> dict[str, Any]:
         # Every field converted (pickle, copy): the compiled record is not picklable.
         return {name: getattr(self, name) for name in _STEP_FIELDS}
