@@ -169,8 +169,10 @@ def _runs(res: dict[str, Any]) -> list[dict[str, Any]]:
     """The runs that wrote the data file (the first, then each ``--merge``), each with the scenes it holds now."""
     runs = [{k: v for k, v in res.items() if k != "scenes"}] + list(res.get("reruns", []))
     held = {key: e.get("command") for key, e in res["scenes"].items()}
-    for r in runs:
-        r["held"] = [key for key, cmd in held.items() if cmd == r.get("command")]
+    # A scene is held by the last run of its command (a rerun replaces an earlier run's figures).
+    last = {r.get("command"): i for i, r in enumerate(runs)}
+    for i, r in enumerate(runs):
+        r["held"] = [key for key, cmd in held.items() if cmd == r.get("command") and last[cmd] == i]
     return [r for r in runs if r["held"]]
 
 
@@ -296,8 +298,9 @@ def render_pours(res: dict[str, Any]) -> list[str]:
         "**backstop fraction**: the share of contact islands that reached the last stage of lcpsim's island "
         "solve chain, the dense Lemke (whose ladder ends in cold and exact runs), from "
         "`Trajectory.lcp_stats().stages` (\"not recorded\": the lcpsim built does not report the stages); "
-        "lcpsim answers every single-body island (one cube on the floor or against a wall) by that stage, "
-        "so the fraction counts those too, not only coupled islands that every earlier stage missed. "
+        "lcpsim built before dd08433 answered every single-body island (one cube on the floor or against a "
+        "wall) by that stage, later builds only those without a previous basis, so the fraction counts those "
+        "too, not only coupled islands that every earlier stage missed. "
         "**pivots per LCP step**: every island's pivots (every attempt's) in one step, over the steps with contacts."
         + by_stage,
         "- Contacts: lcpsim the most in any step, the peers the most at a sample (every 250 steps). Penetration: "
