@@ -13,6 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
+from ._validate import real as _real, velocities as _velocities
 
 _BODY = _core.BODY_DEFAULTS
 Vec = Union[Sequence[float], NDArray[np.float64]]
@@ -84,8 +85,6 @@ class ShapesMixin:
         conaffinity: int = _BODY["conaffinity"],
     ) -> int:
         """Adds a capsule (a segment of ±``half_length`` along body z, swept by ``radius``)."""
-        from .world import _real, _velocities  # (world imports this module)
-
         v, wv = _velocities(velocity, angular_velocity)
         size = (_real(radius, "radius"), _real(half_length, "half_length"))
         return self._filtered(contype, conaffinity, lambda: self._core.add_body(
@@ -108,8 +107,6 @@ class ShapesMixin:
         conaffinity: int = _BODY["conaffinity"],
     ) -> int:
         """Adds a solid cylinder, axis along the body's z (as in MJCF), and returns its index."""
-        from .world import _real, _velocities
-
         v, wv = _velocities(velocity, angular_velocity)
         size = (_real(radius, "radius"), _real(half_length, "half_length"))
         return self._filtered(contype, conaffinity, lambda: self._core.add_body(
@@ -133,8 +130,6 @@ class ShapesMixin:
         """Adds the convex hull of ``vertices`` ((N, 3), ≥ 4 not in one plane, ≤ MAX_HULL_POINTS);
         the body frame is at the solid hull's centre of mass (``position`` places it;
         ``body(i).com_offset`` is where it was among the points), inertia its full tensor."""
-        from .world import _velocities
-
         pts = points_array(vertices, "vertices", MAX_HULL_POINTS)
         v, wv = _velocities(velocity, angular_velocity)
         return self._filtered(contype, conaffinity, lambda: self._core.add_body(

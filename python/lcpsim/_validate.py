@@ -1,5 +1,6 @@
-"""Input checks shared by the solver wrappers (:mod:`lcpsim.lcp`) and the
-exact check (:mod:`lcpsim.certification`): every mistake is a
+"""Input checks shared by the solver wrappers (:mod:`lcpsim.lcp`), the
+exact check (:mod:`lcpsim.certification`) and the world's constructors
+(:mod:`lcpsim.world`, :mod:`lcpsim._shapes`): every mistake is a
 :class:`ValueError` naming the argument and its value."""
 
 from __future__ import annotations
@@ -44,3 +45,33 @@ def short_repr(x: Any, limit: int = 60) -> str:
     r = np.array2string(x, threshold=6) if isinstance(x, np.ndarray) else repr(x)
     r = " ".join(r.split())
     return r if len(r) <= limit else r[: limit - 3] + "..."
+
+
+def vec(x: Any, name: str, n: int = 3) -> tuple[float, ...]:
+    """``n`` finite reals from any sequence, else a ValueError naming ``name``."""
+    try:
+        a = np.asarray(x, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a sequence of {n} real numbers, got {x!r}") from None
+    if a.shape != (n,):
+        raise ValueError(f"{name} must be a sequence of {n} real numbers, got {x!r}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be finite, got {x!r}")
+    return tuple(float(v) for v in a)
+
+
+def real(x: Any, name: str) -> float:
+    """A real number (bool refused), else a ValueError naming ``name``."""
+    if isinstance(x, bool) or not isinstance(x, (int, float, np.integer, np.floating)):
+        raise ValueError(f"{name} must be a real number, got {x!r}")
+    return float(x)
+
+
+def velocities(velocity: Any, angular_velocity: Any) -> tuple[Any, Any]:
+    """``velocity`` with 6 values is ``[v; ω]``."""
+    if velocity is not None and np.ndim(velocity) == 1 and np.size(velocity) == 6:
+        v6 = vec(velocity, "velocity", 6)
+        if angular_velocity is not None and np.any(np.asarray(angular_velocity, dtype=float) != 0):
+            raise ValueError("give the angular velocity either in a 6-value velocity or as angular_velocity, not both")
+        return v6[:3], v6[3:]
+    return velocity, angular_velocity

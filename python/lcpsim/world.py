@@ -33,6 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import _core
 from ._json import jsonable
+from ._validate import real as _real, vec as _vec, velocities as _velocities
 from .lcp import _new_object, _set_attribute
 from .scale import parse_cone_scale
 from .stabilization import FIELDS as STABILIZATION_FIELDS, Stabilization, as_stabilization
@@ -66,19 +67,6 @@ _BODY = _core.BODY_DEFAULTS
 
 Vec = Union[Sequence[float], NDArray[np.float64]]
 CaptureTarget = Union[str, "os.PathLike[str]", "CaptureWriter", None]
-
-
-def _vec(x: Any, name: str, n: int = 3) -> tuple[float, ...]:
-    """``n`` finite reals from any sequence, else a ValueError naming ``name``."""
-    try:
-        a = np.asarray(x, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a sequence of {n} real numbers, got {x!r}") from None
-    if a.shape != (n,):
-        raise ValueError(f"{name} must be a sequence of {n} real numbers, got {x!r}")
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must be finite, got {x!r}")
-    return tuple(float(v) for v in a)
 
 
 @dataclass(frozen=True)
@@ -737,19 +725,3 @@ class World(JointsMixin, ShapesMixin):
     def __repr__(self) -> str:
         scene = f", scene={self.scene!r}" if self.scene else ""
         return f"World(bodies={self.body_count}, steps={self.steps}, time={self.time:g}{scene})"
-
-
-def _real(x: Any, name: str) -> float:
-    if isinstance(x, bool) or not isinstance(x, (int, float, np.integer, np.floating)):
-        raise ValueError(f"{name} must be a real number, got {x!r}")
-    return float(x)
-
-
-def _velocities(velocity: Any, angular_velocity: Any) -> tuple[Any, Any]:
-    """``velocity`` with 6 values is ``[v; ω]``."""
-    if velocity is not None and np.ndim(velocity) == 1 and np.size(velocity) == 6:
-        v6 = _vec(velocity, "velocity", 6)
-        if angular_velocity is not None and np.any(np.asarray(angular_velocity, dtype=float) != 0):
-            raise ValueError("give the angular velocity either in a 6-value velocity or as angular_velocity, not both")
-        return v6[:3], v6[3:]
-    return velocity, angular_velocity
