@@ -68,6 +68,21 @@ def test_fixed_joint_and_copy():
         assert np.allclose(force[0], (0, 0, 2 * G), atol=1e-9) and np.allclose(torque[0], 0, atol=1e-9)
 
 
+def test_step_record_holds_each_joints_reaction():
+    w = World()
+    box = w.add_box(size=0.2, mass=2.0, position=(0.5, 0, 1))
+    w.add_fixed(None, box)
+    for _ in range(50):
+        rec = w.step()
+    force, torque = w.joint_reactions()
+    assert rec.joint_force.shape == rec.joint_torque.shape == (1, 3)
+    assert np.array_equal(rec.joint_force, force) and np.array_equal(rec.joint_torque, torque)
+    assert np.allclose(rec.joint_force[0], (0, 0, 2 * G), atol=1e-9)  # the weld holds the box's weight
+    free = World()
+    free.add_sphere(0.1, position=(0, 0, 1))
+    assert free.step().joint_force.shape == (0, 3)
+
+
 def test_hinge_limit_stops_a_falling_bar_at_the_limit():
     w = World()
     bar = w.add_box(half_extents=(0.5, 0.03, 0.03), mass=1.0, position=(0.5, 0, 2))

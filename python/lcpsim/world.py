@@ -129,7 +129,9 @@ class StepRecord:
     (a part of) it taken again as two halves (``World(max_halvings=)``); the
     contact fields, ``time``, ``dt`` and islands are then the last part's,
     ``pivots`` counts every attempt and the energy audit spans the step.
-    ``retakes``: the failed attempts, each a dict of ``time``, ``h``,
+    ``joint_force``/``joint_torque`` (J, 3): what each joint's side A exerted
+    on side B at the anchor over the step (N, N·m; mean over the step; limits
+    and motors are in the contact fields). ``retakes``: the failed attempts, each a dict of ``time``, ``h``,
     ``pivots`` and its islands' ``lcp_size`` and ``status`` (tuples).
     ``zeroed``: the solve failed and its answer was not applied as it stood:
     the island applied its admissible part (impulses clipped at 0, friction
@@ -189,6 +191,8 @@ class StepRecord:
     island_status: tuple[str, ...]
     island_stage: tuple[str, ...]
     basis: NDArray[np.bool_] | None  # None when some island reported no basis
+    joint_force: NDArray[np.float64]
+    joint_torque: NDArray[np.float64]
 
     @property
     def ok(self) -> bool:

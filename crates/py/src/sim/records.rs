@@ -130,6 +130,11 @@ fn field<'py>(py: Python<'py>, r: &StepRecord, name: &str) -> PyResult<Bound<'py
         "solver_residual" => r.solver_residuals.residual.into_pyobject(py)?.into_any(),
         "zeroed" => PyBool::new(py, r.zeroed).to_owned().into_any(),
         "parts" => r.parts.into_pyobject(py)?.into_any(),
+        "joint_force" | "joint_torque" => {
+            let of = |x: &sim::JointReaction| if name == "joint_force" { x.force } else { x.torque };
+            let flat: Vec<f64> = r.joints.iter().flat_map(|x| of(x).to_array()).collect();
+            copied(py, &flat, &[r.joints.len(), 3])
+        }
         "retakes" => retakes_to_py(py, r)?.into_any(),
         "energy_before" => r.energy.before.into_pyobject(py)?.into_any(),
         "energy_after" => r.energy.after.into_pyobject(py)?.into_any(),
