@@ -115,6 +115,27 @@ impl Bound {
         };
         Bound { centre: b.position, radius, half }
     }
+
+    /// Half-widths of the box the sweep and the BVH use: the bound widened by
+    /// the body's share of the pair margin and a round-off's slack (the exact
+    /// test decides; the box must only never miss).
+    fn widened(&self, share: f64) -> [f64; 3] {
+        let c = self.centre.to_array();
+        let slack = 1e-9 * (self.radius + share + c[0].abs() + c[1].abs() + c[2].abs());
+        std::array::from_fn(|a| self.half[a] + share + slack)
+    }
+}
+
+/// Every pair of an unbounded body (a plane, a mesh) with each bounded body and
+/// each later unbounded one, except two static bodies.
+fn push_unbounded_pairs(unbounded: &[usize], bounded: &[usize], bodies: &[Body], pairs: &mut Vec<(usize, usize)>) {
+    for (u, &i) in unbounded.iter().enumerate() {
+        for &j in bounded.iter().chain(&unbounded[u + 1..]) {
+            if !(bodies[i].is_static && bodies[j].is_static) {
+                pairs.push((i.min(j), i.max(j)));
+            }
+        }
+    }
 }
 
 /// Whether the pair passes the tests of the module docs (spheres, then boxes).
@@ -263,11 +284,7 @@ impl BroadPhase {
                 self.unbounded.push(k);
                 continue;
             }
-            let centre = b.position.to_array();
-            // Round-off slack: the exact test decides, the boxes must only not miss.
-            let share = margin.half(k);
-            let slack = 1e-9 * (bound.radius + share + centre[0].abs() + centre[1].abs() + centre[2].abs());
-            let ext: [f64; 3] = std::array::from_fn(|a| bound.half[a] + share + slack);
+            let (centre, ext) = (b.position.to_array(), bound.widened(margin.half(k)));
             let (lo, hi) = (centre[axis] - ext[axis], centre[axis] + ext[axis]);
             self.spans.push(Span { lo, hi, centre, ext, body: k, is_static: b.is_static });
         }
@@ -280,6 +297,7 @@ impl BroadPhase {
         }
         self.order.clear();
         self.order.extend(self.spans.iter().map(|s| s.body));
+        let bounded = self.spans.len();
         self.order.extend(&self.unbounded);
         for (a, sa) in self.spans.iter().enumerate() {
             for sb in &self.spans[a + 1..] {
@@ -295,15 +313,7 @@ impl BroadPhase {
                 }
             }
         }
-        for (u, &i) in self.unbounded.iter().enumerate() {
-            let with_bounded = self.spans.iter().map(|s| s.body);
-            let with_unbounded = self.unbounded[u + 1..].iter().copied();
-            for j in with_bounded.chain(with_unbounded) {
-                if !(bodies[i].is_static && bodies[j].is_static) {
-                    self.pairs.push((i.min(j), i.max(j)));
-                }
-            }
-        }
+        push_unbounded_pairs(&self.unbounded, &self.order[..bounded], bodies, &mut self.pairs);
         self.pairs.sort_unstable();
         &self.pairs
     }
@@ -327,11 +337,8 @@ impl BroadPhase {
                 self.unbounded.push(k);
                 continue;
             }
-            // The sweep's box (same slack): a bound the exact test then decides on.
-            let c = b.position.to_array();
-            let share = margin.half(k);
-            let slack = 1e-9 * (bound.radius + share + c[0].abs() + c[1].abs() + c[2].abs());
-            let e: [f64; 3] = std::array::from_fn(|a| bound.half[a] + share + slack);
+            // The sweep's box: a bound the exact test then decides on.
+            let (c, e) = (b.position.to_array(), bound.widened(margin.half(k)));
             leaf_body.push(k);
             leaves.push(Aabb::new(
                 PVec::new(c[0] - e[0], c[1] - e[1], c[2] - e[2]),
@@ -360,14 +367,7 @@ impl BroadPhase {
                 self.pairs.push((i, j));
             }
         }
-        for (u, &i) in self.unbounded.iter().enumerate() {
-            let with_unbounded = self.unbounded[u + 1..].iter().copied();
-            for j in leaf_body.iter().copied().chain(with_unbounded) {
-                if !(bodies[i].is_static && bodies[j].is_static) {
-                    self.pairs.push((i.min(j), i.max(j)));
-                }
-            }
-        }
+        push_unbounded_pairs(&self.unbounded, leaf_body, bodies, &mut self.pairs);
         self.pairs.sort_unstable();
         &self.pairs
     }
