@@ -60,18 +60,23 @@ fn sweep_and_prune_finds_the_pairs_of_the_all_pairs_loop() {
             let expect = reference(&w);
             assert_eq!(w.broad_pairs(), &expect[..], "seed {seed}, step {step}");
             total += expect.len();
-            // Move every body a little (stepping such a crowd would assemble huge LCPs).
-            for b in 0..w.body_count() {
-                let id = sim::BodyId(b);
-                if !w.body(id).unwrap().is_static() {
-                    let p = w.body(id).unwrap().position() + Vec3::new(0.3, -0.2, 0.1) * (step as f64 + 1.0);
-                    w.set_position(id, p).unwrap();
-                }
-            }
+            nudge(&mut w, step);
         }
     }
     // Not vacuous: plenty of pairs, many between bounded bodies.
     assert!(total > 10_000, "only {total} pairs");
+}
+
+/// Moves every dynamic body a little, more each `step` (stepping such a crowd
+/// would assemble huge LCPs).
+fn nudge(w: &mut World, step: usize) {
+    for b in 0..w.body_count() {
+        let id = sim::BodyId(b);
+        if !w.body(id).unwrap().is_static() {
+            let p = w.body(id).unwrap().position() + Vec3::new(0.3, -0.2, 0.1) * (step as f64 + 1.0);
+            w.set_position(id, p).unwrap();
+        }
+    }
 }
 
 #[test]
@@ -181,13 +186,7 @@ fn the_bvh_and_the_sweep_find_the_pairs_of_the_all_pairs_loop_as_bodies_move() {
             assert_eq!(bvh.find(w.bodies(), &margin), &expect[..], "BVH, seed {seed}, step {step}");
             assert_eq!(sweep.find(w.bodies(), &margin), &expect[..], "sweep, seed {seed}, step {step}");
             total += expect.len();
-            for b in 0..w.body_count() {
-                let id = sim::BodyId(b);
-                if !w.body(id).unwrap().is_static() {
-                    let p = w.body(id).unwrap().position() + Vec3::new(0.3, -0.2, 0.1) * (step as f64 + 1.0);
-                    w.set_position(id, p).unwrap();
-                }
-            }
+            nudge(&mut w, step);
         }
     }
     assert!(total > 5_000, "only {total} pairs");
