@@ -15,6 +15,7 @@
 //! `LCPSIM_KEPT_FACTORS=off` (or [`set_enabled`]) builds everything afresh
 //! each step, as before: for measuring the difference.
 
+use super::structured_lemke::accepted_physical;
 use crate::contact::body_factors::Factors;
 use crate::contact::ContactLcp;
 use lcp::structured::kept::{KeptBasis, KeptOptions};
@@ -216,14 +217,8 @@ fn judged(
     if !(residuals.residual <= tol * (1.0 + op.q_norm_inf())) || !structured::accepts(op, &z, &w, tol) {
         return None;
     }
-    if let Some(phys) = physical {
-        let mut zp = z.clone();
-        lay.unscale_z(&mut zp, scale);
-        let mut wp = vec![0.0; n];
-        phys.w_of(&zp, &mut wp);
-        if !structured::accepts(phys, &zp, &wp, tol) {
-            return None;
-        }
+    if physical.is_some_and(|phys| !accepted_physical(phys, lay, scale, &z, tol)) {
+        return None;
     }
     Some(Solution { z, w, status: Status::Solved, pivots: 0, residuals, basis: Some(alpha.to_vec()), accepted: true })
 }

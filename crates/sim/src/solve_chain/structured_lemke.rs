@@ -20,7 +20,7 @@ use crate::pipeline::island::IslandLcp;
 use lcp::contact::ContactLayout;
 use lcp::structured::bpp::{self, BppOptions};
 use lcp::structured::guess::{self, GuessOptions};
-use lcp::structured::{self, ColdRuns, StructuredOptions};
+use lcp::structured::{self, ColdRuns, StructuredLcp, StructuredOptions};
 use lcp::{Solution, Status};
 
 /// Where the structured path starts pivoting.
@@ -181,18 +181,22 @@ fn solve_problem_capped(p: &StructuredProblem, start: Start, cap: Option<usize>,
         _ => basis,
     };
     let mut sol = solve_from(p, &o, basis.as_deref(), cold);
-    let physical_ok = sol.ok()
-        && p.physical.as_ref().is_none_or(|phys| {
-            let mut z = sol.z.clone();
-            p.layout.unscale_z(&mut z, p.scale);
-            let mut w = vec![0.0; z.len()];
-            phys.w_of(&z, &mut w);
-            structured::accepts(phys, &z, &w, p.tol)
-        });
+    let physical_ok =
+        sol.ok() && p.physical.as_ref().is_none_or(|phys| accepted_physical(phys, p.layout, p.scale, &sol.z, p.tol));
     if !physical_ok && sol.status == Status::Solved {
         sol.status = Status::Numerical;
     }
     sol
+}
+
+/// Whether the rule accepts the scaled answer `z` (cone scale `scale`) on the
+/// physical operator `phys`.
+pub(crate) fn accepted_physical(phys: &StructuredLcp, lay: ContactLayout, scale: f64, z: &[f64], tol: f64) -> bool {
+    let mut zp = z.to_vec();
+    lay.unscale_z(&mut zp, scale);
+    let mut wp = vec![0.0; zp.len()];
+    phys.w_of(&zp, &mut wp);
+    structured::accepts(phys, &zp, &wp, tol)
 }
 
 /// `basis` improved by block principal pivoting on the full LCP (`lcp::structured::bpp`), if it was.
