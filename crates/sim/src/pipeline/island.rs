@@ -79,6 +79,11 @@ impl IslandLcp {
 /// into the step's layout (`nc` contacts), contact `c` of the island being
 /// the step's contact `ids[c]`.
 pub fn scatter<T: Copy>(ids: &[usize], nc: usize, k: usize, src: &[T], dst: &mut [T]) {
+    // The step's only island (a stack): the layouts are the same.
+    if ids.len() == nc && ids.iter().enumerate().all(|(c, &g)| c == g) {
+        dst.copy_from_slice(src);
+        return;
+    }
     let (island, step) = (ContactLayout::new(ids.len(), k), ContactLayout::new(nc, k));
     for (c, &g) in ids.iter().enumerate() {
         dst[step.fn_index(g)] = src[island.fn_index(c)];

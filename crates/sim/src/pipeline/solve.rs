@@ -221,7 +221,14 @@ impl World {
                 stage: isl.stage,
             });
         }
-        rec.residuals = Residuals::of(&rec.z, &rec.w);
+        // The islands hold every contact once: the step's residuals are the
+        // worst of theirs (the same maxima and minima, without a pass over
+        // the step's z and w, a tenth of a resting stack's solve).
+        let covered = solved.iter().map(|isl| isl.z.len()).sum::<usize>() == n;
+        rec.residuals = match solved.iter().map(|isl| isl.residuals).reduce(worst) {
+            Some(r) if covered => r,
+            _ => Residuals::of(&rec.z, &rec.w),
+        };
         rec.solver_residuals = solver_res.unwrap_or_default();
         rec.basis = has_basis.then_some(basis);
     }

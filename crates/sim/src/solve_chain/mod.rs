@@ -153,7 +153,14 @@ impl IslandLcp {
             self.w.resize(n, 0.0);
             BodySpaceLcp::at_scale(&self.lcp, 1.0).w_of(&self.z, &mut self.w);
         }
-        self.residuals = Residuals::of(&self.z, &self.w);
+        // (At scale 1 a body-space stage's physical z and w are its
+        // solution's own, whose residuals it computed.)
+        self.residuals = if checked && usable && self.lcp.scale() == 1.0 {
+            debug_assert!(self.z == sol.z && self.w == sol.w);
+            sol.residuals
+        } else {
+            Residuals::of(&self.z, &self.w)
+        };
         // A physical w that overflows cannot be checked: not solved either.
         if sol.status == Status::Solved && !self.residuals.residual.is_finite() {
             sol.status = Status::Numerical;
