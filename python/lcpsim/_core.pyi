@@ -103,6 +103,12 @@ class RunDict(TypedDict):
     max_lambda: NDArray[np.float64]
     islands: NDArray[np.int64]  # contact islands per step
     max_island_size: NDArray[np.int64]  # largest island LCP per step
+    parts: NDArray[np.int64]  # parts each step was taken in
+    stage_counts: NDArray[np.int64]  # (T, 4) islands answered per stage
+    joint_force: NDArray[np.float64]  # (T, J, 3)
+    joint_torque: NDArray[np.float64]  # (T, J, 3)
+    joint_position: NDArray[np.float64]  # (T, J)
+    joint_error: NDArray[np.float64]  # (T, J, 2)
 
 class CaptureDict(TypedDict):
     M: NDArray[np.float64]  # row-major M of every LCP, concatenated

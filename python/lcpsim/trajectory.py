@@ -25,6 +25,7 @@ __all__ = ["Trajectory", "LcpStats", "ContactLog", "NO_CONTACT", "STATUS_NAMES",
 _PER_STEP_AS_RECORDED = (
     "time", "pivots", "residual", "solver_residual", "lcp_size", "contacts", "normal_impulse",
     "friction_impulse", "max_lambda", "islands", "max_island_size", "parts", "stage_counts",
+    "joint_force", "joint_torque", "joint_position", "joint_error",
 )
 
 
@@ -42,6 +43,12 @@ class Trajectory(TrajectoryData):
     was, ``pivots`` counts every attempt, the other per-step figures are the last part's),
     ``stage_counts`` (T, 4) the islands answered by each stage of the solve chain, columns in the
     order of :data:`STAGES` (the last part's; zeros in files written before it was recorded).
+    ``J`` joints (``World.add_hinge`` …, in joint order): ``joint_force`` and ``joint_torque``
+    (T, J, 3) what each joint's side A exerted on side B over the step (N, N·m about the anchor;
+    the mean over the step, as ``StepRecord.joint_force``), ``joint_position`` (T, J) each joint's
+    coordinate after the step (``World.joint_position``: a hinge's angle in rad, a slider's
+    displacement in m) and ``joint_error`` (T, J, 2) its position error (``World.joint_error``:
+    largest linear m, angular rad); J = 0 in files written before they were recorded.
     ``initial_*`` hold the state before the first step.
     ``config`` is the world's :meth:`World.config` when the run started (its bodies' shapes, the
     parameters, the scene); ``contact_log`` every step's contacts when the run recorded them

@@ -143,6 +143,10 @@ class TrajectoryData:
     max_island_size: NDArray[np.int64]
     parts: NDArray[np.int64]
     stage_counts: NDArray[np.int64]
+    joint_force: NDArray[np.float64]  # (T, J, 3) N
+    joint_torque: NDArray[np.float64]  # (T, J, 3) N·m
+    joint_position: NDArray[np.float64]  # (T, J) rad or m
+    joint_error: NDArray[np.float64]  # (T, J, 2) m, rad
     initial_positions: NDArray[np.float64]
     initial_orientations: NDArray[np.float64]
     initial_velocities: NDArray[np.float64]
@@ -159,6 +163,10 @@ class TrajectoryData:
     @property
     def bodies(self) -> int:
         return int(self.initial_positions.shape[0])
+
+    @property
+    def joints(self) -> int:
+        return int(self.joint_position.shape[1])
 
     @property
     def linear_velocities(self) -> NDArray[np.float64]:

@@ -141,8 +141,12 @@ class StepRecord:
     the dynamic bodies), ``external_work`` (applied forces and torques;
     gravity is in the energies), ``stabilization_work`` (what the penetration
     correction put in: ``Σ fn·erp·|φ|/h`` over the penetrating contacts,
-    Baumgarte's known energy gain), ``energy_created = after − before −
-    external_work − stabilization_work``.
+    Baumgarte's known energy gain), the joints' terms (``docs/joints.md``):
+    ``motor_work`` (each motor's impulse times its joint's rate),
+    ``joint_drift_work`` (the joints' drift correction, ``−λ·βC/h``, 0 for
+    ideal joints) and ``joint_projection_energy`` (what the position
+    projections after the step changed), and ``energy_created = after −
+    before −`` all of those.
     """
 
     step: int
@@ -166,6 +170,9 @@ class StepRecord:
     energy_after: float
     external_work: float
     stabilization_work: float
+    motor_work: float
+    joint_drift_work: float
+    joint_projection_energy: float
     fn: NDArray[np.float64]
     fd: NDArray[np.float64]
     lam: NDArray[np.float64]
@@ -201,8 +208,10 @@ class StepRecord:
 
     @property
     def energy_created(self) -> float:
-        """Energy the step added (J): ``energy_after − energy_before − external_work − stabilization_work``."""
-        return self.energy_after - self.energy_before - self.external_work - self.stabilization_work
+        """Energy the step added (J): ``energy_after − energy_before − external_work − stabilization_work
+        − motor_work − joint_drift_work − joint_projection_energy``."""
+        created = self.energy_after - self.energy_before - self.external_work - self.stabilization_work
+        return created - self.motor_work - self.joint_drift_work - self.joint_projection_energy
 
     @property
     def total_normal_impulse(self) -> float:

@@ -8,7 +8,7 @@ trajectory from the fields :func:`read_trajectory` returns).
     traj.save("slope.h5")
     same = Trajectory.load("slope.h5")          # or: lcpsim view slope.h5 --out slope.html
 
-Layout (format ``lcpsim-trajectory``, version 3; ``T`` steps, ``B`` bodies,
+Layout (format ``lcpsim-trajectory``, version 4; ``T`` steps, ``B`` bodies,
 ``N`` contacts over the whole run):
 
 - root attributes ``format``, ``format_version``, ``lcpsim_version``, ``dt``,
@@ -21,7 +21,9 @@ Layout (format ``lcpsim-trajectory``, version 3; ``T`` steps, ``B`` bodies,
   ``normal_impulse``, ``friction_impulse`` (T, 3), ``max_lambda``,
   ``islands``, ``max_island_size``, ``parts`` (new in version 2: files of
   version 1 read as one part per step), ``stage_counts`` (T, 4) (new in
-  version 3: older files read as zeros, not recorded);
+  version 3: older files read as zeros, not recorded); with ``J`` joints,
+  ``joint_force``, ``joint_torque`` (T, J, 3), ``joint_position`` (T, J),
+  ``joint_error`` (T, J, 2) (new in version 4: older files read as J = 0);
 - the state before the first step: ``initial_positions`` (B, 3),
   ``initial_orientations`` (B, 4), ``initial_velocities`` (B, 6);
 - optional group ``contact_log`` (when the run recorded contacts):
@@ -53,7 +55,7 @@ __all__ = ["FORMAT", "FORMAT_VERSION", "TrajectoryFileError", "save_trajectory",
 #: Value of the root attribute ``format``.
 FORMAT = "lcpsim-trajectory"
 #: Value of the root attribute ``format_version``.
-FORMAT_VERSION = 3
+FORMAT_VERSION = 4
 
 # Per-step datasets: name → (dtype, shape after T; "B" = bodies).
 _PER_STEP: dict[str, tuple[str, tuple[Any, ...]]] = {
@@ -73,7 +75,13 @@ _PER_STEP: dict[str, tuple[str, tuple[Any, ...]]] = {
     "max_island_size": ("i8", ()),
     "parts": ("i8", ()),
     "stage_counts": ("i8", (4,)),
+    "joint_force": ("f8", ("J", 3)),
+    "joint_torque": ("f8", ("J", 3)),
+    "joint_position": ("f8", ("J",)),
+    "joint_error": ("f8", ("J", 2)),
 }
+# Per-step datasets new in a format version: name → that version (older files hold none).
+_SINCE = {"parts": 2, "stage_counts": 3, "joint_force": 4, "joint_torque": 4, "joint_position": 4, "joint_error": 4}
 _INITIAL: dict[str, int] = {"initial_positions": 3, "initial_orientations": 4, "initial_velocities": 6}
 _CONTACT_TAIL: dict[str, tuple[str, tuple[int, ...]]] = {
     "points": ("f8", (3,)),
@@ -200,16 +208,19 @@ def _read(f: Any, path: str | os.PathLike[str], version: int) -> dict[str, Any]:
     if codes.size and (codes.min() < 0 or codes.max() >= names.size):
         raise TrajectoryFileError(f"{path}: damaged trajectory file (status code out of range)")
     B = f["initial_positions"].shape[0]
+    J = 0
+    if version >= _SINCE["joint_position"]:
+        shape = f["joint_position"].shape
+        J = shape[1] if len(shape) == 2 else -1  # -1: refused below as a damaged shape
+    sizes = {"B": B, "J": J}
     data: dict[str, Any] = {}
     for name, (dtype, tail) in _PER_STEP.items():
-        if name == "parts" and version < 2:
-            data[name] = np.ones(T, dtype=np.int64)  # before retakes every step was one part
-            continue
-        if name == "stage_counts" and version < 3:
-            data[name] = np.zeros((T, 4), dtype=np.int64)  # not recorded before version 3
+        want = (T, *(sizes.get(d, d) for d in tail))
+        if version < _SINCE.get(name, 0):
+            # not recorded then: before retakes every step was one part; no stage counts, no joints
+            data[name] = np.ones(T, dtype=np.int64) if name == "parts" else np.zeros(want, dtype=dtype)
             continue
         a = f[name][()].astype(dtype)
-        want = (T, *(B if d == "B" else d for d in tail))
         if a.shape != want:
             raise TrajectoryFileError(f"{path}: damaged trajectory file ({name} has shape {a.shape}, expected {want})")
         data[name] = a

@@ -140,6 +140,9 @@ fn field<'py>(py: Python<'py>, r: &StepRecord, name: &str) -> PyResult<Bound<'py
         "energy_after" => r.energy.after.into_pyobject(py)?.into_any(),
         "external_work" => r.energy.external_work.into_pyobject(py)?.into_any(),
         "stabilization_work" => r.energy.stabilization.into_pyobject(py)?.into_any(),
+        "motor_work" => r.energy.motor_work.into_pyobject(py)?.into_any(),
+        "joint_drift_work" => r.energy.joint_drift.into_pyobject(py)?.into_any(),
+        "joint_projection_energy" => r.energy.joint_projection.into_pyobject(py)?.into_any(),
         "fn" => copied(py, &z[lay.fn_range()], &[nc]),
         "fd" => copied(py, &z[lay.fd_range()], &[nc, k]),
         "lam" => copied(py, &z[lay.lambda_range()], &[nc]),
@@ -224,5 +227,10 @@ pub(super) fn trajectory_to_dict(py: Python<'_>, t: Trajectory) -> PyResult<Boun
     d.set_item("normal_impulse", PyArray1::from_vec(py, t.normal_impulse))?;
     d.set_item("friction_impulse", shaped(py, t.friction_impulse, [n, 3])?)?;
     d.set_item("max_lambda", PyArray1::from_vec(py, t.max_lambda))?;
+    let j = t.joints;
+    d.set_item("joint_force", shaped(py, t.joint_force, [n, j, 3])?)?;
+    d.set_item("joint_torque", shaped(py, t.joint_torque, [n, j, 3])?)?;
+    d.set_item("joint_position", shaped(py, t.joint_position, [n, j])?)?;
+    d.set_item("joint_error", shaped(py, t.joint_error, [n, j, 2])?)?;
     Ok(d)
 }

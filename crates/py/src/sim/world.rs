@@ -473,10 +473,7 @@ impl World {
         let w = self.shared();
         let n = w.joints().len();
         let joint = w.joints().get(j).ok_or_else(|| sim_error(&sim::SimError::UnknownJoint { index: j, joints: n }))?;
-        Ok(match joint.kind {
-            sim::JointKind::Slider => joint.displacement(w.bodies()),
-            _ => joint.angle(w.bodies()),
-        })
+        Ok(joint.coordinate(w.bodies()))
     }
 
     /// The last step's joint reactions (what side A exerts on side B at the

@@ -165,7 +165,7 @@ impl JointSystem {
     }
 
     /// `v += M⁻¹ Gᵀ λ` for row impulses `λ`.
-    fn add_velocity(&self, lambda: &[f64], v: &mut [Vec3], w: &mut [Vec3]) {
+    pub(crate) fn add_velocity(&self, lambda: &[f64], v: &mut [Vec3], w: &mut [Vec3]) {
         for ((r, minv), &l) in self.rows.iter().zip(&self.minv).zip(lambda) {
             if l == 0.0 {
                 continue;
@@ -233,17 +233,23 @@ impl JointSystem {
     /// The joint impulses of island `slot`'s applied contact impulses `z`
     /// (physical): `λ += −X f`, and their velocity change added to `dv`, `dw`.
     pub fn add_contact_response(&mut self, slot: usize, lcp: &ContactLcp, z: &[f64], dv: &mut [Vec3], dw: &mut [Vec3]) {
-        let Some(x) = self.coupling.get(slot).filter(|x| !x.is_empty()) else { return };
-        let (m, nf) = (self.rows.len(), 3 * lcp.nc());
-        if x.len() != m * nf || z.len() != lcp.n() {
-            return;
-        }
-        let f: Vec<f64> = (0..lcp.nc()).flat_map(|c| lcp.frame_impulse(c, z)).collect();
-        let dl: Vec<f64> = (0..m).map(|r| -(0..nf).map(|k| x[r * nf + k] * f[k]).sum::<f64>()).collect();
+        let Some(dl) = self.contact_row_impulses(slot, lcp, z) else { return };
         self.add_velocity(&dl, dv, dw);
         for (l, d) in self.lambda.iter_mut().zip(&dl) {
             *l += d;
         }
+    }
+
+    /// The joint row impulses `−X f` that island `slot`'s contact impulses
+    /// `z` (physical) cause; `None` when no joint couples the island.
+    pub fn contact_row_impulses(&self, slot: usize, lcp: &ContactLcp, z: &[f64]) -> Option<Vec<f64>> {
+        let x = self.coupling.get(slot).filter(|x| !x.is_empty())?;
+        let (m, nf) = (self.rows.len(), 3 * lcp.nc());
+        if x.len() != m * nf || z.len() != lcp.n() {
+            return None;
+        }
+        let f: Vec<f64> = (0..lcp.nc()).flat_map(|c| lcp.frame_impulse(c, z)).collect();
+        Some((0..m).map(|r| -(0..nf).map(|k| x[r * nf + k] * f[k]).sum::<f64>()).collect())
     }
 
     /// Forgets the islands' couplings (a new step).

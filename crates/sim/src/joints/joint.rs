@@ -262,4 +262,12 @@ impl Joint {
         let a = pose(bodies, self.bodies[0]).1.rotate(self.axis[0]);
         a.dot(xb - xa)
     }
+
+    /// The joint's coordinate: a slider's [`Joint::displacement`], any other's [`Joint::angle`].
+    pub fn coordinate(&self, bodies: &[Body]) -> f64 {
+        match self.kind {
+            JointKind::Slider => self.displacement(bodies),
+            _ => self.angle(bodies),
+        }
+    }
 }

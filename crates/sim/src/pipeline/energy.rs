@@ -3,11 +3,11 @@
 //! **Audit** ([`EnergyAudit`], in every `StepRecord`): the mechanical energy
 //! `E = Σ ½ m v² + ½ ωᵀ I ω − m g·x` of the dynamic bodies before and after
 //! the step, the work `W = h Σ (F·v⁺ + τ·ω⁺)` of the applied forces and
-//! torques (gravity is in `E`), and the work `S` of the penetration
-//! correction (below). `E_after − E_before − W − S` is the energy the step
-//! created: semi-implicit Euler in free fall loses `½ m h² g²` per step,
-//! inelastic contact only dissipates, so a positive value comes from the
-//! contact impulses (a wrong answer).
+//! torques (gravity is in `E`), the work `S` of the penetration
+//! correction (below) and the joints' terms (below). `E_after − E_before −
+//! W − S − joints` is the energy the step created: semi-implicit Euler in
+//! free fall loses `½ m h² g²` per step, inelastic contact only dissipates,
+//! so a positive value comes from the contact impulses (a wrong answer).
 //!
 //! **Stabilization work.** A contact's normal impulse `fn` does the work
 //! `fn·J_n v̄` on the bodies (`v̄` the mean of the velocities before and after
@@ -28,6 +28,25 @@
 //! position correction that does not touch the velocities — would not add
 //! it; this simulator keeps Stewart–Trinkle's single velocity-level LCP.)
 //!
+//! **Joints** (`crate::joints`). The same argument, row by row: an impulse
+//! `p` on a row `g` changes the kinetic energy by `p·g v⁺ − ½ p·g M⁻¹gᵀ p`
+//! (the second term, summed over all the step's impulses, only dissipates),
+//! so each kind of row is credited with `p·g v⁺`:
+//! - a bilateral joint row asks `g v⁺ = −β C/h`: its work `λ·g v⁺ =
+//!   −λ β C/h` is the joints' drift correction (either sign; 0 for an ideal
+//!   joint, `C = 0`, which does no work), with a limit row pushed back past
+//!   its limit (`fn·β|gap|/h`, as a contact's `S`): `joint_drift`;
+//! - a motor's impulse `p` along the joint's rate row does `p·θ̇⁺`, the
+//!   torque times the angle it turns in the step (`θ += h θ̇⁺`):
+//!   `motor_work`;
+//! - the position projections after the step (`JointParams::settle_passes`)
+//!   move the bodies without touching their velocities: the energy they
+//!   change, measured, is `joint_projection` (the potential of a pendulum
+//!   bob pulled back onto its circle, `O(h²)` a step).
+//!
+//! With these, a frictionless pendulum's `created` is what semi-implicit
+//! Euler with a velocity projection loses (`−½ p·g M⁻¹gᵀ p ≤ 0` a step).
+//!
 //! **Failed solves.** A solve that fails (any status but `solved`, or an
 //! unusable `z`) does not apply the solver's answer: its last iterate can be
 //! anything. It does not apply *nothing* either, which lets a heavy body sink
@@ -36,11 +55,15 @@
 //! at 0, `fd` scaled into the friction cone `Σ fd ≤ μ fn`, `λ` dropped — times
 //! the factor `α ∈ [0, 1]` that minimizes the island's energy after the step
 //! along that impulse (`α = min(1, −a/c)` for the energy change
-//! `a α + ½ c α²`, `α = 0` when no positive `α` lowers it). So a failed step
+//! `a α + ½ c α²`, `α = 0` when no positive `α` lowers it; in an island with
+//! joints the velocity change along that impulse is the joint-projected
+//! `P Jᵀ z`, the joint impulses it causes included). So a failed step
 //! never has more energy than the same step with no impulse at all (which
 //! itself creates none), and a nearly right answer is applied nearly whole.
 
+use crate::contact::assembly::{dot6, row};
 use crate::math::{Mat3, Vec3};
+use crate::world::World;
 use lcp::contact::ContactLayout;
 
 /// Energies of one step (J).
@@ -56,6 +79,14 @@ pub struct EnergyAudit {
     /// stabilization term `b` is negative (see the module docs); 0 when no
     /// contact penetrates.
     pub stabilization: f64,
+    /// Work of the joint motors: each motor's impulse times its joint's rate after the step.
+    pub motor_work: f64,
+    /// Work of the joints' drift correction: `λ·G v⁺ = −λ·β C/h` of the
+    /// bilateral rows, plus the limit rows past their limit (module docs);
+    /// 0 without joints and for ideal joints.
+    pub joint_drift: f64,
+    /// Energy the joints' position projections after the step changed (module docs).
+    pub joint_projection: f64,
 }
 
 impl EnergyAudit {
@@ -67,13 +98,59 @@ impl EnergyAudit {
             after: next.after,
             external_work: self.external_work + next.external_work,
             stabilization: self.stabilization + next.stabilization,
+            motor_work: self.motor_work + next.motor_work,
+            joint_drift: self.joint_drift + next.joint_drift,
+            joint_projection: self.joint_projection + next.joint_projection,
         }
     }
 
-    /// Energy the step created: `after − before − external_work − stabilization`
-    /// (≤ 0 when it only dissipates).
+    /// Energy the step created: `after − before − external_work − stabilization
+    /// − motor_work − joint_drift − joint_projection` (≤ 0 when it only dissipates).
     pub fn created(&self) -> f64 {
-        self.after - self.before - self.external_work - self.stabilization
+        self.after
+            - self.before
+            - self.external_work
+            - self.stabilization
+            - self.motor_work
+            - self.joint_drift
+            - self.joint_projection
+    }
+}
+
+impl World {
+    /// `(motor_work, joint_drift)` of the module docs for the step just
+    /// integrated (the bodies hold `v⁺`); zeros without joints.
+    pub(crate) fn joint_work(&self, h: f64) -> (f64, f64) {
+        if self.joints.is_empty() {
+            return (0.0, 0.0);
+        }
+        let (ws, bodies) = (&self.ws, &self.bodies);
+        let vel = |b: usize| row(bodies[b].velocity, bodies[b].angular_velocity);
+        // the bilateral rows: λ·g v⁺
+        let mut drift: f64 = (ws.joints.rows.iter().zip(&ws.joints.lambda))
+            .map(|(r, &l)| l * (0..2).filter_map(|s| r.body[s].map(|b| dot6(&r.jac[s], &vel(b)))).sum::<f64>())
+            .sum();
+        let (first, beta, mut motor) = (ws.joints.first_limit, self.joint_params.drift, 0.0);
+        for i in 0..ws.islands.len() {
+            let isl = &ws.pool[i];
+            if isl.z_apply.len() != isl.lcp.n() {
+                continue;
+            }
+            for (c, &g) in ws.islands.contacts_of(i).iter().enumerate().filter(|(_, &g)| g >= first) {
+                let (lim, p) = (&ws.joints.limits[g - first], isl.lcp.frame_impulse(c, &isl.z_apply));
+                if lim.motor.is_some() {
+                    // its impulse along its rate row (t1) times the rate
+                    let rows = |s: usize| isl.lcp.side_rows(c, s).0[1];
+                    let rate: f64 =
+                        (0..2).filter_map(|s| isl.lcp.side_body(c, s).map(|b| dot6(&rows(s), &vel(b)))).sum();
+                    motor += p[1] * rate;
+                } else if lim.gap < 0.0 {
+                    // pushed back past the limit with the joints' β, as a contact's `S`
+                    drift += p[0] * beta * -lim.gap / h;
+                }
+            }
+        }
+        (motor, drift)
     }
 }
 

@@ -143,7 +143,7 @@ impl World {
     /// says so (e.g. when an LCP sink holds enough to be drained).
     pub fn run_until(&mut self, steps: usize, mut stop: impl FnMut(&World) -> bool) -> Result<Trajectory, SimError> {
         limits::check_trajectory(steps, self.bodies.len())?;
-        let mut traj = Trajectory::with_capacity(steps, self.bodies.len());
+        let mut traj = Trajectory::for_world(steps, self);
         for _ in 0..steps {
             self.step()?;
             traj.push(self);
@@ -330,17 +330,33 @@ impl World {
             work += h * ((ws.force[i] - g * b.mass).dot(b.velocity) + ws.torque[i].dot(b.angular_velocity));
             integrate_positions(b, h);
         }
-        // the joints' position error projected away (nothing without joints)
+        // the joints' position error projected away (nothing without joints), the energy it changed
+        let unsettled = (!self.joints.is_empty()).then(|| self.energy());
         self.joints_settle();
+        let after = self.energy();
+        let (motor_work, joint_drift) = self.joint_work(h);
         let ws = &mut self.ws;
         self.time += h;
         // the parts of a retaken step count as one (`step_inner` counts it)
         self.steps += u64::from(ws.part_h.is_none());
         let stab = &self.params.stabilization;
-        let stabilization = (ws.pool[..ws.islands.len()].iter())
-            .map(|isl| energy::stabilization_work(&isl.contacts, &isl.z_apply, isl.lcp.layout(), stab, h))
+        // the geometric contacts of each island (its joint limits and motors, last, are the joints')
+        let first_limit = ws.joints.first_limit;
+        let stabilization = (0..ws.islands.len())
+            .map(|i| {
+                let (isl, geometric) = (&ws.pool[i], ws.islands.contacts_of(i).partition_point(|&g| g < first_limit));
+                energy::stabilization_work(&isl.contacts[..geometric], &isl.z_apply, isl.lcp.layout(), stab, h)
+            })
             .sum();
-        self.record.energy = energy::EnergyAudit { before, after: self.energy(), external_work: work, stabilization };
+        self.record.energy = energy::EnergyAudit {
+            before,
+            after,
+            external_work: work,
+            stabilization,
+            motor_work,
+            joint_drift,
+            joint_projection: unsettled.map_or(0.0, |e| after - e),
+        };
     }
 
     /// The failed-solve policy of [`energy`]: each failed island applies its
@@ -358,12 +374,18 @@ impl World {
             energy::admissible(&isl.z, isl.lcp.layout(), isl.lcp.mu(), &mut cand);
             let (mut dv, mut dw) = (vec![Vec3::ZERO; nb], vec![Vec3::ZERO; nb]);
             isl.lcp.apply_impulses(&cand, &mut dv, &mut dw);
+            // With joints, the motion is that of the joint impulses it causes too
+            // (which `joints_apply` adds to what is applied here).
+            let (mut jv, mut jw) = (dv.clone(), dw.clone());
+            if let Some(rows) = ws.joints.contact_row_impulses(i, &isl.lcp, &cand) {
+                ws.joints.add_velocity(&rows, &mut jv, &mut jw);
+            }
             let bodies = ws.islands.bodies_of(i);
             let shares = bodies.iter().map(|&b| energy::Share {
                 v: ws.v_free[b],
                 w: ws.w_free[b],
-                dv: dv[b],
-                dw: dw[b],
+                dv: jv[b],
+                dw: jw[b],
                 mass: self.bodies[b].mass,
                 inertia: self.bodies[b].inertia_world(),
             });

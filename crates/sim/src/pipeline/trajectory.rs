@@ -1,6 +1,7 @@
 //! `Trajectory`: the state after every step of a run, in flat arrays ready
 //! for numpy (`(steps, bodies, 3)` and `(steps, bodies, 4)`, row-major), and
-//! each step's contact physics and LCP outcome.
+//! each step's contact physics and LCP outcome, and its joints' reactions,
+//! coordinates and errors (`(steps, joints, …)`).
 
 use super::record::StepRecord;
 use crate::contact::FrictionBasis;
@@ -53,6 +54,19 @@ pub struct Trajectory {
     /// Islands answered by each stage of the solve chain per step, `(steps, 4)`
     /// in the order of [`SolveStage::ALL`].
     pub stage_counts: Vec<usize>,
+    /// Joints per step.
+    pub joints: usize,
+    /// Each joint's reaction over the step, what side A exerted on side B
+    /// ([`crate::joints::JointReaction`]): mean forces (N) and torques about
+    /// the anchor (N·m), `(steps, joints, 3)` each.
+    pub joint_force: Vec<f64>,
+    pub joint_torque: Vec<f64>,
+    /// Each joint's coordinate after the step ([`crate::joints::Joint::coordinate`]:
+    /// a hinge's angle in rad, a slider's displacement in m), `(steps, joints)`.
+    pub joint_position: Vec<f64>,
+    /// Each joint's position error after the step, its largest linear (m) and
+    /// angular (rad) row error, `(steps, joints, 2)`.
+    pub joint_error: Vec<f64>,
     /// The friction directions' cosines and sines, built once per run.
     basis: Option<FrictionBasis>,
 }
@@ -79,8 +93,25 @@ impl Trajectory {
             max_island_size: Vec::with_capacity(steps),
             parts: Vec::with_capacity(steps),
             stage_counts: Vec::with_capacity(SolveStage::ALL.len() * steps),
+            joints: 0,
+            joint_force: Vec::new(),
+            joint_torque: Vec::new(),
+            joint_position: Vec::new(),
+            joint_error: Vec::new(),
             basis: None,
         }
+    }
+
+    /// Room for `steps` steps of `world`'s bodies and joints.
+    pub fn for_world(steps: usize, world: &World) -> Self {
+        let mut t = Trajectory::with_capacity(steps, world.bodies().len());
+        let joints = world.joints().len();
+        t.joints = joints;
+        t.joint_force.reserve(steps * joints * 3);
+        t.joint_torque.reserve(steps * joints * 3);
+        t.joint_position.reserve(steps * joints);
+        t.joint_error.reserve(steps * joints * 2);
+        t
     }
 
     /// Appends the world's current state and its last step record.
@@ -106,6 +137,22 @@ impl Trajectory {
         r.islands.iter().filter_map(|i| i.stage).for_each(|s| counts[s.index()] += 1);
         self.stage_counts.extend(counts);
         self.push_impulses(r);
+        self.push_joints(world);
+    }
+
+    /// The joints' reactions (from the last record), coordinates and errors.
+    fn push_joints(&mut self, world: &World) {
+        let (joints, bodies) = (world.joints(), world.bodies());
+        self.joints = joints.len();
+        let r = world.last_record();
+        for (j, joint) in joints.iter().enumerate() {
+            let reaction = r.joints.get(j).copied().unwrap_or_default();
+            self.joint_force.extend_from_slice(&reaction.force.to_array());
+            self.joint_torque.extend_from_slice(&reaction.torque.to_array());
+            self.joint_position.push(joint.coordinate(bodies));
+            let (lin, ang) = joint.error(bodies);
+            self.joint_error.extend([lin, ang]);
+        }
     }
 
     /// Σ fn, the friction impulse vector and the largest λ of a step.
