@@ -253,7 +253,7 @@ def test_step_record_holds_exactly_its_fields_with_their_types():
                "scale": float, "status": str, "pivots": int, "residual": float, "solver_residual": float,
                "min_z": float, "min_w": float, "max_complementarity": float, "zeroed": bool, "islands": int,
                "energy_before": float, "energy_after": float, "external_work": float, "stabilization_work": float,
-               "parts": int}
+               "motor_work": float, "joint_drift_work": float, "joint_projection_energy": float, "parts": int}
     dtypes = {"body_a": np.int64, "body_b": np.int64, "island_of_contact": np.int64, "island_lcp_size": np.int64,
               "island_pivots": np.int64, "island_entered": np.int64}
     for r in records:
