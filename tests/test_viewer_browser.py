@@ -5,7 +5,8 @@ Each page loads from file:// with no console error and no request beyond the
 page itself and the blob: URLs it makes of its inlined three.js; the 3-D
 canvas is not blank; the cube's pixels move between the first and the last
 frame of a sliding run and stay put for a resting one; the slider changes the
-frame drawn; a failed LCP has its marker on the timeline, at its step.
+frame drawn; a failed LCP has its marker on the timeline, at its step; joints are
+drawn where the page's data puts them, and hiding them changes the picture.
 """
 
 from __future__ import annotations
@@ -21,6 +22,8 @@ import pytest
 
 from lcpsim import scenes
 from lcpsim.cli import main
+from test_viewer import decode, page_data
+from test_viewer_joints import double_pendulum
 
 pytestmark = pytest.mark.slow  # a real browser per test
 
@@ -58,6 +61,7 @@ def pages(tmp_path_factory):
     out["fail"] = traj.to_html(d / "fail.html")
     out["failed_steps"] = [int(s) + 1 for s in np.nonzero(~traj.ok)[0]]
     out["empty"] = scenes.resting_cube().world.run(0).to_html(d / "empty.html")
+    out["joints"] = double_pendulum().run(400).to_html(d / "joints.html")
     return out
 
 
@@ -123,7 +127,7 @@ def centroid(mask: np.ndarray) -> np.ndarray:
     return np.array([xs.mean(), ys.mean()])
 
 
-@pytest.mark.parametrize("name", ["slide", "rest", "fail", "empty"])
+@pytest.mark.parametrize("name", ["slide", "rest", "fail", "empty", "joints"])
 def test_loads_offline_without_errors(open_page, pages, name):
     p = open_page(pages[name])
     assert p.errors == []
@@ -133,7 +137,7 @@ def test_loads_offline_without_errors(open_page, pages, name):
     img = p.canvas()
     # Not blank: the ground, the cube and its edges give many colours, the cube a large patch.
     assert len(np.unique(img.reshape(-1, 3), axis=0)) > 50
-    assert cube_mask(img).sum() > 2000
+    assert cube_mask(img).sum() > (100 if name == "joints" else 2000)  # the jointed scene's selected body: a thin bar
     if name == "empty":
         assert p.page.is_visible("#empty-notice")
         assert p.eval("lcpsimViewer.frames") == 1
@@ -215,3 +219,24 @@ def test_failed_steps_have_markers_that_jump_there(open_page, pages):
     lcp = p.page.inner_text("#lcp-readout")
     assert "cycling" in lcp or "numerical" in lcp or "max_pivots" in lcp, lcp
     assert "no impulse was applied" in p.page.inner_text("#contact-readout")
+
+
+def test_joints_are_drawn_at_their_anchors_along_their_axes(open_page, pages):
+    p = open_page(pages["joints"])
+    d = page_data(open(pages["joints"], encoding="utf-8").read())
+    anchor, axis = decode(d["arrays"]["j_anchor"]), decode(d["arrays"]["j_axis"])
+    assert p.eval("lcpsimViewer.joints") == 4
+    last = p.eval("lcpsimViewer.frames") - 1
+    for f in (0, last // 2, last):
+        p.eval(f"lcpsimViewer.setFrame({f})")
+        for j in range(4):
+            at, along = p.eval(f"lcpsimViewer.jointPose({j})")
+            np.testing.assert_allclose(at, anchor[f, j], atol=1e-6)
+            np.testing.assert_allclose(along, axis[f, j] / np.linalg.norm(axis[f, j]), atol=1e-6)
+    # The ball joint between the bars moved (it swung down) and is drawn: hiding the joints
+    # changes the picture.
+    assert np.linalg.norm(anchor[last, 1] - anchor[0, 1]) > 0.2
+    p.hide_contacts()
+    shown = p.frame(last)
+    p.page.uncheck("#show-joints")
+    assert (np.abs(shown - p.canvas()).sum(axis=2) > 30).sum() > 50

@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from ._json import fields_dict
 from .lcp import STATUSES
 
-__all__ = ["ContactLog", "LcpStats", "NO_CONTACT", "STATUS_NAMES", "STAGES", "TrajectoryData", "quat_angle"]
+__all__ = ["ContactLog", "LcpStats", "NO_CONTACT", "STATUS_NAMES", "STAGES", "TrajectoryData", "quat_angle", "quat_rotate"]
 
 #: Status of a step without contacts (no LCP was solved).
 NO_CONTACT = "no_contact"
@@ -36,6 +36,14 @@ def quat_angle(q0: ArrayLike, q1: ArrayLike) -> NDArray[np.float64] | float:
     d = np.abs(np.sum(np.asarray(q0, dtype=float) * np.asarray(q1, dtype=float), axis=-1))
     a = 2.0 * np.arccos(np.clip(d, -1.0, 1.0))
     return float(a) if np.ndim(a) == 0 else a
+
+
+def quat_rotate(q: ArrayLike, v: ArrayLike) -> NDArray[np.float64]:
+    """``v`` rotated by the unit quaternions ``q`` (w, x, y, z); broadcasts over leading dimensions."""
+    q, v = np.asarray(q, dtype=float), np.asarray(v, dtype=float)
+    w, u = q[..., :1], q[..., 1:]
+    t = 2.0 * np.cross(u, v)
+    return np.asarray(v + w * t + np.cross(u, t))
 
 
 @dataclass(frozen=True)

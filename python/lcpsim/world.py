@@ -425,7 +425,7 @@ class World(JointsMixin, ShapesMixin):
         self._core.set_cone_scale(parse_cone_scale(cone_scale, "cone_scale"))
 
     def config(self) -> dict[str, Any]:
-        """A JSON-ready description: parameters, solver, scene and bodies (for result files)."""
+        """A JSON-ready description: parameters, solver, scene, bodies and joints (for result files)."""
         from . import __version__
 
         bodies = []
@@ -439,7 +439,7 @@ class World(JointsMixin, ShapesMixin):
                 if v is not None:
                     d[key] = v.tolist() if isinstance(v, np.ndarray) else v
             bodies.append(d)
-        return {
+        config = {
             "lcpsim_version": __version__,
             "scene": self.scene,
             "scene_params": jsonable(self.scene_params),
@@ -448,6 +448,9 @@ class World(JointsMixin, ShapesMixin):
             "solver_options": jsonable(self._solver_options),
             "bodies": bodies,
         }
+        if self.joint_count:  # kind, bodies, anchor and axis in each side's frame, limits, motor
+            config["joints"] = [jsonable(self._core.joint_config(j)) for j in range(self.joint_count)]
+        return config
 
     # ----- bodies -----
 

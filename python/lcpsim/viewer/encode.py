@@ -5,7 +5,11 @@ Frames are states: frame ``i`` shows the state after step ``frame_step[i]``
 of little-endian typed arrays (``{"dtype", "shape", "b64"}``): poses and
 contacts in single precision (drawing needs no more), the selected body's
 readouts (position, displacement, tilt, down-slope distance) in double
-precision, computed here. Every step's LCP status is kept (one byte a step)
+precision, computed here. Joints (when the trajectory's ``config`` lists
+them) travel as each kept state's anchor (as side B carries it) and axis (as
+side A carries it, the world's if A is the world), computed here from the
+poses and each joint's geometry in its bodies' frames, so they move with
+their bodies. Every step's LCP status is kept (one byte a step)
 for the timeline strip; a long run keeps every ``stride``-th state plus the
 last one and every failed step, with ``stride`` the smallest that fits the
 byte budget — the page says so when ``stride > 1``.
@@ -20,9 +24,9 @@ from typing import Any, Callable, Mapping
 import numpy as np
 from numpy.typing import NDArray
 
-from ..trajectory_data import NO_CONTACT, STATUS_NAMES, TrajectoryData
+from ..trajectory_data import NO_CONTACT, STATUS_NAMES, TrajectoryData, quat_rotate
 
-__all__ = ["payload", "choose_frames", "frame_bytes", "STATUS_COLORS"]
+__all__ = ["payload", "choose_frames", "frame_bytes", "joint_frames", "STATUS_COLORS"]
 
 #: Timeline colours by status; every status not listed is a failure ("failed").
 STATUS_COLORS = {
@@ -34,10 +38,12 @@ STATUS_COLORS = {
 _OK = ("solved", NO_CONTACT)
 # Bytes per frame before base64 (its 4/3 is applied by frame_bytes): frame_step, frame_time,
 # pivots, residual, contact offset, the focus readouts (3 + 3 + 1 + 1 doubles), per dynamic body
-# a pose (7 floats), per contact point, normal, friction (3 floats each), fn and λ.
+# a pose (7 floats), per contact point, normal, friction (3 floats each), fn and λ, per joint
+# an anchor and an axis (3 floats each).
 _FRAME_FIXED = 4 + 8 + 4 + 4 + 4 + 8 * 8
 _PER_BODY = 7 * 4
 _PER_CONTACT = 11 * 4
+_PER_JOINT = 6 * 4
 
 
 def _b64(a: NDArray[Any], dtype: str) -> dict[str, Any]:
@@ -46,9 +52,10 @@ def _b64(a: NDArray[Any], dtype: str) -> dict[str, Any]:
     return {"dtype": dtype.lstrip("<"), "shape": list(arr.shape), "b64": base64.b64encode(arr.tobytes()).decode()}
 
 
-def frame_bytes(dynamic: int, contacts: NDArray[np.int64]) -> NDArray[np.float64]:
+def frame_bytes(dynamic: int, contacts: NDArray[np.int64], joints: int = 0) -> NDArray[np.float64]:
     """Encoded bytes of each frame (base64 included), given the contacts of each."""
-    return (_FRAME_FIXED + _PER_BODY * dynamic + _PER_CONTACT * contacts.astype(np.float64)) * 4.0 / 3.0
+    fixed = _FRAME_FIXED + _PER_BODY * dynamic + _PER_JOINT * joints
+    return (fixed + _PER_CONTACT * contacts.astype(np.float64)) * 4.0 / 3.0
 
 
 def choose_frames(
@@ -131,7 +138,10 @@ def payload(
         contacts[1:] = log.counts
     codes = _status_codes(traj.status)
     failed_steps = np.nonzero(~np.isin(traj.status, _OK))[0] + 1  # as states
-    cost = frame_bytes(len(dynamic), contacts)
+    joints = list(config.get("joints") or [])
+    if len(joints) != traj.joints:  # geometry unknown: not drawn
+        joints = []
+    cost = frame_bytes(len(dynamic), contacts, len(joints))
     idx, stride = choose_frames(cost, failed_steps.astype(np.int64), budget)
     arrays: dict[str, Any] = {
         "frame_step": _b64(idx, "<i4"),
@@ -149,6 +159,9 @@ def payload(
         arrays["focus_along"] = _b64(disp @ d if d is not None else np.zeros(len(idx)), "<f8")
     if log is not None:
         arrays.update(_contacts(log, idx))
+    if joints:
+        anchor, axis = joint_frames(joints, pos[idx], quat[idx])
+        arrays["j_anchor"], arrays["j_axis"] = _b64(anchor, "<f4"), _b64(axis, "<f4")
     ref = _impulse_reference(log)
     size = _body_size(cfg_bodies, dynamic)
     return {
@@ -163,6 +176,7 @@ def payload(
         "focus": body,
         "direction": None if d is None else d.tolist(),
         "direction_label": label,
+        "joints": [{"kind": j["kind"], "bodies": [j["body_a"], j["body_b"]]} for j in joints],
         "has_contacts": log is not None,
         "max_contacts": int(contacts.max(initial=0)),
         "status_names": [str(s) for s in STATUS_NAMES],
@@ -199,6 +213,21 @@ def _contacts(log: Any, idx: NDArray[np.int64]) -> dict[str, Any]:
         "c_friction": _b64(pick("friction"), "<f4"),
         "c_lam": _b64(pick("lam"), "<f4"),
     }
+
+
+def joint_frames(
+    joints: list[Mapping[str, Any]], pos: NDArray[np.float64], quat: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Each joint's anchor as side B carries it and its axis as side A carries it (the world's
+    if A is the world), for states of poses ``pos`` (F, B, 3) and ``quat`` (F, B, 4):
+    (F, J, 3) each, from the joints' geometry in their bodies' frames (``World.config``)."""
+    frames = pos.shape[0]
+    anchor, axis = np.zeros((frames, len(joints), 3)), np.zeros((frames, len(joints), 3))
+    for j, joint in enumerate(joints):
+        b, a = joint["body_b"], joint["body_a"]
+        anchor[:, j] = pos[:, b] + quat_rotate(quat[:, b], joint["anchor"][1])
+        axis[:, j] = joint["axis"][0] if a is None else quat_rotate(quat[:, a], joint["axis"][0])
+    return anchor, axis
 
 
 def _runs(steps: NDArray[np.int64]) -> list[list[int]]:

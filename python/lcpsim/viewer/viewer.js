@@ -147,6 +147,36 @@ function lcpsimStartViewer(THREE, OrbitControls, D) {
     return { lines, heads };
   }
 
+  // Joints at their anchors along their axes, over the bodies as the contacts are:
+  // a hinge's axle, a slider's rail, a ball joint's ball, a weld's cube.
+  const NJ = D.joints.length, js = D.view.size;
+  const jointMaterial = new THREE.MeshBasicMaterial(overlay(0x8e3fb5));
+  const jointGeometry = {
+    hinge: () => new THREE.CylinderGeometry(0.08 * js, 0.08 * js, 0.8 * js, 16),
+    slider: () => new THREE.CylinderGeometry(0.02 * js, 0.02 * js, 1.6 * js, 8),
+    ball: () => new THREE.SphereGeometry(0.12 * js, 16, 8),
+    fixed: () => new THREE.BoxGeometry(0.16 * js, 0.16 * js, 0.16 * js),
+  };
+  const joints = D.joints.map((j) => {
+    const m = new THREE.Mesh((jointGeometry[j.kind] || jointGeometry.ball)(), jointMaterial);
+    m.renderOrder = 4;
+    m.frustumCulled = false;
+    scene.add(m);
+    return m;
+  });
+  const jointAxis = new THREE.Vector3(), yAxis = new THREE.Vector3(0, 1, 0);  // three's cylinder axis: y
+  function drawJoints() {
+    const on = $("show-joints").checked;
+    for (let j = 0; j < NJ; j++) {
+      const m = joints[j], o = 3 * (frame * NJ + j);
+      m.visible = on;
+      m.position.set(A.j_anchor[o], A.j_anchor[o + 1], A.j_anchor[o + 2]);
+      jointAxis.set(A.j_axis[o], A.j_axis[o + 1], A.j_axis[o + 2]).normalize();
+      m.quaternion.setFromUnitVectors(yAxis, jointAxis);
+    }
+  }
+  $("joints-toggle").hidden = NJ === 0;
+
   // ---------------------------------------------------------------- camera
   const controls = new OrbitControls(camera, renderer ? renderer.domElement : $("scene"));
   const target = new THREE.Vector3(...D.view.target);
@@ -178,6 +208,7 @@ function lcpsimStartViewer(THREE, OrbitControls, D) {
       m.quaternion.set(p[o + 4], p[o + 5], p[o + 6], p[o + 3]);
     }
     drawContacts();
+    drawJoints();
     $("slider").value = String(frame);
     readout();
     render();
@@ -361,7 +392,7 @@ function lcpsimStartViewer(THREE, OrbitControls, D) {
   $("play").addEventListener("click", () => (playing ? pause() : play()));
   $("slider").max = String(F - 1);
   $("slider").addEventListener("input", () => { pause(); setFrame(Number($("slider").value)); });
-  for (const id of ["show-points", "show-normal", "show-friction"]) $(id).addEventListener("change", () => setFrame(frame));
+  for (const id of ["show-points", "show-normal", "show-friction", "show-joints"]) $(id).addEventListener("change", () => setFrame(frame));
   $("body-select").addEventListener("change", () => bodyReadout());
   window.addEventListener("keydown", (e) => {
     if (e.target.tagName === "SELECT") return;
@@ -386,6 +417,9 @@ function lcpsimStartViewer(THREE, OrbitControls, D) {
     frames: F, steps: D.steps, setFrame, jumpToStep, play, pause,
     get frame() { return frame; }, get step() { return stepOf(frame); }, get playing() { return playing; },
     webgl: renderer !== null,
+    joints: NJ,
+    // Where joint j is drawn now: its position and its axis (the drawn object's y).
+    jointPose: (j) => [joints[j].position.toArray(), yAxis.clone().applyQuaternion(joints[j].quaternion).toArray()],
   };
   document.body.dataset.ready = "1";
 }

@@ -460,6 +460,26 @@ impl World {
         self.shared().joints().len()
     }
 
+    /// A joint's kind, bodies (None: the world) and geometry: `anchor` and
+    /// `axis` per side in that side's frame (the anchor from its centre of
+    /// mass; the world's: in the world), `limits` and `motor` (speed,
+    /// max_force) or None. For `World.config` and the viewer.
+    fn joint_config<'py>(&self, py: Python<'py>, joint: &Bound<'_, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+        let j = convert::count(joint, "joint")?;
+        let w = self.shared();
+        let n = w.joints().len();
+        let joint = w.joints().get(j).ok_or_else(|| sim_error(&sim::SimError::UnknownJoint { index: j, joints: n }))?;
+        let d = PyDict::new(py);
+        d.set_item("kind", joint.kind.name())?;
+        d.set_item("body_a", joint.bodies[0])?;
+        d.set_item("body_b", joint.bodies[1])?;
+        d.set_item("anchor", joint.anchor.map(|a| a.to_array()))?;
+        d.set_item("axis", joint.axis.map(|a| a.to_array()))?;
+        d.set_item("limits", joint.limits)?;
+        d.set_item("motor", joint.motor.map(|m| (m.speed, m.max_force)))?;
+        Ok(d)
+    }
+
     /// A joint's position error now: (largest linear row error in m, largest angular in rad).
     fn joint_error(&self, joint: &Bound<'_, PyAny>) -> PyResult<(f64, f64)> {
         let j = sim::JointId(convert::count(joint, "joint")?);
