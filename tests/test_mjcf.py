@@ -112,11 +112,12 @@ BODY = '<body name="{name}" pos="0 0 1">{inner}</body>'
          ["joint 'elbow'", "hinge", "stiffness"]),
         (BODY.format(name="egg", inner='<freejoint/><geom name="shell" type="ellipsoid" size=".1 .2 .3"/>'),
          ["geom 'shell'", "ellipsoid"]),
-        (BODY.format(name="two", inner='<freejoint/><geom type="box" size=".1 .1 .1"/><geom type="sphere" size=".1"/>'),
-         ["body 'two'", "2 colliding geoms"]),
+        (BODY.format(name="two", inner='<freejoint/><geom type="box" size=".1 .1 .1"/>'
+                     '<geom type="sphere" size=".1" pos=".2 0 0" friction="0.3"/>'),
+         ["body 'two'", "different friction", "1.0, 0.3"]),
         (BODY.format(name="car", inner='<freejoint/><geom type="box" size=".1 .1 .1"/>'
          '<body name="wheel"><geom type="sphere" size=".1" pos=".2 0 0" contype="0" conaffinity="0"/></body>'),
-         ["body 'wheel'", "0 colliding geoms"]),
+         ["body 'wheel'", "no colliding geom"]),
     ],
 )
 def test_unsupported_elements_are_refused_naming_them(xml, words):

@@ -1,5 +1,5 @@
 """The shapes beyond boxes, spheres and planes — :meth:`World.add_capsule`,
-``add_cylinder``, ``add_convex``, ``add_mesh`` (:class:`ShapesMixin`, a base of
+``add_cylinder``, ``add_convex``, ``add_mesh``, ``add_compound`` (:class:`ShapesMixin`, a base of
 :class:`lcpsim.World`) — and every body's collision bits (MuJoCo's
 ``contype``/``conaffinity``). Array shapes, size limits and the bits are checked
 here, the rest (finite values, index ranges, degenerate faces) in Rust
@@ -7,13 +7,14 @@ here, the rest (finite values, index ranges, degenerate faces) in Rust
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Mapping
 from typing import Any, Callable, Sequence, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
-from ._validate import real as _real, velocities as _velocities
+from ._validate import real as _real, vec as _vec, velocities as _velocities
 
 _BODY = _core.BODY_DEFAULTS
 Vec = Union[Sequence[float], NDArray[np.float64]]
@@ -23,6 +24,16 @@ Vec = Union[Sequence[float], NDArray[np.float64]]
 MAX_HULL_POINTS = 100_000
 MAX_MESH_VERTICES = 1_000_000
 MAX_MESH_FACES = 2_000_000
+#: The most parts of :meth:`World.add_compound` (``sim::geometry::MAX_COMPOUND_PARTS``).
+MAX_COMPOUND_PARTS = 10_000
+#: A compound part's kinds and the field(s) giving each one's size.
+PART_FIELDS = {
+    "box": ("half_extents",),
+    "sphere": ("radius",),
+    "capsule": ("radius", "half_length"),
+    "cylinder": ("radius", "half_length"),
+    "convex": ("vertices",),
+}
 
 
 def points_array(x: Any, name: str, limit: int) -> NDArray[np.float64]:
@@ -49,6 +60,42 @@ def faces_array(faces: Any, limit: int) -> NDArray[np.int64]:
     if f.shape[0] > limit:
         raise ValueError(f"faces has {f.shape[0]} triangles, more than the limit of {limit}")
     return np.ascontiguousarray(f, dtype=np.int64)
+
+
+def compound_parts(parts: Any) -> list[tuple[str, Any, Any, Any]]:
+    """``(kind, size, position, orientation)`` of each part of :meth:`World.add_compound`,
+    else a ValueError naming ``parts[k]`` and the field (the values are checked in Rust)."""
+    if isinstance(parts, (str, bytes, Mapping)) or not isinstance(parts, Iterable):
+        raise ValueError(f"parts must be a list of parts (dicts with 'kind'), got {parts!r}")
+    parts = list(parts)
+    if not parts:
+        raise ValueError("parts must hold at least one part, got none")
+    if len(parts) > MAX_COMPOUND_PARTS:
+        raise ValueError(f"parts has {len(parts)} parts, more than the limit of {MAX_COMPOUND_PARTS}")
+    out = []
+    for k, p in enumerate(parts):
+        if not isinstance(p, Mapping):
+            raise ValueError(f"parts[{k}] must be a dict with 'kind', got {p!r}")
+        kind = p.get("kind")
+        if kind not in PART_FIELDS:
+            raise ValueError(f"parts[{k}].kind must be one of {', '.join(PART_FIELDS)}, got {kind!r}")
+        unknown = set(p) - {"kind", "position", "orientation", *PART_FIELDS[kind]}
+        if unknown:
+            raise ValueError(f"parts[{k}] ({kind}) has unknown field(s) {', '.join(sorted(map(str, unknown)))}")
+        missing = [f for f in PART_FIELDS[kind] if p.get(f) is None]
+        if missing:
+            raise ValueError(f"parts[{k}] ({kind}) needs {', '.join(missing)}")
+        if kind == "box":
+            size: Any = _vec(p["half_extents"], f"parts[{k}].half_extents")
+        elif kind == "convex":
+            size = points_array(p["vertices"], f"parts[{k}].vertices", MAX_HULL_POINTS)
+        else:
+            size = tuple(_real(p[f], f"parts[{k}].{f}") for f in PART_FIELDS[kind])
+            size = size[0] if kind == "sphere" else size
+        position = _vec(p.get("position", (0.0, 0.0, 0.0)), f"parts[{k}].position")
+        orientation = _vec(p.get("orientation", (1.0, 0.0, 0.0, 0.0)), f"parts[{k}].orientation", 4)
+        out.append((kind, size, position, orientation))
+    return out
 
 
 def collision_bits(contype: Any, conaffinity: Any) -> tuple[int, int]:
@@ -134,6 +181,38 @@ class ShapesMixin:
         v, wv = _velocities(velocity, angular_velocity)
         return self._filtered(contype, conaffinity, lambda: self._core.add_body(
             "convex", pts, mass, position, orientation, v, wv, mu, bool(static), inertia))
+
+    def add_compound(
+        self,
+        parts: Sequence[Mapping[str, Any]],
+        mass: float = _BODY["mass"],
+        position: Vec = tuple(_BODY["position"]),
+        orientation: Vec = tuple(_BODY["orientation"]),
+        velocity: Vec = tuple(_BODY["velocity"]),
+        angular_velocity: Vec = tuple(_BODY["angular_velocity"]),
+        mu: float = _BODY["mu"],
+        *,
+        static: bool = _BODY["static"],
+        inertia: ArrayLike | None = None,
+        com: Vec | None = None,
+        contype: int = _BODY["contype"],
+        conaffinity: int = _BODY["conaffinity"],
+    ) -> int:
+        """Adds one rigid body made of several solid ``parts`` (a table of a top and legs, a
+        dumbbell), each a dict: ``kind`` ("box", "sphere", "capsule", "cylinder", "convex"),
+        its size (``half_extents``; ``radius``; ``radius`` and ``half_length``; ``vertices``),
+        and its ``position`` and ``orientation`` (w, x, y, z) in the compound's frame (default
+        origin, identity; a hull's points are in its part's frame). As :meth:`add_convex`, the
+        body frame is at the centre of mass of the parts at uniform density (overlaps count
+        twice), ``position`` places that centre and ``body(i).com_offset`` says where it was in
+        the parts' frame; ``inertia`` (body frame) overrides the parts' own. ``com`` (in the
+        parts' frame) puts the centre of mass elsewhere, for a density that is not uniform
+        (give ``inertia`` with it). ``body(i).parts`` gives the parts back, their poses about
+        the centre of mass."""
+        items = (compound_parts(parts), None if com is None else _vec(com, "com"))
+        v, wv = _velocities(velocity, angular_velocity)
+        return self._filtered(contype, conaffinity, lambda: self._core.add_body(
+            "compound", items, mass, position, orientation, v, wv, mu, bool(static), inertia))
 
     def add_mesh(
         self,

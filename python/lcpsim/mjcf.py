@@ -10,11 +10,14 @@ The model is compiled by ``mujoco.MjModel`` and read from its arrays
 (``body_*``, ``geom_*``, ``mesh_*``, ``opt.timestep``, ``opt.gravity``), with
 the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
 
-- moving bodies (a joint, or welded to a moving body), each with one
-  colliding geom (sphere, box, capsule, cylinder, mesh — a mesh as the convex
-  hull of its vertices, as MuJoCo collides it); geoms with ``contype`` and
-  ``conaffinity`` both 0 are visual and skipped; mass and inertia are the
-  compiled ``body_mass``, ``body_inertia`` (turned into the geom's frame);
+- moving bodies (a joint, or welded to a moving body) with one colliding
+  geom or several (sphere, box, capsule, cylinder, mesh — a mesh as the
+  convex hull of its vertices, as MuJoCo collides it); geoms with ``contype``
+  and ``conaffinity`` both 0 are visual and skipped; mass and inertia are the
+  compiled ``body_mass``, ``body_inertia`` (turned into the geom's frame).
+  Several geoms (or one off its body's centre of mass) make one compound body
+  (:meth:`lcpsim.World.add_compound`) at the compiled ``xipos``/``ximat``, its
+  geoms sharing one friction and one ``contype``/``conaffinity``;
 - ``hinge``, ``slide`` and ``ball`` joints, one per body, between a body and
   its parent (the world when the parent is the world or welded to it): anchor
   ``xanchor`` and axis ``xaxis`` at ``qpos0``, ``range`` (when ``limited``) as
@@ -37,7 +40,8 @@ the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
 Everything else is refused with :class:`MjcfError` (a ``ValueError``) naming
 the element and its name: several joints on one body, a ball joint's
 ``range``, joint stiffness, damping, armature or friction loss, a moving body
-with no colliding geom or several, other actuators (motor, position, ...; a
+with no colliding geom, a body's geoms of different friction or collision
+bits, other actuators (motor, position, ...; a
 velocity actuator without a symmetric ``forcerange`` or on a ball joint),
 ellipsoids, height fields, SDFs, tendons, equality constraints, explicit
 contact pairs and excludes.
@@ -146,12 +150,16 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
     frame = np.zeros(m.nbody, dtype=bool)
     for b in range(1, m.nbody):
         frame[b] = moving[b] and int(m.body_jntnum[b]) == 0 and b not in per_body and float(m.body_mass[b]) == 0.0
+    compound: dict[int, list[int]] = {}  # moving bodies made of several geoms (or one off its centre of mass)
     for b in range(1, m.nbody):
         if moving[b] and not frame[b]:
             gs = per_body.get(b, [])
             bname = _name(mujoco, m, OBJ.mjOBJ_BODY, b)
-            if len(gs) != 1:
-                raise MjcfError(f"body {bname!r} has {len(gs)} colliding geoms (a moving body needs exactly one)")
+            if not gs:
+                raise MjcfError(f"body {bname!r} has no colliding geom (a moving body needs at least one)")
+            if len(gs) > 1 or _off_centre(m, d, gs[0], b):
+                _check_same_surface(mujoco, m, gs, bname)
+                compound[b] = gs
     world_kwargs.setdefault("dt", float(m.opt.timestep))
     world_kwargs.setdefault("gravity", tuple(float(x) for x in m.opt.gravity))
     world_kwargs.setdefault("mu_combine", "max")
@@ -161,6 +169,10 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
     try:
         for g in colliding:
             b = int(m.geom_bodyid[g])
+            if b in compound:
+                if g == compound[b][0]:
+                    body_index[b] = _add_compound(mujoco, m, d, world, compound[b], b, names)
+                continue
             idx = _add_geom(mujoco, m, d, world, g, b, bool(moving[b]), names)
             if moving[b]:
                 body_index[b] = idx
@@ -314,6 +326,74 @@ def _mesh(m: Any, g: int) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     return np.array(m.mesh_vert[va : va + vn], dtype=np.float64), np.array(m.mesh_face[fa : fa + fn], dtype=np.int64)
 
 
+def _off_centre(m: Any, d: Any, g: int, b: int) -> bool:
+    """Whether body ``b``'s centre of mass is off the centre of its one geom ``g`` (a mesh's
+    hull is placed at its own centre, which MuJoCo's compiled centre of mass is)."""
+    if int(m.geom_type[g]) == 7:
+        return False
+    scale = max(1.0, float(np.max(np.abs(m.geom_size[g]))))
+    return bool(np.linalg.norm(np.asarray(d.xipos[b]) - np.asarray(d.geom_xpos[g])) > 1e-6 * scale)
+
+
+def _check_same_surface(mujoco: Any, m: Any, gs: list[int], bname: str) -> None:
+    """The geoms of one moving body make one lcpsim body with one μ and one pair of
+    collision bits: refuses geoms that differ in either, naming the body."""
+    for field, values in (
+        ("friction", [float(m.geom_friction[g][0]) for g in gs]),
+        ("contype", [int(m.geom_contype[g]) for g in gs]),
+        ("conaffinity", [int(m.geom_conaffinity[g]) for g in gs]),
+    ):
+        if len(set(values)) > 1:
+            raise MjcfError(
+                f"body {bname!r} has colliding geoms of different {field} ({', '.join(map(str, values))}); "
+                "the geoms of one moving body must share friction, contype and conaffinity"
+            )
+
+
+def _part(m: Any, g: int, pos: NDArray[np.float64], quat: NDArray[np.float64]) -> dict[str, Any]:
+    """Geom ``g`` as a compound part at ``pos``, ``quat`` (a mesh as the hull of its vertices)."""
+    t = int(m.geom_type[g])
+    size = [float(x) for x in m.geom_size[g]]
+    part: dict[str, Any] = {"position": pos, "orientation": quat}
+    if t == 2:
+        part.update(kind="sphere", radius=size[0])
+    elif t == 3:
+        part.update(kind="capsule", radius=size[0], half_length=size[1])
+    elif t == 5:
+        part.update(kind="cylinder", radius=size[0], half_length=size[1])
+    elif t == 6:
+        part.update(kind="box", half_extents=size[:3])
+    elif t == 7:
+        part.update(kind="convex", vertices=_mesh(m, g)[0])
+    else:  # planes are never moving; the others were refused before
+        raise ValueError(f"geom type {GEOM_TYPES.get(t, t)} cannot be part of a moving body")
+    return part
+
+
+def _add_compound(mujoco: Any, m: Any, d: Any, world: Any, gs: list[int], b: int, names: dict[str, int]) -> int:
+    """Moving body ``b``'s geoms ``gs`` as one compound body at MuJoCo's compiled centre of
+    mass and principal axes (``xipos``, ``ximat``), mass ``body_mass`` and inertia ``body_inertia``."""
+    com = np.array(d.xipos[b], dtype=np.float64)
+    ri = np.array(d.ximat[b], dtype=np.float64).reshape(3, 3)
+    parts = []
+    for g in gs:
+        rot = ri.T @ np.array(d.geom_xmat[g], dtype=np.float64).reshape(3, 3)
+        parts.append(_part(m, g, ri.T @ (np.array(d.geom_xpos[g], dtype=np.float64) - com), _quat_of(mujoco, rot)))
+    idx = int(world.add_compound(
+        parts, mass=float(m.body_mass[b]), position=com, orientation=_quat_of(mujoco, ri),
+        mu=float(m.geom_friction[gs[0]][0]), inertia=np.diag(np.array(m.body_inertia[b], dtype=np.float64)),
+        com=(0.0, 0.0, 0.0), contype=int(m.geom_contype[gs[0]]), conaffinity=int(m.geom_conaffinity[gs[0]]),
+    ))
+    bname = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b)
+    if bname:
+        names[bname] = idx
+    for g in gs:
+        gname = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g)
+        if gname:
+            names.setdefault(gname, idx)
+    return idx
+
+
 def _add_geom(mujoco: Any, m: Any, d: Any, world: Any, g: int, b: int, moving: bool, names: dict[str, int]) -> int:
     """One colliding geom as an lcpsim body (static unless its body moves)."""
     t = int(m.geom_type[g])
@@ -325,10 +405,6 @@ def _add_geom(mujoco: Any, m: Any, d: Any, world: Any, g: int, b: int, moving: b
     bits = {"contype": int(m.geom_contype[g]), "conaffinity": int(m.geom_conaffinity[g])}
     kw: dict[str, Any] = {"position": pos, "orientation": quat, "mu": mu, **bits}
     if moving:
-        com = np.array(d.xipos[b], dtype=np.float64)
-        scale = max(1.0, float(np.max(np.abs(size))))
-        if np.linalg.norm(com - pos) > 1e-6 * scale and t != 7:
-            raise ValueError(f"the centre of mass of its body is {np.linalg.norm(com - pos):.3g} m off the geom's centre")
         ri = np.array(d.ximat[b], dtype=np.float64).reshape(3, 3)
         i_world = ri @ np.diag(np.array(m.body_inertia[b], dtype=np.float64)) @ ri.T
         i_geom = rot.T @ i_world @ rot

@@ -74,7 +74,7 @@ class BodyState:
     """One body: its shape, mass properties and current state."""
 
     index: int
-    kind: str  # "box", "sphere", "plane", "capsule", "cylinder", "convex" or "mesh"
+    kind: str  # "box", "sphere", "plane", "capsule", "cylinder", "convex", "mesh" or "compound"
     is_static: bool
     mass: float  # inf for static bodies
     mu: float
@@ -91,7 +91,8 @@ class BodyState:
     half_length: float | None = None  # capsule, cylinder: half the axis length (body z)
     vertices: NDArray[np.float64] | None = None  # convex (body frame, centred), mesh (body frame)
     faces: NDArray[np.int64] | None = None  # convex, mesh: (M, 3) vertex indices
-    com_offset: NDArray[np.float64] | None = None  # convex: its centre of mass in the points' frame
+    com_offset: NDArray[np.float64] | None = None  # convex, compound: its centre of mass in the frame given
+    parts: list[dict[str, Any]] | None = None  # compound: each part's kind, size, position, orientation (body frame)
 
 
 @dataclass(frozen=True)
@@ -438,6 +439,8 @@ class World(JointsMixin, ShapesMixin):
                 v = getattr(b, key)
                 if v is not None:
                     d[key] = v.tolist() if isinstance(v, np.ndarray) else v
+            if b.parts is not None:
+                d["parts"] = jsonable(b.parts)
             bodies.append(d)
         config = {
             "lcpsim_version": __version__,
@@ -569,6 +572,7 @@ class World(JointsMixin, ShapesMixin):
             vertices=d.get("vertices"),
             faces=d.get("faces"),
             com_offset=d.get("com_offset"),
+            parts=d.get("parts"),
         )
 
     @property

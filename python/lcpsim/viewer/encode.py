@@ -263,11 +263,13 @@ def _body_size(bodies: list[dict[str, Any]], dynamic: list[int]) -> float:
             sizes.append(2 * max(b["radius"], b["half_length"]))
         elif b["kind"] == "convex" and b.get("vertices"):
             sizes.append(2 * float(np.max(np.linalg.norm(np.asarray(b["vertices"], dtype=float), axis=1))))
+        elif b["kind"] == "compound" and b.get("parts"):
+            sizes.append(2 * max(float(np.linalg.norm(p["position"])) for p in b["parts"]) + _body_size(b["parts"], list(range(len(b["parts"])))))
     return float(np.median(sizes)) if sizes else 1.0
 
 
 def _body_json(b: Mapping[str, Any], i: int, traj: TrajectoryData) -> dict[str, Any]:
-    keys = ("kind", "static", "half_extents", "radius", "normal", "offset", "half_length", "vertices", "faces")
+    keys = ("kind", "static", "half_extents", "radius", "normal", "offset", "half_length", "vertices", "faces", "parts")
     out = {k: b[k] for k in keys if k in b}
     out["position"] = traj.initial_positions[i].tolist()
     out["orientation"] = traj.initial_orientations[i].tolist()

@@ -47,19 +47,17 @@ function lcpsimStartViewer(THREE, OrbitControls, D) {
 
   const v3 = (a, i) => new THREE.Vector3(a[i], a[i + 1], a[i + 2]);
   const center = new THREE.Vector3(...D.view.center);
-  const meshes = new Map();  // body index -> Object3D
-  D.bodies.forEach((b, i) => {
+  // A box, sphere, capsule, cylinder, hull or mesh of `color` at the origin (null for other kinds).
+  function solidObject(b, color) {
     let obj = null;
-    if (b.kind === "plane") {
-      obj = planeObject(b);
-    } else if (b.kind === "box") {
+    if (b.kind === "box") {
       const he = b.half_extents;
       const geo = new THREE.BoxGeometry(2 * he[0], 2 * he[1], 2 * he[2]);
-      obj = new THREE.Mesh(geo, new THREE.MeshStandardMaterial({ color: bodyColor(i, b), roughness: 0.7 }));
+      obj = new THREE.Mesh(geo, new THREE.MeshStandardMaterial({ color: color, roughness: 0.7 }));
       obj.add(new THREE.LineSegments(new THREE.EdgesGeometry(geo), new THREE.LineBasicMaterial({ color: 0x222222 })));
     } else if (b.kind === "sphere") {
       const geo = new THREE.SphereGeometry(b.radius, 32, 16);
-      const col = new THREE.Color(bodyColor(i, b)), dark = col.clone().multiplyScalar(0.45);
+      const col = new THREE.Color(color), dark = col.clone().multiplyScalar(0.45);
       const pos = geo.attributes.position, colors = [];
       for (let k = 0; k < pos.count; k++) {  // octants in two shades: the rotation shows
         const c = pos.getX(k) * pos.getY(k) * pos.getZ(k) >= 0 ? col : dark;
@@ -72,7 +70,7 @@ function lcpsimStartViewer(THREE, OrbitControls, D) {
         ? new THREE.CapsuleGeometry(b.radius, 2 * b.half_length, 8, 24)
         : new THREE.CylinderGeometry(b.radius, b.radius, 2 * b.half_length, 32);
       geo.rotateX(Math.PI / 2);  // three's axis y onto the body's z (lcpsim's, as in MJCF)
-      obj = new THREE.Mesh(geo, new THREE.MeshStandardMaterial({ color: bodyColor(i, b), roughness: 0.6 }));
+      obj = new THREE.Mesh(geo, new THREE.MeshStandardMaterial({ color: color, roughness: 0.6 }));
       obj.add(new THREE.LineSegments(new THREE.EdgesGeometry(geo, 40), new THREE.LineBasicMaterial({ color: 0x222222 })));
     } else if ((b.kind === "convex" || b.kind === "mesh") && b.vertices && b.faces) {
       const geo = new THREE.BufferGeometry();
@@ -80,11 +78,31 @@ function lcpsimStartViewer(THREE, OrbitControls, D) {
       geo.setIndex(b.faces.flat());
       geo.computeVertexNormals();
       const mat = new THREE.MeshStandardMaterial({
-        color: bodyColor(i, b), roughness: 0.7, flatShading: true, side: THREE.DoubleSide,
+        color: color, roughness: 0.7, flatShading: true, side: THREE.DoubleSide,
         transparent: b.kind === "mesh", opacity: b.kind === "mesh" ? 0.6 : 1,
       });
       obj = new THREE.Mesh(geo, mat);
       obj.add(new THREE.LineSegments(new THREE.EdgesGeometry(geo, 20), new THREE.LineBasicMaterial({ color: 0x222222 })));
+    }
+    return obj;
+  }
+
+  const meshes = new Map();  // body index -> Object3D
+  D.bodies.forEach((b, i) => {
+    let obj = null;
+    if (b.kind === "plane") {
+      obj = planeObject(b);
+    } else if (b.kind === "compound" && b.parts) {
+      obj = new THREE.Group();  // each part at its pose in the body frame
+      for (const p of b.parts) {
+        const part = solidObject(p, bodyColor(i, b));
+        if (!part) continue;
+        part.position.set(...p.position);
+        part.quaternion.set(p.orientation[1], p.orientation[2], p.orientation[3], p.orientation[0]);
+        obj.add(part);
+      }
+    } else if ((obj = solidObject(b, bodyColor(i, b)))) {
+      // a single solid
     } else {
       obj = new THREE.Mesh(new THREE.SphereGeometry(0.05 * D.view.size), new THREE.MeshBasicMaterial({ color: 0x888888 }));
     }

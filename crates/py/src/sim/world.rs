@@ -95,9 +95,126 @@ fn faces3(a: &PyReadonlyArray2<'_, i64>) -> PyResult<Vec<[u32; 3]>> {
     Ok(out)
 }
 
+/// Where a hull's or a compound's centre of mass was in the frame it was given in (zero for others).
+fn com_offset(s: &Shape) -> sim::math::Vec3 {
+    match s {
+        Shape::Convex(c) => c.com_offset(),
+        Shape::Compound(c) => c.com_offset(),
+        _ => sim::math::Vec3::ZERO,
+    }
+}
+
+/// A compound's parts as dicts: `kind`, `position`, `orientation` (body frame) and the
+/// shape's own fields (as `body()` gives them).
+fn parts_list<'py>(py: Python<'py>, c: &sim::CompoundShape) -> PyResult<Bound<'py, pyo3::types::PyList>> {
+    let out = pyo3::types::PyList::empty(py);
+    for p in c.parts() {
+        let d = PyDict::new(py);
+        d.set_item("kind", p.shape.kind())?;
+        d.set_item("position", arr3(py, p.position))?;
+        d.set_item("orientation", PyArray1::from_vec(py, p.orientation.to_array().to_vec()))?;
+        shape_fields(py, &d, &p.shape)?;
+        out.append(d)?;
+    }
+    Ok(out)
+}
+
+/// A shape's own fields into `d` (half_extents, radius, vertices, parts, ...).
+fn shape_fields<'py>(py: Python<'py>, d: &Bound<'py, PyDict>, shape: &Shape) -> PyResult<()> {
+    match shape {
+        Shape::Box(x) => d.set_item("half_extents", arr3(py, x.half_extents))?,
+        Shape::Sphere { radius } => d.set_item("radius", *radius)?,
+        Shape::Capsule { radius, half_length } | Shape::Cylinder { radius, half_length } => {
+            d.set_item("radius", *radius)?;
+            d.set_item("half_length", *half_length)?;
+        }
+        Shape::Convex(c) => {
+            let v: Vec<f64> = c.vertices().iter().flat_map(|p| p.to_array()).collect();
+            d.set_item("vertices", shaped(py, v, [c.vertices().len(), 3])?)?;
+            let f: Vec<i64> = c.faces().iter().flat_map(|t| t.map(i64::from)).collect();
+            d.set_item("faces", PyArray1::from_vec(py, f).reshape(vec![c.faces().len(), 3])?)?;
+            d.set_item("com_offset", arr3(py, c.com_offset()))?;
+        }
+        Shape::Compound(c) => {
+            d.set_item("parts", parts_list(py, c)?)?;
+            d.set_item("com_offset", arr3(py, c.com_offset()))?;
+        }
+        Shape::Mesh(m) => {
+            let v: Vec<f64> = m.vertices().iter().flat_map(|p| p.to_array()).collect();
+            d.set_item("vertices", shaped(py, v, [m.vertices().len(), 3])?)?;
+            let f: Vec<i64> = m.faces().iter().flat_map(|t| t.map(i64::from)).collect();
+            d.set_item("faces", PyArray1::from_vec(py, f).reshape(vec![m.faces().len(), 3])?)?;
+        }
+        Shape::Plane(p) => {
+            d.set_item("normal", arr3(py, p.normal()))?;
+            d.set_item("offset", p.offset())?;
+            d.set_item("tangent", arr3(py, p.friction_tangent()))?;
+            d.set_item("downhill", p.downhill().map(|v| arr3(py, v)))?;
+        }
+    }
+    Ok(())
+}
+
 /// A body index (an int ≥ 0; its range is the world's to check).
 fn body_id(body: &Bound<'_, PyAny>) -> PyResult<BodyId> {
     convert::count(body, "body").map(BodyId)
+}
+
+/// The shape `kind` of `size`: half extents (box), radius (sphere),
+/// (radius, half_length) (capsule, cylinder), an (N, 3) float64 array of
+/// points (convex), or `(parts, com)` (compound): a list of parts `(kind,
+/// size, position, orientation)` in the compound's frame and its centre of
+/// mass there (None: the parts' at uniform density).
+fn shape_of(kind: &str, size: &Bound<'_, PyAny>) -> PyResult<Shape> {
+    Ok(match kind {
+        "box" => Shape::Box(sim::geometry::BoxShape { half_extents: vec3(size, "half_extents")? }),
+        "sphere" => Shape::Sphere { radius: real(size, "radius")? },
+        "capsule" | "cylinder" => {
+            let (radius, half_length): (f64, f64) = size
+                .extract()
+                .map_err(|_| value_error(format!("size of a {kind} must be (radius, half_length), got {size}")))?;
+            if kind == "capsule" {
+                Shape::Capsule { radius, half_length }
+            } else {
+                Shape::Cylinder { radius, half_length }
+            }
+        }
+        "convex" => {
+            let vertices: PyReadonlyArray2<'_, f64> = size
+                .extract()
+                .map_err(|_| value_error(format!("vertices must be an (N, 3) float64 array, got {size}")))?;
+            let pts = rows3(&vertices, "vertices")?;
+            guarded(|| Shape::convex(&pts))?
+        }
+        "compound" => {
+            let (items, com): (Vec<Bound<'_, PyAny>>, Option<Bound<'_, PyAny>>) = size
+                .extract()
+                .map_err(|_| value_error(format!("size of a compound must be (parts, com), got {size}")))?;
+            let com = com.map(|c| vec3(&c, "com")).transpose()?;
+            let mut parts = Vec::with_capacity(items.len());
+            for (k, item) in items.iter().enumerate() {
+                let (pk, psize, pos, q): (String, Bound<'_, PyAny>, Bound<'_, PyAny>, Bound<'_, PyAny>) =
+                    item.extract().map_err(|_| {
+                        value_error(format!("parts[{k}] must be (kind, size, position, orientation), got {item}"))
+                    })?;
+                if pk == "compound" {
+                    return Err(value_error(format!("parts[{k}] is a compound; parts cannot be compounds")));
+                }
+                let at = |e: PyErr| value_error(format!("parts[{k}]: {e}"));
+                parts.push(sim::CompoundPart {
+                    shape: shape_of(&pk, &psize).map_err(at)?,
+                    position: vec3(&pos, "position").map_err(at)?,
+                    orientation: quat(&q, "orientation").map_err(at)?,
+                });
+            }
+            guarded(|| sim::CompoundShape::about(&parts, com).map(Shape::Compound))?
+        }
+        _ => {
+            return Err(value_error(format!(
+                "shape must be \"box\", \"sphere\", \"capsule\", \"cylinder\", \"convex\" or \"compound\", got {kind:?}"
+            )))
+        }
+    })
 }
 
 #[pymethods]
@@ -184,32 +301,7 @@ impl World {
         is_static: bool,
         inertia: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
-        let d = match shape {
-            "box" => BodyDesc::cuboid(vec3(size, "half_extents")?),
-            "sphere" => BodyDesc::sphere(real(size, "radius")?),
-            "capsule" | "cylinder" => {
-                let (r, h): (f64, f64) = size
-                    .extract()
-                    .map_err(|_| value_error(format!("size of a {shape} must be (radius, half_length), got {size}")))?;
-                if shape == "capsule" {
-                    BodyDesc::capsule(r, h)
-                } else {
-                    BodyDesc::cylinder(r, h)
-                }
-            }
-            "convex" => {
-                let vertices: PyReadonlyArray2<'_, f64> = size
-                    .extract()
-                    .map_err(|_| value_error(format!("vertices must be an (N, 3) float64 array, got {size}")))?;
-                let pts = rows3(&vertices, "vertices")?;
-                guarded(|| BodyDesc::convex(&pts))?
-            }
-            _ => {
-                return Err(value_error(format!(
-                    "shape must be \"box\", \"sphere\", \"capsule\", \"cylinder\" or \"convex\", got {shape:?}"
-                )))
-            }
-        };
+        let d = BodyDesc::new(shape_of(shape, size)?);
         // The optional fields (None keeps `BodyDesc`'s default).
         let mut d = d;
         d.mass = or_default(mass, "mass", real, d.mass)?;
@@ -247,7 +339,7 @@ impl World {
         let id = body_id(index)?;
         let w = self.shared();
         let b = w.body(id).map_err(|e| sim_error(&e))?;
-        Ok(arr3(py, if let Shape::Convex(c) = b.shape() { c.com_offset() } else { sim::math::Vec3::ZERO }))
+        Ok(arr3(py, com_offset(b.shape())))
     }
     /// A static plane `normal·x = offset` (normal normalized; the solid is below it).
     /// `tangent` sets the first friction direction (projected into the plane);
@@ -326,33 +418,7 @@ impl World {
         d.set_item("angular_velocity", arr3(py, b.angular_velocity()))?;
         let i = b.inertia();
         d.set_item("inertia", shaped(py, i.m.iter().flatten().copied().collect(), [3, 3])?)?;
-        match b.shape() {
-            Shape::Box(x) => d.set_item("half_extents", arr3(py, x.half_extents))?,
-            Shape::Sphere { radius } => d.set_item("radius", *radius)?,
-            Shape::Capsule { radius, half_length } | Shape::Cylinder { radius, half_length } => {
-                d.set_item("radius", *radius)?;
-                d.set_item("half_length", *half_length)?;
-            }
-            Shape::Convex(c) => {
-                let v: Vec<f64> = c.vertices().iter().flat_map(|p| p.to_array()).collect();
-                d.set_item("vertices", shaped(py, v, [c.vertices().len(), 3])?)?;
-                let f: Vec<i64> = c.faces().iter().flat_map(|t| t.map(i64::from)).collect();
-                d.set_item("faces", PyArray1::from_vec(py, f).reshape(vec![c.faces().len(), 3])?)?;
-                d.set_item("com_offset", arr3(py, c.com_offset()))?;
-            }
-            Shape::Mesh(m) => {
-                let v: Vec<f64> = m.vertices().iter().flat_map(|p| p.to_array()).collect();
-                d.set_item("vertices", shaped(py, v, [m.vertices().len(), 3])?)?;
-                let f: Vec<i64> = m.faces().iter().flat_map(|t| t.map(i64::from)).collect();
-                d.set_item("faces", PyArray1::from_vec(py, f).reshape(vec![m.faces().len(), 3])?)?;
-            }
-            Shape::Plane(p) => {
-                d.set_item("normal", arr3(py, p.normal()))?;
-                d.set_item("offset", p.offset())?;
-                d.set_item("tangent", arr3(py, p.friction_tangent()))?;
-                d.set_item("downhill", p.downhill().map(|v| arr3(py, v)))?;
-            }
-        }
+        shape_fields(py, &d, b.shape())?;
         Ok(d)
     }
 

@@ -1,7 +1,8 @@
 //! Shapes and narrow-phase contact detection: one file per pair of the
 //! primitives (box, sphere, plane), and parry's contact manifolds
-//! (`parry_pair.rs`) for every pair with a capsule, cylinder, convex hull or
-//! triangle mesh (`convex.rs` holds the hull's and the mesh's data).
+//! (`parry_pair.rs`) for every pair with a capsule, cylinder, convex hull,
+//! triangle mesh or compound (`convex.rs` holds the hull's and the mesh's
+//! data, `compound.rs` the compound's parts and mass properties).
 //!
 //! Every pair function takes the two shapes in the order of its name
 //! (`box_plane(box, plane)`, `sphere_box(sphere, box)`, …) and appends
@@ -16,6 +17,7 @@
 
 mod box_box;
 mod box_plane;
+mod compound;
 mod contact;
 mod convex;
 mod parry_pair;
@@ -27,6 +29,7 @@ mod sphere_sphere;
 
 pub use box_box::box_box;
 pub use box_plane::box_plane;
+pub use compound::{CompoundPart, CompoundShape, MAX_COMPOUND_PARTS};
 pub use contact::{Contact, GeomContact};
 pub use convex::{ConvexHull, TriMeshShape, MAX_HULL_POINTS, MAX_MESH_FACES, MAX_MESH_VERTICES};
 pub use parry_pair::{parry_pair, ParryScratch};

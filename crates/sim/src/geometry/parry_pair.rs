@@ -1,5 +1,5 @@
-//! Contacts of any pair that involves a capsule, a cylinder, a convex hull or
-//! a triangle mesh, from parry's contact manifolds
+//! Contacts of any pair that involves a capsule, a cylinder, a convex hull,
+//! a triangle mesh or a compound, from parry's contact manifolds
 //! (`PersistentQueryDispatcher::contact_manifolds`: several points per pair,
 //! each with its gap), in this module's convention: normal from B to A, the
 //! point midway between the two surfaces, points with `φ ≤ margin`.
@@ -59,6 +59,7 @@ pub(crate) fn parry_shape<'a>(shape: &'a Shape, place: &Placement) -> (ParryShap
         }
         Shape::Convex(h) => (ParryShape::Borrowed(h.parry()), pose),
         Shape::Mesh(m) => (ParryShape::Borrowed(m.parry()), pose),
+        Shape::Compound(c) => (ParryShape::Borrowed(c.parry()), pose),
         Shape::Plane(p) => (
             ParryShape::HalfSpace(HalfSpace::new(pvec(p.normal()))),
             Pose::from_translation(pvec(p.normal() * p.offset())),

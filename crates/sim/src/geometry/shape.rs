@@ -1,5 +1,6 @@
 //! Collision shapes, described in the body frame (centred at the centre of mass).
 
+use super::compound::{CompoundPart, CompoundShape};
 use super::convex::{ConvexHull, TriMeshShape};
 use super::Plane;
 use crate::error::{positive, SimError};
@@ -64,6 +65,8 @@ pub enum Shape {
     Convex(ConvexHull),
     /// A triangle mesh (static bodies only).
     Mesh(TriMeshShape),
+    /// Several solid parts at poses in the body frame, recentred at their centre of mass.
+    Compound(CompoundShape),
 }
 
 impl Shape {
@@ -102,7 +105,17 @@ impl Shape {
         Ok(Shape::Mesh(TriMeshShape::new(vertices, faces)?))
     }
 
-    /// Validates the shape's own parameters (hulls and meshes were on construction).
+    /// A compound of `parts` (see [`CompoundShape::new`]).
+    pub fn compound(parts: &[CompoundPart]) -> Result<Shape, SimError> {
+        Ok(Shape::Compound(CompoundShape::new(parts)?))
+    }
+
+    /// A compound of `parts` about a given centre of mass (see [`CompoundShape::about`]).
+    pub fn compound_about(parts: &[CompoundPart], com: Vec3) -> Result<Shape, SimError> {
+        Ok(Shape::Compound(CompoundShape::about(parts, Some(com))?))
+    }
+
+    /// Validates the shape's own parameters (hulls, meshes and compounds were on construction).
     pub fn validate(&self) -> Result<(), SimError> {
         match self {
             Shape::Box(b) => BoxShape::new(b.half_extents).map(|_| ()),
@@ -112,7 +125,21 @@ impl Shape {
                 positive("radius", *radius)?;
                 positive("half_length", *half_length).map(|_| ())
             }
-            Shape::Convex(_) | Shape::Mesh(_) => Ok(()),
+            Shape::Convex(_) | Shape::Mesh(_) | Shape::Compound(_) => Ok(()),
+        }
+    }
+
+    /// Volume of the solid (m³); `None` for the shapes without one (plane, mesh).
+    pub fn volume(&self) -> Option<f64> {
+        use std::f64::consts::PI;
+        match self {
+            Shape::Box(b) => Some(8.0 * b.half_extents.x * b.half_extents.y * b.half_extents.z),
+            Shape::Sphere { radius: r } => Some(4.0 / 3.0 * PI * r * r * r),
+            Shape::Capsule { radius: r, half_length: h } => Some(PI * r * r * (2.0 * h + 4.0 / 3.0 * r)),
+            Shape::Cylinder { radius: r, half_length: h } => Some(PI * r * r * 2.0 * h),
+            Shape::Convex(c) => Some(c.volume()),
+            Shape::Compound(c) => Some(c.volume()),
+            Shape::Plane(_) | Shape::Mesh(_) => None,
         }
     }
 
@@ -150,6 +177,7 @@ impl Shape {
                 Some(Mat3::diagonal(Vec3::new(across, across, mass * r * r / 2.0)))
             }
             Shape::Convex(c) => Some(c.inertia(mass)),
+            Shape::Compound(c) => Some(c.inertia(mass)),
             Shape::Plane(_) | Shape::Mesh(_) => None,
         }
     }
@@ -164,10 +192,11 @@ impl Shape {
             Shape::Cylinder { radius, half_length } => radius.hypot(*half_length),
             Shape::Convex(c) => c.radius(),
             Shape::Mesh(m) => m.radius(),
+            Shape::Compound(c) => c.radius(),
         }
     }
 
-    /// Short name (`"box"`, `"sphere"`, `"plane"`, `"capsule"`, `"cylinder"`, `"convex"`, `"mesh"`).
+    /// Short name (`"box"`, `"sphere"`, `"plane"`, `"capsule"`, `"cylinder"`, `"convex"`, `"mesh"`, `"compound"`).
     pub fn kind(&self) -> &'static str {
         match self {
             Shape::Box(_) => "box",
@@ -177,6 +206,7 @@ impl Shape {
             Shape::Cylinder { .. } => "cylinder",
             Shape::Convex(_) => "convex",
             Shape::Mesh(_) => "mesh",
+            Shape::Compound(_) => "compound",
         }
     }
 }

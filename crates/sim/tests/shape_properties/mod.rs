@@ -1,11 +1,13 @@
-//! Convex hulls and triangle meshes from arbitrary bytes — points with NaN,
-//! ∞, extremes, duplicates, coplanar sets; faces with out-of-range, repeated
-//! or collinear indices — and what must hold whatever the input: the
-//! constructor returns a shape or a `SimError::BadGeometry` naming
-//! `vertices` or `faces`, never panics; a refused body leaves the world as it
-//! was; an accepted hull has finite vertices, a positive volume and a finite
-//! centre of mass; the world with the shape (a hull dropped on the ground, a
-//! ball dropped on the mesh) steps with `Ok` or a `SimError`, and every island
+//! Convex hulls, triangle meshes and compounds from arbitrary bytes — points
+//! with NaN, ∞, extremes, duplicates, coplanar sets; faces with out-of-range,
+//! repeated or collinear indices; compounds of no part or several, with bad
+//! sizes, poses and zero quaternions — and what must hold whatever the input:
+//! the constructor returns a shape or a `SimError::BadGeometry` naming
+//! `vertices`, `faces` or `parts`, never panics; a refused body leaves the
+//! world as it was; an accepted hull or compound has a positive volume and a
+//! finite centre of mass (a hull finite vertices too); the world with the
+//! shape (a hull or compound dropped on the ground, a ball dropped on the
+//! mesh) steps with `Ok` or a `SimError`, and every island
 //! reported solved passes the acceptance rule. Shared by
 //! `tests/properties_any_shape.rs` (proptest) and the fuzz target
 //! `fuzz/fuzz_targets/shapes.rs`; the stepping checks are the world
@@ -14,8 +16,8 @@
 #![allow(dead_code)]
 
 use crate::properties::solved_islands_pass_the_rule;
-use sim::math::Vec3;
-use sim::{BodyDesc, Shape, SimError, World, WorldParams};
+use sim::math::{Quat, Vec3};
+use sim::{BodyDesc, CompoundPart, Shape, SimError, World, WorldParams};
 
 #[path = "../../../lcp/tests/properties/bytes.rs"]
 mod bytes;
@@ -60,17 +62,63 @@ fn faces(b: &mut Bytes<'_>, n: usize) -> Vec<[u32; 3]> {
         .collect()
 }
 
+/// A size: mostly in (0, 1], sometimes zero, negative or raw bits.
+fn size(b: &mut Bytes<'_>) -> f64 {
+    match b.u8() % 30 {
+        0 => b.f64(),
+        1 => -0.5,
+        2 => 0.0,
+        _ => 0.05 + (b.u8() as f64) / 255.0,
+    }
+}
+
+/// Up to 5 parts (spheres, boxes, capsules, cylinders, hulls) at poses, now and then bad.
+fn parts(b: &mut Bytes<'_>) -> Vec<CompoundPart> {
+    let n = b.u8() as usize % 6;
+    (0..n)
+        .map(|_| {
+            let shape = match b.u8() % 5 {
+                0 => Shape::Sphere { radius: size(b) },
+                1 => Shape::Box(sim::geometry::BoxShape { half_extents: Vec3::new(size(b), size(b), size(b)) }),
+                2 => Shape::Capsule { radius: size(b), half_length: size(b) },
+                3 => Shape::Cylinder { radius: size(b), half_length: size(b) },
+                // A bad hull (a plane part: refused) when the points make none.
+                _ => Shape::convex(&points(b)).unwrap_or(Shape::Plane(sim::Plane::ground())),
+            };
+            let small = |b: &mut Bytes<'_>| b.u8() as i8 as f64 / 127.0;
+            let position = if b.u8() % 16 == 0 {
+                Vec3::new(coord(b), coord(b), coord(b))
+            } else {
+                Vec3::new(small(b), small(b), small(b))
+            };
+            let orientation = if b.u8() % 30 == 0 {
+                Quat::from_array([0.0; 4])
+            } else {
+                Quat::from_array([small(b), small(b), small(b), small(b)])
+            };
+            CompoundPart { shape, position, orientation }
+        })
+        .collect()
+}
+
 /// What one input did: whether the shape was accepted, steps taken.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Stats {
+    /// 0 mesh, 1 hull, 2 compound.
+    pub kind: u8,
     pub accepted: bool,
     pub steps: usize,
 }
 
 /// A refusal must be a `BadGeometry` naming one of `fields`.
 fn refused(e: SimError, fields: &[&str]) -> Result<Stats, String> {
+    let kind = match fields[0] {
+        "parts" => 2,
+        "vertices" if fields.len() == 1 => 1,
+        _ => 0,
+    };
     match e {
-        SimError::BadGeometry { field, .. } if fields.contains(&field) => Ok(Stats::default()),
+        SimError::BadGeometry { field, .. } if fields.contains(&field) => Ok(Stats { kind, ..Stats::default() }),
         e => Err(format!("refused with an unexpected error: {e}")),
     }
 }
@@ -78,22 +126,28 @@ fn refused(e: SimError, fields: &[&str]) -> Result<Stats, String> {
 /// Builds the shape the bytes describe, adds it to a world and steps it (see the module docs).
 pub fn check(data: &[u8]) -> Result<Stats, String> {
     let mut b = Bytes::new(data);
-    let mesh = b.bool();
-    let pts = points(&mut b);
+    let kind = b.u8() % 3;
+    let mesh = kind == 0;
     let mut w = World::new(WorldParams::default()).map_err(|e| e.to_string())?;
-    let desc = if mesh {
+    let desc = if kind == 2 {
+        match Shape::compound(&parts(&mut b)) {
+            Ok(s) => BodyDesc::new(s),
+            Err(e) => return refused(e, &["parts"]),
+        }
+    } else if mesh {
+        let pts = points(&mut b);
         let f = faces(&mut b, pts.len());
         match BodyDesc::mesh(&pts, &f) {
             Ok(d) => d,
             Err(e) => return refused(e, &["vertices", "faces"]),
         }
     } else {
-        match BodyDesc::convex(&pts) {
+        match BodyDesc::convex(&points(&mut b)) {
             Ok(d) => d,
             Err(e) => return refused(e, &["vertices"]),
         }
     };
-    let mut stats = Stats { accepted: true, steps: 0 };
+    let mut stats = Stats { kind, accepted: true, steps: 0 };
     let r = match &desc.shape {
         Shape::Convex(h) => {
             let finite = h.vertices().iter().all(|v| v.is_finite()) && h.com_offset().is_finite();
@@ -103,12 +157,18 @@ pub fn check(data: &[u8]) -> Result<Stats, String> {
             h.radius()
         }
         Shape::Mesh(m) => m.radius(),
+        Shape::Compound(c) => {
+            if !(c.volume() > 0.0 && c.volume().is_finite()) || !c.com_offset().is_finite() || c.parts().is_empty() {
+                return Err(format!("compound with volume {} or a non-finite centre", c.volume()));
+            }
+            c.radius()
+        }
         _ => return Err("the constructor made another shape".into()),
     };
     if !r.is_finite() {
         return Err(format!("bounding radius {r}"));
     }
-    // A hull falls onto the ground; a ball falls onto the mesh from just above its bound.
+    // A hull or compound falls onto the ground; a ball falls onto the mesh from just above its bound.
     if !mesh {
         w.add_ground(0.5).map_err(|e| e.to_string())?;
     }
