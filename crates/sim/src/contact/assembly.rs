@@ -534,30 +534,35 @@ impl ContactLcp {
     /// are (`joints::elimination`: the joints' coupling `Bᵀ S⁺ B`).
     pub fn subtract_frame_block(&mut self, c: &[f64]) {
         let lay = self.layout;
-        let (n, na, nf) = (lay.n(), lay.impulses(), 3 * lay.nc);
+        let (n, na, nc) = (lay.n(), lay.impulses(), lay.nc);
+        let nf = 3 * nc;
         debug_assert!(self.has_matrix() && c.len() == nf * nf);
-        // Each impulse unknown as (contact, weights on its n, t1, t2 rows).
-        let weights: Vec<(usize, [f64; 3])> = (0..na)
-            .map(|i| {
-                let k = lay.contact_of(i);
-                if i == lay.fn_index(k) {
-                    (k, [1.0, 0.0, 0.0])
-                } else {
-                    let (cj, sj) = self.trig[i - lay.fd_of(k).start];
-                    (k, [0.0, cj, sj])
+        // T = C W (nf × na), W's column per impulse unknown: `fn` weighs its
+        // contact's n row, `fd_j` its t1, t2 rows by (cos, sin); then
+        // M_aa −= Wᵀ T row by row (contiguous rows: no strided writes).
+        let mut t = vec![0.0; nf * na];
+        for (crow, trow) in c.chunks_exact(nf).zip(t.chunks_exact_mut(na)) {
+            let (tn, td) = trow.split_at_mut(nc);
+            for (k, (v, fd)) in tn.iter_mut().zip(td.chunks_exact_mut(self.trig.len())).enumerate() {
+                *v = crow[3 * k];
+                let (c1, c2) = (crow[3 * k + 1], crow[3 * k + 2]);
+                for (d, &(cj, sj)) in fd.iter_mut().zip(&self.trig) {
+                    *d = cj * c1 + sj * c2;
                 }
-            })
-            .collect();
-        for (i, &(ci, wi)) in weights.iter().enumerate() {
-            for (j, &(cj, wj)) in weights.iter().enumerate().skip(i) {
-                let mut v = 0.0;
-                for (a, &wa) in wi.iter().enumerate().filter(|(_, w)| **w != 0.0) {
-                    let crow = &c[(3 * ci + a) * nf + 3 * cj..(3 * ci + a) * nf + 3 * cj + 3];
-                    v += wa * (crow[0] * wj[0] + crow[1] * wj[1] + crow[2] * wj[2]);
+            }
+        }
+        for i in 0..na {
+            let ci = lay.contact_of(i);
+            let row = &mut self.m[i * n..i * n + na];
+            if i == lay.fn_index(ci) {
+                for (m, &v) in row.iter_mut().zip(&t[3 * ci * na..(3 * ci + 1) * na]) {
+                    *m -= v;
                 }
-                self.m[i * n + j] -= v;
-                if i != j {
-                    self.m[j * n + i] -= v;
+            } else {
+                let (cj, sj) = self.trig[i - lay.fd_of(ci).start];
+                let (t1, t2) = (&t[(3 * ci + 1) * na..(3 * ci + 2) * na], &t[(3 * ci + 2) * na..(3 * ci + 3) * na]);
+                for ((m, &a), &b) in row.iter_mut().zip(t1).zip(t2) {
+                    *m -= cj * a + sj * b;
                 }
             }
         }

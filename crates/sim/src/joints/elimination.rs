@@ -33,7 +33,7 @@ pub struct JointSystem {
     pub pairs: Vec<(usize, usize)>,
     /// Per body, whether a joint holds it.
     pub jointed: Vec<bool>,
-    /// Per island slot: `X = S⁺ B` (rows × 3 nc, row-major) of a jointed island, empty otherwise.
+    /// Per island slot: `Y = L⁻¹ Πᵀ B` (rank × 3 nc, row-major; `S⁺ B = Π L⁻ᵀ Y`) of a jointed island, empty otherwise.
     pub coupling: Vec<Vec<f64>>,
     scratch: Vec<f64>,
     /// This step's limits in the LCP, and the step's contact index of the first
@@ -179,7 +179,7 @@ impl JointSystem {
         }
     }
 
-    /// Couples island `slot`'s contacts through the joints: `X = S⁺ B` kept,
+    /// Couples island `slot`'s contacts through the joints: `Y` (`X = S⁺ B = Π L⁻ᵀ Y`) kept,
     /// and `−Bᵀ X` added to the impulse block of its LCP (whose dense `M`
     /// must be formed).
     pub fn couple(&mut self, slot: usize, lcp: &mut ContactLcp) {
@@ -202,32 +202,20 @@ impl JointSystem {
                 }
             }
         }
-        // X = S⁺ B, column by column.
-        let mut x = vec![0.0; m * nf];
-        let (mut col, mut sol) = (vec![0.0; m], vec![0.0; m]);
-        for f in 0..nf {
-            for r in 0..m {
-                col[r] = b[r * nf + f];
-            }
-            if col.iter().all(|&v| v == 0.0) {
-                continue;
-            }
-            self.factor.solve(&col, &mut sol);
-            for r in 0..m {
-                x[r * nf + f] = sol[r];
-            }
-        }
-        // C = Bᵀ X, symmetrized (it is in exact arithmetic).
+        // Y = L⁻¹ Πᵀ B (S's factor), so that Bᵀ S⁺ B = Yᵀ Y (exactly symmetric
+        // as accumulated: row by row of Y, contiguous).
+        let mut y = Vec::new();
+        self.factor.forward(&b, nf, &mut y);
         let mut cm = vec![0.0; nf * nf];
-        for i in 0..nf {
-            for j in i..nf {
-                let v: f64 = (0..m).map(|r| b[r * nf + i] * x[r * nf + j] + b[r * nf + j] * x[r * nf + i]).sum();
-                cm[i * nf + j] = 0.5 * v;
-                cm[j * nf + i] = 0.5 * v;
+        for yr in y.chunks_exact(nf) {
+            for (i, &yi) in yr.iter().enumerate().filter(|(_, v)| **v != 0.0) {
+                for (c, &yj) in cm[i * nf..(i + 1) * nf].iter_mut().zip(yr) {
+                    *c += yi * yj;
+                }
             }
         }
         lcp.subtract_frame_block(&cm);
-        self.coupling[slot] = x;
+        self.coupling[slot] = y;
     }
 
     /// The joint impulses of island `slot`'s applied contact impulses `z`
@@ -243,13 +231,17 @@ impl JointSystem {
     /// The joint row impulses `−X f` that island `slot`'s contact impulses
     /// `z` (physical) cause; `None` when no joint couples the island.
     pub fn contact_row_impulses(&self, slot: usize, lcp: &ContactLcp, z: &[f64]) -> Option<Vec<f64>> {
-        let x = self.coupling.get(slot).filter(|x| !x.is_empty())?;
+        let y = self.coupling.get(slot).filter(|y| !y.is_empty())?;
         let (m, nf) = (self.rows.len(), 3 * lcp.nc());
-        if x.len() != m * nf || z.len() != lcp.n() {
+        if y.len() != self.factor.rank() * nf || z.len() != lcp.n() {
             return None;
         }
+        // −X f = −S⁺ B f = −Π L⁻ᵀ (Y f).
         let f: Vec<f64> = (0..lcp.nc()).flat_map(|c| lcp.frame_impulse(c, z)).collect();
-        Some((0..m).map(|r| -(0..nf).map(|k| x[r * nf + k] * f[k]).sum::<f64>()).collect())
+        let yf: Vec<f64> = y.chunks_exact(nf).map(|yr| -yr.iter().zip(&f).map(|(a, b)| a * b).sum::<f64>()).collect();
+        let mut dl = vec![0.0; m];
+        self.factor.backward(&yf, &mut dl);
+        Some(dl)
     }
 
     /// Forgets the islands' couplings (a new step).

@@ -76,22 +76,47 @@ impl PivotedCholesky {
 
     /// `x` with `S x = b` on the independent rows, zero on the dropped ones.
     pub fn solve(&mut self, b: &[f64], x: &mut [f64]) {
+        let mut y = std::mem::take(&mut self.y);
+        self.forward(b, 1, &mut y);
+        self.backward(&y, x);
+        self.y = y;
+    }
+
+    /// `Y = L⁻¹ Πᵀ B` for the `m × cols` row-major `B`: `rank × cols`,
+    /// row-major (so that `Bᵀ S⁺ B = Yᵀ Y`).
+    pub fn forward(&self, b: &[f64], cols: usize, y: &mut Vec<f64>) {
         let (m, r, a) = (self.m, self.rank, &self.a);
-        self.y.clear();
-        self.y.extend(self.perm[..r].iter().map(|&i| b[i]));
-        let y = &mut self.y;
-        // L y' = y, then Lᵀ x' = y'.
-        for i in 0..r {
-            let s: f64 = (0..i).map(|k| a[i * m + k] * y[k]).sum();
-            y[i] = (y[i] - s) / a[i * m + i];
+        y.clear();
+        for &p in &self.perm[..r] {
+            y.extend_from_slice(&b[p * cols..(p + 1) * cols]);
         }
+        for i in 0..r {
+            let (done, rest) = y.split_at_mut(i * cols);
+            let yi = &mut rest[..cols];
+            for k in 0..i {
+                let l = a[i * m + k];
+                if l != 0.0 {
+                    for (v, &u) in yi.iter_mut().zip(&done[k * cols..(k + 1) * cols]) {
+                        *v -= l * u;
+                    }
+                }
+            }
+            let d = a[i * m + i];
+            yi.iter_mut().for_each(|v| *v /= d);
+        }
+    }
+
+    /// `x = Π L⁻ᵀ y` (length `m`, zero on the dropped rows) for a `y` of length `rank`.
+    pub fn backward(&self, y: &[f64], x: &mut [f64]) {
+        let (m, r, a) = (self.m, self.rank, &self.a);
+        let mut t = y[..r].to_vec();
         for i in (0..r).rev() {
-            let s: f64 = (i + 1..r).map(|k| a[k * m + i] * y[k]).sum();
-            y[i] = (y[i] - s) / a[i * m + i];
+            let s: f64 = (i + 1..r).map(|k| a[k * m + i] * t[k]).sum();
+            t[i] = (t[i] - s) / a[i * m + i];
         }
         x.iter_mut().for_each(|v| *v = 0.0);
         for (i, &p) in self.perm[..r].iter().enumerate() {
-            x[p] = y[i];
+            x[p] = t[i];
         }
     }
 }
