@@ -154,3 +154,48 @@ def test_two_finger_gripper_lifts_a_cube_and_holds_it():
     assert abs(lifted - start) <= 1e-3 and abs(grip() - lifted) <= 1e-3  # no slip
     assert w.positions[cube, 2] == pytest.approx(0.25, abs=2e-3)
     assert max(w.joint_error(j)[0] for j in range(w.joint_count)) <= 1e-6
+
+
+def test_a_damped_slider_decays_as_implicit_euler():
+    # m v' = -d v; implicit Euler: v <- v / (1 + dt d / m) each step, stable for any d.
+    for d in (4.0, 2e4):
+        w = World()
+        b = w.add_box(size=0.2, mass=2.0, position=(0, 0, 1))
+        w.set_velocity(b, (1.0, 0, 0))
+        w.add_slider(None, b, (0, 0, 1), (1, 0, 0), damping=d)
+        factor = 1.0 / (1.0 + w.dt * d / 2.0)
+        for k in range(1, 6):
+            assert w.step().ok
+            assert w.velocities[b, 0] == pytest.approx(factor**k, rel=1e-9)
+    w = World()
+    b = w.add_box(size=0.2, mass=2.0, position=(0, 0, 1))
+    w.set_velocity(b, (1.0, 0, 0))
+    w.add_slider(None, b, (0, 0, 1), (1, 0, 0), damping=4.0)
+    for _ in range(1000):
+        w.step()
+    assert w.velocities[b, 0] == pytest.approx(math.exp(-4.0 * 1.0 / 2.0), rel=3e-3)  # exp(-d t / m) within dt
+
+
+def test_mjcf_hinge_damping_slows_a_wheel_as_implicit_euler():
+    xml = ('<mujoco><option timestep="0.001" gravity="0 0 0"/><worldbody><body pos="0 0 1">'
+           '<joint type="hinge" axis="0 1 0" damping="0.008"/><geom type="sphere" size="0.1" mass="1"/>'
+           '</body></worldbody></mujoco>').replace('<body ', '<body name="wheel" ')
+    w = World.from_mjcf(xml)
+    b = w.body_id("wheel")
+    w.set_angular_velocity(b, (0, 3.0, 0))
+    for _ in range(100):
+        assert w.step().ok
+    inertia = 0.4 * 0.1**2  # a solid sphere's, 1 kg, r = 0.1 m
+    assert w.body(b).velocity[4] == pytest.approx(3.0 / (1 + 0.001 * 0.008 / inertia) ** 100, rel=1e-9)
+
+
+@pytest.mark.parametrize("damping, match", [(-1.0, "damping must be finite and >= 0, got -1.0"),
+                                            ("x", "damping must be a real number")])
+def test_bad_damping_is_a_value_error(damping, match):
+    w = World()
+    b = w.add_box(size=0.2, position=(0, 0, 1))
+    with pytest.raises(ValueError, match=match):
+        w.add_hinge(None, b, (0, 0, 1), (0, 1, 0), damping=damping)
+    j = w.add_ball(None, b, (0, 0, 1))
+    with pytest.raises(ValueError, match="damping is for hinges and sliders"):
+        w.set_joint_damping(j, 1.0)

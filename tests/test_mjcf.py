@@ -144,7 +144,7 @@ def test_cli_simulates_an_mjcf_file_and_refuses_with_exit_2(tmp_path):
     assert p.returncode == 0, p.stderr
     assert "mjcf" in p.stdout
     bad = tmp_path / "bad.xml"
-    bad.write_text("<mujoco><worldbody>" + BODY.format(name="arm", inner='<joint name="elbow" damping="1"/><geom size=".1"/>')
+    bad.write_text("<mujoco><worldbody>" + BODY.format(name="arm", inner='<joint name="elbow" armature="1"/><geom size=".1"/>')
                    + "</worldbody></mujoco>")
     p = subprocess.run([sys.executable, "-m", "lcpsim", "simulate", str(bad)], capture_output=True, text=True, timeout=120)
     assert p.returncode == 2

@@ -240,7 +240,7 @@ BOX = '<geom type="box" size=".1 .1 .1"/>'
     [
         (f'<joint name="j1" type="hinge"/><joint name="j2" type="slide"/>{BOX}', "", ["body 'b'", "2 joints", "hinge+slide"]),
         (f'<joint name="j" type="ball" range="0 30"/>{BOX}', "", ["joint 'j'", "ball", "range"]),
-        (f'<joint name="j" type="hinge" damping="0.1"/>{BOX}', "", ["joint 'j'", "damping"]),
+        (f'<joint name="j" type="ball" damping="0.1"/>{BOX}', "", ["joint 'j'", "damping"]),
         (f'<joint name="j" type="hinge"/>{BOX}', '<motor name="push" joint="j"/>', ["actuator 'push'", "velocity"]),
         (f'<joint name="j" type="hinge"/>{BOX}', '<position name="servo" joint="j" kp="10"/>', ["actuator 'servo'"]),
         (f'<joint name="j" type="hinge"/>{BOX}', '<velocity name="v" joint="j" kv="1"/>', ["actuator 'v'", "forcerange"]),

@@ -57,6 +57,16 @@ def _limits(limits: Any, field: str = "limits") -> tuple[float, float] | None:
     return lo, hi
 
 
+def _damping(damping: Any) -> float:
+    try:
+        d = float(damping)
+    except (TypeError, ValueError):
+        raise ValueError(f"damping must be a real number, got {damping!r}") from None
+    if not (math.isfinite(d) and d >= 0.0):
+        raise ValueError(f"damping must be finite and >= 0, got {damping!r}")
+    return d
+
+
 def _motor(speed: Any, max_force: Any) -> tuple[float, float]:
     try:
         s, f = float(speed), float(max_force)
@@ -75,7 +85,15 @@ class JointsMixin:
     _core: Any
 
     def _add_joint(
-        self, kind: str, body_a: Any, body_b: Any, anchor: Vec, axis: Vec | None, limits: Any, motor: Any
+        self,
+        kind: str,
+        body_a: Any,
+        body_b: Any,
+        anchor: Vec,
+        axis: Vec | None,
+        limits: Any,
+        motor: Any,
+        damping: Any = 0.0,
     ) -> int:
         a = _body(self, body_a, "body_a", world_ok=True)
         b = _body(self, body_b, "body_b", world_ok=False)
@@ -88,29 +106,50 @@ class JointsMixin:
             except (TypeError, ValueError):
                 raise ValueError(f"motor must be (speed, max_force), got {motor!r}") from None
             drive = _motor(speed, max_force)
+        d = _damping(damping)
         j = int(self._core.add_joint(kind, a, b, anchor, ax, lim))
         if drive is not None:
             self._core.set_motor(j, *drive)
+        if d > 0.0:
+            self._core.set_joint_damping(j, d)
         return j
 
     def add_hinge(
-        self, body_a: int | None, body_b: int, anchor: Vec, axis: Vec, *, limits: Any = None, motor: Any = None
+        self,
+        body_a: int | None,
+        body_b: int,
+        anchor: Vec,
+        axis: Vec,
+        *,
+        limits: Any = None,
+        motor: Any = None,
+        damping: float = 0.0,
     ) -> int:
         """A hinge: ``body_b`` turns about ``axis`` (world, at creation) through
         ``anchor`` (world) relative to ``body_a`` (None: the world). Returns the
         joint's index. ``limits``: ``(lower, upper)`` of the angle (rad, 0 at
         creation, positive turning B about ``axis``): a hard stop, a
         complementarity row of the contact LCP. ``motor``: ``(speed, max_force)``
-        as for :meth:`set_motor`."""
-        return self._add_joint("hinge", body_a, body_b, anchor, axis, limits, motor)
+        as for :meth:`set_motor`. ``damping``: as for :meth:`set_joint_damping`
+        (N·m·s/rad)."""
+        return self._add_joint("hinge", body_a, body_b, anchor, axis, limits, motor, damping)
 
     def add_slider(
-        self, body_a: int | None, body_b: int, anchor: Vec, axis: Vec, *, limits: Any = None, motor: Any = None
+        self,
+        body_a: int | None,
+        body_b: int,
+        anchor: Vec,
+        axis: Vec,
+        *,
+        limits: Any = None,
+        motor: Any = None,
+        damping: float = 0.0,
     ) -> int:
         """A slider (prismatic joint): ``body_b`` translates along ``axis``
         relative to ``body_a`` without turning. Returns the joint's index.
-        ``limits``: ``(lower, upper)`` of B's displacement along ``axis`` (m, 0 at creation)."""
-        return self._add_joint("slider", body_a, body_b, anchor, axis, limits, motor)
+        ``limits``: ``(lower, upper)`` of B's displacement along ``axis`` (m, 0 at creation);
+        ``damping`` (N·s/m) as for :meth:`set_joint_damping`."""
+        return self._add_joint("slider", body_a, body_b, anchor, axis, limits, motor, damping)
 
     def add_ball(self, body_a: int | None, body_b: int, anchor: Vec) -> int:
         """A ball joint: the bodies' points at ``anchor`` stay together."""
@@ -130,6 +169,13 @@ class JointsMixin:
         (N·m, N) either way, as complementarity rows of the contact LCP (the
         friction pattern with a constant bound). ``max_force=0`` turns it off."""
         self._core.set_motor(self._joint(joint), *_motor(speed, max_force))
+
+    def set_joint_damping(self, joint: int, damping: float) -> None:
+        """Viscous damping of a hinge's or slider's rate: a force ``-damping·q̇``
+        (N·m·s/rad, N·s/m), integrated implicitly (stable for any ``damping``:
+        a joint row with compliance ``1/(dt·damping)``, eliminated with the
+        others). ``0`` turns it off."""
+        self._core.set_joint_damping(self._joint(joint), _damping(damping))
 
     def set_control(self, actuator: int | str, value: float) -> None:
         """Sets an MJCF ``<velocity>`` actuator's control (by name or index, in

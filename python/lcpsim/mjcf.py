@@ -39,9 +39,15 @@ the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
 
 Everything else is refused with :class:`MjcfError` (a ``ValueError``) naming
 the element and its name: several joints on one body, a ball joint's
+<<<<<<< HEAD
 ``range``, joint stiffness, damping, armature or friction loss, a moving body
 with no colliding geom, a body's geoms of different friction or collision
 bits, other actuators (motor, position, ...; a
+=======
+``range``, joint stiffness, a ball joint's damping (a hinge's or slide's is
+the joint's ``damping``), armature or friction loss, a moving body
+with no colliding geom or several, other actuators (motor, position, ...; a
+>>>>>>> afb3711 (Joint damping: a hinge's or slider's rate row with compliance 1/(h d), eliminated with the rigid rows (implicit Euler of −d q̇, i.e. the step with M + h d rrᵀ; the rank cut judged on the rigid rows' scale; left out of the position projection); World::set_joint_damping, Python add_hinge/add_slider(damping=) and set_joint_damping, MJCF hinge/slide damping read (mjcf.py: a small hunk in _check_joints and _add_joint, for h6; ball damping still refused). Tests: a damped slider (d = 4 and 2e4 N·s/m) decays as v0/(1+hd/m)^k to 1e-9 and within 3e-3 of exp(−dt/m); a damped hinge slows a wheel as ω0/(1+hd/I)^k with the damper's torque as reaction; the MJCF hinge damping; bad damping; tests/joints.rs' gripper on round fingertips)
 velocity actuator without a symmetric ``forcerange`` or on a ball joint),
 ellipsoids, height fields, SDFs, tendons, equality constraints, explicit
 contact pairs and excludes.
@@ -188,7 +194,7 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
 
 def _check_joints(mujoco: Any, m: Any) -> None:
     """Refuses what the joints cannot express: several joints on a body, a
-    limited ball joint, joint springs, damping, armature or friction loss."""
+    limited ball joint, joint springs, a ball joint's damping, armature or friction loss."""
     OBJ = mujoco.mjtObj
     for b in range(1, m.nbody):
         n = int(m.body_jntnum[b])
@@ -205,9 +211,11 @@ def _check_joints(mujoco: Any, m: Any) -> None:
         if jt == 1 and bool(m.jnt_limited[j]):
             raise MjcfError(f"{what} has a range: cone limits of ball joints are not supported")
         dofs = range(int(m.jnt_dofadr[j]), int(m.jnt_dofadr[j]) + {0: 6, 1: 3}.get(jt, 1))
+        # Hinge and slide damping becomes the joint's (`_add_joint`).
+        damping = 0.0 if jt in (2, 3) else max(abs(float(m.dof_damping[k])) for k in dofs)
         for field, value in (
             ("stiffness", float(m.jnt_stiffness[j])),
-            ("damping", max(abs(float(m.dof_damping[k])) for k in dofs)),
+            ("damping", damping),
             ("armature", max(abs(float(m.dof_armature[k])) for k in dofs)),
             ("frictionloss", max(abs(float(m.dof_frictionloss[k])) for k in dofs)),
         ):
@@ -252,10 +260,11 @@ def _add_joint(m: Any, d: Any, world: Any, a: int | None, child: int, b: int, ou
     if jt in (2, 3) and bool(m.jnt_limited[j]):
         q0 = float(m.qpos0[int(m.jnt_qposadr[j])])
         limits = (float(m.jnt_range[j][0]) - q0, float(m.jnt_range[j][1]) - q0)
+    damping = float(m.dof_damping[int(m.jnt_dofadr[j])])
     if jt == 3:
-        out[j] = world.add_hinge(a, child, anchor, axis, limits=limits)
+        out[j] = world.add_hinge(a, child, anchor, axis, limits=limits, damping=damping)
     elif jt == 2:
-        out[j] = world.add_slider(a, child, anchor, axis, limits=limits)
+        out[j] = world.add_slider(a, child, anchor, axis, limits=limits, damping=damping)
     elif jt == 1:
         out[j] = world.add_ball(a, child, anchor)
 

@@ -328,6 +328,11 @@ fn a_two_finger_gripper_lifts_a_cube_and_holds_it_without_slip() {
     // each; the palm, on a vertical slider to the world, lifts 0.2 m in 2.2 s
     // (0.1 m/s, reached and left over 0.2 s: friction of 40 N can give the
     // cube 0.5 m/s² against gravity, not a step change of speed) and holds 2 s.
+    // Round fingertips: one contact each, on a line through the cube's centre,
+    // so no LCP answer lets the cube turn (flat pads give four corners a side,
+    // and an answer loading one corner per pad, the two on a line along the
+    // grip, is as exact as a spread one: with no torsional friction the cube
+    // then pivots about that line, docs/joints.md).
     let mut w = world();
     w.add_ground(1.0).unwrap();
     let cube = w.add_box(Vec3::splat(0.05), 1.0, Vec3::new(0.0, 0.0, 0.05), 1.0).unwrap().0;
@@ -335,19 +340,20 @@ fn a_two_finger_gripper_lifts_a_cube_and_holds_it_without_slip() {
         .add_body(BodyDesc::cuboid(Vec3::new(0.15, 0.05, 0.02)).mass(1.0).position(Vec3::new(0.0, 0.0, 0.2)).mu(1.0))
         .unwrap()
         .0;
-    let finger = BodyDesc::cuboid(Vec3::new(0.01, 0.04, 0.08)).mass(0.2).mu(1.0);
-    let left = w.add_body(finger.clone().position(Vec3::new(-0.1, 0.0, 0.1))).unwrap().0;
-    let right = w.add_body(finger.position(Vec3::new(0.1, 0.0, 0.1))).unwrap().0;
+    let left = w.add_sphere(0.02, 0.2, Vec3::new(-0.1, 0.0, 0.05), 1.0).unwrap().0;
+    let right = w.add_sphere(0.02, 0.2, Vec3::new(0.1, 0.0, 0.05), 1.0).unwrap().0;
     let lift = w.add_joint(joint(JointKind::Slider, None, palm, Vec3::new(0.0, 0.0, 0.2), Vec3::Z)).unwrap();
-    let jl = w.add_joint(joint(JointKind::Slider, Some(palm), left, Vec3::new(-0.1, 0.0, 0.18), Vec3::X)).unwrap();
-    let jr = w.add_joint(joint(JointKind::Slider, Some(palm), right, Vec3::new(0.1, 0.0, 0.18), -Vec3::X)).unwrap();
+    let jl = w.add_joint(joint(JointKind::Slider, Some(palm), left, Vec3::new(-0.1, 0.0, 0.05), Vec3::X)).unwrap();
+    let jr = w.add_joint(joint(JointKind::Slider, Some(palm), right, Vec3::new(0.1, 0.0, 0.05), -Vec3::X)).unwrap();
     w.set_motor(lift, 0.0, 200.0).unwrap();
     w.set_motor(jl, 0.1, 20.0).unwrap();
     w.set_motor(jr, 0.1, 20.0).unwrap();
     let rel_z = |w: &World| w.bodies()[cube].position().z - w.bodies()[left].position().z;
     run_ok(&mut w, 1000);
     // Closed: the fingers touch the cube and squeeze it.
-    assert!(w.joints()[jl.0].displacement(w.bodies()) > 0.035);
+    // (A fingertip's gap to the cube was 0.1 − 0.02 − 0.05 = 0.03 m.)
+    let closed = w.joints()[jl.0].displacement(w.bodies());
+    assert!((closed - 0.03).abs() < 1e-3, "left finger moved {closed} m");
     let grip = rel_z(&w);
     for s in 0..2200 {
         let speed = 0.1 * (s as f64 / 200.0).min(1.0).min((2200 - s) as f64 / 200.0);
@@ -365,4 +371,78 @@ fn a_two_finger_gripper_lifts_a_cube_and_holds_it_without_slip() {
     for j in 0..3 {
         assert!(w.joint_error(JointId(j)).unwrap().0 <= 1e-6);
     }
+}
+
+/// Steps `w` `k` times and returns the rate after each: `rate(w)`.
+fn rates(w: &mut World, k: usize, rate: impl Fn(&World) -> f64) -> Vec<f64> {
+    (0..k)
+        .map(|_| {
+            step_ok(w);
+            rate(w)
+        })
+        .collect()
+}
+
+#[test]
+fn a_damped_slider_decays_as_implicit_euler_at_any_damping() {
+    // A 2 kg box on a horizontal slider (x) to the world, sent at 1 m/s:
+    // m v̇ = −d v, each step of implicit Euler v ← v / (1 + h d / m).
+    let (m, h) = (2.0, 1e-3);
+    for d in [4.0, 2e4] {
+        let mut w = world();
+        let b = w.add_box(Vec3::splat(0.1), m, Vec3::new(0.0, 0.0, 1.0), 0.5).unwrap();
+        w.set_velocity(b, Vec3::new(1.0, 0.0, 0.0)).unwrap();
+        let j = w.add_joint(joint(JointKind::Slider, None, b.0, Vec3::new(0.0, 0.0, 1.0), Vec3::X)).unwrap();
+        w.set_joint_damping(j, d).unwrap();
+        let steps = if d < 1e3 { 1000 } else { 6 };
+        let vs = rates(&mut w, steps, |w| w.bodies()[b.0].velocity().x);
+        let factor = 1.0 / (1.0 + h * d / m);
+        for (k, v) in vs.iter().enumerate() {
+            let expect = factor.powi(k as i32 + 1);
+            assert!(rel(*v, expect) < 1e-9, "d = {d}, step {k}: v = {v} vs {expect}");
+        }
+        if d < 1e3 {
+            // Within the step of the continuous decay exp(−d t / m) (relative error ≈ t h (d/m)² / 2).
+            let exact = (-d * 1.0 / m).exp();
+            eprintln!("damped slider: v(1 s) = {} vs exp(−d t/m) = {exact}", vs[999]);
+            assert!(rel(vs[999], exact) < 3e-3, "{} vs {exact}", vs[999]);
+        }
+        assert!(w.joint_error(j).unwrap().0 < 1e-9);
+    }
+}
+
+#[test]
+fn a_damped_hinge_slows_a_spinning_wheel_as_implicit_euler() {
+    // A sphere (r = 0.1 m, 1 kg) hinged at its centre about y, spinning at
+    // 3 rad/s: gravity has no moment, I ω̇ = −d ω with I = 2/5 m r².
+    let (r, h, d) = (0.1, 1e-3, 0.008);
+    let inertia = 0.4 * r * r;
+    let mut w = world();
+    let centre = Vec3::new(0.0, 0.0, 1.0);
+    let b = w.add_sphere(r, 1.0, centre, 0.5).unwrap();
+    w.set_angular_velocity(b, Vec3::new(0.0, 3.0, 0.0)).unwrap();
+    let j = w.add_joint(joint(JointKind::Hinge, None, b.0, centre, Vec3::Y)).unwrap();
+    w.set_joint_damping(j, d).unwrap();
+    let ws = rates(&mut w, 500, |w| w.bodies()[b.0].angular_velocity().y);
+    let factor = 1.0 / (1.0 + h * d / inertia);
+    for (k, om) in ws.iter().enumerate() {
+        let expect = 3.0 * factor.powi(k as i32 + 1);
+        assert!(rel(*om, expect) < 1e-9, "step {k}: ω = {om} vs {expect}");
+    }
+    // The damper's torque is the joint's reaction about the axis: −d ω at the end of the step.
+    let torque = w.last_record().joints[0].torque.y;
+    assert!(rel(torque, -d * ws[499]) < 1e-9, "reaction {torque} vs {}", -d * ws[499]);
+}
+
+#[test]
+fn damping_is_for_hinges_and_sliders_and_not_negative() {
+    let mut w = world();
+    let b = w.add_sphere(0.1, 1.0, Vec3::new(0.0, 0.0, 1.0), 0.5).unwrap().0;
+    let ball = w.add_joint(joint(JointKind::Ball, None, b, Vec3::new(0.0, 0.0, 1.0), Vec3::Z)).unwrap();
+    assert!(w.set_joint_damping(ball, 1.0).unwrap_err().to_string().contains("damping"));
+    let c = w.add_sphere(0.1, 1.0, Vec3::new(1.0, 0.0, 1.0), 0.5).unwrap().0;
+    let hinge = w.add_joint(joint(JointKind::Hinge, None, c, Vec3::new(1.0, 0.0, 1.0), Vec3::Y)).unwrap();
+    assert!(w.set_joint_damping(hinge, -1.0).is_err());
+    assert!(w.set_joint_damping(hinge, f64::NAN).is_err());
+    assert!(w.set_joint_damping(hinge, 0.5).is_ok());
 }

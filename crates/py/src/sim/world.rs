@@ -521,6 +521,14 @@ impl World {
         guarded(|| w.set_motor(j, speed, max_force))
     }
 
+    /// Viscous damping of a hinge's or slider's rate (N·m·s/rad, N·s/m),
+    /// integrated implicitly; 0 turns it off.
+    fn set_joint_damping(&mut self, joint: &Bound<'_, PyAny>, damping: f64) -> PyResult<()> {
+        let j = sim::JointId(convert::count(joint, "joint")?);
+        let w = self.inner();
+        guarded(|| w.set_joint_damping(j, damping))
+    }
+
     #[getter]
     fn joint_count(&self) -> usize {
         self.shared().joints().len()

@@ -43,11 +43,15 @@ pub struct JointSystem {
 }
 
 impl JointSystem {
-    /// Rows, `S` and its factor at the bodies' current poses.
-    pub fn build(&mut self, joints: &[Joint], bodies: &[Body], inv_inertia: &[Mat3], rank_tol: f64) {
+    /// Rows, `S` and its factor at the bodies' current poses; with a step
+    /// `h`, the damped joints' rows too (`rows`; not for a position projection).
+    pub fn build(&mut self, joints: &[Joint], bodies: &[Body], inv_inertia: &[Mat3], rank_tol: f64, h: Option<f64>) {
         self.rows.clear();
         for (j, joint) in joints.iter().enumerate() {
             joint.push_rows(j, bodies, &mut self.rows);
+            if let Some(h) = h {
+                joint.push_damping(j, bodies, h, &mut self.rows);
+            }
         }
         self.minv.clear();
         self.minv.extend(self.rows.iter().map(|r| {
@@ -70,7 +74,14 @@ impl JointSystem {
                 self.s[b * m + a] = v;
             }
         }
-        self.factor.factor(&self.s, m, rank_tol);
+        // The rank is judged on the rigid rows' scale (a light damper's
+        // 1/(h d) would raise the stop above real pivots), then the dampers'
+        // compliance added.
+        let top = (0..m).map(|i| self.s[i * m + i]).fold(0.0f64, f64::max);
+        for (i, r) in self.rows.iter().enumerate() {
+            self.s[i * m + i] += r.compliance;
+        }
+        self.factor.factor(&self.s, m, rank_tol, top);
         self.lambda.clear();
         self.lambda.resize(m, 0.0);
         // Who is joined to whom.

@@ -80,6 +80,9 @@ pub struct Joint {
     pub limits: Option<(f64, f64)>,
     /// A velocity motor on the hinge or slider (`joints::limits`), if any.
     pub motor: Option<Motor>,
+    /// Viscous damping of a hinge's or slider's rate (N·m·s/rad, N·s/m): a
+    /// force `−d·q̇`, integrated implicitly (`rows`); 0: none.
+    pub damping: f64,
 }
 
 /// A velocity motor: drives the joint's rate (rad/s, m/s) to `speed` with at
@@ -174,6 +177,18 @@ pub(crate) fn check_motor(kind: JointKind, speed: f64, max_force: f64) -> Result
     Ok(Motor { speed, max_force })
 }
 
+/// Damping for a joint of `kind`: a hinge or slider, a finite `d ≥ 0`.
+pub(crate) fn check_damping(kind: JointKind, d: f64) -> Result<f64, SimError> {
+    if !matches!(kind, JointKind::Hinge | JointKind::Slider) {
+        return Err(SimError::BadGeometry {
+            field: "damping",
+            reason: format!("is for hinges and sliders, not a {} joint", kind.name()),
+        });
+    }
+    crate::error::non_negative("damping", d)?;
+    Ok(d)
+}
+
 /// Where a side is: `(position, orientation)`; the world's is the origin.
 pub(crate) fn pose(bodies: &[Body], side: Option<usize>) -> (Vec3, Quat) {
     side.map_or((Vec3::ZERO, Quat::IDENTITY), |b| (bodies[b].position, bodies[b].orientation))
@@ -232,6 +247,7 @@ impl Joint {
             rest: qa.conjugate() * qb,
             limits,
             motor: None,
+            damping: 0.0,
         })
     }
 

@@ -70,7 +70,7 @@ impl Joint {
 
     /// The joint's coordinate (hinge angle, slider displacement) and the rows
     /// of its rate `d/dt coordinate = −(row_A·v_A + row_B·v_B)` (the upper limit's rows).
-    fn limit_rows(&self, bodies: &[Body]) -> (f64, [Row6; 2], Vec3, Vec3) {
+    pub(super) fn limit_rows(&self, bodies: &[Body]) -> (f64, [Row6; 2], Vec3, Vec3) {
         let (pa, qa) = pose(bodies, self.bodies[0]);
         let pb = pose(bodies, self.bodies[1]).0;
         let a = qa.rotate(self.axis[0]);

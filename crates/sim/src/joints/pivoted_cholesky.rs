@@ -1,6 +1,7 @@
 //! A rank-revealing Cholesky of a symmetric positive semidefinite matrix
 //! (diagonal pivoting): `Πᵀ S Π = L Lᵀ` with `L` of the numerical rank `r`.
-//! It stops when the largest remaining pivot is below `tol · max diag S`, so
+//! It stops when the largest remaining pivot is below `tol · top` (`top` the
+//! caller's scale, `max diag S` of the rigid rows), so
 //! rows that depend on earlier ones (a closed loop, a joint given twice) are
 //! dropped rather than inverted. `solve` then answers `S x = b` with `x` zero
 //! on the dropped rows: for a consistent `b` an exact solution, and `Gᵀx`
@@ -23,15 +24,14 @@ pub struct PivotedCholesky {
 }
 
 impl PivotedCholesky {
-    /// Factors the `m × m` row-major `s`.
-    pub fn factor(&mut self, s: &[f64], m: usize, tol: f64) {
+    /// Factors the `m × m` row-major `s`, stopping below `tol · top`.
+    pub fn factor(&mut self, s: &[f64], m: usize, tol: f64, top: f64) {
         self.m = m;
         self.a.clear();
         self.a.extend_from_slice(s);
         self.perm.clear();
         self.perm.extend(0..m);
         let a = &mut self.a;
-        let top = (0..m).map(|i| a[i * m + i]).fold(0.0f64, f64::max);
         let stop = tol * top;
         self.rank = 0;
         for j in 0..m {
@@ -131,7 +131,8 @@ mod tests {
         let g = [[1.0, 2.0, 0.0], [0.0, 1.0, 3.0], [1.0, 2.0, 0.0]];
         let s: Vec<f64> = (0..9).map(|k| (0..3).map(|t| g[k / 3][t] * g[k % 3][t]).sum()).collect();
         let mut f = PivotedCholesky::default();
-        f.factor(&s, 3, 1e-9);
+        let top = (0..3).map(|i| s[i * 4]).fold(0.0, f64::max);
+        f.factor(&s, 3, 1e-9, top);
         assert_eq!(f.rank(), 2);
         // b = S x₀ is consistent; the answer solves S x = b.
         let x0 = [0.5, -1.0, 2.0];

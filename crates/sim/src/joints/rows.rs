@@ -8,6 +8,12 @@
 //! fixed   ball + C = θ(q_A q₀ q_B⁻¹)        A: [0, e]         B: −[0, e]           θ: the rotation vector
 //! slider  rotation as fixed + C_i = p_i·(x_A − x_B), rows about x_B (the point of A at B's anchor)
 //! ```
+//!
+//! A damped hinge or slider adds its rate row `q̇ = r·v` with compliance
+//! `1/(h d)`: the row asks `r·v⁺ + λ/(h d) = 0`, so its impulse is
+//! `λ = −h d q̇⁺`, the damper's force at the end of the step (implicit Euler,
+//! stable for any `d`). Eliminating it with the others is, by Woodbury, the
+//! step with the mass matrix `M + h d rrᵀ`.
 
 use super::joint::{normal_to, pose, Joint, JointKind};
 use crate::contact::assembly::{row, Row6};
@@ -26,6 +32,8 @@ pub struct JointRow {
     pub error: f64,
     /// Whether the row is angular (its error in rad).
     pub angular: bool,
+    /// Added to the row's diagonal of `S`: `1/(h d)` for a damping row, 0 for a rigid one.
+    pub compliance: f64,
 }
 
 /// The world's rotation vector of a unit quaternion (angle·axis, the short way round).
@@ -46,7 +54,7 @@ impl Joint {
         let (pb, qb) = pose(bodies, self.bodies[1]);
         let [xa, xb] = self.anchors_world(bodies);
         let mut push = |a: Row6, b: Row6, error: f64, angular: bool| {
-            out.push(JointRow { joint: j, body, jac: [a, b.map(|x| -x)], error, angular });
+            out.push(JointRow { joint: j, body, jac: [a, b.map(|x| -x)], error, angular, compliance: 0.0 });
         };
         let angular = |e: Vec3| row(Vec3::ZERO, e);
         // The anchors coincide (ball, hinge, fixed).
@@ -83,6 +91,19 @@ impl Joint {
                 }
             }
         }
+    }
+
+    /// Appends the damping row of a damped hinge or slider for a step of `h`.
+    pub fn push_damping(&self, j: usize, bodies: &[Body], h: f64, out: &mut Vec<JointRow>) {
+        if !(self.damping > 0.0) {
+            return;
+        }
+        let body = [self.dynamic_side(bodies, 0), self.dynamic_side(bodies, 1)];
+        // The coordinate's rate is −(up_A·v_A + up_B·v_B).
+        let up = self.limit_rows(bodies).1;
+        let jac = up.map(|r| r.map(|v| -v));
+        let angular = self.kind == JointKind::Hinge;
+        out.push(JointRow { joint: j, body, jac, error: 0.0, angular, compliance: 1.0 / (h * self.damping) });
     }
 
     /// The joint's position error now: the largest linear (m) and angular (rad) row error.

@@ -66,7 +66,7 @@ impl World {
         }
         let h = self.ws.part_h.unwrap_or(self.params.dt);
         let ws = &mut self.ws;
-        ws.joints.build(&self.joints, &self.bodies, &ws.inv_inertia, self.joint_params.rank_tol);
+        ws.joints.build(&self.joints, &self.bodies, &ws.inv_inertia, self.joint_params.rank_tol, Some(h));
         ws.joints.project(&mut ws.v_free, &mut ws.w_free, h, self.joint_params.drift);
     }
 
@@ -84,6 +84,15 @@ impl World {
         let n = self.joints.len();
         let joint = self.joints.get_mut(j.0).ok_or(SimError::UnknownJoint { index: j.0, joints: n })?;
         joint.motor = Some(super::joint::check_motor(joint.kind, speed, max_force)?);
+        Ok(())
+    }
+
+    /// Viscous damping `d` (N·m·s/rad, N·s/m) of hinge or slider `j`'s rate: a
+    /// force `−d·q̇` integrated implicitly (`rows`); 0 turns it off.
+    pub fn set_joint_damping(&mut self, j: JointId, damping: f64) -> Result<(), SimError> {
+        let n = self.joints.len();
+        let joint = self.joints.get_mut(j.0).ok_or(SimError::UnknownJoint { index: j.0, joints: n })?;
+        joint.damping = super::joint::check_damping(joint.kind, damping)?;
         Ok(())
     }
 
@@ -178,7 +187,7 @@ impl World {
                 return;
             }
             let inv: Vec<_> = self.bodies.iter().map(|b| b.inv_inertia_world()).collect();
-            sys.build(&self.joints, &self.bodies, &inv, p.rank_tol);
+            sys.build(&self.joints, &self.bodies, &inv, p.rank_tol, None);
             sys.settle(&mut self.bodies);
         }
     }

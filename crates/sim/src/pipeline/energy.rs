@@ -126,8 +126,9 @@ impl World {
         }
         let (ws, bodies) = (&self.ws, &self.bodies);
         let vel = |b: usize| row(bodies[b].velocity, bodies[b].angular_velocity);
-        // the bilateral rows: λ·g v⁺
+        // the bilateral rows: λ·g v⁺ (not a damper's: its −h d q̇⁺² is dissipation)
         let mut drift: f64 = (ws.joints.rows.iter().zip(&ws.joints.lambda))
+            .filter(|(r, _)| r.compliance == 0.0)
             .map(|(r, &l)| l * (0..2).filter_map(|s| r.body[s].map(|b| dot6(&r.jac[s], &vel(b)))).sum::<f64>())
             .sum();
         let (first, beta, mut motor) = (ws.joints.first_limit, self.joint_params.drift, 0.0);
