@@ -256,6 +256,17 @@ impl<'a> Basis<'a> {
         self.etas.apply(y);
     }
 
+    /// `y ← y + B⁻¹ (a_v − B y)`: `y = B⁻¹ a_v` (augmented) refined once on
+    /// the current factors; `work` is scratch.
+    pub(crate) fn refine(&self, v: usize, y: &mut [f64], work: &mut Vec<f64>) {
+        let mut by = vec![0.0; y.len()];
+        self.times(y, &mut by);
+        self.column_into(v, work);
+        work.iter_mut().zip(&by).for_each(|(r, b)| *r -= b);
+        self.ftran(work);
+        y.iter_mut().zip(work.iter()).for_each(|(y, r)| *y += r);
+    }
+
     /// Variable `e` enters at position `r` with value `theta`, `y = B⁻¹ a_e`.
     /// `false`, and nothing changed, when the pivot `y_r` is 0 or not
     /// finite: the new basis would be singular.
@@ -346,7 +357,7 @@ impl<'a> Basis<'a> {
 
     /// The basic values from `q` by the current factorization, with one step
     /// of iterative refinement; `false` if they are not finite.
-    fn values(&mut self) -> bool {
+    pub(crate) fn values(&mut self) -> bool {
         let (n, p) = (self.n, self.p);
         let mut rhs = self.op.q().to_vec();
         rhs.resize(n + p, 0.0);

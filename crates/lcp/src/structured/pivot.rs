@@ -162,7 +162,7 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
     let z0 = 2 * n;
     let mut tr = trace::enabled().then(|| Trace::new(n, basis.val[basis.pos[z0]]));
     let mut pivots = 1;
-    let mut y = Vec::new();
+    let (mut y, mut work) = (Vec::new(), Vec::new());
     let mut tied = Vec::new();
     // Basis hash: XOR of the basic variables' keys; a repeat means cycling.
     let mut seen: HashSet<u64> = HashSet::new();
@@ -180,8 +180,19 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
         }
         let mut step = leaving(&basis, &y, ymax, set, &mut tied);
         // A ray seen through eta updates may be their round-off: look again
-        // on a fresh factorization before believing it.
+        // at `y` refined once on the same factors, and only if that finds a
+        // leaving row, on a fresh factorization. (A refactorization at every
+        // such ray confirmed 97 % of them on a 45-cube pour, 1,590 of 1,643
+        // in steps 0–2,200, and took a tenth of the run.)
         if step.is_none() && basis.updates() > 0 {
+            basis.refine(entering, &mut y, &mut work);
+            let top = y[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            if top.is_finite() && leaving(&basis, &y, top, set, &mut tied).is_none() {
+                if !basis.values() && !basis.refactor() {
+                    break Status::SingularBasis;
+                }
+                break Status::RayTermination;
+            }
             if !basis.refactor() {
                 break Status::SingularBasis;
             }
@@ -225,9 +236,14 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
         }
         entering = complement(left, n);
     };
-    if status == Status::Solved {
-        // Shed the updates' round-off: values from a fresh factorization.
-        basis.refactor();
+    if status == Status::Solved && basis.updates() > 0 {
+        // Shed the updates' round-off: values refined on the factors (a
+        // fresh factorization where they are not finite). A refactorization
+        // here cost 4 % of the structured solves of a 45-cube pour for the
+        // same pivots.
+        if !basis.values() {
+            basis.refactor();
+        }
     }
     if let Some(t) = &tr {
         t.print(kind, pivots, status);
