@@ -91,8 +91,12 @@ impl IslandLcp {
         let stages: [(bool, SolveStage, Stage); 3] = [
             // A small island with a previous basis (a single body's too).
             (small && warmed, SolveStage::PreviousBasis, previous_basis::attempt),
-            // The same, with Lemke's full ladder.
-            (small && warmed && rungs, SolveStage::GuessedBasis, guessed_basis::attempt),
+            // The same, with Lemke's full ladder, under GUESSED_MAX_N unknowns.
+            (
+                small && warmed && rungs && n < guessed_basis::GUESSED_MAX_N,
+                SolveStage::GuessedBasis,
+                guessed_basis::attempt,
+            ),
             // A large coupled island, or a small one whose previous and guessed
             // bases failed (a small island's failure goes on to the dense Lemke).
             (coupled && (!small || (warmed && rungs)), SolveStage::StructuredLemke, structured_lemke::attempt),
