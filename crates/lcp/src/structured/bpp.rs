@@ -12,7 +12,7 @@
 //! drops below the least again. On a P-matrix this ends at the answer; a
 //! contact LCP is no P-matrix (the `λ` rows have a zero diagonal, many bases
 //! are singular), so the rounds are capped and a singular basis is repaired
-//! column by column ([`Basis::regular_alpha`]).
+//! column by column ([`Basis::complementary`]).
 //!
 //! The result is a basis, not an answer: its values are judged by the
 //! acceptance rule by the caller ([`super::solve`]), or it is where Lemke's
@@ -278,11 +278,9 @@ fn contact_exchange(op: &StructuredLcp, lay: ContactLayout, inz: &[bool], z: &[f
 fn factored<'a>(op: &'a StructuredLcp, d: &'a [f64], inz: &mut [bool], repairs: usize) -> Option<Basis<'a>> {
     let n = op.n();
     let alpha: Vec<usize> = (0..n).filter(|&j| inz[j]).collect();
-    if let Some(b) = Basis::complementary(op, d, &alpha) {
-        return Some(b);
-    }
-    let alpha = Basis::regular_alpha(op, &alpha, repairs)?;
-    inz.iter_mut().for_each(|b| *b = false);
-    alpha.iter().for_each(|&j| inz[j] = true);
-    Basis::complementary(op, d, &alpha)
+    let mut b = Basis::complementary(op, &alpha, repairs)?;
+    b.set_cover(d);
+    inz.iter_mut().for_each(|v| *v = false);
+    b.alpha().iter().for_each(|&j| inz[j] = true);
+    Some(b)
 }

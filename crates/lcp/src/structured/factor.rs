@@ -167,14 +167,32 @@ impl<'a> Basis<'a> {
         b.refactor().then_some(b)
     }
 
-    /// The complementary basis `{z_j : j ∈ α} ∪ {w_i : i ∉ α}`, factored; `None` if singular.
-    pub(crate) fn complementary(op: &'a StructuredLcp, d: &'a [f64], alpha: &[usize]) -> Option<Self> {
-        let mut b = Self::complementary_unfactored(op, d, alpha);
+    /// The complementary basis `{z_j : j ∈ α} ∪ {w_i : i ∉ α}`, factored,
+    /// repaired until it factors: a position whose column the sparse LU finds
+    /// structurally dependent on the columns eliminated before it takes its
+    /// complement's column (`z_j ↔ w_j`), up to `tries` times; `None` if it is
+    /// still singular. Its covering vector is empty until
+    /// [`Basis::set_cover`] (no column of a complementary basis is `z0`'s),
+    /// so that the cover can be that of the repaired basis. (Repairs were
+    /// once made on a copy and the repaired basis factored again: two more
+    /// factorizations per repair.)
+    pub(crate) fn complementary(op: &'a StructuredLcp, alpha: &[usize], tries: usize) -> Option<Self> {
+        let n = op.n();
+        let mut b = Self::complementary_unfactored(op, alpha);
+        for _ in 0..tries {
+            if b.refactor() {
+                return Some(b);
+            }
+            let c = b.lu.dependent.filter(|&c| c < n)?;
+            let flipped = if b.var[c] == c { n + c } else { c };
+            b.pos[b.var[c]] = NONBASIC;
+            (b.var[c], b.init[c], b.pos[flipped]) = (flipped, flipped, c);
+        }
         b.refactor().then_some(b)
     }
 
     /// [`Basis::complementary`] before its factorization.
-    fn complementary_unfactored(op: &'a StructuredLcp, d: &'a [f64], alpha: &[usize]) -> Self {
+    fn complementary_unfactored(op: &'a StructuredLcp, alpha: &[usize]) -> Self {
         let n = op.n();
         let mut pos = vec![NONBASIC; 2 * n + 1];
         let mut var: Vec<usize> = (0..n).collect();
@@ -185,7 +203,7 @@ impl<'a> Basis<'a> {
         let init = var.clone();
         Basis {
             op,
-            d,
+            d: &[],
             n,
             p: op.p(),
             var,
@@ -199,29 +217,14 @@ impl<'a> Basis<'a> {
         }
     }
 
-    /// The complementary basis `alpha` repaired until it factors: a position
-    /// whose column the sparse LU finds structurally dependent on the columns
-    /// eliminated before it takes its complement's column (`z_j ↔ w_j`), up
-    /// to `tries` times. Returns the repaired `alpha`, `None` if it is still
-    /// singular.
-    pub(crate) fn regular_alpha(op: &StructuredLcp, alpha: &[usize], tries: usize) -> Option<Vec<usize>> {
-        let n = op.n();
-        let mut inz = vec![false; n];
-        alpha.iter().for_each(|&j| inz[j] = true);
-        // The cover is no column of a complementary basis.
-        let d = vec![0.0; n];
-        for _ in 0..=tries {
-            let alpha: Vec<usize> = (0..n).filter(|&j| inz[j]).collect();
-            let mut b = Basis::complementary_unfactored(op, &d, &alpha);
-            if b.refactor() {
-                return Some(alpha);
-            }
-            match b.lu.dependent.filter(|&c| c < n) {
-                Some(c) => inz[c] = !inz[c],
-                None => return None,
-            }
-        }
-        None
+    /// The covering vector, `z0`'s column `−d` (see [`Basis::complementary`]).
+    pub(crate) fn set_cover(&mut self, d: &'a [f64]) {
+        self.d = d;
+    }
+
+    /// The `z_j` basic, as indices `j`.
+    pub(crate) fn alpha(&self) -> Vec<usize> {
+        (0..self.n).filter(|&j| self.pos[self.n + j] != NONBASIC).collect()
     }
 
     /// Column updates since the last refactorization.

@@ -101,15 +101,9 @@ pub(crate) fn run(op: &StructuredLcp, d: &[f64], set: &Settings) -> Run {
 /// negative basic leaves first. `None` when that basis is singular.
 pub(crate) fn run_warm(op: &StructuredLcp, alpha: &[usize], d: &mut Vec<f64>, set: &Settings) -> Option<Run> {
     let n = op.n();
-    cover_into(op, alpha, d);
-    let mut basis = match Basis::complementary(op, d, alpha) {
-        Some(b) => b,
-        None => {
-            let alpha = Basis::regular_alpha(op, alpha, REPAIRS)?;
-            cover_into(op, &alpha, d);
-            Basis::complementary(op, d, &alpha)?
-        }
-    };
+    let mut basis = Basis::complementary(op, alpha, REPAIRS)?;
+    cover_into(op, &basis.alpha(), d);
+    basis.set_cover(d);
     let (worst, r) =
         basis.val.iter().enumerate().fold((f64::INFINITY, 0), |a, (c, &v)| if v < a.0 { (v, c) } else { a });
     let top = basis.val.iter().fold(1.0f64, |a, v| a.max(v.abs()));
@@ -132,7 +126,7 @@ pub(crate) fn run_warm(op: &StructuredLcp, alpha: &[usize], d: &mut Vec<f64>, se
     Some(pivot_loop(op, basis, complement(left, n), set, "warm"))
 }
 
-/// Columns swapped at most to make a singular warm basis regular ([`Basis::regular_alpha`]).
+/// Columns swapped at most to make a singular warm basis regular ([`Basis::complementary`]).
 const REPAIRS: usize = 64;
 
 /// `d = B·1` for the complementary basis `alpha`: `e_i` for basic `w_i`, `−M_j` for basic `z_j`.
