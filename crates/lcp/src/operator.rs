@@ -29,6 +29,23 @@ pub trait LcpOperator {
         self.block(&[i], &[i], &mut d);
         d[0]
     }
+    /// `w_i = (M z + q)_i` for each `i` of `rows` (other entries untouched):
+    /// what a refinement step reads. By default the whole product.
+    fn w_rows(&self, z: &[f64], rows: &[usize], w: &mut [f64]) {
+        let mut full = vec![0.0; self.n()];
+        self.w_of(z, &mut full);
+        rows.iter().for_each(|&i| w[i] = full[i]);
+    }
+    /// `w += M_j·d` for each `(j, d)` of `moved` (`w = M z + q` kept for a
+    /// `z` whose entries `j` moved by `d`). By default one `n × 1` block each.
+    fn add_columns(&self, moved: &[(usize, f64)], w: &mut [f64]) {
+        let rows: Vec<usize> = (0..self.n()).collect();
+        let mut col = vec![0.0; self.n()];
+        for &(j, d) in moved {
+            self.block(&rows, &[j], &mut col);
+            w.iter_mut().zip(&col).for_each(|(wi, m)| *wi += m * d);
+        }
+    }
 }
 
 impl LcpOperator for Lcp {

@@ -67,6 +67,27 @@ fn body_space_entries_and_products_equal_the_dense_lcp() {
             for (i, (a, b)) in w_op.iter().zip(&w_dense).enumerate() {
                 assert!((a - b).abs() <= 1e-12 * wmax, "w[{i}]: body space {a:e}, dense {b:e}");
             }
+            // Some rows of the product are those rows of it, bit for bit; the others are left.
+            let picked: Vec<usize> = (0..n).filter(|i| i % 3 != 1).collect();
+            let mut w_rows = vec![f64::NAN; n];
+            op.w_rows(&z, &picked, &mut w_rows);
+            for i in 0..n {
+                let (a, b) = (w_rows[i], w_op[i]);
+                assert!(
+                    if i % 3 != 1 { a.to_bits() == b.to_bits() } else { a.is_nan() },
+                    "w_rows[{i}]: {a:e}, w {b:e}"
+                );
+            }
+            // Moving a few entries of z moves w by their columns.
+            let moved = [(0, -0.25), (n / 2, 0.5), (n - 1, 2.0), (n / 3, -1.0)];
+            let mut z2 = z.clone();
+            moved.iter().for_each(|&(j, d)| z2[j] += d);
+            let mut w_moved = w_op.clone();
+            op.add_columns(&moved, &mut w_moved);
+            let w2 = lcp.w_of(&z2);
+            for (i, (a, b)) in w_moved.iter().zip(&w2).enumerate() {
+                assert!((a - b).abs() <= 1e-12 * wmax, "w[{i}] after the moves: by columns {a:e}, dense {b:e}");
+            }
         }
     }
 }

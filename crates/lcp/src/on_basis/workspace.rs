@@ -20,6 +20,8 @@ pub struct BasisWorkspace {
     pub(super) block_pos: Vec<usize>,
     pub(super) block_prev: Vec<f64>,
     pub(super) block_fresh: Vec<f64>,
+    /// The indices of `β`, the rows a refinement step reads.
+    pub(super) rows: Vec<usize>,
     /// Right-hand side and solution, by position in `S`.
     pub(super) x: Vec<f64>,
     pub(super) y: Vec<f64>,
@@ -43,6 +45,8 @@ pub struct BasisWorkspace {
     pub(super) toggled: Vec<usize>,
     /// Basic indices whose `z` was negative before clipping, with that value.
     pub(super) clipped: Vec<(usize, f64)>,
+    /// The same indices with the change clipping made (`−z_j`).
+    pub(super) moved: Vec<(usize, f64)>,
     /// One row of `M` (see [`clipped_cause`](super::rounds::clipped_cause)).
     pub(super) row: Vec<f64>,
     /// Calls in a row that found no answer (the caller pivoted).

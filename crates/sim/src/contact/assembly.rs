@@ -647,7 +647,8 @@ impl ContactLcp {
             }
             for side in 0..2 {
                 let Some(b) = index[2 * c + side] else { continue };
-                for (w, &zi) in self.minv_jt[2 * c + side].iter().zip(&imp) {
+                // (A contact without friction impulse, a resting stack's, adds its normal only.)
+                for (w, &zi) in self.minv_jt[2 * c + side].iter().zip(&imp).filter(|(_, &zi)| zi != 0.0) {
                     dv[b] += Vec3::new(w[0], w[1], w[2]) * zi;
                     dw[b] += Vec3::new(w[3], w[4], w[5]) * zi;
                 }

@@ -63,6 +63,8 @@ struct Buffers {
     /// Rows and columns of a block, by index (reused across calls).
     rows: Vec<IndexRows>,
     cols: Vec<IndexRows>,
+    /// Bodies a sparse change of `z` moves ([`LcpOperator::add_columns`]).
+    touched: Vec<bool>,
 }
 
 thread_local! {
@@ -233,37 +235,146 @@ impl LcpOperator for BodySpaceLcp<'_> {
     }
 
     fn w_of(&self, z: &[f64], w: &mut [f64]) {
-        let (lay, s) = (self.lcp.layout(), self.s);
-        let nc = lay.nc;
         // Δv = M_b⁻¹ Jᵀ z per body (the integrator's own map of impulses).
         let mut guard = self.bufs.borrow_mut();
         let Buffers { dv, dw, .. } = &mut *guard;
         dv.fill(Vec3::ZERO);
         dw.fill(Vec3::ZERO);
         self.lcp.apply_impulses_local(z, dv, dw);
+        w.copy_from_slice(self.lcp.q());
+        self.add_velocities(dv, dw, None, w);
+        self.add_cone(z, w);
+    }
+
+    fn w_rows(&self, z: &[f64], rows: &[usize], w: &mut [f64]) {
+        let (lay, s) = (self.lcp.layout(), self.s);
+        let mut guard = self.bufs.borrow_mut();
+        let Buffers { dv, dw, .. } = &mut *guard;
+        dv.fill(Vec3::ZERO);
+        dw.fill(Vec3::ZERO);
+        self.lcp.apply_impulses_local(z, dv, dw);
         let q = self.lcp.q();
-        for c in 0..nc {
-            // J Δv along n, t1, t2.
+        // Each row as `w_of` forms it (the same sums in the same order).
+        for &i in rows {
+            let var = self.var(i);
+            if let Var::Lambda(c) = var {
+                let sum_fd = z[lay.fd_of(c)].iter().fold(0.0, |a, &v| a + v);
+                w[i] = s * (self.lcp.mu()[c] * z[lay.fn_index(c)] - sum_fd);
+                continue;
+            }
+            let c = contact(var);
+            // J Δv along n, or along t1 and t2.
+            let along = if let Var::Normal(_) = var { 0..1 } else { 1..3 };
             let mut jv = [0.0; 3];
             for side in 0..2 {
                 let Some(b) = self.lcp.side_slot(c, side) else { continue };
+                let (jac, _) = self.lcp.side_rows(c, side);
+                let vel = row(dv[b], dw[b]);
+                for r in along.clone() {
+                    jv[r] += dot6(&jac[r], &vel);
+                }
+            }
+            w[i] = match var {
+                Var::Dir(_, j) => {
+                    let (cj, sj) = self.lcp.cos_sin(j);
+                    q[i] + (cj * jv[1] + sj * jv[2]) + s * z[lay.lambda_index(c)]
+                }
+                _ => q[i] + jv[0],
+            };
+        }
+    }
+
+    fn add_columns(&self, moved: &[(usize, f64)], w: &mut [f64]) {
+        let (lay, s) = (self.lcp.layout(), self.s);
+        let mut guard = self.bufs.borrow_mut();
+        let Buffers { dv, dw, touched, .. } = &mut *guard;
+        dv.fill(Vec3::ZERO);
+        dw.fill(Vec3::ZERO);
+        touched.clear();
+        touched.resize(dv.len(), false);
+        for &(i, d) in moved {
+            // The impulse of d at index i in its contact's (n, t1, t2) frame; its cone entries.
+            let imp = match self.var(i) {
+                Var::Normal(c) => {
+                    w[lay.lambda_index(c)] += s * self.lcp.mu()[c] * d;
+                    [d, 0.0, 0.0]
+                }
+                Var::Dir(c, j) => {
+                    w[lay.lambda_index(c)] -= s * d;
+                    let (cj, sj) = self.lcp.cos_sin(j);
+                    [0.0, cj * d, sj * d]
+                }
+                Var::Lambda(c) => {
+                    w[lay.fd_of(c)].iter_mut().for_each(|v| *v += s * d);
+                    continue;
+                }
+            };
+            let c = contact(self.var(i));
+            for side in 0..2 {
+                let Some(b) = self.lcp.side_slot(c, side) else { continue };
+                let (_, minv) = self.lcp.side_rows(c, side);
+                for (r, &x) in minv.iter().zip(&imp) {
+                    dv[b] += Vec3::new(r[0], r[1], r[2]) * x;
+                    dw[b] += Vec3::new(r[3], r[4], r[5]) * x;
+                }
+                touched[b] = true;
+            }
+        }
+        self.add_velocities(dv, dw, Some(touched), w);
+    }
+}
+
+impl BodySpaceLcp<'_> {
+    /// `w[fn, fd] += J Δv` for the per-body `Δv`, `Δω` (island slots); with
+    /// `only`, for the contacts with a side on a body it marks (the others' is 0).
+    fn add_velocities(&self, dv: &[Vec3], dw: &[Vec3], only: Option<&[bool]>, w: &mut [f64]) {
+        let lay = self.lcp.layout();
+        let (nc, k) = (lay.nc, lay.k);
+        let (wn, rest) = w.split_at_mut(nc);
+        let trig = self.lcp.trig();
+        for (c, (wnc, wd)) in wn.iter_mut().zip(rest.chunks_exact_mut(k)).enumerate() {
+            // J Δv along n, t1, t2.
+            let mut jv = [0.0; 3];
+            let mut moved = only.is_none();
+            for side in 0..2 {
+                let Some(b) = self.lcp.side_slot(c, side) else { continue };
+                if only.is_some_and(|t| !t[b]) {
+                    continue;
+                }
+                moved = true;
                 let (jac, _) = self.lcp.side_rows(c, side);
                 let vel = row(dv[b], dw[b]);
                 for (v, r) in jv.iter_mut().zip(jac) {
                     *v += dot6(r, &vel);
                 }
             }
-            let lambda = z[lay.lambda_index(c)];
-            w[lay.fn_index(c)] = q[lay.fn_index(c)] + jv[0];
-            let mut sum_fd = 0.0;
-            // (Zipped slices: no bounds check per direction.)
-            let fd = lay.fd_of(c);
-            let dirs = w[fd.clone()].iter_mut().zip(&q[fd.clone()]).zip(&z[fd]).zip(self.lcp.trig());
-            for (((wf, &qf), &zf), &(cj, sj)) in dirs {
-                *wf = qf + (cj * jv[1] + sj * jv[2]) + s * lambda;
-                sum_fd += zf;
+            if !moved {
+                continue;
             }
-            w[lay.lambda_index(c)] = s * (self.lcp.mu()[c] * z[lay.fn_index(c)] - sum_fd);
+            *wnc += jv[0];
+            for (wf, &(cj, sj)) in wd.iter_mut().zip(trig) {
+                *wf += cj * jv[1] + sj * jv[2];
+            }
+        }
+    }
+
+    /// The cone terms of `w = M z + q`: `s·λ` on every `fd`, and the `λ` rows
+    /// `s·(μ fn − Σ fd)` (written, not added).
+    fn add_cone(&self, z: &[f64], w: &mut [f64]) {
+        let (lay, s) = (self.lcp.layout(), self.s);
+        let (nc, k) = (lay.nc, lay.k);
+        let (zn, zrest) = z.split_at(nc);
+        let (zd, zl) = zrest.split_at(nc * k);
+        let (wd, wl) = w[nc..].split_at_mut(nc * k);
+        let mu = self.lcp.mu();
+        let parts = wd.chunks_exact_mut(k).zip(zd.chunks_exact(k)).zip(wl.iter_mut().zip(zl)).zip(zn.iter().zip(mu));
+        for (((wdc, zdc), (wlc, &lambda)), (&zf, &m)) in parts {
+            let mut sum_fd = 0.0;
+            for (wf, &zj) in wdc.iter_mut().zip(zdc) {
+                *wf += s * lambda;
+                sum_fd += zj;
+            }
+            *wlc = s * (m * zf - sum_fd);
         }
     }
 }
