@@ -3,7 +3,7 @@
 
 use super::workspace::BasisWorkspace;
 use crate::operator::LcpOperator;
-use crate::solution::{Residuals, Solution, Status};
+use crate::solution::{Solution, Status};
 
 /// The answer of [`solve_on_basis`](super::solve_on_basis) when it is accepted.
 #[derive(Clone, Debug, PartialEq)]
@@ -55,7 +55,8 @@ pub struct BasisTolerances {
 /// (its last use in this call), else copied.
 pub(super) fn answer(ws: &mut BasisWorkspace, dropped: usize, reused: bool, other: bool, take: bool) -> BasisAnswer {
     let out = |v: &mut Vec<f64>| if take { std::mem::take(v) } else { v.clone() };
-    let residuals = Residuals::of(&ws.z, &ws.w);
+    // (`within_both` formed the residuals of this z and w.)
+    let residuals = ws.residuals;
     let solution = Solution {
         z: out(&mut ws.z),
         w: out(&mut ws.w),

@@ -37,9 +37,9 @@ pub(super) fn solve_rounds(
     rounds: usize,
     repair: f64,
 ) -> Option<BasisAnswer> {
-    let n = op.n();
     // The operator is this call's: no block of an earlier call is reused.
     ws.blocked = false;
+    ws.q_norm = super::check::norm_inf(op.q());
     // The index the last exchange made basic.
     let mut entered = None;
     // The index the last exchange toggled.
@@ -59,20 +59,22 @@ pub(super) fn solve_rounds(
         for &p in &ws.f.order[rank..m] {
             ws.mask[ws.f.support[p]] = false;
         }
-        // The most violated index (basic z < 0 leaves, nonbasic w < 0 enters).
+        // The most violated index (basic z < 0 leaves, nonbasic w < 0 enters),
+        // and the round-off negatives of z, clipped below.
         let mut worst = (repair, None);
-        for i in 0..n {
-            let v = if ws.mask[i] { -ws.z[i] } else { -ws.w[i] };
+        ws.clipped.clear();
+        for (i, (&basic, (&zi, &wi))) in ws.mask.iter().zip(ws.z.iter().zip(&ws.w)).enumerate() {
+            let v = if basic { -zi } else { -wi };
             if v > worst.0 {
                 worst = (v, Some(i));
             }
+            if zi < 0.0 {
+                ws.clipped.push((i, zi));
+            }
         }
-        // Round-off negatives of z are clipped and w moved with them for the
-        // check: by their columns while they are few (a resting 10-box stack
-        // clips a few friction values a step: a product cost 10 % of its
-        // step), else by a product.
-        ws.clipped.clear();
-        ws.clipped.extend(ws.z.iter().enumerate().filter(|&(_, &v)| v < 0.0).map(|(j, &v)| (j, v)));
+        // Clipped, they move w for the check: by their columns while they
+        // are few (a resting 10-box stack clips a few friction values a step:
+        // a product cost 10 % of its step), else by a product.
         if !ws.clipped.is_empty() {
             ws.z.iter_mut().for_each(|v| *v = v.max(0.0));
             if ws.clipped.len() <= CLIPPED_BY_COLUMNS {
@@ -85,9 +87,8 @@ pub(super) fn solve_rounds(
         }
         let dropped = if reused { 0 } else { m - rank };
         // Within the normwise bounds, and whether the answer may be returned at all.
-        let tight = within_both(op, also, tol.tight, ws);
-        let loose =
-            !tight && tol.loose && held.is_none() && ruled.is_none() && within_both(op, also, tol.accept_tol, ws);
+        let tight = within_both(also, tol.tight, ws);
+        let loose = !tight && tol.loose && held.is_none() && ruled.is_none() && within_both(also, tol.accept_tol, ws);
         // The row the acceptance rule rejects, read only for an answer that
         // could be returned or held (an exchange round after one is held
         // needs no verdict unless it is clean).

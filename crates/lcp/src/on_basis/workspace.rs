@@ -30,6 +30,10 @@ pub struct BasisWorkspace {
     pub(super) w: Vec<f64>,
     pub(super) z2: Vec<f64>,
     pub(super) w2: Vec<f64>,
+    /// `‖q‖∞` of the operator of the current call, and the residuals of
+    /// `z`, `w` as [`within_both`](super::check::within_both) last formed them.
+    pub(super) q_norm: f64,
+    pub(super) residuals: crate::solution::Residuals,
     /// The factorization of the answer held while exchanges are tried.
     pub(super) held: Factors,
     /// The factors [`border`](super::factors::border) grew from, their buffers kept for the next exchange.
