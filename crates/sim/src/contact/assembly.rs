@@ -31,6 +31,7 @@ use crate::dynamics::Body;
 use crate::geometry::Contact;
 use crate::math::{Mat3, Vec3};
 use lcp::{ContactLayout, Lcp, LcpError};
+use std::cell::RefCell;
 
 /// One Jacobian row for one body: `[linear (3); angular (3)]`.
 pub type Row6 = [f64; 6];
@@ -113,6 +114,45 @@ pub struct ContactLcp {
     /// Distinct dynamic bodies among the contacts (and scratch to count them).
     dynamic_bodies: usize,
     seen: Vec<usize>,
+}
+
+thread_local! {
+    /// Per body of the world, its slot in the island being numbered
+    /// ([`number_bodies`]; [`NO_SLOT`] between calls).
+    static SLOT_OF: RefCell<Vec<usize>> = const { RefCell::new(Vec::new()) };
+}
+
+/// [`SLOT_OF`]'s mark of a body outside the island being numbered.
+const NO_SLOT: usize = usize::MAX;
+
+/// `seen` ← the distinct dynamic bodies of `side_body` (bodies of a world of
+/// `bodies`), ascending; `side_slot` ← each side's rank among them. The
+/// distinct bodies are found by marks, not by sorting every side (sorting
+/// the 80 sides of a 10-box stack and a binary search per side were a sixth
+/// of its assembly).
+fn number_bodies(
+    side_body: &[Option<usize>],
+    bodies: usize,
+    seen: &mut Vec<usize>,
+    side_slot: &mut Vec<Option<usize>>,
+) {
+    SLOT_OF.with_borrow_mut(|slot_of| {
+        if slot_of.len() < bodies {
+            slot_of.resize(bodies, NO_SLOT);
+        }
+        seen.clear();
+        for &b in side_body.iter().flatten() {
+            if slot_of[b] == NO_SLOT {
+                slot_of[b] = 0;
+                seen.push(b);
+            }
+        }
+        seen.sort_unstable();
+        seen.iter().enumerate().for_each(|(r, &b)| slot_of[b] = r);
+        side_slot.clear();
+        side_slot.extend(side_body.iter().map(|b| b.map(|b| slot_of[b])));
+        seen.iter().for_each(|&b| slot_of[b] = NO_SLOT);
+    });
 }
 
 #[inline]
@@ -336,14 +376,8 @@ impl ContactLcp {
 
         self.bodies = dynamics.bodies.len();
         self.matrix_ready = false;
-        self.seen.clear();
-        self.seen.extend(self.side_body.iter().flatten());
-        self.seen.sort_unstable();
-        self.seen.dedup();
+        number_bodies(&self.side_body, self.bodies, &mut self.seen, &mut self.side_slot);
         self.dynamic_bodies = self.seen.len();
-        self.side_slot.clear();
-        let seen = &self.seen;
-        self.side_slot.extend(self.side_body.iter().map(|b| b.map(|b| seen.partition_point(|&x| x < b))));
 
         // q = [J_n v* + stabilization; J_d v*; 0].
         self.q.clear();
