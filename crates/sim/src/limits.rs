@@ -78,10 +78,16 @@ impl From<SizeError> for SimError {
 /// velocity 3, angular velocity 3 floats) and per step (the step's scalars).
 const TRAJECTORY_BODY_BYTES: u128 = 13 * 8;
 const TRAJECTORY_STEP_BYTES: u128 = 16 * 8;
+/// Per step and joint: force 3, torque 3, coordinate 1, errors 2 floats.
+const TRAJECTORY_JOINT_BYTES: u128 = 9 * 8;
 
-/// Refuses a run of `steps` steps of `bodies` bodies whose trajectory cannot fit in memory.
-pub fn check_trajectory(steps: usize, bodies: usize) -> Result<(), SimError> {
-    let per_step = (bodies as u128).saturating_mul(TRAJECTORY_BODY_BYTES).saturating_add(TRAJECTORY_STEP_BYTES);
+/// Refuses a run of `steps` steps of `bodies` bodies and `joints` joints
+/// whose trajectory cannot fit in memory.
+pub fn check_trajectory(steps: usize, bodies: usize, joints: usize) -> Result<(), SimError> {
+    let per_step = (bodies as u128)
+        .saturating_mul(TRAJECTORY_BODY_BYTES)
+        .saturating_add((joints as u128).saturating_mul(TRAJECTORY_JOINT_BYTES))
+        .saturating_add(TRAJECTORY_STEP_BYTES);
     lcp::limits::check_bytes(
         || format!("a trajectory of {steps} steps of {bodies} bodies"),
         per_step.saturating_mul(steps as u128),

@@ -142,7 +142,7 @@ impl World {
     /// Like [`World::run`], but stops early, after a step, once `stop(world)`
     /// says so (e.g. when an LCP sink holds enough to be drained).
     pub fn run_until(&mut self, steps: usize, mut stop: impl FnMut(&World) -> bool) -> Result<Trajectory, SimError> {
-        limits::check_trajectory(steps, self.bodies.len())?;
+        limits::check_trajectory(steps, self.bodies.len(), self.joints.len())?;
         let mut traj = Trajectory::for_world(steps, self);
         for _ in 0..steps {
             self.step()?;
