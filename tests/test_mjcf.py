@@ -129,6 +129,13 @@ def test_unsupported_elements_are_refused_naming_them(xml, words):
         assert word in msg, msg
 
 
+def test_a_zero_timestep_is_refused_naming_the_option():
+    xml = '<mujoco><option timestep="0"/><worldbody><geom type="plane" size="1 1 1"/></worldbody></mujoco>'
+    with pytest.raises(MjcfError, match="timestep must be > 0.*got 0.0"):
+        World.from_mjcf(xml)
+    assert World.from_mjcf(xml, dt=1e-3).dt == 1e-3  # a dt given replaces the file's
+
+
 def test_actuators_are_refused():
     xml = ('<mujoco><worldbody><body name="b"><joint name="j" type="slide"/><geom type="box" size=".1 .1 .1"/>'
            '</body></worldbody><actuator><motor name="push" joint="j"/></actuator></mujoco>')

@@ -166,6 +166,8 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
             if len(gs) > 1 or _off_centre(m, d, gs[0], b):
                 _check_same_surface(mujoco, m, gs, bname)
                 compound[b] = gs
+    if "dt" not in world_kwargs and not float(m.opt.timestep) > 0.0:
+        raise MjcfError(f"option timestep must be > 0 (it is lcpsim's dt), got {float(m.opt.timestep)!r}")
     world_kwargs.setdefault("dt", float(m.opt.timestep))
     world_kwargs.setdefault("gravity", tuple(float(x) for x in m.opt.gravity))
     world_kwargs.setdefault("mu_combine", "max")
