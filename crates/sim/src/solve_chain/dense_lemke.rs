@@ -1,6 +1,7 @@
 //! Stage 4, the last word: the method's own solver on the dense `M`, formed
 //! here if assembly left it out. For Lemke that is its repair ladder, ending
-//! in the double-double and exact rungs inside `lcp::lemke`.
+//! in the double-double and exact rungs inside `lcp::lemke`. A jointed
+//! island first tries its loaded contacts' sub-LCP ([`super::dense_loaded`]).
 
 use crate::pipeline::island::{IslandLcp, IslandSolver};
 use lcp::{LcpError, Solution};
@@ -17,7 +18,8 @@ pub(super) fn solve(
     }
     // Lend the buffers to an Lcp, solve, and take them back.
     let lcp = isl.lcp.take_lcp()?;
-    let sol = solver(&lcp, warm);
+    let loaded = if isl.jointed { super::dense_loaded::solve(&lcp, isl.lcp.layout(), solver, warm) } else { None };
+    let sol = loaded.unwrap_or_else(|| solver(&lcp, warm));
     isl.lcp.restore(lcp);
     Ok(sol)
 }

@@ -37,6 +37,7 @@
 
 pub(crate) mod answer_check;
 mod dense_lemke;
+mod dense_loaded;
 mod guessed_basis;
 pub mod kept_factors;
 pub(crate) mod loaded_friction;
