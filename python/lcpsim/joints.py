@@ -114,17 +114,8 @@ class JointsMixin:
             self._core.set_joint_damping(j, d)
         return j
 
-    def add_hinge(
-        self,
-        body_a: int | None,
-        body_b: int,
-        anchor: Vec,
-        axis: Vec,
-        *,
-        limits: Any = None,
-        motor: Any = None,
-        damping: float = 0.0,
-    ) -> int:
+    def add_hinge(self, body_a: int | None, body_b: int, anchor: Vec, axis: Vec, *,
+                  limits: Any = None, motor: Any = None, damping: float = 0.0) -> int:
         """A hinge: ``body_b`` turns about ``axis`` (world, at creation) through
         ``anchor`` (world) relative to ``body_a`` (None: the world). Returns the
         joint's index. ``limits``: ``(lower, upper)`` of the angle (rad, 0 at
@@ -134,17 +125,8 @@ class JointsMixin:
         (N·m·s/rad)."""
         return self._add_joint("hinge", body_a, body_b, anchor, axis, limits, motor, damping)
 
-    def add_slider(
-        self,
-        body_a: int | None,
-        body_b: int,
-        anchor: Vec,
-        axis: Vec,
-        *,
-        limits: Any = None,
-        motor: Any = None,
-        damping: float = 0.0,
-    ) -> int:
+    def add_slider(self, body_a: int | None, body_b: int, anchor: Vec, axis: Vec, *,
+                   limits: Any = None, motor: Any = None, damping: float = 0.0) -> int:
         """A slider (prismatic joint): ``body_b`` translates along ``axis``
         relative to ``body_a`` without turning. Returns the joint's index.
         ``limits``: ``(lower, upper)`` of B's displacement along ``axis`` (m, 0 at creation);
