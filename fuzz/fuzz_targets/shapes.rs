@@ -1,4 +1,4 @@
-//! Convex hulls, triangle meshes and compounds on arbitrary points, faces and parts, added to a
+//! Convex hulls, triangle meshes, compounds and height fields on arbitrary points, faces, parts and grids, added to a
 //! world and stepped: a shape or a `BadGeometry` naming the field, never a
 //! panic, a refused body leaves the world unchanged. The decoding and the
 //! properties are the property test's (`crates/sim/tests/shape_properties/`).

@@ -1,5 +1,6 @@
 """The shapes beyond boxes, spheres and planes — :meth:`World.add_capsule`,
-``add_cylinder``, ``add_convex``, ``add_mesh``, ``add_compound`` (:class:`ShapesMixin`, a base of
+``add_cylinder``, ``add_convex``, ``add_mesh``, ``add_compound``, ``add_heightfield``
+(:class:`ShapesMixin`, a base of
 :class:`lcpsim.World`) — and every body's collision bits (MuJoCo's
 ``contype``/``conaffinity``). Array shapes, size limits and the bits are checked
 here, the rest (finite values, index ranges, degenerate faces) in Rust
@@ -14,7 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
-from ._validate import real as _real, vec as _vec, velocities as _velocities
+from ._validate import as_real_array, real as _real, vec as _vec, velocities as _velocities
 
 _BODY = _core.BODY_DEFAULTS
 Vec = Union[Sequence[float], NDArray[np.float64]]
@@ -24,6 +25,8 @@ Vec = Union[Sequence[float], NDArray[np.float64]]
 MAX_HULL_POINTS = 100_000
 MAX_MESH_VERTICES = 1_000_000
 MAX_MESH_FACES = 2_000_000
+#: The most grid points of :meth:`World.add_heightfield` (``sim::geometry::MAX_HFIELD_POINTS``).
+MAX_HFIELD_POINTS = 16_000_000
 #: The most parts of :meth:`World.add_compound` (``sim::geometry::MAX_COMPOUND_PARTS``).
 MAX_COMPOUND_PARTS = 10_000
 #: A compound part's kinds and the field(s) giving each one's size.
@@ -230,6 +233,31 @@ class ShapesMixin:
         pts = points_array(vertices, "vertices", MAX_MESH_VERTICES)
         f = faces_array(faces, MAX_MESH_FACES)
         return self._filtered(contype, conaffinity, lambda: self._core.add_mesh(pts, f, mu, position, orientation))
+
+    def add_heightfield(
+        self,
+        heights: ArrayLike,
+        size: Vec,
+        mu: float = _BODY["mu"],
+        *,
+        position: Vec = tuple(_BODY["position"]),
+        orientation: Vec = tuple(_BODY["orientation"]),
+        contype: int = _BODY["contype"],
+        conaffinity: int = _BODY["conaffinity"],
+    ) -> int:
+        """Adds static terrain: ``heights`` (nrow, ncol), both ≥ 2, the surface's z on a grid
+        over x ∈ [−size[0], size[0]] (columns) and y ∈ [−size[1], size[1]] (rows, row 0 at
+        −size[1], as MJCF's ``hfield``), in its frame (placed by ``position``, ``orientation``);
+        solids rest on its top. At most MAX_HFIELD_POINTS points."""
+        h = as_real_array(heights, "heights", 2)
+        if h.shape[0] < 2 or h.shape[1] < 2:
+            raise ValueError(f"heights must be an (nrow, ncol) array with nrow, ncol >= 2, got shape {h.shape}")
+        if h.size > MAX_HFIELD_POINTS:
+            raise ValueError(f"heights has {h.size} points, more than the limit of {MAX_HFIELD_POINTS}")
+        hx, hy = _vec(size, "size", 2)
+        h = np.ascontiguousarray(h, dtype=np.float64)
+        return self._filtered(contype, conaffinity, lambda: self._core.add_heightfield(
+            h, hx, hy, mu, position, orientation))
 
     def _filtered(self, contype: Any, conaffinity: Any, add: Callable[[], Any]) -> int:
         """``add()``'s body with its collision bits, checked first: bad bits add nothing."""

@@ -31,7 +31,10 @@ the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
   hard velocity constraint with the force bound), driven by
   :meth:`lcpsim.World.set_control` (``ctrl`` starts at 0: the joint is held still);
 - static geoms of the world body and of bodies welded to it (plane, box,
-  sphere, capsule, cylinder, mesh as its convex hull);
+  sphere, capsule, cylinder, mesh as its convex hull, ``hfield`` as a height
+  field: :meth:`lcpsim.World.add_heightfield` of the compiled ``hfield_data``
+  times its elevation ``size[2]``, from elevation data or a PNG alike; its
+  ``base`` below the surface is not a solid);
 - μ = ``geom_friction[0]``, combined by ``max`` as MuJoCo does (unless
   ``mu_combine`` is given); ``dt`` = ``opt.timestep``, ``gravity`` = ``opt.gravity``;
 - ``geom_contype``, ``geom_conaffinity`` as each body's collision bits (MuJoCo's
@@ -49,7 +52,7 @@ the joint's ``damping``), armature or friction loss, a moving body
 with no colliding geom or several, other actuators (motor, position, ...; a
 >>>>>>> afb3711 (Joint damping: a hinge's or slider's rate row with compliance 1/(h d), eliminated with the rigid rows (implicit Euler of −d q̇, i.e. the step with M + h d rrᵀ; the rank cut judged on the rigid rows' scale; left out of the position projection); World::set_joint_damping, Python add_hinge/add_slider(damping=) and set_joint_damping, MJCF hinge/slide damping read (mjcf.py: a small hunk in _check_joints and _add_joint, for h6; ball damping still refused). Tests: a damped slider (d = 4 and 2e4 N·s/m) decays as v0/(1+hd/m)^k to 1e-9 and within 3e-3 of exp(−dt/m); a damped hinge slows a wheel as ω0/(1+hd/I)^k with the damper's torque as reaction; the MJCF hinge damping; bad damping; tests/joints.rs' gripper on round fingertips)
 velocity actuator without a symmetric ``forcerange`` or on a ball joint),
-ellipsoids, height fields, SDFs, tendons, equality constraints, explicit
+ellipsoids, height fields on moving bodies, SDFs, tendons, equality constraints, explicit
 contact pairs and excludes.
 """
 
@@ -146,8 +149,10 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
     colliding = [g for g in range(m.ngeom) if int(m.geom_contype[g]) != 0 or int(m.geom_conaffinity[g]) != 0]
     for g in colliding:
         t = int(m.geom_type[g])
-        if t in (1, 4, 8):
+        if t in (4, 8):
             raise MjcfError(f"geom {_name(mujoco, m, OBJ.mjOBJ_GEOM, g)!r} is a {GEOM_TYPES[t]}, which is not supported")
+        if t == 1 and moving[int(m.geom_bodyid[g])]:
+            raise MjcfError(f"geom {_name(mujoco, m, OBJ.mjOBJ_GEOM, g)!r} is an hfield on a moving body (terrain is static)")
     per_body: dict[int, list[int]] = {}
     for g in colliding:
         per_body.setdefault(int(m.geom_bodyid[g]), []).append(g)
@@ -405,6 +410,17 @@ def _add_compound(mujoco: Any, m: Any, d: Any, world: Any, gs: list[int], b: int
     return idx
 
 
+def _hfield(m: Any, g: int) -> tuple[NDArray[np.float64], tuple[float, float]]:
+    """Geom ``g``'s height field: (nrow, ncol) heights (``hfield_data``, normalized to
+    [0, 1] by MuJoCo, times the elevation ``size[2]``; row 0 at −y) and its half sizes."""
+    k = int(m.geom_dataid[g])
+    nrow, ncol = int(m.hfield_nrow[k]), int(m.hfield_ncol[k])
+    adr = int(m.hfield_adr[k])
+    size = [float(x) for x in m.hfield_size[k]]
+    data = np.array(m.hfield_data[adr : adr + nrow * ncol], dtype=np.float64).reshape(nrow, ncol)
+    return data * size[2], (size[0], size[1])
+
+
 def _add_geom(mujoco: Any, m: Any, d: Any, world: Any, g: int, b: int, moving: bool, names: dict[str, int]) -> int:
     """One colliding geom as an lcpsim body (static unless its body moves)."""
     t = int(m.geom_type[g])
@@ -426,6 +442,9 @@ def _add_geom(mujoco: Any, m: Any, d: Any, world: Any, g: int, b: int, moving: b
     if t == 0:  # plane: the geom's z is its normal
         n = rot[:, 2]
         idx = world.add_plane(tuple(n), float(n @ pos), mu, **bits)
+    elif t == 1:
+        heights, half = _hfield(m, g)
+        idx = world.add_heightfield(heights, half, mu, position=pos, orientation=quat, **bits)
     elif t == 2:
         idx = world.add_sphere(float(size[0]), **kw)
     elif t == 3:

@@ -74,7 +74,7 @@ class BodyState:
     """One body: its shape, mass properties and current state."""
 
     index: int
-    kind: str  # "box", "sphere", "plane", "capsule", "cylinder", "convex", "mesh" or "compound"
+    kind: str  # "box", "sphere", "plane", "capsule", "cylinder", "convex", "mesh", "compound" or "hfield"
     is_static: bool
     mass: float  # inf for static bodies
     mu: float
@@ -93,6 +93,7 @@ class BodyState:
     faces: NDArray[np.int64] | None = None  # convex, mesh: (M, 3) vertex indices
     com_offset: NDArray[np.float64] | None = None  # convex, compound: its centre of mass in the frame given
     parts: list[dict[str, Any]] | None = None  # compound: each part's kind, size, position, orientation (body frame)
+    heights: NDArray[np.float64] | None = None  # hfield: (nrow, ncol) heights; half_extents its (x, y) half sizes
 
 
 @dataclass(frozen=True)
@@ -435,7 +436,8 @@ class World(JointsMixin, ShapesMixin):
             d: dict[str, Any] = {"kind": b.kind, "static": b.is_static, "mu": b.mu}
             if not b.is_static:
                 d["mass"] = b.mass
-            for key in ("half_extents", "radius", "normal", "offset", "half_length", "vertices", "faces", "com_offset"):
+            for key in ("half_extents", "radius", "normal", "offset", "half_length", "vertices", "faces", "com_offset",
+                        "heights"):
                 v = getattr(b, key)
                 if v is not None:
                     d[key] = v.tolist() if isinstance(v, np.ndarray) else v
@@ -573,6 +575,7 @@ class World(JointsMixin, ShapesMixin):
             faces=d.get("faces"),
             com_offset=d.get("com_offset"),
             parts=d.get("parts"),
+            heights=d.get("heights"),
         )
 
     @property

@@ -50,7 +50,9 @@ pub mod world;
 pub use contact::{ConeScale, MuCombine, Restitution, Stabilization};
 pub use dynamics::{Body, BodyDesc, BodyId, CollisionFilter};
 pub use error::SimError;
-pub use geometry::{CompoundPart, CompoundShape, Contact, ConvexHull, Downhill, Plane, Shape, TriMeshShape};
+pub use geometry::{
+    CompoundPart, CompoundShape, Contact, ConvexHull, Downhill, HeightFieldShape, Plane, Shape, TriMeshShape,
+};
 pub use joints::{Joint, JointDesc, JointId, JointKind, JointParams, JointReaction};
 pub use params::WorldParams;
 pub use pipeline::{

@@ -1,5 +1,5 @@
 //! The `shapes` fuzz target's properties (`tests/shape_properties/mod.rs`) in
-//! the normal test suite: any hull points, mesh vertices and faces and compound parts give a
+//! the normal test suite: any hull points, mesh vertices and faces, compound parts and height grids give a
 //! shape or a `BadGeometry` naming the field, never a panic, and a world with
 //! the shape steps cleanly.
 
@@ -27,6 +27,7 @@ fn random_shapes_are_accepted_and_refused_and_step() {
     let mut runner = proptest::test_runner::TestRunner::deterministic();
     let (mut accepted, mut refused, mut steps) = (0, 0, 0);
     let mut compounds = [0usize; 2]; // refused, accepted
+    let mut fields = [0usize; 2];
     for _ in 0..300 {
         let data = proptest::collection::vec(any::<u8>(), 0..400).new_tree(&mut runner).unwrap().current();
         let s = shape_properties::check(&data).unwrap();
@@ -39,7 +40,11 @@ fn random_shapes_are_accepted_and_refused_and_step() {
         if s.kind == 2 {
             compounds[s.accepted as usize] += 1;
         }
+        if s.kind == 3 {
+            fields[s.accepted as usize] += 1;
+        }
     }
     assert!(compounds[0] >= 10 && compounds[1] >= 10, "compounds refused, accepted: {compounds:?}");
+    assert!(fields[0] >= 10 && fields[1] >= 10, "height fields refused, accepted: {fields:?}");
     assert!(accepted >= 30 && refused >= 30 && steps >= 100, "accepted {accepted}, refused {refused}, steps {steps}");
 }

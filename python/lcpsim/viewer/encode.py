@@ -269,7 +269,8 @@ def _body_size(bodies: list[dict[str, Any]], dynamic: list[int]) -> float:
 
 
 def _body_json(b: Mapping[str, Any], i: int, traj: TrajectoryData) -> dict[str, Any]:
-    keys = ("kind", "static", "half_extents", "radius", "normal", "offset", "half_length", "vertices", "faces", "parts")
+    keys = ("kind", "static", "half_extents", "radius", "normal", "offset", "half_length", "vertices", "faces", "parts",
+            "heights")
     out = {k: b[k] for k in keys if k in b}
     out["position"] = traj.initial_positions[i].tolist()
     out["orientation"] = traj.initial_orientations[i].tolist()

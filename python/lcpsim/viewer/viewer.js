@@ -47,7 +47,7 @@ function lcpsimStartViewer(THREE, OrbitControls, D) {
 
   const v3 = (a, i) => new THREE.Vector3(a[i], a[i + 1], a[i + 2]);
   const center = new THREE.Vector3(...D.view.center);
-  // A box, sphere, capsule, cylinder, hull or mesh of `color` at the origin (null for other kinds).
+  // A box, sphere, capsule, cylinder, hull, mesh or height field of `color` at the origin (null for other kinds).
   function solidObject(b, color) {
     let obj = null;
     if (b.kind === "box") {
@@ -83,6 +83,24 @@ function lcpsimStartViewer(THREE, OrbitControls, D) {
       });
       obj = new THREE.Mesh(geo, mat);
       obj.add(new THREE.LineSegments(new THREE.EdgesGeometry(geo, 20), new THREE.LineBasicMaterial({ color: 0x222222 })));
+    } else if (b.kind === "hfield" && b.heights) {
+      // The grid of heights: row r at y = −hy + 2hy·r/(nrow − 1), column c at x likewise.
+      const nr = b.heights.length, nc = b.heights[0].length, [hx, hy] = b.half_extents;
+      const pos = [], idx = [];
+      for (let r = 0; r < nr; r++) {
+        for (let c = 0; c < nc; c++) pos.push(-hx + 2 * hx * c / (nc - 1), -hy + 2 * hy * r / (nr - 1), b.heights[r][c]);
+      }
+      for (let r = 0; r + 1 < nr; r++) {
+        for (let c = 0; c + 1 < nc; c++) {
+          const k = r * nc + c;
+          idx.push(k, k + 1, k + nc + 1, k, k + nc + 1, k + nc);
+        }
+      }
+      const geo = new THREE.BufferGeometry();
+      geo.setAttribute("position", new THREE.Float32BufferAttribute(pos, 3));
+      geo.setIndex(idx);
+      geo.computeVertexNormals();
+      obj = new THREE.Mesh(geo, new THREE.MeshStandardMaterial({ color: color, roughness: 0.9, side: THREE.DoubleSide }));
     }
     return obj;
   }

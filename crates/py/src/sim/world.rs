@@ -145,6 +145,12 @@ fn shape_fields<'py>(py: Python<'py>, d: &Bound<'py, PyDict>, shape: &Shape) -> 
             let f: Vec<i64> = m.faces().iter().flat_map(|t| t.map(i64::from)).collect();
             d.set_item("faces", PyArray1::from_vec(py, f).reshape(vec![m.faces().len(), 3])?)?;
         }
+        Shape::HeightField(h) => {
+            let (nrow, ncol) = h.dims();
+            d.set_item("heights", shaped(py, h.heights().to_vec(), [nrow, ncol])?)?;
+            let (hx, hy) = h.half_extents();
+            d.set_item("half_extents", PyArray1::from_vec(py, vec![hx, hy]))?;
+        }
         Shape::Plane(p) => {
             d.set_item("normal", arr3(py, p.normal()))?;
             d.set_item("offset", p.offset())?;
@@ -327,6 +333,29 @@ impl World {
         let pts = rows3(&vertices, "vertices")?;
         let tris = faces3(&faces)?;
         let mut d = guarded(|| BodyDesc::mesh(&pts, &tris))?;
+        d.position = or_default(position, "position", vec3, d.position)?;
+        d.orientation = or_default(orientation, "orientation", quat, d.orientation)?;
+        d.mu = or_default(mu, "mu", real, d.mu)?;
+        self.add(d.fixed(true))
+    }
+
+    /// A static height field: `heights` (nrow, ncol), row r at y = −half_y + 2·half_y·r/(nrow − 1),
+    /// column c at x = −half_x + 2·half_x·c/(ncol − 1), in its frame (placed by `position`, `orientation`).
+    #[pyo3(signature = (heights, half_x, half_y, mu = None, position = None, orientation = None))]
+    fn add_heightfield(
+        &mut self,
+        heights: PyReadonlyArray2<'_, f64>,
+        half_x: &Bound<'_, PyAny>,
+        half_y: &Bound<'_, PyAny>,
+        mu: Option<&Bound<'_, PyAny>>,
+        position: Option<&Bound<'_, PyAny>>,
+        orientation: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<usize> {
+        let h = heights.as_array();
+        let (nrow, ncol) = (h.nrows(), h.ncols());
+        let values: Vec<f64> = h.iter().copied().collect();
+        let (hx, hy) = (real(half_x, "half_x")?, real(half_y, "half_y")?);
+        let mut d = guarded(|| BodyDesc::heightfield(nrow, ncol, hx, hy, &values))?;
         d.position = or_default(position, "position", vec3, d.position)?;
         d.orientation = or_default(orientation, "orientation", quat, d.orientation)?;
         d.mu = or_default(mu, "mu", real, d.mu)?;

@@ -120,6 +120,11 @@ impl BodyDesc {
         Ok(BodyDesc::new(Shape::mesh(vertices, faces)?))
     }
 
+    /// A static height field (see [`crate::HeightFieldShape::new`]; the pose places its grid).
+    pub fn heightfield(nrow: usize, ncol: usize, half_x: f64, half_y: f64, heights: &[f64]) -> Result<Self, SimError> {
+        Ok(BodyDesc::new(Shape::HeightField(crate::HeightFieldShape::new(nrow, ncol, half_x, half_y, heights)?)))
+    }
+
     setters!(mass: f64, position: Vec3, orientation: Quat, velocity: Vec3, angular_velocity: Vec3, mu: f64);
 
     pub fn inertia(mut self, inertia: Mat3) -> Self {

@@ -124,6 +124,9 @@ impl CompoundShape {
             radius = radius.max(d.norm() + p.shape.bounding_radius());
             out.push(CompoundPart { shape: p.shape.clone(), position: d, orientation: q });
         }
+        if !(radius.is_finite() && unit_inertia.is_finite()) {
+            return Err(bad(format!("reach {radius} from their centre, beyond a finite bound")));
+        }
         // Exactly symmetric (the sums round).
         let mut m = unit_inertia.m;
         for r in 0..3 {

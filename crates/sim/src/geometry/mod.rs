@@ -1,8 +1,9 @@
 //! Shapes and narrow-phase contact detection: one file per pair of the
 //! primitives (box, sphere, plane), and parry's contact manifolds
 //! (`parry_pair.rs`) for every pair with a capsule, cylinder, convex hull,
-//! triangle mesh or compound (`convex.rs` holds the hull's and the mesh's
-//! data, `compound.rs` the compound's parts and mass properties).
+//! triangle mesh, compound or height field (`convex.rs` holds the hull's and
+//! the mesh's data, `compound.rs` the compound's parts and mass properties,
+//! `heightfield.rs` the terrain grid).
 //!
 //! Every pair function takes the two shapes in the order of its name
 //! (`box_plane(box, plane)`, `sphere_box(sphere, box)`, …) and appends
@@ -20,6 +21,7 @@ mod box_plane;
 mod compound;
 mod contact;
 mod convex;
+mod heightfield;
 mod parry_pair;
 mod plane;
 mod shape;
@@ -32,6 +34,7 @@ pub use box_plane::box_plane;
 pub use compound::{CompoundPart, CompoundShape, MAX_COMPOUND_PARTS};
 pub use contact::{Contact, GeomContact};
 pub use convex::{ConvexHull, TriMeshShape, MAX_HULL_POINTS, MAX_MESH_FACES, MAX_MESH_VERTICES};
+pub use heightfield::{HeightFieldShape, MAX_HFIELD_POINTS};
 pub use parry_pair::{parry_pair, ParryScratch};
 pub use plane::{fixed_tangent, Downhill, Plane};
 pub use shape::{BoxShape, Shape};

@@ -1,5 +1,5 @@
 //! Contacts of any pair that involves a capsule, a cylinder, a convex hull,
-//! a triangle mesh or a compound, from parry's contact manifolds
+//! a triangle mesh, a compound or a height field, from parry's contact manifolds
 //! (`PersistentQueryDispatcher::contact_manifolds`: several points per pair,
 //! each with its gap), in this module's convention: normal from B to A, the
 //! point midway between the two surfaces, points with `φ ≤ margin`.
@@ -40,6 +40,11 @@ impl ParryShape<'_> {
     }
 }
 
+/// parry's axis y onto the body's z: a quarter turn about x.
+fn y_to_z() -> Rot3 {
+    Rot3::from_axis_angle(PVec::X, std::f64::consts::FRAC_PI_2)
+}
+
 /// The parry shape of `shape` at `place`, and its pose.
 pub(crate) fn parry_shape<'a>(shape: &'a Shape, place: &Placement) -> (ParryShape<'a>, Pose) {
     let q = Quat::from_mat3(&place.rotation);
@@ -49,17 +54,15 @@ pub(crate) fn parry_shape<'a>(shape: &'a Shape, place: &Placement) -> (ParryShap
         Shape::Box(b) => (ParryShape::Cuboid(Cuboid::new(pvec(b.half_extents))), pose),
         Shape::Sphere { radius } => (ParryShape::Ball(Ball::new(*radius)), pose),
         Shape::Capsule { radius, half_length } => (ParryShape::Capsule(Capsule::new_z(*half_length, *radius)), pose),
-        Shape::Cylinder { radius, half_length } => {
-            // parry's axis y onto the body's z: a quarter turn about x.
-            let y_to_z = Rot3::from_axis_angle(PVec::X, std::f64::consts::FRAC_PI_2);
-            (
-                ParryShape::Cylinder(Cylinder::new(*half_length, *radius)),
-                Pose::from_parts(pose.translation, rot * y_to_z),
-            )
-        }
+        Shape::Cylinder { radius, half_length } => (
+            ParryShape::Cylinder(Cylinder::new(*half_length, *radius)),
+            Pose::from_parts(pose.translation, rot * y_to_z()),
+        ),
         Shape::Convex(h) => (ParryShape::Borrowed(h.parry()), pose),
         Shape::Mesh(m) => (ParryShape::Borrowed(m.parry()), pose),
         Shape::Compound(c) => (ParryShape::Borrowed(c.parry()), pose),
+        // parry's y-up field onto the body's z, as the cylinder.
+        Shape::HeightField(h) => (ParryShape::Borrowed(h.parry()), Pose::from_parts(pose.translation, rot * y_to_z())),
         Shape::Plane(p) => (
             ParryShape::HalfSpace(HalfSpace::new(pvec(p.normal()))),
             Pose::from_translation(pvec(p.normal() * p.offset())),

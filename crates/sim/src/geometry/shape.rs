@@ -2,6 +2,7 @@
 
 use super::compound::{CompoundPart, CompoundShape};
 use super::convex::{ConvexHull, TriMeshShape};
+use super::heightfield::HeightFieldShape;
 use super::Plane;
 use crate::error::{positive, SimError};
 use crate::math::{Mat3, Vec3};
@@ -67,6 +68,8 @@ pub enum Shape {
     Mesh(TriMeshShape),
     /// Several solid parts at poses in the body frame, recentred at their centre of mass.
     Compound(CompoundShape),
+    /// Heights on a regular grid (static bodies only): terrain.
+    HeightField(HeightFieldShape),
 }
 
 impl Shape {
@@ -125,7 +128,7 @@ impl Shape {
                 positive("radius", *radius)?;
                 positive("half_length", *half_length).map(|_| ())
             }
-            Shape::Convex(_) | Shape::Mesh(_) | Shape::Compound(_) => Ok(()),
+            Shape::Convex(_) | Shape::Mesh(_) | Shape::Compound(_) | Shape::HeightField(_) => Ok(()),
         }
     }
 
@@ -139,7 +142,7 @@ impl Shape {
             Shape::Cylinder { radius: r, half_length: h } => Some(PI * r * r * 2.0 * h),
             Shape::Convex(c) => Some(c.volume()),
             Shape::Compound(c) => Some(c.volume()),
-            Shape::Plane(_) | Shape::Mesh(_) => None,
+            Shape::Plane(_) | Shape::Mesh(_) | Shape::HeightField(_) => None,
         }
     }
 
@@ -149,9 +152,9 @@ impl Shape {
         matches!(self, Shape::Box(_) | Shape::Sphere { .. } | Shape::Plane(_))
     }
 
-    /// Whether bodies of this shape must be static (planes and meshes).
+    /// Whether bodies of this shape must be static (planes, meshes and height fields).
     pub fn is_static_only(&self) -> bool {
-        matches!(self, Shape::Plane(_) | Shape::Mesh(_))
+        matches!(self, Shape::Plane(_) | Shape::Mesh(_) | Shape::HeightField(_))
     }
 
     /// Inertia tensor of a solid of this shape and `mass`, in the body frame.
@@ -178,7 +181,7 @@ impl Shape {
             }
             Shape::Convex(c) => Some(c.inertia(mass)),
             Shape::Compound(c) => Some(c.inertia(mass)),
-            Shape::Plane(_) | Shape::Mesh(_) => None,
+            Shape::Plane(_) | Shape::Mesh(_) | Shape::HeightField(_) => None,
         }
     }
 
@@ -193,10 +196,11 @@ impl Shape {
             Shape::Convex(c) => c.radius(),
             Shape::Mesh(m) => m.radius(),
             Shape::Compound(c) => c.radius(),
+            Shape::HeightField(h) => h.radius(),
         }
     }
 
-    /// Short name (`"box"`, `"sphere"`, `"plane"`, `"capsule"`, `"cylinder"`, `"convex"`, `"mesh"`, `"compound"`).
+    /// Short name (`"box"`, `"sphere"`, `"plane"`, `"capsule"`, `"cylinder"`, `"convex"`, `"mesh"`, `"compound"`, `"hfield"`).
     pub fn kind(&self) -> &'static str {
         match self {
             Shape::Box(_) => "box",
@@ -207,6 +211,7 @@ impl Shape {
             Shape::Convex(_) => "convex",
             Shape::Mesh(_) => "mesh",
             Shape::Compound(_) => "compound",
+            Shape::HeightField(_) => "hfield",
         }
     }
 }

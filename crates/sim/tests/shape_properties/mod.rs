@@ -1,13 +1,13 @@
-//! Convex hulls, triangle meshes and compounds from arbitrary bytes — points
+//! Convex hulls, triangle meshes, compounds and height fields from arbitrary bytes — points
 //! with NaN, ∞, extremes, duplicates, coplanar sets; faces with out-of-range,
 //! repeated or collinear indices; compounds of no part or several, with bad
-//! sizes, poses and zero quaternions — and what must hold whatever the input:
+//! sizes, poses and zero quaternions; grids of any size with any heights — and what must hold whatever the input:
 //! the constructor returns a shape or a `SimError::BadGeometry` naming
-//! `vertices`, `faces` or `parts`, never panics; a refused body leaves the
+//! `vertices`, `faces`, `parts` or the grid's field, never panics; a refused body leaves the
 //! world as it was; an accepted hull or compound has a positive volume and a
 //! finite centre of mass (a hull finite vertices too); the world with the
 //! shape (a hull or compound dropped on the ground, a ball dropped on the
-//! mesh) steps with `Ok` or a `SimError`, and every island
+//! mesh or field) steps with `Ok` or a `SimError`, and every island
 //! reported solved passes the acceptance rule. Shared by
 //! `tests/properties_any_shape.rs` (proptest) and the fuzz target
 //! `fuzz/fuzz_targets/shapes.rs`; the stepping checks are the world
@@ -104,21 +104,28 @@ fn parts(b: &mut Bytes<'_>) -> Vec<CompoundPart> {
 /// What one input did: whether the shape was accepted, steps taken.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Stats {
-    /// 0 mesh, 1 hull, 2 compound.
+    /// 0 mesh, 1 hull, 2 compound, 3 height field.
     pub kind: u8,
     pub accepted: bool,
     pub steps: usize,
 }
 
-/// A refusal must be a `BadGeometry` naming one of `fields`.
+/// A refusal must name one of `fields` (a `BadGeometry`, or a size not positive or not finite).
 fn refused(e: SimError, fields: &[&str]) -> Result<Stats, String> {
     let kind = match fields[0] {
         "parts" => 2,
+        "nrow" => 3,
         "vertices" if fields.len() == 1 => 1,
         _ => 0,
     };
     match e {
-        SimError::BadGeometry { field, .. } if fields.contains(&field) => Ok(Stats { kind, ..Stats::default() }),
+        SimError::BadGeometry { field, .. }
+        | SimError::NotPositive { field, .. }
+        | SimError::NonFinite { field, .. }
+            if fields.contains(&field) =>
+        {
+            Ok(Stats { kind, ..Stats::default() })
+        }
         e => Err(format!("refused with an unexpected error: {e}")),
     }
 }
@@ -126,10 +133,18 @@ fn refused(e: SimError, fields: &[&str]) -> Result<Stats, String> {
 /// Builds the shape the bytes describe, adds it to a world and steps it (see the module docs).
 pub fn check(data: &[u8]) -> Result<Stats, String> {
     let mut b = Bytes::new(data);
-    let kind = b.u8() % 3;
-    let mesh = kind == 0;
+    let kind = b.u8() % 4;
+    let mesh = kind == 0 || kind == 3;
     let mut w = World::new(WorldParams::default()).map_err(|e| e.to_string())?;
-    let desc = if kind == 2 {
+    let desc = if kind == 3 {
+        let (nrow, ncol) = (b.u8() as usize % 7, b.u8() as usize % 7);
+        let n = if b.u8() % 10 == 0 { b.u8() as usize % 40 } else { nrow * ncol };
+        let heights: Vec<f64> = (0..n).map(|_| coord(&mut b) * 0.2).collect();
+        match BodyDesc::heightfield(nrow, ncol, size(&mut b), size(&mut b), &heights) {
+            Ok(d) => d,
+            Err(e) => return refused(e, &["nrow", "ncol", "heights", "half_x", "half_y"]),
+        }
+    } else if kind == 2 {
         match Shape::compound(&parts(&mut b)) {
             Ok(s) => BodyDesc::new(s),
             Err(e) => return refused(e, &["parts"]),
@@ -157,6 +172,7 @@ pub fn check(data: &[u8]) -> Result<Stats, String> {
             h.radius()
         }
         Shape::Mesh(m) => m.radius(),
+        Shape::HeightField(h) => h.radius(),
         Shape::Compound(c) => {
             if !(c.volume() > 0.0 && c.volume().is_finite()) || !c.com_offset().is_finite() || c.parts().is_empty() {
                 return Err(format!("compound with volume {} or a non-finite centre", c.volume()));
