@@ -77,24 +77,26 @@ def test_penetration_correction_is_stabilization_work_not_created_energy():
 
 @pytest.mark.slow
 def test_island_body_eta_reports_the_body_space_check():
-    # A 1e7 kg box sliding at 0.5 m/s on a 1 kg box: its islands join bodies
-    # whose mobilities differ 1e7-fold, so their answers are judged in body
-    # space and must pass (≤ accept_tol = 1e-9; 600 steps: 6 answers above 0,
-    # the largest 3.5e-10). A cube alone on the ground is not judged (0), nor
-    # is any island under another method.
-    def heavy_on_light(**kw):
+    # A 1e7 or 1e8 kg box sliding at 0.5 m/s on a 1 kg box: its islands join
+    # bodies whose mobilities differ 1e7-fold or more, so their answers are
+    # judged in body space and must pass (≤ accept_tol = 1e-9). Whether a run's
+    # answers show round-off above the check's floor depends on its trajectory
+    # (at 1e7 kg none did at c490586; at 1e8 kg 7.1e-11): over both, some do.
+    # A cube alone on the ground is not judged (0), nor is any island under
+    # another method.
+    def heavy_on_light(mass=1e7, **kw):
         w = lcpsim.World(dt=1e-3, **kw)
         w.add_ground(mu=0.5)
         w.add_box(size=0.1, mass=1.0, position=(0, 0, 0.05))
-        w.add_box(size=1.0, mass=1e7, position=(0, 0, 0.6), velocity=(0.5, 0, 0))
+        w.add_box(size=1.0, mass=mass, position=(0, 0, 0.6), velocity=(0.5, 0, 0))
         return w
 
-    w = heavy_on_light()
     etas = []
-    for _ in range(600):
-        r = w.step()
-        assert r.ok and r.island_body_eta.shape == (r.islands,) and r.island_body_eta.dtype == np.float64
-        etas.extend(r.island_body_eta.tolist())
+    for w in (heavy_on_light(1e7), heavy_on_light(1e8)):
+        for _ in range(600):
+            r = w.step()
+            assert r.ok and r.island_body_eta.shape == (r.islands,) and r.island_body_eta.dtype == np.float64
+            etas.extend(r.island_body_eta.tolist())
     assert 0.0 <= min(etas) and max(etas) <= 1e-9
     assert max(etas) > 0.0, "the body-space check never saw a round-off above its floor"
     cube = lcpsim.World(dt=1e-3)

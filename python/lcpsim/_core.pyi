@@ -202,6 +202,16 @@ class World:
         position: ArrayLike | None = None,
         orientation: ArrayLike | None = None,
     ) -> int: ...
+    def add_heightfield(
+        self,
+        heights: NDArray[np.float64],
+        half_x: float,
+        half_y: float,
+        mu: float | None = None,
+        position: ArrayLike | None = None,
+        orientation: ArrayLike | None = None,
+    ) -> int:
+        """A static height field: ``heights`` (nrow, ncol) over [−half_x, half_x] × [−half_y, half_y] of its frame."""
     def com_offset(self, index: int) -> NDArray[np.float64]: ...
     def add_plane(
         self, normal: ArrayLike, offset: float, mu: float | None = None, tangent: ArrayLike | None = None

@@ -78,7 +78,8 @@ fn box_on_static_box_and_turned_box_on_box() {
     let top = w.add_box(Vec3::new(0.3, 0.2, 0.1), 0.7, Vec3::new(0.5, 0.5, 1.1), 0.5).unwrap();
     rests(&mut w, top, 0.7);
 
-    // A cube turned by 30° about z on another cube on the ground: 8 clipped contact points.
+    // A cube turned by 30° about z on another cube on the ground: the flat octagon of clipped
+    // points is cut to the 4 that span it.
     let mut w = World::new(WorldParams::default()).unwrap();
     w.add_ground(0.5).unwrap();
     w.add_box(Vec3::splat(0.5), 1.0, Vec3::new(0.0, 0.0, 0.5), 0.5).unwrap();
@@ -90,7 +91,7 @@ fn box_on_static_box_and_turned_box_on_box() {
         )
         .unwrap();
     let r = step_ok(&mut w);
-    assert_eq!(r.contacts.iter().filter(|c| c.body_b == top.0 || c.body_a == top.0).count(), 8);
+    assert_eq!(r.contacts.iter().filter(|c| c.body_b == top.0 || c.body_a == top.0).count(), 4);
     rests(&mut w, top, 1.0);
 }
 
