@@ -260,8 +260,8 @@ fn clip_and_emit(
 const FLAT: f64 = 2e-4;
 
 /// Reduces a face axis's manifold `out[first..]` (normal `n`) to at most 4
-/// points when it lies flat ([`FLAT`]): the deepest, the one farthest from
-/// it, the one making the largest triangle with those two, and the one
+/// points when it lies flat ([`FLAT`]): the one farthest along a fixed
+/// direction of the face, the one farthest from it, the one making the largest triangle with those two, and the one
 /// farthest on the other side of their line — the quadrilateral spanning
 /// most of the manifold. A face resting on a face turned against it clips to
 /// an octagon whose 8 normal rows have rank 3: the other 4 points add only
@@ -279,16 +279,22 @@ fn keep_four_if_flat(out: &mut Vec<GeomContact>, first: usize, n: Vec3, scale: f
     if hi - lo > FLAT * scale {
         return;
     }
-    let deepest = (0..m.len()).fold(0, |k, i| if m[i].gap < m[k].gap { i } else { k });
-    let p0 = m[deepest].point;
+    // The first corner by where it lies, not by its depth: in a flat manifold
+    // the depths differ by round-off, so the first_pt point (and the four kept
+    // with it) changed from step to step on a heap at rest, and its warm
+    // starts with them. (A skewed in-plane direction: no ties on symmetric polygons.)
+    let u = if n.x.abs() < 0.9 { n.cross(Vec3::X) } else { n.cross(Vec3::Y) };
+    let d = u + 0.37 * n.cross(u);
+    let first_pt = (0..m.len()).fold(0, |k, i| if m[i].point.dot(d) > m[k].point.dot(d) { i } else { k });
+    let p0 = m[first_pt].point;
     let reach = |j: usize| (m[j].point - p0).cross(n).norm();
-    let far = (0..m.len()).fold(deepest, |k, i| if reach(i) > reach(k) { i } else { k });
+    let far = (0..m.len()).fold(first_pt, |k, i| if reach(i) > reach(k) { i } else { k });
     let p1 = m[far].point;
     let area = |i: usize| n.dot((p1 - p0).cross(m[i].point - p0));
-    let side = (0..m.len()).fold(deepest, |k, i| if area(i).abs() > area(k).abs() { i } else { k });
+    let side = (0..m.len()).fold(first_pt, |k, i| if area(i).abs() > area(k).abs() { i } else { k });
     let sign = if area(side) >= 0.0 { -1.0 } else { 1.0 };
-    let other = (0..m.len()).fold(deepest, |k, i| if sign * area(i) > sign * area(k) { i } else { k });
-    let mut keep = [deepest, far, side, other];
+    let other = (0..m.len()).fold(first_pt, |k, i| if sign * area(i) > sign * area(k) { i } else { k });
+    let mut keep = [first_pt, far, side, other];
     keep.sort_unstable();
     let kept: Vec<GeomContact> =
         keep.iter().enumerate().filter(|&(k, &i)| k == 0 || keep[k - 1] != i).map(|(_, &i)| m[i]).collect();
