@@ -150,6 +150,28 @@ def test_filtered_pair_passes_through_and_the_rest_still_collide():
     assert traj.positions[-1, ball, 2] < 1.2 - 0.15
 
 
+def test_an_excluded_pair_passes_through_whatever_its_bits_and_bad_pairs_are_named():
+    """``exclude_pair``: a sphere of the default bits falls through a static box as in free
+    fall and lands on the floor, which it still touches; bad pairs name the field and value."""
+    w = World(dt=1e-3)
+    floor = w.add_plane()
+    shelf = w.add_box(half_extents=(1, 1, 0.1), position=(0, 0, 1.0), static=True)
+    ball = w.add_sphere(0.1, position=(0.5, 0.5, 1.5))
+    w.exclude_pair(ball, shelf)
+    assert w.excluded_pairs() == [(shelf, ball)] and w.copy().excluded_pairs() == [(shelf, ball)]
+    traj = w.run(300)
+    n = np.arange(1, 301)
+    np.testing.assert_allclose(traj.positions[:, ball, 2], 1.5 - G * 1e-6 * n * (n + 1) / 2, atol=1e-9)
+    traj = w.run(1200)
+    assert traj.lcp_stats().failures == 0
+    np.testing.assert_allclose(traj.positions[-1, ball], [0.5, 0.5, 0.1], atol=1e-4)  # on the floor
+    assert w.excluded_pairs() == [(shelf, ball)] and floor not in w.excluded_pairs()[0]
+    with pytest.raises(ValueError, match="body_b must be in the bodies other than body_a, got 2"):
+        w.exclude_pair(ball, ball)
+    with pytest.raises(ValueError, match="body 9 does not exist"):
+        w.exclude_pair(ball, 9)
+
+
 @pytest.mark.slow
 def test_bin_of_50_mixed_shapes_pours_and_settles_without_a_failed_lcp():
     """Boxes, spheres, capsules, cylinders and hulls dropped into a mesh bin

@@ -273,6 +273,15 @@ class ShapesMixin:
         takes ``contype``, ``conaffinity`` too (default 1, 1: everything collides)."""
         self._core.set_collision_filter(body, *collision_bits(contype, conaffinity))
 
+    def exclude_pair(self, body_a: int, body_b: int) -> None:
+        """Keeps two different bodies from touching, whatever their collision bits
+        (MJCF's ``<contact><exclude>``; MuJoCo's parent filter in :meth:`from_mjcf`)."""
+        self._core.exclude_pair(body_a, body_b)
+
+    def excluded_pairs(self) -> list[tuple[int, int]]:
+        """The pairs :meth:`exclude_pair` keeps apart, lower index first, sorted."""
+        return [(int(a), int(b)) for a, b in self._core.excluded_pairs()]
+
     def collision_filter(self, body: int) -> tuple[int, int]:
         """``(contype, conaffinity)`` of a body."""
         d = self._core.body(body)

@@ -24,8 +24,14 @@ the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
   the joint's limits, measured from ``qpos0``; bodies nested in bodies, a body
   with no joint welded to its moving parent (``add_fixed``), a massless one
   with no joint and no colliding geom (a frame) skipped, its children hung on
-  the body above it; a body and its parent do not collide (bodies joined by a
-  joint never do);
+  the body above it;
+- MuJoCo's body filter: a body never touches its own weld group (itself and
+  the bodies welded to it) nor, unless the flag ``filterparent`` is disabled,
+  its parent's weld group when neither group is the world's
+  (``body_weldid``, ``body_parentid``; :meth:`lcpsim.World.exclude_pair` for
+  the pairs that no joint already keeps apart), and ``<contact><exclude>``
+  pairs; with ``filterparent`` disabled, a body on a joint to a moving body
+  that its bits let touch is refused (lcpsim never collides bodies joined by a joint);
 - ``<velocity>`` actuators on a hinge or slide joint with a symmetric
   ``forcerange``: a motor on the joint (``kv`` is not used: lcpsim's motor is a
   hard velocity constraint with the force bound), driven by
@@ -42,18 +48,13 @@ the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
 
 Everything else is refused with :class:`MjcfError` (a ``ValueError``) naming
 the element and its name: several joints on one body, a ball joint's
-<<<<<<< HEAD
-``range``, joint stiffness, damping, armature or friction loss, a moving body
-with no colliding geom, a body's geoms of different friction or collision
-bits, other actuators (motor, position, ...; a
-=======
 ``range``, joint stiffness, a ball joint's damping (a hinge's or slide's is
-the joint's ``damping``), armature or friction loss, a moving body
-with no colliding geom or several, other actuators (motor, position, ...; a
->>>>>>> afb3711 (Joint damping: a hinge's or slider's rate row with compliance 1/(h d), eliminated with the rigid rows (implicit Euler of −d q̇, i.e. the step with M + h d rrᵀ; the rank cut judged on the rigid rows' scale; left out of the position projection); World::set_joint_damping, Python add_hinge/add_slider(damping=) and set_joint_damping, MJCF hinge/slide damping read (mjcf.py: a small hunk in _check_joints and _add_joint, for h6; ball damping still refused). Tests: a damped slider (d = 4 and 2e4 N·s/m) decays as v0/(1+hd/m)^k to 1e-9 and within 3e-3 of exp(−dt/m); a damped hinge slows a wheel as ω0/(1+hd/I)^k with the damper's torque as reaction; the MJCF hinge damping; bad damping; tests/joints.rs' gripper on round fingertips)
+the joint's ``damping``), armature or friction loss, a moving body with no
+colliding geom, a body's geoms of different friction or collision bits, other
+actuators (motor, position, ...; a
 velocity actuator without a symmetric ``forcerange`` or on a ball joint),
-ellipsoids, height fields on moving bodies, SDFs, tendons, equality constraints, explicit
-contact pairs and excludes.
+ellipsoids, height fields on moving bodies, SDFs, tendons, equality constraints and explicit
+contact pairs.
 """
 
 from __future__ import annotations
@@ -132,7 +133,6 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
         (m.ntendon, "tendon", OBJ.mjOBJ_TENDON),
         (m.neq, "equality", OBJ.mjOBJ_EQUALITY),
         (m.npair, "contact pair", OBJ.mjOBJ_PAIR),
-        (m.nexclude, "contact exclude", OBJ.mjOBJ_EXCLUDE),
     ):
         if count:
             raise MjcfError(f"{what} {_name(mujoco, m, kind, 0)!r} is not supported (lcpsim: bodies, joints, velocity actuators)")
@@ -179,19 +179,24 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
     world = new_world(**world_kwargs)
     names: dict[str, int] = {}
     body_index: dict[int, int] = {}  # a moving MuJoCo body -> its lcpsim body
+    of_body: dict[int, list[int]] = {}  # a MuJoCo body -> its lcpsim bodies (a static one: one per geom)
     try:
         for g in colliding:
             b = int(m.geom_bodyid[g])
             if b in compound:
                 if g == compound[b][0]:
                     body_index[b] = _add_compound(mujoco, m, d, world, compound[b], b, names)
+                    of_body[b] = [body_index[b]]
                 continue
             idx = _add_geom(mujoco, m, d, world, g, b, bool(moving[b]), names)
+            of_body.setdefault(b, []).append(idx)
             if moving[b]:
                 body_index[b] = idx
     except ValueError as e:
         raise MjcfError(f"geom {_name(mujoco, m, OBJ.mjOBJ_GEOM, g)!r}: {e}") from None
-    joint_index = _add_joints(mujoco, m, d, world, moving & ~frame, body_index)
+    joined: set[tuple[int, int]] = set()
+    joint_index = _add_joints(mujoco, m, d, world, moving & ~frame, body_index, joined)
+    _exclude_filtered(mujoco, m, world, body_index, of_body, joined)
     world._actuators = _actuators(mujoco, m, world, joint_index)
     world.scene = "mjcf"
     world.scene_params = {"source": source if not (isinstance(source, str) and source.lstrip().startswith("<")) else "<xml>"}
@@ -231,13 +236,15 @@ def _check_joints(mujoco: Any, m: Any) -> None:
 
 
 def _add_joints(
-    mujoco: Any, m: Any, d: Any, world: Any, moving: NDArray[np.bool_], body_index: dict[int, int]
+    mujoco: Any, m: Any, d: Any, world: Any, moving: NDArray[np.bool_], body_index: dict[int, int],
+    joined: set[tuple[int, int]],
 ) -> dict[int, int]:
     """Each moving body's joint to its parent (``None``: the world or a static
     body): hinge, slide and ball at MuJoCo's anchor and axis at ``qpos0``,
     ranges as limits (relative to ``qpos0``); a body with no joint welded to
     its parent; ``moving`` leaves out frames (their children hang on the nearest
-    body above them). A freejoint adds nothing. Returns MuJoCo's joint id -> lcpsim's."""
+    body above them). A freejoint adds nothing. Returns MuJoCo's joint id -> lcpsim's;
+    ``joined`` gets the pairs of lcpsim bodies a joint or weld joins (lower index first)."""
     out: dict[int, int] = {}
     for b in range(1, m.nbody):
         if not moving[b]:
@@ -247,6 +254,8 @@ def _add_joints(
             parent = int(m.body_parentid[parent])
         a = body_index.get(parent)
         child = body_index[b]
+        if a is not None and not (int(m.body_jntnum[b]) == 1 and int(m.jnt_type[int(m.body_jntadr[b])]) == 0):
+            joined.add((min(a, child), max(a, child)))
         try:
             _add_joint(m, d, world, a, child, b, out)
         except ValueError as e:
@@ -274,6 +283,55 @@ def _add_joint(m: Any, d: Any, world: Any, a: int | None, child: int, b: int, ou
         out[j] = world.add_slider(a, child, anchor, axis, limits=limits, damping=damping)
     elif jt == 1:
         out[j] = world.add_ball(a, child, anchor)
+
+
+def _exclude_filtered(
+    mujoco: Any, m: Any, world: Any, body_index: dict[int, int], of_body: dict[int, list[int]],
+    joined: set[tuple[int, int]],
+) -> None:
+    """MuJoCo's body filter as excluded pairs (``filterBodyPair``): bodies of one weld
+    group never touch, nor (``filterparent`` on) a group and its parent's unless either is
+    the world's; then the ``<contact><exclude>`` pairs. Pairs a joint already joins are
+    left out. With ``filterparent`` off, MuJoCo collides a jointed body with its moving
+    parent, which lcpsim cannot: refused when their bits let them touch."""
+    weld = {b: int(m.body_weldid[b]) for b in body_index}
+    groups: dict[int, list[int]] = {}
+    for b, w in weld.items():
+        groups.setdefault(w, []).append(b)
+    filter_parent = not int(m.opt.disableflags) & int(mujoco.mjtDisableBit.mjDSBL_FILTERPARENT)
+    excluded: set[tuple[int, int]] = set()
+
+    def keep_apart(xs: list[int], ys: list[int]) -> None:
+        for x in xs:
+            for y in ys:
+                p = (min(x, y), max(x, y))
+                if x != y and p not in joined:
+                    excluded.add(p)
+
+    for w, members in groups.items():
+        ours = [body_index[b] for b in members]
+        keep_apart(ours, ours)
+        parent = int(m.body_weldid[int(m.body_parentid[w])])
+        if filter_parent and parent != 0 and parent in groups:
+            keep_apart(ours, [body_index[b] for b in groups[parent]])
+    for e in range(m.nexclude):
+        sig = int(m.exclude_signature[e])
+        keep_apart(of_body.get((sig >> 16) - 1, []), of_body.get((sig & 0xFFFF) - 1, []))
+    if not filter_parent:
+        OBJ = mujoco.mjtObj
+        by_lcpsim = {i: b for b, i in body_index.items()}
+        for x, y in sorted(joined):
+            bx, by = by_lcpsim[x], by_lcpsim[y]
+            (tx, ax), (ty, ay) = world.collision_filter(x), world.collision_filter(y)
+            if weld[bx] == weld[by] or (x, y) in excluded or not (tx & ay) | (ty & ax):
+                continue
+            raise MjcfError(
+                f"bodies {_name(mujoco, m, OBJ.mjOBJ_BODY, bx)!r} and {_name(mujoco, m, OBJ.mjOBJ_BODY, by)!r} "
+                "are joined by a joint and filterparent is disabled: MuJoCo collides them, "
+                "lcpsim never collides bodies joined by a joint"
+            )
+    for x, y in sorted(excluded):
+        world.exclude_pair(x, y)
 
 
 @dataclass

@@ -34,6 +34,8 @@ pub struct World {
     /// Joints between bodies (`joints`), and their parameters.
     pub(crate) joints: Vec<crate::joints::Joint>,
     pub(crate) joint_params: crate::joints::JointParams,
+    /// Pairs of bodies kept apart whatever their collision bits (`exclude_pair`).
+    pub(crate) excluded: crate::ExcludedPairs,
 }
 
 impl Clone for World {
@@ -54,6 +56,7 @@ impl Clone for World {
             record: self.record.clone(),
             joints: self.joints.clone(),
             joint_params: self.joint_params,
+            excluded: self.excluded.clone(),
         }
     }
 }
@@ -125,6 +128,7 @@ impl World {
             record: StepRecord::default(),
             joints: Vec::new(),
             joint_params: Default::default(),
+            excluded: Default::default(),
         })
     }
 
@@ -267,6 +271,27 @@ impl World {
     pub fn set_collision_filter(&mut self, id: BodyId, contype: u32, conaffinity: u32) -> Result<(), SimError> {
         self.body_mut(id)?.filter = crate::CollisionFilter::new(contype, conaffinity);
         Ok(())
+    }
+
+    /// Keeps bodies `a` and `b` from touching whatever their collision bits
+    /// (MJCF's `<contact><exclude>`; MuJoCo's parent filter). Two different bodies.
+    pub fn exclude_pair(&mut self, a: BodyId, b: BodyId) -> Result<(), SimError> {
+        self.body(a)?;
+        self.body(b)?;
+        if a == b {
+            return Err(SimError::OutOfRange {
+                field: "body_b",
+                value: b.0 as f64,
+                range: "the bodies other than body_a",
+            });
+        }
+        self.excluded.insert(a.0, b.0);
+        Ok(())
+    }
+
+    /// The pairs [`World::exclude_pair`] keeps apart, lower index first, sorted.
+    pub fn excluded_pairs(&self) -> &[(usize, usize)] {
+        self.excluded.as_slice()
     }
 
     // ----- external forces -----

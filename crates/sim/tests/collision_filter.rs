@@ -62,3 +62,27 @@ fn set_collision_filter_after_adding_lets_a_resting_cube_fall_through_the_ground
     assert!(w.body(cube).unwrap().position().z < 0.5 - 0.04, "the cube did not fall");
     assert!(w.set_collision_filter(BodyId(7), 1, 1).is_err());
 }
+
+#[test]
+fn an_excluded_pair_falls_through_while_its_bits_still_let_it_touch_the_rest() {
+    // Default bits everywhere; only the ball–cube pair is excluded.
+    let (mut w, cube, ball) = cube_and_ball(BodyDesc::sphere(0.2));
+    w.exclude_pair(ball, cube).unwrap();
+    w.exclude_pair(cube, ball).unwrap(); // either order, kept once
+    assert_eq!(w.excluded_pairs(), &[(cube.0, ball.0)]);
+    run_ok(&mut w, 1500);
+    // The ball passed through the cube and rests on the ground beside the cube's centre.
+    let b = w.body(ball).unwrap();
+    assert!((b.position().z - 0.2).abs() < 1e-3, "ball at z = {}", b.position().z);
+    assert!(w
+        .last_record()
+        .contacts
+        .iter()
+        .all(|c| !(c.body_a.min(c.body_b) == cube.0 && c.body_a.max(c.body_b) == ball.0)));
+    // The cube still rests on the ground.
+    assert!((w.body(cube).unwrap().position().z - 0.5).abs() < 1e-6);
+    // A copy keeps the exclusion; bad pairs are refused.
+    assert_eq!(w.clone().excluded_pairs(), w.excluded_pairs());
+    assert!(w.exclude_pair(ball, ball).is_err());
+    assert!(w.exclude_pair(ball, BodyId(9)).is_err());
+}

@@ -500,6 +500,17 @@ impl World {
         self.on_body(body, (t, a), |w, id, (t, a)| w.set_collision_filter(id, t, a))
     }
 
+    /// Keeps two bodies from touching whatever their collision bits.
+    fn exclude_pair(&mut self, body_a: &Bound<'_, PyAny>, body_b: &Bound<'_, PyAny>) -> PyResult<()> {
+        let b = body_id(body_b)?;
+        self.on_body(body_a, b, sim::World::exclude_pair)
+    }
+
+    /// The excluded pairs, lower index first, sorted.
+    fn excluded_pairs(&self) -> Vec<(usize, usize)> {
+        self.shared().excluded_pairs().to_vec()
+    }
+
     // ----- joints -----
 
     /// A joint of `kind` ("ball", "hinge", "slider", "fixed") between

@@ -6,6 +6,11 @@
 //! collides with nothing. The filter is applied where the broad phase hands
 //! pairs to the narrow phase (`pipeline::detect`): a filtered pair gets no
 //! contact, so its bodies pass through each other.
+//!
+//! Pairs can also be kept apart one by one, whatever their bits
+//! ([`ExcludedPairs`], `World::exclude_pair`): MJCF's `<contact><exclude>`
+//! and MuJoCo's parent filter (a body never touches its own weld group or its
+//! parent's) read from a compiled model.
 
 /// A body's collision bits (MJCF's `contype`, `conaffinity`). Default 1, 1.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -34,9 +39,50 @@ impl CollisionFilter {
     }
 }
 
+/// Pairs of bodies that get no contact whatever their collision bits; kept
+/// sorted (lower index first) and without repeats, so a look-up is a binary search.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ExcludedPairs {
+    pairs: Vec<(usize, usize)>,
+}
+
+impl ExcludedPairs {
+    /// Keeps bodies `a` and `b` apart (either order; a pair given twice is kept once).
+    pub fn insert(&mut self, a: usize, b: usize) {
+        let p = (a.min(b), a.max(b));
+        if let Err(k) = self.pairs.binary_search(&p) {
+            self.pairs.insert(k, p);
+        }
+    }
+
+    /// Whether bodies `a` and `b` are kept apart (either order).
+    #[inline]
+    pub fn contains(&self, a: usize, b: usize) -> bool {
+        !self.pairs.is_empty() && self.pairs.binary_search(&(a.min(b), a.max(b))).is_ok()
+    }
+
+    /// The pairs, lower index first, sorted.
+    pub fn as_slice(&self) -> &[(usize, usize)] {
+        &self.pairs
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::CollisionFilter as F;
+    use super::ExcludedPairs;
+
+    #[test]
+    fn excluded_pairs_are_unordered_and_kept_once() {
+        let mut x = ExcludedPairs::default();
+        assert!(!x.contains(0, 1));
+        x.insert(5, 2);
+        x.insert(2, 5);
+        x.insert(0, 7);
+        assert!(x.contains(2, 5) && x.contains(5, 2) && x.contains(7, 0));
+        assert!(!x.contains(2, 7) && !x.contains(5, 5));
+        assert_eq!(x.as_slice(), &[(0, 7), (2, 5)]);
+    }
 
     #[test]
     fn mujoco_rule_either_direction_suffices_and_is_symmetric() {

@@ -10,8 +10,9 @@
 //! two; read once per process).
 //!
 //! Pairs that the bodies' collision filters keep apart
-//! (`CollisionFilter`, MuJoCo's contype/conaffinity rule) are skipped before
-//! the narrow phase.
+//! (`CollisionFilter`, MuJoCo's contype/conaffinity rule), pairs excluded one
+//! by one (`World::exclude_pair`) and bodies joined by a joint are skipped
+//! before the narrow phase.
 //!
 //! Each contact gets its bodies in the order of the pair function (A = the
 //! first shape of its name; for two shapes of one kind, the lower index), the
@@ -59,8 +60,8 @@ impl World {
             if !bi.filter.collides_with(&bj.filter) {
                 continue;
             }
-            // Bodies joined by a joint do not collide.
-            if ws.joints.joins(i, j) {
+            // Bodies joined by a joint, and pairs excluded one by one, do not collide.
+            if ws.joints.joins(i, j) || self.excluded.contains(i, j) {
                 continue;
             }
             let margin = margin.of(i, j);
