@@ -1,8 +1,9 @@
 """The Python engines of ``many_bodies.py`` and the worker loop they share with
 Rapier's (``benchmarks/rapier_bench``): one engine × scene per process.
 
-A worker builds the scene (lcpsim from its own scene function, the peers from
-the description file), then runs ``reps`` fresh repetitions of ``steps`` steps,
+A worker builds the scene (lcpsim and MuJoCo from the scene's MJCF file where
+it has one, else lcpsim from its own scene function and MuJoCo from the
+description; PyBullet and Rapier from the description file), then runs ``reps`` fresh repetitions of ``steps`` steps,
 each stopped once its wall clock passes ``budget`` seconds. It prints JSON
 lines: ``ready`` (RSS after building), ``progress`` (steps done, seconds spent
 stepping), ``sample`` (the dynamic boxes' poses and contact count, first
@@ -27,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from many_scenes import SCENE_BY_KEY, describe
+from many_scenes import describe, load, scene_mjcf
 
 #: Target wall-clock length of one stepping call (steps are batched between samples).
 CHUNK_SECONDS = 0.25
@@ -46,10 +47,10 @@ def rss_mb() -> float:
 
 
 class LcpsimEngine:
-    """lcpsim's ``World.run`` (the loop in Rust), the scene from lcpsim's own builder."""
+    """lcpsim's ``World.run`` (the loop in Rust), the scene from its MJCF file or lcpsim's own builder."""
 
     def __init__(self, scene_key: str, desc: dict[str, Any]) -> None:
-        world, how = SCENE_BY_KEY[scene_key].build()
+        world, how = load(scene_key)
         mine = describe(world, how)
         if mine["boxes"] != desc["boxes"]:
             raise RuntimeError("lcpsim built a different scene from the description (layout changed?)")
@@ -128,31 +129,18 @@ class LcpsimEngine:
         return self.last_contacts
 
 
-def mujoco_xml(desc: dict[str, Any]) -> str:
-    mu = desc["mu"]
-    fr = f'friction="{mu!r} 0.005 0.0001"'
-    geoms, bodies = [], []
-    for b in desc["boxes"]:
-        p, q, h = (" ".join(repr(float(v)) for v in b[k]) for k in ("pos", "quat", "half"))
-        if b["static"]:
-            geoms.append(f'<geom type="box" pos="{p}" quat="{q}" size="{h}" {fr}/>')
-        else:
-            bodies.append(f'<body pos="{p}" quat="{q}"><freejoint/>'
-                          f'<geom type="box" size="{h}" mass="{b["mass"]!r}" {fr}/></body>')
-    return (f'<mujoco><option timestep="{desc["dt"]!r}" gravity="0 0 -{desc["gravity"]!r}"/><worldbody>'
-            f'<geom type="plane" size="0 0 1" {fr}/>' + "".join(geoms) + "".join(bodies)
-            + "</worldbody></mujoco>")
-
-
 class MujocoEngine:
     """MuJoCo with its defaults (pyramidal cone, Newton solver, soft contacts),
-    ``mj_step(m, d, nstep)`` from Python."""
+    ``mj_step(m, d, nstep)`` from Python; the scene's MJCF file, else the description as MJCF."""
 
     def __init__(self, scene_key: str, desc: dict[str, Any]) -> None:
         import mujoco
 
         self.mj = mujoco
-        self.m = mujoco.MjModel.from_xml_string(mujoco_xml(desc))
+        if desc.get("mjcf"):
+            self.m = mujoco.MjModel.from_xml_path(desc["mjcf"])
+        else:
+            self.m = mujoco.MjModel.from_xml_string(scene_mjcf(desc, scene_key))
         self.d = mujoco.MjData(self.m)
         mujoco.mj_forward(self.m, self.d)
         self.n = sum(not b["static"] for b in desc["boxes"])

@@ -5,8 +5,16 @@ Every scene is built by lcpsim's public API (``lcpsim.scenes.box_stack``,
 :func:`build_heap` with ``World.add_box``) and then *exported*
 (:func:`describe`): the boxes' half
 extents, centres, orientations, masses and static flags, over the ground
-plane ``z = 0``. Every peer is built from that description, so all engines
-start from bit-identical states. 1 kg unit cubes, μ = 0.5, g = 9.81, dt = 1e-3.
+plane ``z = 0``. 1 kg unit cubes, μ = 0.5, g = 9.81, dt = 1e-3.
+
+The scenes of the RESULTS.md tables (:data:`MJCF_SCENES`: the stack, the
+towers, the 45- and 90-cube pours) are written once as MJCF
+(:func:`scene_mjcf`, ``benchmarks/scenes/<key>.xml``, by ``many_bodies.py
+--write-scenes``): lcpsim (``World.from_mjcf``) and MuJoCo read that file, and
+PyBullet and Rapier are built from the description of lcpsim's world read from
+it (:func:`load`). The other scenes are exported as above and every engine is
+built from that description (MuJoCo from :func:`scene_mjcf` of it), so all
+engines start from the same state.
 
 Measurements, the same code for every engine (:func:`penetration`,
 :func:`drift`): the deepest overlap of two boxes (separating-axis test over
@@ -20,6 +28,7 @@ from __future__ import annotations
 import inspect
 import math
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
@@ -28,6 +37,10 @@ DT = 1e-3
 G = 9.81
 MU = 0.5
 HALF = 0.5  # unit cubes
+#: Where the scenes' MJCF files live.
+MJCF_DIR = Path(__file__).resolve().parent.parent / "scenes"
+#: The scenes written once as MJCF, read by lcpsim and MuJoCo from that file.
+MJCF_SCENES = ("stack10", "towers3", "towers10", "pour45", "pour90")
 
 
 # --------------------------------------------------------------------------- the heap
@@ -187,6 +200,49 @@ SCENES: list[SceneSpec] = [
               benchmark="pours"),
 ]
 SCENE_BY_KEY = {s.key: s for s in SCENES}
+
+
+def mjcf_path(key: str) -> Path | None:
+    """The scene's MJCF file, for the scenes of :data:`MJCF_SCENES`."""
+    return MJCF_DIR / f"{key}.xml" if key in MJCF_SCENES else None
+
+
+def load(key: str) -> tuple[Any, str]:
+    """The scene's lcpsim world and how it was built: from its MJCF file
+    (``World.from_mjcf``) for the scenes of :data:`MJCF_SCENES`, else by its builder."""
+    path = mjcf_path(key)
+    if path is None:
+        return SCENE_BY_KEY[key].build()
+    if not path.exists():
+        raise FileNotFoundError(f"{path} is missing: write it with many_bodies.py --write-scenes")
+    import lcpsim
+
+    return lcpsim.World.from_mjcf(path), f"World.from_mjcf(benchmarks/scenes/{path.name})"
+
+
+def scene_mjcf(desc: dict[str, Any], key: str) -> str:
+    """The scene of a description as MJCF: the ground plane, the static boxes as geoms of
+    the world (``wall<k>``), each dynamic box a body ``box<k>`` on a free joint, every
+    number as Python's shortest repr (read back exactly), μ with MuJoCo's default
+    torsional and rolling friction (0.005, 0.0001; lcpsim has neither)."""
+    fr = f'friction="{desc["mu"]!r} 0.005 0.0001"'
+    num = lambda b, k: " ".join(repr(float(v)) for v in b[k])  # noqa: E731
+    lines = [f'<mujoco model="{key}">',
+             f'  <!-- Written by benchmarks/peers/many_bodies.py --write-scenes from {desc["built_by"]}; '
+             "run by lcpsim and MuJoCo alike. -->",
+             f'  <option timestep="{desc["dt"]!r}" gravity="0 0 -{desc["gravity"]!r}"/>',
+             "  <worldbody>",
+             f'    <geom name="floor" type="plane" size="0 0 1" {fr}/>']
+    statics = [b for b in desc["boxes"] if b["static"]]
+    dynamic = [b for b in desc["boxes"] if not b["static"]]
+    for k, b in enumerate(statics):
+        lines.append(f'    <geom name="wall{k}" type="box" pos="{num(b, "pos")}" quat="{num(b, "quat")}" '
+                     f'size="{num(b, "half")}" {fr}/>')
+    for k, b in enumerate(dynamic):
+        lines.append(f'    <body name="box{k}" pos="{num(b, "pos")}" quat="{num(b, "quat")}"><freejoint/>'
+                     f'<geom type="box" size="{num(b, "half")}" mass="{b["mass"]!r}" {fr}/></body>')
+    lines += ["  </worldbody>", "</mujoco>", ""]
+    return "\n".join(lines)
 
 
 def describe(world: Any, how: str) -> dict[str, Any]:

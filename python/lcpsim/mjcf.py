@@ -485,16 +485,20 @@ def _add_geom(mujoco: Any, m: Any, d: Any, world: Any, g: int, b: int, moving: b
     size = np.array(m.geom_size[g], dtype=np.float64)
     pos = np.array(d.geom_xpos[g], dtype=np.float64)
     rot = np.array(d.geom_xmat[g], dtype=np.float64).reshape(3, 3)
-    quat = _quat_of(mujoco, rot)
+    # The body's pose times the geom's (not read back from geom_xmat): a free body's quat
+    # from the file comes through unrounded.
+    quat = np.zeros(4)
+    mujoco.mju_mulQuat(quat, np.asarray(d.xquat[b], dtype=np.float64), np.asarray(m.geom_quat[g], dtype=np.float64))
     mu = float(m.geom_friction[g][0])
     bits = {"contype": int(m.geom_contype[g]), "conaffinity": int(m.geom_conaffinity[g])}
     kw: dict[str, Any] = {"position": pos, "orientation": quat, "mu": mu, **bits}
     if moving:
         ri = np.array(d.ximat[b], dtype=np.float64).reshape(3, 3)
-        i_world = ri @ np.diag(np.array(m.body_inertia[b], dtype=np.float64)) @ ri.T
-        i_geom = rot.T @ i_world @ rot
+        principal = np.diag(np.array(m.body_inertia[b], dtype=np.float64))
+        i_geom = rot.T @ (ri @ principal @ ri.T) @ rot
+        # Principal axes along the geom's (a box, a cylinder): the compiled diagonal as it is.
+        kw["inertia"] = principal if np.array_equal(ri, rot) else 0.5 * (i_geom + i_geom.T)
         kw["mass"] = float(m.body_mass[b])
-        kw["inertia"] = 0.5 * (i_geom + i_geom.T)
     else:
         kw["static"] = True
     if t == 0:  # plane: the geom's z is its normal

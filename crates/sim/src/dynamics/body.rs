@@ -314,10 +314,18 @@ impl Body {
     }
 }
 
-/// Normalizes a quaternion, rejecting non-finite and zero ones.
+/// Normalizes a quaternion, rejecting non-finite and zero ones. One already of
+/// unit length to round-off (‖q‖² within 4ε of 1, as a normalized one is) is kept
+/// bit for bit: normalizing again can move its last bits, so a body's orientation
+/// read back and given to another body (a scene written to MJCF and read again)
+/// would not be the same.
 pub(crate) fn normalize_quat(q: Quat) -> Result<Quat, SimError> {
     for (name, c) in [("orientation.w", q.w), ("orientation.x", q.x), ("orientation.y", q.y), ("orientation.z", q.z)] {
         crate::error::finite(name, c)?;
+    }
+    let n2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
+    if (n2 - 1.0).abs() <= 4.0 * f64::EPSILON {
+        return Ok(q);
     }
     q.try_normalize().ok_or(SimError::ZeroLength { field: "orientation" })
 }
