@@ -6,7 +6,8 @@ page itself and the blob: URLs it makes of its inlined three.js; the 3-D
 canvas is not blank; the cube's pixels move between the first and the last
 frame of a sliding run and stay put for a resting one; the slider changes the
 frame drawn; a failed LCP has its marker on the timeline, at its step; joints are
-drawn where the page's data puts them, and hiding them changes the picture.
+drawn where the page's data puts them, and hiding them changes the picture; a
+compound body and a height field are drawn over their whole extent, at their poses.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ import shutil
 import numpy as np
 import pytest
 
-from lcpsim import scenes
+from lcpsim import World, scenes
 from lcpsim.cli import main
 from test_viewer import decode, page_data
 from test_viewer_joints import double_pendulum
@@ -62,7 +63,23 @@ def pages(tmp_path_factory):
     out["failed_steps"] = [int(s) + 1 for s in np.nonzero(~traj.ok)[0]]
     out["empty"] = scenes.resting_cube().world.run(0).to_html(d / "empty.html")
     out["joints"] = double_pendulum().run(400).to_html(d / "joints.html")
+    w, out["field"], out["compound"] = dumbbell_in_a_bowl()
+    out["shapes"] = w.run(300).to_html(d / "shapes.html")
     return out
+
+
+def dumbbell_in_a_bowl() -> tuple[World, int, int]:
+    """A dumbbell (two 0.4 m cubes 1.2 m apart on a capsule bar along x, one compound body)
+    dropped into a bowl-shaped height field of 9 × 9 points over 4 × 4 m, 0 m deep at its
+    centre and 0.8 m high at its corners. Returns the world, the field and the dumbbell."""
+    w = World(dt=2e-3)
+    x = np.linspace(-2.0, 2.0, 9)
+    gx, gy = np.meshgrid(x, x)
+    field = w.add_heightfield(0.1 * (gx**2 + gy**2), (2.0, 2.0), 0.5)
+    cube = {"kind": "box", "half_extents": (0.2, 0.2, 0.2)}
+    bar = {"kind": "capsule", "radius": 0.05, "half_length": 0.4, "orientation": (math.sqrt(0.5), 0, math.sqrt(0.5), 0)}
+    parts = [{**cube, "position": (-0.6, 0, 0)}, {**cube, "position": (0.6, 0, 0)}, bar]
+    return w, field, w.add_compound(parts, mass=2.0, position=(0, 0, 0.4))
 
 
 class Page:
@@ -127,7 +144,7 @@ def centroid(mask: np.ndarray) -> np.ndarray:
     return np.array([xs.mean(), ys.mean()])
 
 
-@pytest.mark.parametrize("name", ["slide", "rest", "fail", "empty", "joints"])
+@pytest.mark.parametrize("name", ["slide", "rest", "fail", "empty", "joints", "shapes"])
 def test_loads_offline_without_errors(open_page, pages, name):
     p = open_page(pages[name])
     assert p.errors == []
@@ -240,3 +257,36 @@ def test_joints_are_drawn_at_their_anchors_along_their_axes(open_page, pages):
     shown = p.frame(last)
     p.page.uncheck("#show-joints")
     assert (np.abs(shown - p.canvas()).sum(axis=2) > 30).sum() > 50
+
+
+def test_a_compound_and_a_height_field_are_drawn_over_their_extent(open_page, pages):
+    p = open_page(pages["shapes"])
+    field, body = pages["field"], pages["compound"]
+    # The field: its grid's x and y extent, its heights from the bowl's bottom to its corners.
+    lo, hi = p.eval(f"lcpsimViewer.bodyBounds({field})")
+    np.testing.assert_allclose([lo, hi], [[-2, -2, 0], [2, 2, 0.8]], atol=1e-6)
+    # The dumbbell at its last pose: the box around both cubes' corners (the bar is inside it).
+    d = page_data(open(pages["shapes"], encoding="utf-8").read())
+    pose = decode(d["arrays"]["pose"])[-1, 0]  # the one dynamic body: position, then (w, x, y, z)
+    w, x, y, z = pose[3:]
+    rot = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                    [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                    [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+    corners = np.array([(cx + sx * 0.2, sy * 0.2, sz * 0.2) for cx in (-0.6, 0.6)
+                        for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+    world = corners @ rot.T + pose[:3]
+    p.eval(f"lcpsimViewer.setFrame({p.eval('lcpsimViewer.frames') - 1})")
+    lo, hi = p.eval(f"lcpsimViewer.bodyBounds({body})")
+    np.testing.assert_allclose([lo, hi], [world.min(axis=0), world.max(axis=0)], atol=1e-5)
+    assert 0.0 < pose[2] < 0.4  # it fell into the bowl
+    # In the picture: the dumbbell, orange, wider than tall (both cubes), and hiding either body
+    # changes many pixels (the field covers much of the view).
+    p.hide_contacts()
+    shown = p.canvas()
+    mask = cube_mask(shown)
+    ys, xs = np.nonzero(mask)
+    assert mask.sum() > 2000 and np.ptp(xs) > 2 * np.ptp(ys), (mask.sum(), np.ptp(xs), np.ptp(ys))
+    for i, least in ((body, 2000), (field, 20000)):
+        p.eval(f"lcpsimViewer.showBody({i}, false)")
+        assert (np.abs(shown - p.canvas()).sum(axis=2) > 30).sum() > least, i
+        p.eval(f"lcpsimViewer.showBody({i}, true)")

@@ -456,6 +456,12 @@ function lcpsimStartViewer(THREE, OrbitControls, D) {
     joints: NJ,
     // Where joint j is drawn now: its position and its axis (the drawn object's y).
     jointPose: (j) => [joints[j].position.toArray(), yAxis.clone().applyQuaternion(joints[j].quaternion).toArray()],
+    // The world box [min, max] of what is drawn for body i now, and showing or hiding it.
+    bodyBounds: (i) => {
+      const b = new THREE.Box3().setFromObject(meshes.get(i));
+      return [b.min.toArray(), b.max.toArray()];
+    },
+    showBody: (i, on) => { meshes.get(i).visible = on; render(); },
   };
   document.body.dataset.ready = "1";
 }
