@@ -127,7 +127,8 @@ def worker(engine: str, xml_path: str, steps: int, every: int, budget: float) ->
 
         def step(k: int) -> dict[str, Any]:
             st = w.run(k).lcp_stats()
-            return {"failures": int(st.failures), "lcps": int(st.lcps)}
+            stages = {f"stage_{name}": int(v) for name, v in (getattr(st, "stages", None) or {}).items()}
+            return {"failures": int(st.failures), "lcps": int(st.lcps), **stages}
 
         def state() -> list[float]:
             p, q = w.positions[ids], w.orientations[ids]
@@ -143,7 +144,7 @@ def worker(engine: str, xml_path: str, steps: int, every: int, budget: float) ->
         seconds += time.perf_counter() - t0
         done += k
         for key, v in out.items():
-            totals[key] += v
+            totals[key] = totals.get(key, 0) + v
         emit("sample", step=done, state=state(), seconds=seconds, **totals)
     emit("done", steps=done, seconds=seconds, **totals)
 
@@ -204,6 +205,8 @@ def judge(engine: str, xml_path: str, events: list[dict[str, Any]]) -> dict[str,
     out["steps_per_second"] = out["steps"] / out["seconds"] if out["seconds"] else None
     out["failed_lcps"] = done.get("failures") if engine == "lcpsim" else None
     out["lcps"] = done.get("lcps") if engine == "lcpsim" else None
+    # lcpsim's islands by the stage of the solve chain that answered them (lcp_stats().stages).
+    out["islands_by_stage"] = {k[len("stage_"):]: v for k, v in done.items() if k.startswith("stage_")}
     # Steps/s over each sampling interval: the pour, the pile forming, the settled pile.
     timed = [(0, 0.0)] + [(s["step"], s["seconds"]) for s in samples if "seconds" in s]
     out["window_rates"] = [[b[0], (b[0] - a[0]) / (b[1] - a[1]) if b[1] > a[1] else None] for a, b in zip(timed, timed[1:])]
@@ -282,6 +285,10 @@ def main() -> int:
     for engine, r in results["engines"].items():
         w = ", ".join(f"{x:,.0f}" for _, x in r["window_rates"] if x)
         print(f"{engine}, first round, steps/s per {a.every} steps: {w}")
+        if r.get("islands_by_stage"):
+            total = sum(r["islands_by_stage"].values())
+            print(f"{engine}, islands answered by each stage: " + ", ".join(
+                f"{k} {v:,} ({v / total:.1%})" for k, v in r["islands_by_stage"].items()))
     if a.json:
         Path(a.json).write_text(json.dumps(results, indent=1))
     return 0
