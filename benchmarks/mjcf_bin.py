@@ -22,6 +22,7 @@ most negative ``contact.dist``) — so the two states are judged alike.
     python3 benchmarks/mjcf_bin.py                 # both engines, prints the table
     python3 benchmarks/mjcf_bin.py --steps 500     # a shorter run
     python3 benchmarks/mjcf_bin.py --write-scene   # regenerate the XML (same seed, same file)
+    python3 benchmarks/mjcf_bin.py --pairs 1250    # lcpsim's contact points per touching pair
 
 Needs ``mujoco`` (``pip install 'lcpsim[mjcf]'``) and lcpsim installed.
 """
@@ -149,6 +150,22 @@ def worker(engine: str, xml_path: str, steps: int, every: int, budget: float) ->
     emit("done", steps=done, seconds=seconds, **totals)
 
 
+def points_per_pair(xml_path: str, steps: int) -> None:
+    """lcpsim's first ``steps`` steps one by one: how many pairs had k contact points, over all steps."""
+    from collections import Counter
+
+    from lcpsim import World
+
+    w = World.from_mjcf(xml_path)
+    pairs: Counter[int] = Counter()
+    for _ in range(steps):
+        r = w.step()
+        pairs.update(Counter(zip(np.asarray(r.body_a).tolist(), np.asarray(r.body_b).tolist())).values())
+    contacts = sum(k * n for k, n in pairs.items())
+    print(f"{steps} steps, {sum(pairs.values()):,} pair-steps, {contacts:,} contacts; pair-steps by points: "
+          + ", ".join(f"{k}: {n:,}" for k, n in sorted(pairs.items())))
+
+
 # ----- the judge: one penetration measure for both ----------------------------------------------
 
 
@@ -234,11 +251,15 @@ def main() -> int:
     ap.add_argument("--rounds", type=int, default=3, help="runs per engine, engine after engine (median steps/s)")
     ap.add_argument("--write-scene", action="store_true", help="write the scene file and stop")
     ap.add_argument("--json", help="also write the results here")
+    ap.add_argument("--pairs", type=int, metavar="STEPS", help="print lcpsim's contact points per pair and stop")
     ap.add_argument("--worker", nargs=5, metavar=("ENGINE", "XML", "STEPS", "EVERY", "BUDGET"), help=argparse.SUPPRESS)
     a = ap.parse_args()
     if a.worker:
         e, x, n, k, b = a.worker
         worker(e, x, int(n), int(k), float(b))
+        return 0
+    if a.pairs:
+        points_per_pair(a.scene, a.pairs)
         return 0
     if a.write_scene:
         Path(a.scene).parent.mkdir(parents=True, exist_ok=True)
