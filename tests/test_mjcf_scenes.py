@@ -25,12 +25,12 @@ def _split(world: World) -> tuple[list[int], list[int]]:
     return [i for i in boxes if not world.body(i).is_static], [i for i in boxes if world.body(i).is_static]
 
 
-@pytest.mark.parametrize("key", many_scenes.MJCF_SCENES)
+@pytest.mark.parametrize("key", list(many_scenes.SCENE_BY_KEY))
 def test_a_scene_file_is_lcpsims_scene_bit_for_bit_and_mujoco_reads_it_alike(key):
     path = many_scenes.mjcf_path(key)
     built, how = many_scenes.SCENE_BY_KEY[key].build()
     desc = many_scenes.describe(built, how)
-    assert path.read_text() == many_scenes.scene_mjcf(desc, key), f"rewrite it: many_bodies.py --write-scenes"
+    assert path.read_text() == many_scenes.scene_mjcf(desc, key), "rewrite it: many_bodies.py --write-scenes"
 
     w = World.from_mjcf(path)
     assert (w.dt, w.body_count) == (built.dt, built.body_count)

@@ -6,10 +6,9 @@ Scenes (``many_scenes.py``): a 10-box stack; 3×3×3 and 10×10×10 towers
 unit cubes dropped with random orientations into 4 static walls. 1 kg unit
 cubes, μ = 0.5, g = 9.81, dt = 1e-3, on a ground plane; every engine starts
 from the same state: lcpsim and MuJoCo read the scene's MJCF file
-(``benchmarks/scenes/<scene>.xml`` for the stack, the towers and the 45- and
-90-cube pours; ``--write-scenes`` writes them from ``lcpsim.scenes``), PyBullet
-and Rapier are built from the state exported from lcpsim's world (for the
-other scenes, MuJoCo too).
+(``benchmarks/scenes/<scene>.xml``; ``--write-scenes`` writes them from
+``lcpsim.scenes``), PyBullet and Rapier are built from the state exported from
+lcpsim's world read from it.
 
 Each engine × scene runs in its own process (``many_engines.py``; Rapier:
 ``benchmarks/rapier_bench``), under an address-space cap (``--mem-cap-gb``)
@@ -64,8 +63,8 @@ sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(HERE.parent))
 
 import many_bodies_report  # noqa: E402
-from many_scenes import (MJCF_SCENES, SCENE_BY_KEY, SCENES, describe, drift, load, mjcf_path,  # noqa: E402
-                         penetration, scene_mjcf)
+from many_scenes import (SCENE_BY_KEY, SCENES, describe, drift, load, mjcf_path, penetration,  # noqa: E402
+                         scene_mjcf)
 
 ENGINES = ["lcpsim", "mujoco", "pybullet", "rapier"]
 RAPIER_BIN = ROOT / "benchmarks" / "rapier_bench" / "target" / "release" / "rapier-bench"
@@ -332,9 +331,7 @@ def run_all(scene_keys: list[str], engines: list[str], budget: float, grace: flo
             spec = SCENE_BY_KEY[key]
             world, how = load(key)
             desc = describe(world, how)
-            path = mjcf_path(key)
-            if path is not None:
-                desc["mjcf"] = str(path)
+            desc["mjcf"] = str(mjcf_path(key))
             desc["window"] = spec.sample_every  # 0: none (windows of a tenth of the run are not reported)
             path = os.path.join(tmp, f"{key}.json")
             with open(path, "w") as f:
@@ -427,8 +424,7 @@ def main() -> int:
                     help="with --render: each engine's seconds between these steps (comma-separated)")
     ap.add_argument("--merge", action="store_true", help="replace only the scenes run in the saved --out file")
     ap.add_argument("--write-scenes", action="store_true",
-                    help=f"don't run: write the MJCF files of {', '.join(MJCF_SCENES)} from lcpsim.scenes "
-                         "into benchmarks/scenes/")
+                    help="don't run: write every scene's MJCF file from lcpsim.scenes into benchmarks/scenes/")
     ap.add_argument("--write-results", action="store_true",
                     help=f"rewrite the section '{many_bodies_report.MARKER}' of {RESULTS_MD.relative_to(ROOT)} "
                          "(the subsections this run does not write are kept)")
@@ -440,10 +436,9 @@ def main() -> int:
         args.scenes = ",".join(POUR_DEFAULT if pours else [s.key for s in SCENES if s.benchmark == "many_bodies"])
     engine_budgets = {k: float(v) for k, v in (x.split("=", 1) for x in args.engine_budget)}
     if args.write_scenes:
-        for key in MJCF_SCENES:
-            path = mjcf_path(key)
-            assert path is not None
-            path.write_text(scene_mjcf(describe(*SCENE_BY_KEY[key].build()), key))
+        for spec in SCENES:
+            path = mjcf_path(spec.key)
+            path.write_text(scene_mjcf(describe(*spec.build()), spec.key))
             print(f"wrote {path.relative_to(ROOT)}")
         return 0
     if args.render:

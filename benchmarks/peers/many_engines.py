@@ -1,9 +1,8 @@
 """The Python engines of ``many_bodies.py`` and the worker loop they share with
 Rapier's (``benchmarks/rapier_bench``): one engine × scene per process.
 
-A worker builds the scene (lcpsim and MuJoCo from the scene's MJCF file where
-it has one, else lcpsim from its own scene function and MuJoCo from the
-description; PyBullet and Rapier from the description file), then runs ``reps`` fresh repetitions of ``steps`` steps,
+A worker builds the scene (lcpsim and MuJoCo from the scene's MJCF file,
+PyBullet and Rapier from the description file), then runs ``reps`` fresh repetitions of ``steps`` steps,
 each stopped once its wall clock passes ``budget`` seconds. It prints JSON
 lines: ``ready`` (RSS after building), ``progress`` (steps done, seconds spent
 stepping), ``sample`` (the dynamic boxes' poses and contact count, first
@@ -28,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from many_scenes import describe, load, scene_mjcf
+from many_scenes import describe, load
 
 #: Target wall-clock length of one stepping call (steps are batched between samples).
 CHUNK_SECONDS = 0.25
@@ -47,7 +46,7 @@ def rss_mb() -> float:
 
 
 class LcpsimEngine:
-    """lcpsim's ``World.run`` (the loop in Rust), the scene from its MJCF file or lcpsim's own builder."""
+    """lcpsim's ``World.run`` (the loop in Rust), the scene from its MJCF file."""
 
     def __init__(self, scene_key: str, desc: dict[str, Any]) -> None:
         world, how = load(scene_key)
@@ -131,16 +130,13 @@ class LcpsimEngine:
 
 class MujocoEngine:
     """MuJoCo with its defaults (pyramidal cone, Newton solver, soft contacts),
-    ``mj_step(m, d, nstep)`` from Python; the scene's MJCF file, else the description as MJCF."""
+    ``mj_step(m, d, nstep)`` from Python; the scene's MJCF file."""
 
     def __init__(self, scene_key: str, desc: dict[str, Any]) -> None:
         import mujoco
 
         self.mj = mujoco
-        if desc.get("mjcf"):
-            self.m = mujoco.MjModel.from_xml_path(desc["mjcf"])
-        else:
-            self.m = mujoco.MjModel.from_xml_string(scene_mjcf(desc, scene_key))
+        self.m = mujoco.MjModel.from_xml_path(desc["mjcf"])
         self.d = mujoco.MjData(self.m)
         mujoco.mj_forward(self.m, self.d)
         self.n = sum(not b["static"] for b in desc["boxes"])

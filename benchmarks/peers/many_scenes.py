@@ -7,20 +7,11 @@ Every scene is built by lcpsim's public API (``lcpsim.scenes.box_stack``,
 extents, centres, orientations, masses and static flags, over the ground
 plane ``z = 0``. 1 kg unit cubes, μ = 0.5, g = 9.81, dt = 1e-3.
 
-The scenes of the RESULTS.md tables (:data:`MJCF_SCENES`: the stack, the
-towers, the 45- and 90-cube pours) are written once as MJCF
-(:func:`scene_mjcf`, ``benchmarks/scenes/<key>.xml``, by ``many_bodies.py
---write-scenes``): lcpsim (``World.from_mjcf``) and MuJoCo read that file, and
-PyBullet and Rapier are built from the description of lcpsim's world read from
-it (:func:`load`). The other scenes are exported as above and every engine is
-built from that description (MuJoCo from :func:`scene_mjcf` of it), so all
-engines start from the same state.
-
-Measurements, the same code for every engine (:func:`penetration`,
-:func:`drift`): the deepest overlap of two boxes (separating-axis test over
-the 15 axes of two boxes, which gives the exact penetration depth of two
-boxes) or of a box and the ground, and how far the top box of each tower
-moved.
+Every scene is written once as MJCF (:func:`scene_mjcf`,
+``benchmarks/scenes/<key>.xml``, by ``many_bodies.py --write-scenes``):
+lcpsim (``World.from_mjcf``) and MuJoCo read that file, and PyBullet and
+Rapier are built from the description of lcpsim's world read from it
+(:func:`load`), so all engines start from the same state.
 """
 
 from __future__ import annotations
@@ -39,8 +30,6 @@ MU = 0.5
 HALF = 0.5  # unit cubes
 #: Where the scenes' MJCF files live.
 MJCF_DIR = Path(__file__).resolve().parent.parent / "scenes"
-#: The scenes written once as MJCF, read by lcpsim and MuJoCo from that file.
-MJCF_SCENES = ("stack10", "towers3", "towers10", "pour45", "pour90")
 
 
 # --------------------------------------------------------------------------- the heap
@@ -202,17 +191,14 @@ SCENES: list[SceneSpec] = [
 SCENE_BY_KEY = {s.key: s for s in SCENES}
 
 
-def mjcf_path(key: str) -> Path | None:
-    """The scene's MJCF file, for the scenes of :data:`MJCF_SCENES`."""
-    return MJCF_DIR / f"{key}.xml" if key in MJCF_SCENES else None
+def mjcf_path(key: str) -> Path:
+    """The scene's MJCF file."""
+    return MJCF_DIR / f"{key}.xml"
 
 
 def load(key: str) -> tuple[Any, str]:
-    """The scene's lcpsim world and how it was built: from its MJCF file
-    (``World.from_mjcf``) for the scenes of :data:`MJCF_SCENES`, else by its builder."""
+    """The scene's lcpsim world read from its MJCF file (``World.from_mjcf``), and how it was built."""
     path = mjcf_path(key)
-    if path is None:
-        return SCENE_BY_KEY[key].build()
     if not path.exists():
         raise FileNotFoundError(f"{path} is missing: write it with many_bodies.py --write-scenes")
     import lcpsim
