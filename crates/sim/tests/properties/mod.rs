@@ -1,8 +1,9 @@
 //! A `World` from arbitrary bytes — parameters, up to five boxes and spheres
-//! (some static), forces — stepped a few times, and what must hold whatever
-//! the input: construction and stepping return `Ok` or a `SimError`, never
-//! panic; every record is consistent (its LCP size is `contacts·(k + 2)`,
-//! islands cover the contacts); a solved step has finite impulses and
+//! (some static), forces, pairs kept apart — stepped a few times, and what must
+//! hold whatever the input: construction and stepping return `Ok` or a
+//! `SimError`, never panic; every record is consistent (its LCP size is
+//! `contacts·(k + 2)`, islands cover the contacts, no contact joins an
+//! excluded pair); a solved step has finite impulses and
 //! residual; an island the robust Lemke or PGS reports solved passes the
 //! acceptance rule on its LCP as solved (`M` formed densely for the check:
 //! the body-space answers of the previous basis never form it). Shared by
@@ -117,6 +118,11 @@ pub fn check(data: &[u8]) -> Result<Stats, String> {
             world.apply_force(body, vec3(&mut b, 100.0), if b.u8() % 2 == 0 { Some(vec3(&mut b, 0.5)) } else { None });
     }
     let steps = 1 + b.u8() % 12;
+    // Pairs kept apart (read after the step count, so older inputs decode as before).
+    for _ in 0..b.u8() % 3 {
+        let _ = world.exclude_pair(BodyId(b.u8() as usize % 7), BodyId(b.u8() as usize % 7));
+    }
+    let excluded = world.excluded_pairs().to_vec();
     let k = world.params().friction_dirs;
     for _ in 0..steps {
         let rec = match world.step() {
@@ -127,6 +133,11 @@ pub fn check(data: &[u8]) -> Result<Stats, String> {
         let nc = rec.contacts.len();
         if rec.lcp_size != nc * (k + 2) {
             return Err(format!("lcp_size {} for {nc} contacts, k = {k}", rec.lcp_size));
+        }
+        if let Some(c) =
+            rec.contacts.iter().find(|c| excluded.contains(&(c.body_a.min(c.body_b), c.body_a.max(c.body_b))))
+        {
+            return Err(format!("a contact between the excluded bodies {} and {}", c.body_a, c.body_b));
         }
         let covered: usize = rec.islands.iter().map(|i| i.contacts.len()).sum();
         if covered != nc {
