@@ -118,6 +118,14 @@ BODY = '<body name="{name}" pos="0 0 1">{inner}</body>'
         (BODY.format(name="car", inner='<freejoint/><geom type="box" size=".1 .1 .1"/>'
          '<body name="wheel"><geom type="sphere" size=".1" pos=".2 0 0" contype="0" conaffinity="0"/></body>'),
          ["body 'wheel'", "no colliding geom"]),
+        (BODY.format(name="top", inner='<freejoint/><geom name="tip" type="sphere" size=".1" condim="6"/>'),
+         ["geom 'tip'", "condim=6", "rolling"]),
+        ('<geom name="floor" type="plane" size="1 1 1"/>'
+         + BODY.format(name="p", inner='<freejoint/><geom name="first" type="sphere" size=".1" priority="1"/>'),
+         ["geom 'first'", "priority=1", "geom 'floor'", "priority=0"]),
+        ('<geom name="floor" type="plane" size="1 1 1" friction="0.5"/>'
+         + BODY.format(name="p", inner='<freejoint/><geom name="ice" type="box" size=".1 .1 .1" condim="1" friction="0.9"/>'),
+         ["geom 'ice'", "condim 1, friction 0.9", "geom 'floor'", "condim 3, friction 0.5", "<= 0.5"]),
     ],
 )
 def test_unsupported_elements_are_refused_naming_them(xml, words):
@@ -127,6 +135,42 @@ def test_unsupported_elements_are_refused_naming_them(xml, words):
     assert "\n" not in msg
     for word in words:
         assert word in msg, msg
+
+
+SLOPE = """
+<mujoco>
+  <option timestep="0.001"/>
+  <worldbody>
+    <geom name="slope" type="plane" size="5 5 .1" euler="0 20 0" condim="{floor}" friction="{mu}"/>
+    <body name="block" pos="0 0 0.1" euler="0 20 0">
+      <freejoint/><geom type="box" size="0.1 0.1 0.1" mass="1" condim="{block}" friction="{mu}"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+@pytest.mark.parametrize("floor, block, frictionless", [(1, 1, True), (3, 1, False), (3, 3, False)])
+def test_condim_1_pairs_slide_without_friction_as_in_mujoco(floor, block, frictionless):
+    """A block on a 20° slope, μ = 0.5 > tan 20°: it slides down at g sin θ when both geoms are
+    frictionless (condim 1; MuJoCo's pair takes the larger condim) and stays put otherwise."""
+    xml = SLOPE.format(floor=floor, block=block, mu=0.5)
+    w = World.from_mjcf(xml)
+    b = w.body_id("block")
+    assert w.body(b).mu == (0.0 if block == 1 else 0.5)
+    traj = w.run(500)
+    assert traj.lcp_stats().failures == 0
+    m = mujoco.MjModel.from_xml_string(xml)
+    d = mujoco.MjData(m)
+    for _ in range(500):
+        mujoco.mj_step(m, d)
+    theta = np.radians(20)
+    ours, theirs = np.linalg.norm(w.velocities[b]), np.linalg.norm(d.qvel[:3])
+    if frictionless:
+        assert ours == pytest.approx(9.81 * np.sin(theta) * 0.5, rel=1e-9)  # v = g sin θ t exactly
+        assert theirs == pytest.approx(ours, rel=0.02)
+    else:
+        assert ours < 1e-9 and theirs < 1e-2
 
 
 def test_a_zero_timestep_is_refused_naming_the_option():

@@ -41,13 +41,16 @@ the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
   field: :meth:`lcpsim.World.add_heightfield` of the compiled ``hfield_data``
   times its elevation ``size[2]``, from elevation data or a PNG alike; its
   ``base`` below the surface is not a solid);
-- μ = ``geom_friction[0]``, combined by ``max`` as MuJoCo does (unless
-  ``mu_combine`` is given); ``dt`` = ``opt.timestep``, ``gravity`` = ``opt.gravity``;
+- μ = ``geom_friction[0]`` (0 for a frictionless geom, ``condim`` 1), combined by
+  ``max`` as MuJoCo does (unless ``mu_combine`` is given): geoms of one
+  ``priority``, ``condim`` 1 or 3, no condim-1 geom with more friction than a
+  condim-3 one (MuJoCo's pair would slide with it); ``dt`` = ``opt.timestep``, ``gravity`` = ``opt.gravity``;
 - ``geom_contype``, ``geom_conaffinity`` as each body's collision bits (MuJoCo's
   rule: two geoms collide iff ``(contype1 & conaffinity2) | (contype2 & conaffinity1)``).
 
 Everything else is refused with :class:`MjcfError` (a ``ValueError``) naming
-the element and its name: several joints on one body, a ball joint's
+the element and its name: ``condim`` 4 or 6 (torsional, rolling friction),
+geoms of different ``priority``, several joints on one body, a ball joint's
 ``range``, joint stiffness, a ball joint's damping (a hinge's or slide's is
 the joint's ``damping``), armature or friction loss, a moving body with no
 colliding geom, a body's geoms of different friction or collision bits, other
@@ -153,6 +156,7 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
             raise MjcfError(f"geom {_name(mujoco, m, OBJ.mjOBJ_GEOM, g)!r} is a {GEOM_TYPES[t]}, which is not supported")
         if t == 1 and moving[int(m.geom_bodyid[g])]:
             raise MjcfError(f"geom {_name(mujoco, m, OBJ.mjOBJ_GEOM, g)!r} is an hfield on a moving body (terrain is static)")
+    _check_friction_model(mujoco, m, colliding)
     per_body: dict[int, list[int]] = {}
     for g in colliding:
         per_body.setdefault(int(m.geom_bodyid[g]), []).append(g)
@@ -409,11 +413,51 @@ def _off_centre(m: Any, d: Any, g: int, b: int) -> bool:
     return bool(np.linalg.norm(np.asarray(d.xipos[b]) - np.asarray(d.geom_xpos[g])) > 1e-6 * scale)
 
 
+def _mu(m: Any, g: int) -> float:
+    """Geom ``g``'s μ: ``friction[0]``, 0 for a frictionless geom (``condim`` 1)."""
+    return 0.0 if int(m.geom_condim[g]) == 1 else float(m.geom_friction[g][0])
+
+
+def _check_friction_model(mujoco: Any, m: Any, colliding: list[int]) -> None:
+    """MuJoCo's friction of a pair as lcpsim's max of the two bodies' μ (:func:`_mu`). MuJoCo
+    gives a pair the larger ``condim`` of its geoms and the larger ``friction[0]`` (both
+    geoms' at equal ``priority``; the higher-priority geom's otherwise): exact when every
+    colliding geom has one priority, ``condim`` is 1 (frictionless) or 3 (sliding friction;
+    4 and 6 add torsional and rolling friction, which lcpsim has not) and no condim-1 geom
+    has more friction than a condim-3 one (a pair of the two slides with the larger)."""
+    OBJ = mujoco.mjtObj
+    name = lambda g: _name(mujoco, m, OBJ.mjOBJ_GEOM, g)  # noqa: E731
+    for g in colliding:
+        c = int(m.geom_condim[g])
+        if c not in (1, 3):
+            raise MjcfError(f"geom {name(g)!r} has condim={c} (torsional or rolling friction), which is not "
+                            "supported: lcpsim's friction is sliding only (condim 1 or 3)")
+    if colliding:
+        first = colliding[0]
+        for g in colliding:
+            if int(m.geom_priority[g]) != int(m.geom_priority[first]):
+                raise MjcfError(
+                    f"geom {name(g)!r} has priority={int(m.geom_priority[g])} and geom {name(first)!r} "
+                    f"priority={int(m.geom_priority[first])}: MuJoCo then takes the higher one's friction, "
+                    "lcpsim combines by max; give every colliding geom one priority")
+    frictionless = [g for g in colliding if int(m.geom_condim[g]) == 1]
+    sliding = [g for g in colliding if int(m.geom_condim[g]) == 3]
+    if frictionless and sliding:
+        hi = max(frictionless, key=lambda g: float(m.geom_friction[g][0]))
+        lo = min(sliding, key=lambda g: float(m.geom_friction[g][0]))
+        fh, fl = float(m.geom_friction[hi][0]), float(m.geom_friction[lo][0])
+        if fh > fl:
+            raise MjcfError(
+                f"geom {name(hi)!r} (condim 1, friction {fh:g}) and geom {name(lo)!r} (condim 3, friction {fl:g}): "
+                f"MuJoCo slides such a pair with friction {fh:g}, lcpsim's frictionless geom gives {fl:g}; "
+                f"give the condim-1 geoms a friction <= {fl:g}")
+
+
 def _check_same_surface(mujoco: Any, m: Any, gs: list[int], bname: str) -> None:
     """The geoms of one moving body make one lcpsim body with one μ and one pair of
     collision bits: refuses geoms that differ in either, naming the body."""
     for field, values in (
-        ("friction", [float(m.geom_friction[g][0]) for g in gs]),
+        ("friction", [_mu(m, g) for g in gs]),
         ("contype", [int(m.geom_contype[g]) for g in gs]),
         ("conaffinity", [int(m.geom_conaffinity[g]) for g in gs]),
     ):
@@ -455,7 +499,7 @@ def _add_compound(mujoco: Any, m: Any, d: Any, world: Any, gs: list[int], b: int
         parts.append(_part(m, g, ri.T @ (np.array(d.geom_xpos[g], dtype=np.float64) - com), _quat_of(mujoco, rot)))
     idx = int(world.add_compound(
         parts, mass=float(m.body_mass[b]), position=com, orientation=_quat_of(mujoco, ri),
-        mu=float(m.geom_friction[gs[0]][0]), inertia=np.diag(np.array(m.body_inertia[b], dtype=np.float64)),
+        mu=_mu(m, gs[0]), inertia=np.diag(np.array(m.body_inertia[b], dtype=np.float64)),
         com=(0.0, 0.0, 0.0), contype=int(m.geom_contype[gs[0]]), conaffinity=int(m.geom_conaffinity[gs[0]]),
     ))
     bname = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b)
@@ -489,7 +533,7 @@ def _add_geom(mujoco: Any, m: Any, d: Any, world: Any, g: int, b: int, moving: b
     # from the file comes through unrounded.
     quat = np.zeros(4)
     mujoco.mju_mulQuat(quat, np.asarray(d.xquat[b], dtype=np.float64), np.asarray(m.geom_quat[g], dtype=np.float64))
-    mu = float(m.geom_friction[g][0])
+    mu = _mu(m, g)
     bits = {"contype": int(m.geom_contype[g]), "conaffinity": int(m.geom_conaffinity[g])}
     kw: dict[str, Any] = {"position": pos, "orientation": quat, "mu": mu, **bits}
     if moving:
