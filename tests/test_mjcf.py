@@ -173,6 +173,20 @@ def test_condim_1_pairs_slide_without_friction_as_in_mujoco(floor, block, fricti
         assert ours < 1e-9 and theirs < 1e-2
 
 
+def test_a_geom_margin_is_refused_as_mujoco_rests_bodies_that_far_apart():
+    cube = ('<mujoco><worldbody><geom type="plane" size="1 1 1"/><body pos="0 0 0.2"><freejoint/>'
+            '<geom name="shell" type="box" size=".1 .1 .1" margin="{margin}"/></body></worldbody></mujoco>')
+    rest = []
+    for margin in (0.0, 0.01):
+        m = mujoco.MjModel.from_xml_string(cube.format(margin=margin))
+        d = mujoco.MjData(m)
+        mujoco.mj_step(m, d, nstep=3000)
+        rest.append(float(d.qpos[2]))
+    assert rest[1] - rest[0] == pytest.approx(0.01, abs=1e-4)  # MuJoCo: 1 cm higher
+    with pytest.raises(MjcfError, match="geom 'shell' has margin=0.01.*apart"):
+        World.from_mjcf(cube.format(margin=0.01))
+
+
 def test_a_zero_timestep_is_refused_naming_the_option():
     xml = '<mujoco><option timestep="0"/><worldbody><geom type="plane" size="1 1 1"/></worldbody></mujoco>'
     with pytest.raises(MjcfError, match="timestep must be > 0.*got 0.0"):

@@ -50,7 +50,7 @@ the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
 
 Everything else is refused with :class:`MjcfError` (a ``ValueError``) naming
 the element and its name: ``condim`` 4 or 6 (torsional, rolling friction),
-geoms of different ``priority``, several joints on one body, a ball joint's
+geoms of different ``priority``, a geom ``margin`` (MuJoCo's bodies rest that far apart), several joints on one body, a ball joint's
 ``range``, joint stiffness, a ball joint's damping (a hinge's or slide's is
 the joint's ``damping``), armature or friction loss, a moving body with no
 colliding geom, a body's geoms of different friction or collision bits, other
@@ -428,6 +428,9 @@ def _check_friction_model(mujoco: Any, m: Any, colliding: list[int]) -> None:
     OBJ = mujoco.mjtObj
     name = lambda g: _name(mujoco, m, OBJ.mjOBJ_GEOM, g)  # noqa: E731
     for g in colliding:
+        if float(m.geom_margin[g]) != 0.0:
+            raise MjcfError(f"geom {name(g)!r} has margin={float(m.geom_margin[g]):g}, which is not supported: "
+                            "MuJoCo's contacts then act that far apart (bodies rest apart), lcpsim's at touch")
         c = int(m.geom_condim[g])
         if c not in (1, 3):
             raise MjcfError(f"geom {name(g)!r} has condim={c} (torsional or rolling friction), which is not "
