@@ -187,6 +187,68 @@ def test_a_geom_margin_is_refused_as_mujoco_rests_bodies_that_far_apart():
         World.from_mjcf(cube.format(margin=0.01))
 
 
+# A ball 0.5 m above the floor and a bead on a vertical slide with a damper and a range that
+# holds it 0.1 m below its start; option flags turn parts off.
+FLAGS = """
+<mujoco>
+  <option timestep="0.001"><flag {flags}/></option>
+  <worldbody>
+    <geom name="floor" type="plane" size="5 5 .1"/>
+    <body name="ball" pos="0 0 0.6"><freejoint/><geom type="sphere" size="0.1" mass="1"/></body>
+    <body name="bead" pos="1 0 2">
+      <joint name="rail" type="slide" axis="0 0 1" range="-0.1 0.1" damping="50"/>
+      <geom type="sphere" size="0.05" mass="1"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+@pytest.mark.parametrize("flags, ball_falls, ball_through, bead_free", [
+    ('gravity="disable"', False, False, False),
+    ('contact="disable"', True, True, False),
+    ('limit="disable" damper="disable"', True, False, True),
+    ('constraint="disable" damper="disable"', True, True, True),
+])
+def test_option_flags_turn_off_what_they_turn_off_in_mujoco(flags, ball_falls, ball_through, bead_free):
+    """0.5 s: the ball stays (no gravity), lands on the floor, or falls through it (no contact);
+    the bead is held by its damped, limited rail, or falls freely once limit and damper are off."""
+    xml = FLAGS.format(flags=flags)
+    w = World.from_mjcf(xml)
+    traj = w.run(500)
+    assert traj.lcp_stats().failures == 0
+    m = mujoco.MjModel.from_xml_string(xml)
+    d = mujoco.MjData(m)
+    mujoco.mj_step(m, d, nstep=500)
+    n = 500
+    free_fall = 9.81 * 1e-6 * n * (n + 1) / 2  # semi-implicit Euler, exactly
+    ball, bead = traj.positions[-1, w.body_id("ball")], traj.positions[-1, w.body_id("bead")]
+    theirs_ball, theirs_bead = d.xipos[1], d.xipos[2]
+    if not ball_falls:
+        assert ball[2] == 0.6 and abs(theirs_ball[2] - 0.6) < 1e-9
+    elif ball_through:
+        assert ball[2] == pytest.approx(0.6 - free_fall, abs=1e-9) and theirs_ball[2] < 0.6 - 1.0
+    else:
+        assert ball[2] == pytest.approx(0.1, abs=1e-6) and theirs_ball[2] == pytest.approx(0.1, abs=2e-3)
+    if bead_free:
+        assert bead[2] == pytest.approx(2 - free_fall, abs=1e-6) and theirs_bead[2] == pytest.approx(2 - free_fall, abs=5e-3)
+    else:
+        assert bead[2] >= 2 - 0.1 - 1e-6 and theirs_bead[2] > 2 - 0.1 - 5e-3
+
+
+@pytest.mark.parametrize("xml, words", [
+    ('<mujoco><option><flag actuation="disable"/></option><worldbody><body name="b"><joint name="j" type="hinge"/>'
+     '<geom type="box" size=".1 .1 .1"/></body></worldbody><actuator><velocity joint="j" kv="1" forcerange="-1 1"/>'
+     '</actuator></mujoco>', ["actuation is disabled"]),
+    ('<mujoco><option><flag override="enable"/></option><worldbody/></mujoco>', ["override", "o_friction"]),
+])
+def test_option_flags_lcpsim_cannot_follow_are_refused(xml, words):
+    with pytest.raises(MjcfError) as e:
+        World.from_mjcf(xml)
+    for word in words:
+        assert word in str(e.value), str(e.value)
+
+
 def test_a_zero_timestep_is_refused_naming_the_option():
     xml = '<mujoco><option timestep="0"/><worldbody><geom type="plane" size="1 1 1"/></worldbody></mujoco>'
     with pytest.raises(MjcfError, match="timestep must be > 0.*got 0.0"):

@@ -45,6 +45,10 @@ the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
   ``max`` as MuJoCo does (unless ``mu_combine`` is given): geoms of one
   ``priority``, ``condim`` 1 or 3, no condim-1 geom with more friction than a
   condim-3 one (MuJoCo's pair would slide with it); ``dt`` = ``opt.timestep``, ``gravity`` = ``opt.gravity``;
+- the option flags that turn off gravity (zero gravity), contacts or all
+  constraints (no contacts, no joint limits), joint limits, dampers, springs
+  and friction loss (not read); ``override`` enabled and ``actuation``
+  disabled with actuators are refused;
 - ``geom_contype``, ``geom_conaffinity`` as each body's collision bits (MuJoCo's
   rule: two geoms collide iff ``(contype1 & conaffinity2) | (contype2 & conaffinity1)``).
 
@@ -139,6 +143,10 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
     ):
         if count:
             raise MjcfError(f"{what} {_name(mujoco, m, kind, 0)!r} is not supported (lcpsim: bodies, joints, velocity actuators)")
+    if m.nu and _disabled(m, "ACTUATION"):
+        raise MjcfError("option flag actuation is disabled with actuators in the model, which is not supported")
+    if int(m.opt.enableflags) & int(mujoco.mjtEnableBit.mjENBL_OVERRIDE):
+        raise MjcfError("option flag override is enabled (o_margin, o_solref, o_friction), which is not supported")
     _check_joints(mujoco, m)
     d = mujoco.MjData(m)
     mujoco.mj_forward(m, d)
@@ -178,7 +186,7 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
     if "dt" not in world_kwargs and not float(m.opt.timestep) > 0.0:
         raise MjcfError(f"option timestep must be > 0 (it is lcpsim's dt), got {float(m.opt.timestep)!r}")
     world_kwargs.setdefault("dt", float(m.opt.timestep))
-    world_kwargs.setdefault("gravity", tuple(float(x) for x in m.opt.gravity))
+    world_kwargs.setdefault("gravity", (0.0, 0.0, 0.0) if _disabled(m, "GRAVITY") else tuple(float(x) for x in m.opt.gravity))
     world_kwargs.setdefault("mu_combine", "max")
     world = new_world(**world_kwargs)
     names: dict[str, int] = {}
@@ -201,11 +209,19 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
     joined: set[tuple[int, int]] = set()
     joint_index = _add_joints(mujoco, m, d, world, moving & ~frame, body_index, joined)
     _exclude_filtered(mujoco, m, world, body_index, of_body, joined)
+    if _disabled(m, "CONTACT") or _disabled(m, "CONSTRAINT"):  # no contact at all
+        for i in range(world.body_count):
+            world.set_collision_filter(i, 0, 0)
     world._actuators = _actuators(mujoco, m, world, joint_index)
     world.scene = "mjcf"
     world.scene_params = {"source": source if not (isinstance(source, str) and source.lstrip().startswith("<")) else "<xml>"}
     world._body_names = dict(names)
     return MjcfScene(world, names, m)
+
+
+def _disabled(m: Any, flag: str) -> bool:
+    """Whether the option flag ``mjDSBL_<flag>`` is set (``<flag gravity="disable"/>``, ...)."""
+    return bool(int(m.opt.disableflags) & int(getattr(_mujoco().mjtDisableBit, f"mjDSBL_{flag}")))
 
 
 def _check_joints(mujoco: Any, m: Any) -> None:
@@ -228,12 +244,13 @@ def _check_joints(mujoco: Any, m: Any) -> None:
             raise MjcfError(f"{what} has a range: cone limits of ball joints are not supported")
         dofs = range(int(m.jnt_dofadr[j]), int(m.jnt_dofadr[j]) + {0: 6, 1: 3}.get(jt, 1))
         # Hinge and slide damping becomes the joint's (`_add_joint`).
-        damping = 0.0 if jt in (2, 3) else max(abs(float(m.dof_damping[k])) for k in dofs)
+        damping = 0.0 if jt in (2, 3) or _disabled(m, "DAMPER") else max(abs(float(m.dof_damping[k])) for k in dofs)
+        off = _disabled(m, "CONSTRAINT") or _disabled(m, "FRICTIONLOSS")
         for field, value in (
-            ("stiffness", float(m.jnt_stiffness[j])),
+            ("stiffness", 0.0 if _disabled(m, "SPRING") else float(m.jnt_stiffness[j])),
             ("damping", damping),
             ("armature", max(abs(float(m.dof_armature[k])) for k in dofs)),
-            ("frictionloss", max(abs(float(m.dof_frictionloss[k])) for k in dofs)),
+            ("frictionloss", 0.0 if off else max(abs(float(m.dof_frictionloss[k])) for k in dofs)),
         ):
             if value != 0.0:
                 raise MjcfError(f"{what} has {field}={value:g}, which is not supported")
@@ -277,10 +294,10 @@ def _add_joint(m: Any, d: Any, world: Any, a: int | None, child: int, b: int, ou
     anchor = tuple(float(x) for x in d.xanchor[j])
     axis = tuple(float(x) for x in d.xaxis[j])
     limits = None
-    if jt in (2, 3) and bool(m.jnt_limited[j]):
+    if jt in (2, 3) and bool(m.jnt_limited[j]) and not (_disabled(m, "LIMIT") or _disabled(m, "CONSTRAINT")):
         q0 = float(m.qpos0[int(m.jnt_qposadr[j])])
         limits = (float(m.jnt_range[j][0]) - q0, float(m.jnt_range[j][1]) - q0)
-    damping = float(m.dof_damping[int(m.jnt_dofadr[j])])
+    damping = 0.0 if _disabled(m, "DAMPER") else float(m.dof_damping[int(m.jnt_dofadr[j])])
     if jt == 3:
         out[j] = world.add_hinge(a, child, anchor, axis, limits=limits, damping=damping)
     elif jt == 2:
@@ -302,7 +319,7 @@ def _exclude_filtered(
     groups: dict[int, list[int]] = {}
     for b, w in weld.items():
         groups.setdefault(w, []).append(b)
-    filter_parent = not int(m.opt.disableflags) & int(mujoco.mjtDisableBit.mjDSBL_FILTERPARENT)
+    filter_parent = not _disabled(m, "FILTERPARENT")
     excluded: set[tuple[int, int]] = set()
 
     def keep_apart(xs: list[int], ys: list[int]) -> None:
