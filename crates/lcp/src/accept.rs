@@ -205,7 +205,7 @@ fn rejected_rows(
 /// # Panics
 /// If `z` or `w` do not have `op.n()` entries.
 pub fn accepts_operator(op: &dyn LcpOperator, z: &[f64], w: &[f64], tol: f64) -> bool {
-    rejected_row_operator(op, z, w, tol, true, &mut Vec::new()).is_none()
+    rejected_row_operator(op, z, w, tol, true, &mut Vec::new(), &mut Vec::new()).is_none()
 }
 
 /// The row of `(z, w)` the rule rejects on `op`: the one with the largest
@@ -228,6 +228,7 @@ pub fn rejected_row_operator(
     tol: f64,
     first: bool,
     kept: &mut Vec<KeptColumns>,
+    row: &mut Vec<f64>,
 ) -> Option<usize> {
     let n = op.n();
     check_sizes(n, z, w);
@@ -236,7 +237,6 @@ pub fn rejected_row_operator(
         kept.resize(n, [NO_COLUMN; KEPT]);
     }
     let kept = std::cell::Cell::from_mut(kept.as_mut_slice()).as_slice_of_cells();
-    let mut row = Vec::new();
     let entry = |i: usize| {
         let cols = kept[i].get();
         let known = cols.iter().take_while(|&&j| j < n).count();
@@ -252,9 +252,9 @@ pub fn rejected_row_operator(
     };
     let scale = |i: usize, zsum: f64| {
         row.resize(n, 0.0);
-        op.row(i, &mut row);
-        kept[i].set(kept_columns(&row, z, i));
-        scale_of_row(&row, op.q()[i], z, zsum)
+        op.row(i, row);
+        kept[i].set(kept_columns(row, z, i));
+        scale_of_row(row, op.q()[i], z, zsum)
     };
     rejected_rows((op.q(), z, w), tol, |i| op.diag(i), entry, scale, first)
 }

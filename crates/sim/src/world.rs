@@ -87,6 +87,8 @@ pub(crate) struct Workspace {
     pub solvers: Vec<lcp::Workspace>,
     /// Bases of the previous step's islands.
     pub warm: WarmStarts,
+    /// The record's basis buffer while the record holds none (its next basis is written into it).
+    pub record_basis: Vec<bool>,
     /// What `contact_lcp` shows without contacts.
     pub no_lcp: ContactLcp,
     /// Velocity changes from the contact impulses.

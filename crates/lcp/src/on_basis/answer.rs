@@ -52,20 +52,22 @@ pub struct BasisTolerances {
 
 /// The accepted answer in `ws`, on the basis `β` factored, with `z`, `w` in
 /// the other units if `other`; the vectors are moved out of `ws` if `take`
-/// (its last use in this call), else copied.
+/// (its last use in this call), else copied — into spare vectors the caller
+/// handed back ([`BasisWorkspace::recycle`]) when there are some.
 pub(super) fn answer(ws: &mut BasisWorkspace, dropped: usize, reused: bool, other: bool, take: bool) -> BasisAnswer {
-    let out = |v: &mut Vec<f64>| if take { std::mem::take(v) } else { v.clone() };
+    let spare = &mut ws.spare;
+    let mut out = |v: &mut Vec<f64>| if take { spare.take(v) } else { spare.copy(v) };
     // (`within_both` formed the residuals of this z and w.)
-    let residuals = ws.residuals;
     let solution = Solution {
         z: out(&mut ws.z),
         w: out(&mut ws.w),
         status: Status::Solved,
         pivots: 0,
-        residuals,
-        basis: Some(ws.f.factored.clone()),
+        residuals: ws.residuals,
+        basis: None,
         accepted: true,
     };
     let other = other.then(|| (out(&mut ws.z2), out(&mut ws.w2)));
+    let solution = Solution { basis: Some(ws.spare.copy_mask(&ws.f.factored)), ..solution };
     BasisAnswer { solution, dropped, reused, other }
 }

@@ -56,10 +56,10 @@ pub(super) fn rule_rejects(
     first: bool,
     ws: &mut BasisWorkspace,
 ) -> Option<usize> {
-    let BasisWorkspace { z, w, z2, w2, kept, kept_other, .. } = ws;
-    crate::accept::rejected_row_operator(op, z, w, accept_tol, first, kept).or_else(|| {
+    let BasisWorkspace { z, w, z2, w2, kept, kept_other, row, .. } = ws;
+    crate::accept::rejected_row_operator(op, z, w, accept_tol, first, kept, row).or_else(|| {
         let (other, _) = also?;
-        crate::accept::rejected_row_operator(other, z2, w2, accept_tol, first, kept_other)
+        crate::accept::rejected_row_operator(other, z2, w2, accept_tol, first, kept_other, row)
     })
 }
 

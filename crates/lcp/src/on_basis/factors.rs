@@ -130,6 +130,8 @@ pub(super) fn form_block(op: &dyn LcpOperator, ws: &mut BasisWorkspace) {
         block_pos,
         block_prev,
         block_fresh,
+        fresh_at,
+        fresh,
         ..
     } = ws;
     // (Every entry of the block is written below: it is sized, not cleared.)
@@ -148,7 +150,8 @@ pub(super) fn form_block(op: &dyn LcpOperator, ws: &mut BasisWorkspace) {
     }
     block_support.iter().enumerate().for_each(|(p, &j)| block_pos[j] = p);
     // Positions in the new support of the indices new to it.
-    let fresh_at: Vec<usize> = (0..m).filter(|&a| block_pos[support[a]] == NOT_IN_BLOCK).collect();
+    fresh_at.clear();
+    fresh_at.extend((0..m).filter(|&a| block_pos[support[a]] == NOT_IN_BLOCK));
     block.resize(m * m, 0.0);
     for (a, &i) in support.iter().enumerate() {
         if block_pos[i] != NOT_IN_BLOCK {
@@ -162,15 +165,17 @@ pub(super) fn form_block(op: &dyn LcpOperator, ws: &mut BasisWorkspace) {
     }
     if !fresh_at.is_empty() {
         // The new indices' columns (every row), then their rows (every column).
-        let (f, fresh) = (fresh_at.len(), fresh_at.iter().map(|&a| support[a]).collect::<Vec<_>>());
+        let f = fresh_at.len();
+        fresh.clear();
+        fresh.extend(fresh_at.iter().map(|&a| support[a]));
         block_fresh.resize(m * f, 0.0);
-        op.block(support, &fresh, block_fresh);
+        op.block(support, fresh, block_fresh);
         for a in 0..m {
             for (t, &b) in fresh_at.iter().enumerate() {
                 block[a * m + b] = block_fresh[a * f + t];
             }
         }
-        op.block(&fresh, support, block_fresh);
+        op.block(fresh, support, block_fresh);
         for (t, &a) in fresh_at.iter().enumerate() {
             block[a * m..(a + 1) * m].copy_from_slice(&block_fresh[t * m..(t + 1) * m]);
         }

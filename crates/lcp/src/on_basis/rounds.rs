@@ -96,12 +96,14 @@ pub(super) fn solve_rounds(
         let rejected = if usable { rule_rejects(op, also, tol.accept_tol, worst.1.is_some(), ws) } else { None };
         let accepted = usable && rejected.is_none();
         if accepted && tight && worst.1.is_none() {
+            discard(ws, [held, ruled]);
             return Some(answer(ws, dropped, reused, also.is_some(), true));
         }
         // Exchanges from this basis found nothing better at the last call,
         // and its violation has not grown much since: keep its answer.
         let known = ws.retry.as_ref().is_some_and(|(b, level)| round == 0 && b == basis && worst.0 < *level);
         if accepted && (tight && held.is_none() || loose) && known {
+            discard(ws, [held, ruled]);
             return Some(answer(ws, dropped, reused, also.is_some(), true));
         }
         if accepted && tight && held.is_none() {
@@ -133,10 +135,26 @@ pub(super) fn solve_rounds(
     }
     // The held answer, else the ruled one: its factorization is kept for the
     // next call, which starts from its basis.
-    let (answer, violation) = held.or(ruled)?;
+    let (answer, violation) = match (held, ruled) {
+        (Some(h), r) => {
+            discard(ws, [r, None]);
+            h
+        }
+        (None, r) => r?,
+    };
     ws.restore_factors();
-    ws.retry = Some((ws.f.factored.clone(), RETRY_GROWTH * violation));
+    // (The retry's mask buffer is reused.)
+    let mut mask = ws.retry.take().map(|(b, _)| b).unwrap_or_default();
+    mask.clone_from(&ws.f.factored);
+    ws.retry = Some((mask, RETRY_GROWTH * violation));
     Some(answer)
+}
+
+/// The vectors of answers not returned, back to `ws`'s spares.
+fn discard(ws: &mut BasisWorkspace, answers: [Option<(BasisAnswer, f64)>; 2]) {
+    for (a, _) in answers.into_iter().flatten() {
+        ws.recycle_answer(a);
+    }
 }
 
 /// For a row `r` the acceptance rule rejects: the basic index, not yet

@@ -20,6 +20,9 @@ pub struct BasisWorkspace {
     pub(super) block_pos: Vec<usize>,
     pub(super) block_prev: Vec<f64>,
     pub(super) block_fresh: Vec<f64>,
+    /// Scratch of [`form_block`](super::factors::form_block): the new indices' positions in the support, and the indices.
+    pub(super) fresh_at: Vec<usize>,
+    pub(super) fresh: Vec<usize>,
     /// The indices of `β`, the rows a refinement step reads.
     pub(super) rows: Vec<usize>,
     /// Right-hand side and solution, by position in `S`.
@@ -51,10 +54,47 @@ pub struct BasisWorkspace {
     pub(super) clipped: Vec<(usize, f64)>,
     /// The same indices with the change clipping made (`−z_j`).
     pub(super) moved: Vec<(usize, f64)>,
-    /// One row of `M` (see [`clipped_cause`](super::rounds::clipped_cause)).
+    /// One row of `M` (see [`clipped_cause`](super::rounds::clipped_cause); the acceptance rule's full reads).
     pub(super) row: Vec<f64>,
     /// Calls in a row that found no answer (the caller pivoted).
     pub(super) failures: usize,
+    /// Vectors of earlier answers handed back ([`BasisWorkspace::recycle`]):
+    /// an answer's vectors come from them, so a steady caller allocates none.
+    pub(super) spare: Spare,
+}
+
+/// Buffers handed back by the caller, at most [`SPARE_MAX`] of each kind.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Spare {
+    pub(super) values: Vec<Vec<f64>>,
+    pub(super) masks: Vec<Vec<bool>>,
+}
+
+/// Spare vectors kept of each kind: an answer takes at most four
+/// (`z`, `w` and the same in the other units) and one basis.
+const SPARE_MAX: usize = 4;
+
+impl Spare {
+    /// `v` moved out, a spare vector left in its place (its values stale).
+    pub(super) fn take(&mut self, v: &mut Vec<f64>) -> Vec<f64> {
+        std::mem::replace(v, self.values.pop().unwrap_or_default())
+    }
+
+    /// A copy of `v` in a spare vector.
+    pub(super) fn copy(&mut self, v: &[f64]) -> Vec<f64> {
+        let mut c = self.values.pop().unwrap_or_default();
+        c.clear();
+        c.extend_from_slice(v);
+        c
+    }
+
+    /// A copy of `mask` in a spare vector.
+    pub(super) fn copy_mask(&mut self, mask: &[bool]) -> Vec<bool> {
+        let mut c = self.masks.pop().unwrap_or_default();
+        c.clear();
+        c.extend_from_slice(mask);
+        c
+    }
 }
 
 /// A factorization of a block `M_SS`: the workspace's current one, the one
@@ -100,6 +140,30 @@ impl BasisWorkspace {
     /// Exchanges the current factorization, buffers and all, with `h`.
     pub(super) fn swap_factors(&mut self, h: &mut Factors) {
         std::mem::swap(h, &mut self.f);
+    }
+
+    /// Takes back vectors of an earlier answer (its `z`, `w`, basis, or
+    /// any other the caller is done with) for the next answers' (beyond a
+    /// few of each kind they are dropped).
+    pub fn recycle(&mut self, values: impl IntoIterator<Item = Vec<f64>>, masks: impl IntoIterator<Item = Vec<bool>>) {
+        // (A vector that never held anything would only be replaced.)
+        for v in values {
+            if v.capacity() > 0 && self.spare.values.len() < SPARE_MAX {
+                self.spare.values.push(v);
+            }
+        }
+        for m in masks {
+            if m.capacity() > 0 && self.spare.masks.len() < SPARE_MAX {
+                self.spare.masks.push(m);
+            }
+        }
+    }
+
+    /// Takes back the vectors of an answer not returned.
+    pub(super) fn recycle_answer(&mut self, a: super::BasisAnswer) {
+        let (z2, w2) = a.other.unwrap_or_default();
+        let s = a.solution;
+        self.recycle([s.z, s.w, z2, w2], s.basis);
     }
 
     /// Forgets the kept factorization (the next call factors afresh).

@@ -138,7 +138,9 @@ impl World {
         rec.solver_residuals = Residuals::default();
         rec.z.clear();
         rec.w.clear();
-        rec.basis = None;
+        if let Some(b) = rec.basis.take() {
+            self.ws.record_basis = b;
+        }
         rec.islands.clear();
         rec.island_bodies.clear();
         rec.island_contacts.clear();
@@ -178,13 +180,13 @@ impl World {
     /// The islands' answers into the record: per island, and scattered into
     /// the global `z`, `w`, `basis` (summary rules in the module docs).
     fn record_islands(&mut self) {
+        let mut basis = std::mem::take(&mut self.ws.record_basis);
         let (ws, rec) = (&self.ws, &mut self.record);
         let (nc, k) = (ws.contacts.len(), self.params.friction_dirs);
         let n = rec.lcp_size;
         let solved = &ws.pool[..ws.islands.len()];
         rec.z.resize(n, 0.0);
         rec.w.resize(n, 0.0);
-        let mut basis = rec.basis.take().unwrap_or_default();
         basis.clear();
         basis.resize(n, false);
         let mut has_basis = true;
@@ -230,7 +232,11 @@ impl World {
             _ => Residuals::of(&rec.z, &rec.w),
         };
         rec.solver_residuals = solver_res.unwrap_or_default();
-        rec.basis = has_basis.then_some(basis);
+        if has_basis {
+            rec.basis = Some(basis);
+        } else {
+            self.ws.record_basis = basis;
+        }
     }
 }
 

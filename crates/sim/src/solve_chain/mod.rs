@@ -73,7 +73,10 @@ impl IslandLcp {
     /// when there were none).
     pub fn solve(&mut self, solver: &mut IslandSolver<'_>, basis_check: Option<BasisCheck>, z_prev: &[f64]) {
         let n = self.lcp.n();
-        self.sol = None;
+        // The last answer's vectors serve this one's (no allocation in a steady step).
+        if let Some(old) = self.sol.take() {
+            self.basis_ws.recycle([old.z, old.w], old.basis);
+        }
         self.error = None;
         self.entered = None;
         self.stage = None;
@@ -188,6 +191,7 @@ impl IslandLcp {
         });
         self.sol = Some(sol);
         self.stage = Some(stage);
+        self.basis_ws.recycle([], warm);
     }
 }
 

@@ -87,11 +87,17 @@ fn solve_into(
     };
     let a = lcp::on_basis::solve_on_basis_ruled(&scaled, basis, tol, also, ws)?;
     // At scale 1, z and w are the physical ones (λ·1 and the same products).
-    let zw = a.other.unwrap_or_else(|| {
-        let (mut z, mut w) = std::mem::take(spare);
-        z.clone_from(&a.solution.z);
-        w.clone_from(&a.solution.w);
-        (z, w)
-    });
+    let (mut z, mut w) = std::mem::take(spare);
+    let zw = match a.other {
+        Some(zw) => {
+            ws.recycle([z, w], []);
+            zw
+        }
+        None => {
+            z.clone_from(&a.solution.z);
+            w.clone_from(&a.solution.w);
+            (z, w)
+        }
+    };
     Some((a.solution, zw))
 }
