@@ -613,6 +613,17 @@ impl ContactLcp {
         lcp::limits::try_reserve(&mut self.m, n.saturating_mul(n), || format!("a dense matrix of {n} × {n}"))
     }
 
+    /// Gives the dense matrix's memory back when it holds more than twice
+    /// `n × n` entries: an island slot of the step's pool keeps its buffers from
+    /// step to step, so without this every slot would keep the largest matrix it
+    /// ever formed (a 1,000-cube pour's slots reached several GiB together).
+    pub fn trim_matrix(&mut self, n: usize) {
+        if self.m.capacity() / 2 > n.saturating_mul(n) {
+            self.m = Vec::new();
+            self.matrix_ready = false;
+        }
+    }
+
     /// Moves `(M, q)` into an [`Lcp`] without copying (give it back with
     /// [`ContactLcp::restore`] to keep the buffers). Fails only on non-finite data.
     pub fn take_lcp(&mut self) -> Result<Lcp, LcpError> {
@@ -693,5 +704,22 @@ impl ContactLcp {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ContactLcp;
+
+    #[test]
+    fn a_slot_gives_back_a_dense_matrix_over_twice_its_islands_size() {
+        let mut lcp = ContactLcp::default();
+        lcp.reserve_matrix(100).unwrap();
+        assert!(lcp.m.capacity() >= 100 * 100);
+        lcp.trim_matrix(80); // 2 · 80² ≥ 100²: kept for reuse
+        assert!(lcp.m.capacity() >= 100 * 100);
+        lcp.trim_matrix(10);
+        assert_eq!(lcp.m.capacity(), 0);
+        assert!(!lcp.has_matrix());
     }
 }

@@ -35,7 +35,7 @@ use crate::error::SimError;
 use crate::limits;
 use crate::math::{Mat3, Vec3};
 use crate::parallel;
-use crate::solve_chain::{basis_check_applies, DENSE_FALLBACK_MAX_N};
+use crate::solve_chain::{basis_check_applies, STRUCTURED_MIN_N};
 use crate::world::World;
 use lcp::{Lcp, Solution};
 
@@ -223,7 +223,11 @@ impl World {
 
     /// Stage `islands` → `assemble`: each island's dense LCP checked against
     /// memory and its matrix reserved, so an island too large fails the step
-    /// with [`SimError::TooLarge`] before anything is assembled.
+    /// with [`SimError::TooLarge`] before anything is assembled — but for the
+    /// large islands the structured Lemke takes, whose `M` is reserved only if
+    /// they fall back to the dense Lemke (a failed reservation keeps the
+    /// structured answer, reported as not solved). Each slot's matrix is
+    /// trimmed to its island, so the pool does not keep every size it saw.
     pub(crate) fn reserve_islands(&mut self) -> Result<(), SimError> {
         let k = self.params.friction_dirs;
         // Islands the structured Lemke takes need no dense M (unless a sink captures it).
@@ -233,9 +237,16 @@ impl World {
             let what = || format!("step {}, contact island {i}", self.steps);
             limits::check_contact_lcp(what, isl.contacts.len(), k)?;
             let n = limits::lcp_size(isl.contacts.len(), k).unwrap_or(usize::MAX);
-            if structured && n > DENSE_FALLBACK_MAX_N {
+            // A large island of two or more dynamic bodies and no joint goes to the
+            // structured Lemke, which reserves the dense M only if the island falls back
+            // to the dense Lemke (`solve_chain::structured_lemke`).
+            let bodies = ws.islands.bodies_of(i);
+            let jointed = !ws.joints.jointed.is_empty() && bodies.iter().any(|&b| ws.joints.jointed[b]);
+            if structured && n >= STRUCTURED_MIN_N && bodies.len() >= 2 && !jointed {
+                isl.lcp.trim_matrix(0);
                 continue;
             }
+            isl.lcp.trim_matrix(n);
             isl.lcp.reserve_matrix(n).map_err(|mut e| {
                 e.what = format!("{}: the dense matrix of a contact LCP of {n} unknowns", what());
                 SimError::TooLarge(e)

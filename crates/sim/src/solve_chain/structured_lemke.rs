@@ -46,14 +46,18 @@ pub enum Start {
 }
 
 /// The stage: the island from its warm basis; a failed answer is kept as
-/// it is when the dense `M` would not fit.
+/// it is when the dense `M` would not fit, or its memory cannot be had (a large
+/// island's `M` is reserved only here, when it falls back: see
+/// `World::reserve_islands`).
 pub(super) fn attempt(isl: &mut IslandLcp, a: &Attempt<'_>) -> Option<Found> {
     let sol = if kept_factors::enabled() {
-        solve_kept(&isl.lcp, a.warm, a.accept_tol, !a.dense_fits, &mut isl.kept)?
+        solve_kept(&isl.lcp, a.warm, a.accept_tol, true, &mut isl.kept)?
     } else {
-        solve(&isl.lcp, a.warm, a.accept_tol, !a.dense_fits)?
+        solve(&isl.lcp, a.warm, a.accept_tol, true)?
     };
-    Some(Found { sol, physical: None })
+    let n = isl.lcp.n();
+    let keep = sol.ok() || !a.dense_fits || isl.lcp.reserve_matrix(n).is_err();
+    keep.then_some(Found { sol, physical: None })
 }
 
 impl StructuredProblem {
