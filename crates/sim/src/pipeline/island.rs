@@ -25,6 +25,9 @@ pub struct IslandLcp {
     /// The previous step's island with the same bodies and contact count
     /// (`solve_chain::warm_starts::WarmStarts`), whose impulses start the guessed basis.
     pub previous: Option<usize>,
+    /// Whether there is such an island and its answer did not leave the
+    /// warm basis it started from (`WarmStarts::moved`).
+    pub previous_stood: bool,
     /// The previous step's physical impulses mapped contact by contact
     /// (`solve_chain::warm_by_contact`), when there is no `previous` island.
     pub z_mapped: Vec<f64>,

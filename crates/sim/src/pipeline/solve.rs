@@ -35,6 +35,7 @@ impl World {
             let nc = ws.islands.contacts_of(i).len();
             let isl = &mut ws.pool[i];
             (isl.previous, isl.warm) = ws.warm.take(ws.islands.bodies_of(i), nc);
+            isl.previous_stood = isl.previous.is_some_and(|p| !ws.warm.moved(p));
             isl.z_mapped.clear();
         }
         // Coupled islands whose contacts changed (no basis from the same

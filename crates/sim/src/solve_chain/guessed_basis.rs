@@ -23,10 +23,14 @@ pub(super) fn attempt(isl: &mut IslandLcp, a: &Attempt<'_>) -> Option<Found> {
 /// answers few of them: 45-cube pour, seed 0, 3,000 steps, at ddc06d8 (the
 /// stage timed per island), at n ≥ 300 it answered 15 of 1,017 islands, each
 /// try costing half to all of the structured solve that followed it, 13 %
-/// of the run in all; under 300 it answered 177 of 392. Resting stacks
+/// of the run in all; under 300 it answered 177 of 392. From 100 up a try
+/// costs more than the structured solve it would spare (the same pour,
+/// steps 0–2,000, every island of 100–300 unknowns solved with and without
+/// the guess on copies: 1.75 s with it, 1.18 s without, docs/pours.md);
+/// under 100 the two are within the measurement's noise. Resting stacks
 /// (`stack_steps 2000 4 8 12 16`, n = 160–640) pivot on 1–3 of 2,000 steps
 /// with it and without.
-pub const GUESSED_MAX_N: usize = 300;
+pub const GUESSED_MAX_N: usize = 100;
 
 /// Sweeps of the guessed basis tried when the previous basis fails ([`solve_guessed`]).
 /// Measured on resting stacks (`stack_steps 2000 …`, 2,000 steps each; which

@@ -64,9 +64,10 @@ impl IslandLcp {
     /// answer is kept for the record.
     ///
     /// With `basis_check` ([`basis_check_applies`]), an island under
-    /// [`STRUCTURED_MIN_N`] first tries its previous basis in body space,
-    /// then, if it couples two or more dynamic bodies (with Lemke's full
-    /// ladder, [`BasisCheck::rungs`]), a basis guessed from its previous
+    /// [`STRUCTURED_MIN_N`] first tries its previous basis in body space
+    /// (from [`PREVIOUS_BASIS_MAX_N`] up only where it stood on the last
+    /// step), then, if it couples two or more dynamic bodies (with Lemke's
+    /// full ladder, [`BasisCheck::rungs`]), a basis guessed from its previous
     /// impulses ([`guessed_basis`]) and the structured Lemke; the dense `M`
     /// is formed only when all fail (or the island has no previous basis).
     /// `z_prev`: the previous step's physical impulses of this island (empty
@@ -86,25 +87,9 @@ impl IslandLcp {
         // very different mobilities): the previous basis's answer then gets
         // its last digits, and `check_in_body_space` its check.
         let mixed = self.lcp.dynamic_body_count() >= 2 && BodyCheck::applies(&self.lcp);
-        // The stages before the dense Lemke, in order, each with whether it
-        // applies to this island: the islands of the robust Lemke with warm
-        // starts only; a single body's island only to its previous basis.
         let coupled = self.lcp.dynamic_body_count() >= 2;
-        let (small, warmed) = (n < STRUCTURED_MIN_N, warm.is_some());
         let rungs = coupled && basis_check.is_some_and(|c| c.rungs);
-        let stages: [(bool, SolveStage, Stage); 3] = [
-            // A small island with a previous basis (a single body's too).
-            (small && warmed, SolveStage::PreviousBasis, previous_basis::attempt),
-            // The same, with Lemke's full ladder, under GUESSED_MAX_N unknowns.
-            (
-                small && warmed && rungs && n < guessed_basis::GUESSED_MAX_N,
-                SolveStage::GuessedBasis,
-                guessed_basis::attempt,
-            ),
-            // A large coupled island, or a small one whose previous and guessed
-            // bases failed (a small island's failure goes on to the dense Lemke).
-            (coupled && (!small || (warmed && rungs)), SolveStage::StructuredLemke, structured_lemke::attempt),
-        ];
+        let stages = chain(n, coupled, warm.is_some(), rungs, self.previous_stood);
         let found = basis_check.and_then(|c| {
             let a = Attempt {
                 warm: warm.as_deref(),
@@ -112,6 +97,7 @@ impl IslandLcp {
                 accept_tol: c.accept_tol,
                 mixed,
                 dense_fits: n <= DENSE_FALLBACK_MAX_N,
+                previous_tried: stages[0].0,
             };
             stages.iter().filter(|(applies, ..)| *applies).find_map(|&(_, id, stage)| Some((id, stage(self, &a)?)))
         });
@@ -195,6 +181,52 @@ impl IslandLcp {
     }
 }
 
+/// The stages before the dense Lemke, in order, each with whether it
+/// applies to an island of `n` unknowns: the islands of the robust Lemke with
+/// warm starts only; a single body's island only to its previous basis.
+/// `stood`: the previous step's island with the same bodies and contact
+/// count did not pivot away from its warm basis.
+fn chain(n: usize, coupled: bool, warmed: bool, rungs: bool, stood: bool) -> [(bool, SolveStage, Stage); 3] {
+    let small = n < STRUCTURED_MIN_N;
+    // With the structured Lemke behind it, the previous basis in body space
+    // from PREVIOUS_BASIS_MAX_N up only where it stood on the last step.
+    let previous = small && warmed && (!rungs || n < PREVIOUS_BASIS_MAX_N || stood);
+    [
+        // A small island with a previous basis (a single body's too).
+        (previous, SolveStage::PreviousBasis, previous_basis::attempt),
+        // The same, with Lemke's full ladder, under GUESSED_MAX_N unknowns.
+        (
+            small && warmed && rungs && n < guessed_basis::GUESSED_MAX_N,
+            SolveStage::GuessedBasis,
+            guessed_basis::attempt,
+        ),
+        // A large coupled island, or a small one whose previous and guessed
+        // bases failed (a small island's failure goes on to the dense Lemke).
+        (coupled && (!small || (warmed && rungs)), SolveStage::StructuredLemke, structured_lemke::attempt),
+    ]
+}
+
+/// From this LCP size up, a coupled island (with Lemke's full ladder) whose
+/// basis did not stand on the last step — its answer pivoted away from its
+/// warm basis, or its bodies or contact count changed — skips the previous basis in body space and
+/// goes to the structured Lemke, whose warm run starts from the same basis
+/// (on the kept factors when its contacts join the same bodies). On a
+/// forming pile that check rarely answers there and its dense factorization
+/// of the support and exchange rounds cost more than the structured solve
+/// after it: 45-cube pour, seed 0, steps 0–2,000, each island of n < 1,500
+/// solved by every variant of the chain on copies (order rotated; docs/heaps.md),
+/// the previous basis answered 23 of 106 islands of n = 600–800, 5 of 153 of
+/// n = 800–1,000, 1 of 197 of n = 1,000–1,500, and the variants' summed
+/// times were, with the guess under 100 unknowns, 10.0 s (previous basis
+/// under 1,500), 8.9 s (600), 8.6 s (300), 7.8 s (200), against 11.2 s
+/// before (1,500, the guess under 300). Where the basis stood, the check
+/// stays: without that exception a resting 10-box stack (n = 400) pivoted
+/// 26 times a step instead of 0.2, at a twelfth of its rate; and a cold
+/// start's pivots do not count (counted, the 10×10×10 towers' first warm
+/// step, 100 islands of n = 400, went to the structured Lemke, 0.93 s, and
+/// `many_bodies pile10 300 1` fell from 45.5 to 31 steps/s).
+pub const PREVIOUS_BASIS_MAX_N: usize = 200;
+
 /// Coupled islands from this LCP size up go to the structured Lemke
 /// (`lcp::structured`, see [`structured_lemke`]) when the robust Lemke
 /// with warm starts is the method; they skip the body-space check of the
@@ -248,4 +280,33 @@ pub struct BasisCheck {
     /// by the guessed basis and the structured Lemke: with Lemke's full ladder
     /// (`fallback`) only, so that its first rung alone stays one rung.
     pub rungs: bool,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn applies(n: usize, coupled: bool, rungs: bool, stood: bool) -> Vec<SolveStage> {
+        chain(n, coupled, true, rungs, stood).iter().filter(|s| s.0).map(|s| s.1).collect()
+    }
+
+    /// A large coupled island whose answer pivoted on the last step goes to
+    /// the structured Lemke without the body-space check of its previous
+    /// basis; one whose basis stood (a resting pile) keeps that check, and so
+    /// do a single body and an island without the structured Lemke behind it.
+    #[test]
+    fn the_previous_basis_is_checked_where_it_stood_or_the_island_is_small() {
+        use SolveStage::*;
+        let n = PREVIOUS_BASIS_MAX_N + 100;
+        assert_eq!(applies(n, true, true, false), [StructuredLemke]);
+        assert_eq!(applies(n, true, true, true), [PreviousBasis, StructuredLemke]);
+        assert_eq!(applies(n, false, false, false), [PreviousBasis]);
+        assert_eq!(applies(n, true, false, false), [PreviousBasis]);
+        assert_eq!(
+            applies(guessed_basis::GUESSED_MAX_N - 1, true, true, false),
+            [PreviousBasis, GuessedBasis, StructuredLemke]
+        );
+        assert_eq!(applies(PREVIOUS_BASIS_MAX_N - 1, true, true, false), [PreviousBasis, StructuredLemke]);
+        assert_eq!(applies(STRUCTURED_MIN_N, true, true, true), [StructuredLemke]);
+    }
 }

@@ -22,6 +22,8 @@ pub(crate) struct Attempt<'a> {
     pub mixed: bool,
     /// Whether the dense Lemke's `M` would fit (else a failed answer is kept as it is).
     pub dense_fits: bool,
+    /// Whether the previous-basis stage tried the warm basis before.
+    pub previous_tried: bool,
 }
 
 /// A stage's answer: the solution of the LCP as scaled, and, when the stage

@@ -51,7 +51,7 @@ pub enum Start {
 /// `World::reserve_islands`).
 pub(super) fn attempt(isl: &mut IslandLcp, a: &Attempt<'_>) -> Option<Found> {
     let sol = if kept_factors::enabled() {
-        solve_kept(&isl.lcp, a.warm, a.accept_tol, true, &mut isl.kept)?
+        solve_kept(&isl.lcp, a.warm, a.accept_tol, true, !a.previous_tried, &mut isl.kept)?
     } else {
         solve(&isl.lcp, a.warm, a.accept_tol, true)?
     };
@@ -81,14 +81,15 @@ pub fn solve(lcp: &ContactLcp, warm: Option<&[bool]>, tol: f64, keep_failure: bo
 /// [`solve`] with the operators and basis factors `kept` from the island's
 /// last step ([`super::kept_factors`]): the operators refilled in place when
 /// the island's contacts join the same bodies, and then, for an island that
-/// skips the previous-basis stage (n ≥ [`super::STRUCTURED_MIN_N`]), its warm
-/// basis solved on kept factors first; the structured Lemke as in [`solve`]
+/// skipped the previous-basis stage (`warm_untried`, see
+/// [`super::PREVIOUS_BASIS_MAX_N`]), its warm basis solved on kept factors first; the structured Lemke as in [`solve`]
 /// when that basis is not accepted.
 fn solve_kept(
     lcp: &ContactLcp,
     warm: Option<&[bool]>,
     tol: f64,
     keep_failure: bool,
+    warm_untried: bool,
     kept: &mut KeptFactors,
 ) -> Option<Solution> {
     let refilled = kept.prepare(lcp)?;
@@ -97,7 +98,7 @@ fn solve_kept(
     let problem = StructuredProblem { op, physical, scale: lcp.scale(), layout: lcp.layout(), warm, tol };
     replay::dump(&problem);
     let at_once = match &problem.warm {
-        Some(alpha) if refilled && lcp.n() >= super::STRUCTURED_MIN_N => {
+        Some(alpha) if refilled && warm_untried => {
             kept.answer(&problem.op, problem.physical.as_ref(), problem.layout, problem.scale, alpha, tol)
         }
         _ => None,

@@ -21,6 +21,8 @@ pub struct WarmStarts {
     /// Contacts and final basis per island.
     contacts: Vec<usize>,
     basis: Vec<Option<Vec<bool>>>,
+    /// Per island, whether its answer left the warm basis it started from.
+    moved: Vec<bool>,
     /// Physical impulses `z` of every island, island after island, and where each starts.
     impulses: Vec<f64>,
     impulse_start: Vec<usize>,
@@ -34,6 +36,14 @@ impl WarmStarts {
     pub fn take(&mut self, bodies: &[usize], nc: usize) -> (Option<usize>, Option<Vec<bool>>) {
         let p = self.matching(bodies, nc);
         (p, p.and_then(|p| self.basis[p].take()))
+    }
+
+    /// Whether previous island `p`'s answer left the warm basis it started
+    /// from (it pivoted from it; a cold start's pivots do not count): its
+    /// contacts were changing, where on most steps of a resting island the
+    /// basis stands.
+    pub fn moved(&self, p: usize) -> bool {
+        self.moved[p]
     }
 
     /// The physical impulses of previous island `p` (as [`WarmStarts::take`] gave it).
@@ -56,6 +66,7 @@ impl WarmStarts {
         self.start.clear();
         self.contacts.clear();
         self.basis.clear();
+        self.moved.clear();
         self.impulses.clear();
         self.impulse_start.clear();
     }
@@ -73,6 +84,7 @@ impl WarmStarts {
             self.bodies.extend_from_slice(islands.bodies_of(i));
             self.start.push(self.bodies.len());
             self.contacts.push(isl.contacts.len());
+            self.moved.push(isl.warmed && isl.sol.as_ref().is_some_and(|s| s.pivots > 0));
             self.basis.push(isl.sol.as_mut().and_then(|s| s.basis.take()));
             self.impulses.extend_from_slice(&isl.z);
             self.impulse_start.push(self.impulses.len());
