@@ -55,6 +55,30 @@ def test_ball_chain_on_the_ground_stays_closed_with_every_lcp_solved():
     assert w.positions[links[-1], 2] < 0.1  # the far end lies on the ground
 
 
+@pytest.mark.parametrize("anchor_x", [-0.5, 0.0])
+def test_a_hinged_bar_on_the_ground_rests_with_every_lcp_solved(anchor_x):
+    # A 1 m, 1 kg bar lying on the ground, hinged to the world at one end or at
+    # its centre: the contacts under the axle are the hinge's (its normal is
+    # the joint's), the others carry what statics says.
+    w = World()
+    w.add_ground(mu=0.5)
+    bar = w.add_box(half_extents=(0.5, 0.05, 0.05), mass=1.0, position=(0, 0, 0.05), mu=0.5)
+    w.add_hinge(None, bar, anchor=(anchor_x, 0, 0.05), axis=(0, 1, 0))
+    traj = w.run(2000)
+    assert traj.lcp_stats().failures == 0
+    assert np.max(np.abs(traj.positions[:, bar] - np.array([0.0, 0.0, 0.05]))) <= 1e-9
+    rec = w.last_record
+    force, _ = w.joint_reactions()
+    ground = rec.fn / w.dt
+    if anchor_x < 0:  # moments about the axle: the far end carries m g / 2
+        assert np.all(rec.points[:, 0] > 0)
+        assert ground.sum() == pytest.approx(G / 2, rel=1e-9) and force[0, 2] == pytest.approx(G / 2, rel=1e-9)
+    else:  # the split with the hinge is indeterminate; the total and the balance are not
+        assert ground.sum() + force[0, 2] == pytest.approx(G, rel=1e-9)
+        left, right = ground[rec.points[:, 0] < 0].sum(), ground[rec.points[:, 0] > 0].sum()
+        assert abs(left - right) <= 1e-9 * G
+
+
 def test_fixed_joint_and_copy():
     w = World()
     box = w.add_box(size=0.2, mass=2.0, position=(0.5, 0, 1))

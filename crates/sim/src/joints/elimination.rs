@@ -24,7 +24,7 @@ pub struct JointSystem {
     /// `M_b⁻¹ Gᵀ` per row and side.
     minv: Vec<[Row6; 2]>,
     s: Vec<f64>,
-    factor: PivotedCholesky,
+    pub(super) factor: PivotedCholesky,
     /// Impulse per row this step (N·s, N·m·s): the projection's, then the contacts' added.
     pub lambda: Vec<f64>,
     /// Pairs of dynamic bodies joined by a joint (they share an island).

@@ -25,9 +25,11 @@
 //! - [`limits`]: a hinge's or slider's limits as frictionless contact rows of the LCP.
 //! - [`elimination`]: `S`, the projection of the free velocity, the coupling of
 //!   an island's contacts, the joint impulses.
+//! - [`held_contacts`]: contacts whose normal the joints already hold, dropped before the LCP.
 //! - [`stage`]: the world's side (adding joints, the step's three calls).
 
 pub mod elimination;
+pub mod held_contacts;
 pub mod joint;
 pub mod limits;
 pub mod pivoted_cholesky;

@@ -3,7 +3,7 @@
 //!
 //! ```text
 //! forces     … then the rows G at this step's poses, S = G M⁻¹ Gᵀ factored, v* projected (`joints_project`)
-//! detect     bodies joined by a joint get no contact between them
+//! detect     bodies joined by a joint get no contact between them, nor a contact whose normal they hold (`held_contacts`)
 //! islands    bodies joined by a joint share an island
 //! assemble   … then each island with a jointed body gets its dense M with −Bᵀ S⁺ B (`joints_couple`)
 //! integrate  … the joint impulses of the contact impulses added to Δv, the reactions recorded (`joints_apply`);

@@ -144,7 +144,10 @@ impl World {
                 });
             }
         }
-        // the joint limits this step may reach, as frictionless contacts
+        // contacts whose normal the joints hold are not the LCP's; the joint
+        // limits this step may reach, as frictionless contacts
+        let ws = &mut self.ws;
+        ws.joints.drop_held_contacts(&mut ws.contacts, &self.bodies, &ws.inv_inertia);
         self.joint_limit_contacts();
     }
 
