@@ -13,6 +13,7 @@
 //! the reduction held), or pivots on from it. Measured on the 20-link chain
 //! collapsing onto the ground (`benchmarks/joints.py`): see docs/joints.md.
 
+use super::loaded_friction::{kept, lift_and_grow};
 use crate::pipeline::island::IslandSolver;
 use lcp::contact::ContactLayout;
 use lcp::{Lcp, Solution};
@@ -39,11 +40,7 @@ pub(super) fn solve(
         if active.iter().all(|&a| a) {
             return None;
         }
-        let keep: Vec<usize> = lay
-            .fn_range()
-            .chain(lay.fd_range().filter(|&i| active[lay.contact_of(i)]))
-            .chain(lay.lambda_range().filter(|&i| active[lay.contact_of(i)]))
-            .collect();
+        let keep = kept(lay, &active);
         let m: Vec<f64> = keep.iter().flat_map(|&i| keep.iter().map(move |&j| lcp.at(i, j))).collect();
         let sub = Lcp::new(m, keep.iter().map(|&i| lcp.q()[i]).collect()).ok()?;
         let sub_warm: Option<Vec<bool>> = basis.as_ref().map(|b| keep.iter().map(|&i| b[i]).collect());
@@ -52,17 +49,7 @@ pub(super) fn solve(
         if !sol.ok() {
             return None;
         }
-        let (mut z, mut full) = (vec![0.0; n], vec![false; n]);
-        for (s, &i) in keep.iter().enumerate() {
-            z[i] = sol.z[s];
-            full[i] = sol.basis.as_ref().is_some_and(|b| b[s]);
-        }
-        let mut grew = false;
-        for (c, a) in active.iter_mut().enumerate() {
-            if !*a && z[lay.fn_index(c)] > 0.0 {
-                (*a, grew) = (true, true);
-            }
-        }
+        let (z, mut full, grew) = lift_and_grow(lay, &mut active, &keep, &sol, n);
         if grew {
             basis = Some(full);
             continue;

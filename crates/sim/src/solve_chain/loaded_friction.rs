@@ -42,11 +42,7 @@ pub(crate) fn solve(
     let mut pivots = 0;
     let mut warm: Option<Vec<bool>> = warm.filter(|b| b.len() == n).map(<[bool]>::to_vec);
     for _ in 0..ROUNDS {
-        let keep: Vec<usize> = lay
-            .fn_range()
-            .chain(lay.fd_range().filter(|&i| active[lay.contact_of(i)]))
-            .chain(lay.lambda_range().filter(|&i| active[lay.contact_of(i)]))
-            .collect();
+        let keep = kept(lay, &active);
         let sub = op.restrict(&keep).map_err(|_| pivots)?;
         let sub_warm: Option<Vec<bool>> = warm.as_ref().map(|b| keep.iter().map(|&i| b[i]).collect());
         // A pivot limit is one for all rounds.
@@ -56,20 +52,7 @@ pub(crate) fn solve(
         if !sol.ok() {
             return Err(pivots);
         }
-        let mut z = vec![0.0; n];
-        let mut basis = vec![false; n];
-        for (s, &i) in keep.iter().enumerate() {
-            z[i] = sol.z[s];
-            basis[i] = sol.basis.as_ref().is_some_and(|b| b[s]);
-        }
-        // Inactive contacts that took load: their friction joins.
-        let mut grew = false;
-        for (c, a) in active.iter_mut().enumerate() {
-            if !*a && z[lay.fn_index(c)] > 0.0 {
-                *a = true;
-                grew = true;
-            }
-        }
+        let (z, basis, grew) = lift_and_grow(lay, &mut active, &keep, &sol, n);
         if grew {
             warm = Some(basis);
             continue;
@@ -77,6 +60,38 @@ pub(crate) fn solve(
         return Ok(extend(op, lay, &active, z, basis, pivots, o.accept_tol));
     }
     Err(pivots)
+}
+
+/// The sub-LCP's unknowns: every `fn`, and `fd`, `λ` of the `active` contacts.
+pub(crate) fn kept(lay: ContactLayout, active: &[bool]) -> Vec<usize> {
+    lay.fn_range()
+        .chain(lay.fd_range().filter(|&i| active[lay.contact_of(i)]))
+        .chain(lay.lambda_range().filter(|&i| active[lay.contact_of(i)]))
+        .collect()
+}
+
+/// The sub-LCP's answer `sol` on the unknowns `keep` lifted to the full
+/// layout of `n` (its `z` and basis, zeros and nonbasic elsewhere), and
+/// whether an inactive contact took load (its friction then joins `active`).
+pub(crate) fn lift_and_grow(
+    lay: ContactLayout,
+    active: &mut [bool],
+    keep: &[usize],
+    sol: &Solution,
+    n: usize,
+) -> (Vec<f64>, Vec<bool>, bool) {
+    let (mut z, mut basis) = (vec![0.0; n], vec![false; n]);
+    for (s, &i) in keep.iter().enumerate() {
+        z[i] = sol.z[s];
+        basis[i] = sol.basis.as_ref().is_some_and(|b| b[s]);
+    }
+    let mut grew = false;
+    for (c, a) in active.iter_mut().enumerate() {
+        if !*a && z[lay.fn_index(c)] > 0.0 {
+            (*a, grew) = (true, true);
+        }
+    }
+    (z, basis, grew)
 }
 
 /// The full answer from the sub-LCP's `z` (zeros at the inactive contacts'
