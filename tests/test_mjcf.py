@@ -241,8 +241,11 @@ def test_option_flags_turn_off_what_they_turn_off_in_mujoco(flags, ball_falls, b
      '<geom type="box" size=".1 .1 .1"/></body></worldbody><actuator><velocity joint="j" kv="1" forcerange="-1 1"/>'
      '</actuator></mujoco>', ["actuation is disabled"]),
     ('<mujoco><option><flag override="enable"/></option><worldbody/></mujoco>', ["override", "o_friction"]),
+    ('<mujoco><option density="1.2"/><worldbody/></mujoco>', ["option density=1.2", "fluid"]),
+    ('<mujoco><worldbody><body name="balloon" gravcomp="1"><freejoint/><geom size=".1"/></body></worldbody></mujoco>',
+     ["body 'balloon'", "gravcomp=1"]),
 ])
-def test_option_flags_lcpsim_cannot_follow_are_refused(xml, words):
+def test_options_lcpsim_cannot_follow_are_refused(xml, words):
     with pytest.raises(MjcfError) as e:
         World.from_mjcf(xml)
     for word in words:

@@ -53,7 +53,8 @@ the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
   rule: two geoms collide iff ``(contype1 & conaffinity2) | (contype2 & conaffinity1)``).
 
 Everything else is refused with :class:`MjcfError` (a ``ValueError``) naming
-the element and its name: ``condim`` 4 or 6 (torsional, rolling friction),
+the element and its name: fluid forces (``density``, ``viscosity``), a body's
+``gravcomp``, ``condim`` 4 or 6 (torsional, rolling friction),
 geoms of different ``priority``, a geom ``margin`` (MuJoCo's bodies rest that far apart), several joints on one body, a ball joint's
 ``range``, joint stiffness, a ball joint's damping (a hinge's or slide's is
 the joint's ``damping``), armature or friction loss, a moving body with no
@@ -135,18 +136,7 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
     mujoco = _mujoco()
     m = compile_model(source)
     OBJ = mujoco.mjtObj
-    # Whole-model features lcpsim has no counterpart for.
-    for count, what, kind in (
-        (m.ntendon, "tendon", OBJ.mjOBJ_TENDON),
-        (m.neq, "equality", OBJ.mjOBJ_EQUALITY),
-        (m.npair, "contact pair", OBJ.mjOBJ_PAIR),
-    ):
-        if count:
-            raise MjcfError(f"{what} {_name(mujoco, m, kind, 0)!r} is not supported (lcpsim: bodies, joints, velocity actuators)")
-    if m.nu and _disabled(m, "ACTUATION"):
-        raise MjcfError("option flag actuation is disabled with actuators in the model, which is not supported")
-    if int(m.opt.enableflags) & int(mujoco.mjtEnableBit.mjENBL_OVERRIDE):
-        raise MjcfError("option flag override is enabled (o_margin, o_solref, o_friction), which is not supported")
+    _check_model(mujoco, m)
     _check_joints(mujoco, m)
     d = mujoco.MjData(m)
     mujoco.mj_forward(m, d)
@@ -217,6 +207,29 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
     world.scene_params = {"source": source if not (isinstance(source, str) and source.lstrip().startswith("<")) else "<xml>"}
     world._body_names = dict(names)
     return MjcfScene(world, names, m)
+
+
+def _check_model(mujoco: Any, m: Any) -> None:
+    """Refuses the whole-model features lcpsim has no counterpart for, naming them."""
+    OBJ = mujoco.mjtObj
+    for count, what, kind in (
+        (m.ntendon, "tendon", OBJ.mjOBJ_TENDON),
+        (m.neq, "equality", OBJ.mjOBJ_EQUALITY),
+        (m.npair, "contact pair", OBJ.mjOBJ_PAIR),
+    ):
+        if count:
+            raise MjcfError(f"{what} {_name(mujoco, m, kind, 0)!r} is not supported (lcpsim: bodies, joints, velocity actuators)")
+    if m.nu and _disabled(m, "ACTUATION"):
+        raise MjcfError("option flag actuation is disabled with actuators in the model, which is not supported")
+    for field in ("density", "viscosity"):
+        if float(getattr(m.opt, field)) != 0.0:
+            raise MjcfError(f"option {field}={float(getattr(m.opt, field)):g} (fluid forces) is not supported")
+    for b in range(1, m.nbody):
+        if float(m.body_gravcomp[b]) != 0.0:
+            raise MjcfError(f"body {_name(mujoco, m, OBJ.mjOBJ_BODY, b)!r} has gravcomp={float(m.body_gravcomp[b]):g} "
+                            "(gravity compensation), which is not supported")
+    if int(m.opt.enableflags) & int(mujoco.mjtEnableBit.mjENBL_OVERRIDE):
+        raise MjcfError("option flag override is enabled (o_margin, o_solref, o_friction), which is not supported")
 
 
 def _disabled(m: Any, flag: str) -> bool:
