@@ -82,8 +82,7 @@ impl IslandLcp {
 /// into the step's layout (`nc` contacts), contact `c` of the island being
 /// the step's contact `ids[c]`.
 pub fn scatter<T: Copy>(ids: &[usize], nc: usize, k: usize, src: &[T], dst: &mut [T]) {
-    // The step's only island (a stack): the layouts are the same.
-    if ids.len() == nc && ids.iter().enumerate().all(|(c, &g)| c == g) {
+    if in_step_order(ids, nc) {
         dst.copy_from_slice(src);
         return;
     }
@@ -93,4 +92,10 @@ pub fn scatter<T: Copy>(ids: &[usize], nc: usize, k: usize, src: &[T], dst: &mut
         dst[step.fd_of(g)].copy_from_slice(&src[island.fd_of(c)]);
         dst[step.lambda_index(g)] = src[island.lambda_index(c)];
     }
+}
+
+/// Whether an island's contacts `ids` are all `nc` of the step's, in order
+/// (the step's only island, a stack's): its layout is the step's.
+pub fn in_step_order(ids: &[usize], nc: usize) -> bool {
+    ids.len() == nc && ids.iter().enumerate().all(|(c, &g)| c == g)
 }

@@ -13,7 +13,7 @@
 //! the global layout when every island reported one.
 
 use super::capture::CapturedLcp;
-use super::island::scatter;
+use super::island::{in_step_order, scatter};
 use super::record::IslandRecord;
 use crate::error::SimError;
 use crate::parallel;
@@ -186,10 +186,19 @@ impl World {
         let (nc, k) = (ws.contacts.len(), self.params.friction_dirs);
         let n = rec.lcp_size;
         let solved = &ws.pool[..ws.islands.len()];
-        rec.z.resize(n, 0.0);
-        rec.w.resize(n, 0.0);
+        // The step's only island in the step's layout: its vectors are
+        // copied as they are, not scattered into zeroed ones (on a resting
+        // 10-box stack the zeroing was 6k instructions of its step's 247k).
+        let whole = solved.len() == 1 && solved[0].z.len() == n && in_step_order(ws.islands.contacts_of(0), nc);
         basis.clear();
-        basis.resize(n, false);
+        if whole {
+            rec.z.clear();
+            rec.w.clear();
+        } else {
+            rec.z.resize(n, 0.0);
+            rec.w.resize(n, 0.0);
+            basis.resize(n, false);
+        }
         let mut has_basis = true;
         let mut solver_res: Option<Residuals> = None;
         rec.island_bodies.extend_from_slice(ws.islands.all_bodies());
@@ -197,11 +206,17 @@ impl World {
         for (i, isl) in solved.iter().enumerate() {
             let sol = isl.sol.as_ref().expect("every island was solved (errors returned above)");
             let ids = ws.islands.contacts_of(i);
-            scatter(ids, nc, k, &isl.z, &mut rec.z);
-            scatter(ids, nc, k, &isl.w, &mut rec.w);
             match &sol.basis {
+                Some(b) if b.len() == isl.lcp.n() && whole => basis.extend_from_slice(b),
                 Some(b) if b.len() == isl.lcp.n() => scatter(ids, nc, k, b, &mut basis),
                 _ => has_basis = false,
+            }
+            if whole {
+                rec.z.extend_from_slice(&isl.z);
+                rec.w.extend_from_slice(&isl.w);
+            } else {
+                scatter(ids, nc, k, &isl.z, &mut rec.z);
+                scatter(ids, nc, k, &isl.w, &mut rec.w);
             }
             if rec.status.is_none() || (rec.status == Some(Status::Solved) && sol.status != Status::Solved) {
                 rec.status = Some(sol.status);
