@@ -329,9 +329,8 @@ impl ContactLcp {
         let n = lay.n();
 
         // Rows of n, t1, t2 and their M⁻¹Jᵀ per contact and side.
-        self.jac.clear();
+        // (Every entry is written below: sized, not zeroed first.)
         self.jac.resize(2 * nc, [[0.0; 6]; 3]);
-        self.minv_jt.clear();
         self.minv_jt.resize(2 * nc, [[0.0; 6]; 3]);
         self.side_body.clear();
         self.mu.clear();
@@ -342,6 +341,9 @@ impl ContactLcp {
                 let body = &dynamics.bodies[bi];
                 if body.is_static() {
                     self.side_body.push(None);
+                    // (A static side's rows are zero.)
+                    self.jac[2 * c + side] = [[0.0; 6]; 3];
+                    self.minv_jt[2 * c + side] = [[0.0; 6]; 3];
                     continue;
                 }
                 self.side_body.push(Some(bi));
