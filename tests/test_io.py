@@ -102,3 +102,24 @@ def test_h5_group_instead_of_dataset(tmp_path):
 def test_save_unknown_suffix(tmp_path):
     with pytest.raises(LcpFileError, match="suffix"):
         save_lcp(tmp_path / "x.mat", M, Q)
+
+
+def test_an_npz_member_flagged_as_encrypted_is_a_file_error(tmp_path):
+    """zipfile refuses an encrypted member with a RuntimeError; the reader names the file."""
+    import zipfile
+
+    path = tmp_path / "enc.npz"
+    np.savez(path, M=np.eye(2), q=-np.ones(2))
+    raw = bytearray(path.read_bytes())
+    with zipfile.ZipFile(path) as zf:
+        info = zf.getinfo("q.npy")
+    # The general-purpose flag (bit 0: encrypted) of q.npy's local header and central directory entry.
+    raw[info.header_offset + 6] |= 1
+    entry = raw.index(b"PK\x01\x02")
+    while raw[entry + 46 : entry + 51] != b"q.npy":
+        lengths = [int.from_bytes(raw[entry + i : entry + i + 2], "little") for i in (28, 30, 32)]
+        entry += 46 + sum(lengths)
+    raw[entry + 8] |= 1
+    path.write_bytes(bytes(raw))
+    with pytest.raises(LcpFileError, match="enc.npz"):
+        load_lcp(path)

@@ -96,7 +96,8 @@ def _read_npz(path: Path) -> tuple[Any, Any]:
             raise
         except SizeLimitError as e:
             raise LcpFileError(str(e)) from None
-        except (OSError, ValueError, EOFError, KeyError, NotImplementedError, zipfile.BadZipFile) as e:
+        # (zipfile raises RuntimeError for a member flagged as encrypted.)
+        except (OSError, ValueError, EOFError, KeyError, NotImplementedError, RuntimeError, zipfile.BadZipFile) as e:
             raise LcpFileError(f"{path}: cannot read arrays M, q ({e})") from None
 
 
