@@ -139,6 +139,39 @@ fn a_restriction_is_the_principal_submatrix() {
     }
 }
 
+/// The restriction cut from the compressed factors is the operator built
+/// from the kept entries of `G`, `H`, `K`, to the bit; keeps that are not
+/// ascending, repeat or leave the range are errors.
+#[test]
+fn a_restriction_equals_the_operator_of_its_entries() {
+    let op = random(40, 15, 3, 0.1, 20, 11);
+    let keep = [1usize, 2, 5, 8, 13, 21, 34, 39];
+    let mut new_of = vec![usize::MAX; 40];
+    keep.iter().enumerate().for_each(|(i, &j)| new_of[j] = i);
+    let (p, g, h, k) = structured::parts(&op);
+    let g: Vec<_> = g.into_iter().filter(|e| new_of[e.0] != usize::MAX).map(|(r, c, v)| (new_of[r], c, v)).collect();
+    let h: Vec<_> = h.into_iter().filter(|e| new_of[e.1] != usize::MAX).map(|(r, c, v)| (r, new_of[c], v)).collect();
+    let k: Vec<_> = k
+        .into_iter()
+        .filter(|e| new_of[e.0] != usize::MAX && new_of[e.1] != usize::MAX)
+        .map(|(r, c, v)| (new_of[r], new_of[c], v))
+        .collect();
+    let q: Vec<f64> = keep.iter().map(|&j| op.q()[j]).collect();
+    let built = StructuredLcp::new(p, &g, &h, &k, q).unwrap();
+    let cut = op.restrict(&keep).unwrap();
+    assert_eq!(structured::parts(&cut), structured::parts(&built));
+    assert_eq!(cut.q(), built.q());
+    let (mut wc, mut wb) = (vec![0.0; keep.len()], vec![0.0; keep.len()]);
+    let z: Vec<f64> = (0..keep.len()).map(|i| (i as f64).cos()).collect();
+    cut.w_of(&z, &mut wc);
+    built.w_of(&z, &mut wb);
+    assert_eq!(wc, wb);
+    assert_eq!(cut.to_dense().m(), built.to_dense().m());
+    for bad in [&[3usize, 2][..], &[4, 4], &[0, 40], &[]] {
+        assert!(op.restrict(bad).is_err(), "{bad:?}");
+    }
+}
+
 /// A warm basis with a structurally dependent column (here `z_1`, whose
 /// column of `M` is empty) is repaired (`z_1 → w_1`) rather than dropped for
 /// a cold run: the repaired basis is the answer, at no pivot.

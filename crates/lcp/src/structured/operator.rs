@@ -172,17 +172,36 @@ impl StructuredLcp {
 
     /// The principal sub-LCP on the unknowns `keep` (ascending, no repeats):
     /// `M[keep, keep] = G[keep, :]·H[:, keep] + K[keep, keep]`, `q[keep]`;
-    /// unknown `i` of the result is `keep[i]`. Same `p`. O(nnz).
+    /// unknown `i` of the result is `keep[i]`. Same `p`. O(nnz): the six
+    /// compressed matrices are cut from this one's, the operator
+    /// [`StructuredLcp::new`] builds from the kept entries, to the bit.
     pub fn restrict(&self, keep: &[usize]) -> Result<Self, LcpError> {
-        let mut new_of = vec![usize::MAX; self.n];
-        keep.iter().enumerate().for_each(|(i, &j)| new_of[j] = i);
-        let (mut g, mut h, mut k) = (Vec::new(), Vec::new(), Vec::new());
-        for (i, &j) in keep.iter().enumerate() {
-            g.extend(self.g_rows.iter(j).map(|(c, v)| (i, c, v)));
-            h.extend(self.h_cols.iter(j).map(|(r, v)| (r, i, v)));
-            k.extend(self.k_cols.iter(j).filter(|&(r, _)| new_of[r] != usize::MAX).map(|(r, v)| (new_of[r], i, v)));
+        if keep.is_empty() {
+            return Err(LcpError::Empty);
         }
-        StructuredLcp::new(self.p, &g, &h, &k, keep.iter().map(|&j| self.q[j]).collect())
+        let mut new_of = vec![usize::MAX; self.n];
+        for (i, &j) in keep.iter().enumerate() {
+            if j >= self.n || (i > 0 && j <= keep[i - 1]) {
+                return Err(LcpError::NotSquare { entries: j + 1, n: self.n });
+            }
+            new_of[j] = i;
+        }
+        let (n, p) = (keep.len(), self.p);
+        let all: Vec<usize> = (0..p).collect();
+        let kept = || keep.iter().copied();
+        Ok(StructuredLcp {
+            n,
+            p,
+            g_rows: self.g_rows.restricted(kept(), &all),
+            g_cols: self.g_cols.restricted(0..p, &new_of),
+            h_cols: self.h_cols.restricted(kept(), &all),
+            h_rows: self.h_rows.restricted(0..p, &new_of),
+            k_cols: self.k_cols.restricted(kept(), &new_of),
+            k_rows: self.k_rows.restricted(kept(), &new_of),
+            scratch: RefCell::new(Scratch::new(n, p)),
+            q: kept().map(|j| self.q[j]).collect(),
+            slots: None,
+        })
     }
 
     /// Size `n`.

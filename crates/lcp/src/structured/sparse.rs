@@ -98,6 +98,25 @@ impl Compressed {
         true
     }
 
+    /// The submatrix on the majors `majors` (ascending) and the minors `b`
+    /// with `new_minor[b] != usize::MAX`, renumbered `new_minor[b]`
+    /// (increasing in `b`): the matrix [`Compressed::new`] builds from the
+    /// same entries, to the bit (each kept entry is one already summed, and
+    /// the renumbering keeps every major's minors sorted), without sorting.
+    pub(crate) fn restricted(&self, majors: impl Iterator<Item = usize>, new_minor: &[usize]) -> Self {
+        let mut c = Compressed { ptr: vec![0], idx: Vec::new(), val: Vec::new() };
+        for a in majors {
+            for (b, v) in self.iter(a) {
+                if new_minor[b] != usize::MAX {
+                    c.idx.push(new_minor[b]);
+                    c.val.push(v);
+                }
+            }
+            c.ptr.push(c.idx.len());
+        }
+        c
+    }
+
     /// `(minor, value)` of major index `a`.
     #[inline]
     pub(crate) fn iter(&self, a: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
