@@ -103,14 +103,6 @@ fn solve_kept(
         }
         _ => None,
     };
-    if std::env::var_os("KEPT_DEBUG").is_some() {
-        eprintln!(
-            "kept n {} refilled {refilled} warm {} at_once {}",
-            lcp.n(),
-            problem.warm.is_some(),
-            at_once.is_some()
-        );
-    }
     let sol = at_once.unwrap_or_else(|| solve_problem(&problem, Start::Step));
     kept.give_back(problem.op, problem.physical);
     (sol.ok() || keep_failure).then_some(sol)
