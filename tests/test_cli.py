@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -40,7 +41,10 @@ def test_version():
 
 
 def test_console_script_version():
-    exe = shutil.which("lcpsim")
+    # The script installed beside this interpreter first: one found on PATH
+    # may be another Python's (a pyenv shim of a version without lcpsim).
+    beside = os.path.join(os.path.dirname(sys.executable), "lcpsim")
+    exe = beside if os.path.exists(beside) else shutil.which("lcpsim")
     if exe is None:
         pytest.skip("lcpsim console script not on PATH")
     p = subprocess.run([exe, "--version"], capture_output=True, text=True, timeout=60)
