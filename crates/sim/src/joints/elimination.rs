@@ -134,6 +134,11 @@ impl JointSystem {
         !self.pairs.is_empty() && self.pairs.binary_search(&(i.min(j), i.max(j))).is_ok()
     }
 
+    /// Whether any of `bodies` (world indices) is a jointed dynamic body.
+    pub fn holds_jointed(&self, bodies: &[usize]) -> bool {
+        !self.jointed.is_empty() && bodies.iter().any(|&b| self.jointed[b])
+    }
+
     /// Rank of `S` (rows minus the dependent ones dropped).
     pub fn rank(&self) -> usize {
         self.factor.rank()

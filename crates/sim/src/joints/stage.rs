@@ -126,8 +126,7 @@ impl World {
         let ws = &mut self.ws;
         let count = ws.islands.len();
         for (i, isl) in ws.pool[..count].iter_mut().enumerate() {
-            isl.jointed =
-                !ws.joints.jointed.is_empty() && ws.islands.bodies_of(i).iter().any(|&b| ws.joints.jointed[b]);
+            isl.jointed = ws.joints.holds_jointed(ws.islands.bodies_of(i));
             if !isl.jointed {
                 continue;
             }

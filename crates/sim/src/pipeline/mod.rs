@@ -241,8 +241,7 @@ impl World {
             // structured Lemke, which reserves the dense M only if the island falls back
             // to the dense Lemke (`solve_chain::structured_lemke`).
             let bodies = ws.islands.bodies_of(i);
-            let jointed = !ws.joints.jointed.is_empty() && bodies.iter().any(|&b| ws.joints.jointed[b]);
-            if structured && n >= STRUCTURED_MIN_N && bodies.len() >= 2 && !jointed {
+            if structured && n >= STRUCTURED_MIN_N && bodies.len() >= 2 && !ws.joints.holds_jointed(bodies) {
                 isl.lcp.trim_matrix(0);
                 continue;
             }
