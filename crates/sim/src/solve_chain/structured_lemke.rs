@@ -8,8 +8,8 @@
 //! The answer is accepted on the LCP as scaled (by the solver, with the
 //! acceptance rule of `lcp::accept` evaluated on the sparse rows) and again
 //! in physical units (cone scale 1), as the body-space basis check does.
-//! `None` sends the island to the dense Lemke, unless `keep_failure` (the
-//! dense `M` would not fit): then the failed answer is returned as it is.
+//! A failed answer sends the island to the dense Lemke, unless its dense `M`
+//! would not fit or cannot be reserved ([`attempt`]): then it is kept as it is.
 
 use super::kept_factors::{self, KeptFactors};
 use super::replay::{self, StructuredProblem};
@@ -51,9 +51,9 @@ pub enum Start {
 /// `World::reserve_islands`).
 pub(super) fn attempt(isl: &mut IslandLcp, a: &Attempt<'_>) -> Option<Found> {
     let sol = if kept_factors::enabled() {
-        solve_kept(&isl.lcp, a.warm, a.accept_tol, true, !a.previous_tried, &mut isl.kept)?
+        solve_kept(&isl.lcp, a.warm, a.accept_tol, !a.previous_tried, &mut isl.kept)?
     } else {
-        solve(&isl.lcp, a.warm, a.accept_tol, true)?
+        solve(&isl.lcp, a.warm, a.accept_tol)?
     };
     let n = isl.lcp.n();
     let keep = sol.ok() || !a.dense_fits || isl.lcp.reserve_matrix(n).is_err();
@@ -67,15 +67,15 @@ impl StructuredProblem {
     }
 }
 
-/// Solves `lcp` (its rows assembled) from the basis `warm`, at the acceptance tolerance `tol`.
-pub fn solve(lcp: &ContactLcp, warm: Option<&[bool]>, tol: f64, keep_failure: bool) -> Option<Solution> {
+/// Solves `lcp` (its rows assembled) from the basis `warm`, at the acceptance
+/// tolerance `tol`; `None` only when its operators cannot be formed.
+pub fn solve(lcp: &ContactLcp, warm: Option<&[bool]>, tol: f64) -> Option<Solution> {
     let op = structured_lcp(lcp, lcp.scale()).ok()?;
     let physical = if lcp.scale() == 1.0 { None } else { Some(structured_lcp(lcp, 1.0).ok()?) };
     let warm = warm.map(|b| with_sliding_friction(lcp, b));
     let problem = StructuredProblem { op, physical, scale: lcp.scale(), layout: lcp.layout(), warm, tol };
     replay::dump(&problem);
-    let sol = solve_problem(&problem, Start::Step);
-    (sol.ok() || keep_failure).then_some(sol)
+    Some(solve_problem(&problem, Start::Step))
 }
 
 /// [`solve`] with the operators and basis factors `kept` from the island's
@@ -88,7 +88,6 @@ fn solve_kept(
     lcp: &ContactLcp,
     warm: Option<&[bool]>,
     tol: f64,
-    keep_failure: bool,
     warm_untried: bool,
     kept: &mut KeptFactors,
 ) -> Option<Solution> {
@@ -105,7 +104,7 @@ fn solve_kept(
     };
     let sol = at_once.unwrap_or_else(|| solve_problem(&problem, Start::Step));
     kept.give_back(problem.op, problem.physical);
-    (sol.ok() || keep_failure).then_some(sol)
+    Some(sol)
 }
 
 /// Solves `p` from `start`; a `Solved` answer is one accepted on the LCP as
