@@ -18,7 +18,7 @@
 //! round-off).
 
 use super::elimination::JointSystem;
-use crate::contact::assembly::{dot6, row, Row6};
+use crate::contact::assembly::{dot6, row};
 use crate::dynamics::Body;
 use crate::geometry::Contact;
 use crate::math::Mat3;
@@ -35,45 +35,48 @@ impl JointSystem {
         if self.is_empty() {
             return;
         }
-        let mut y = Vec::new();
-        contacts.retain(|ct| !self.holds_normal(ct, bodies, inv_inertia, &mut y));
+        let (mut b, mut y) = (Vec::new(), Vec::new());
+        contacts.retain(|ct| !self.holds_normal(ct, bodies, inv_inertia, &mut b, &mut y));
     }
 
     /// Whether `n P nᵀ ≤ HELD_NORMAL · n M⁻¹ nᵀ` for `ct`'s normal row.
-    fn holds_normal(&self, ct: &Contact, bodies: &[Body], inv_inertia: &[Mat3], y: &mut Vec<f64>) -> bool {
+    fn holds_normal(
+        &self,
+        ct: &Contact,
+        bodies: &[Body],
+        inv_inertia: &[Mat3],
+        b: &mut Vec<f64>,
+        y: &mut Vec<f64>,
+    ) -> bool {
         let sides = [(ct.body_a, 1.0), (ct.body_b, -1.0)];
         if !sides.iter().any(|&(b, _)| self.jointed.get(b).copied().unwrap_or(false) && !bodies[b].is_static()) {
             return false;
         }
         // The normal row and its M⁻¹nᵀ on each dynamic side.
         let mut free = 0.0;
-        let rows: Vec<(usize, Row6)> = sides
-            .iter()
-            .filter(|&&(b, _)| !bodies[b].is_static())
-            .map(|&(b, sign)| {
+        let rows = sides.map(|(body, sign)| {
+            (!bodies[body].is_static()).then(|| {
                 let d = ct.normal * sign;
-                let ang = (ct.point - bodies[b].position()).cross(d);
-                let minv = row(d * bodies[b].inv_mass(), inv_inertia[b] * ang);
+                let ang = (ct.point - bodies[body].position()).cross(d);
+                let minv = row(d * bodies[body].inv_mass(), inv_inertia[body] * ang);
                 free += dot6(&row(d, ang), &minv);
-                (b, minv)
+                (body, minv)
             })
-            .collect();
+        });
         if free <= 0.0 {
             return false;
         }
         // b = G M⁻¹ nᵀ over the bodies a joint row and the contact share; bᵀ S⁺ b = |L⁻¹ Πᵀ b|².
-        let b: Vec<f64> = self
-            .rows
-            .iter()
-            .map(|jr| {
-                rows.iter()
-                    .map(|(body, minv)| {
-                        (0..2).filter(|&s| jr.body[s] == Some(*body)).map(|s| dot6(&jr.jac[s], minv)).sum::<f64>()
-                    })
-                    .sum()
-            })
-            .collect();
-        self.factor.forward(&b, 1, y);
+        b.clear();
+        b.extend(self.rows.iter().map(|jr| {
+            rows.iter()
+                .flatten()
+                .map(|(body, minv)| {
+                    (0..2).filter(|&s| jr.body[s] == Some(*body)).map(|s| dot6(&jr.jac[s], minv)).sum::<f64>()
+                })
+                .sum::<f64>()
+        }));
+        self.factor.forward(b, 1, y);
         let coupled: f64 = y.iter().map(|v| v * v).sum();
         free - coupled <= HELD_NORMAL * free
     }
