@@ -172,6 +172,28 @@ def test_an_excluded_pair_passes_through_whatever_its_bits_and_bad_pairs_are_nam
         w.exclude_pair(ball, 9)
 
 
+def test_a_contact_pair_lands_a_ball_on_a_shelf_it_is_excluded_from_and_bad_pairs_are_named():
+    """``add_contact_pair``: the same ball lands on the shelf again, past the exclusion and
+    the shelf's bits of 0; bad pairs name the field and value and change nothing."""
+    w = World(dt=1e-3)
+    shelf = w.add_box(half_extents=(1, 1, 0.1), position=(0, 0, 1.0), static=True, contype=0, conaffinity=0)
+    ball = w.add_sphere(0.1, position=(0.5, 0.5, 1.5))
+    w.exclude_pair(ball, shelf)
+    w.add_contact_pair(ball, shelf, 0.3)
+    assert w.contact_pairs() == [(shelf, ball, 0.3)] and w.copy().contact_pairs() == [(shelf, ball, 0.3)]
+    traj = w.run(1500)
+    assert traj.lcp_stats().failures == 0
+    np.testing.assert_allclose(traj.positions[-1, ball], [0.5, 0.5, 1.2], atol=1e-4)  # on the shelf
+    assert set(w.last_record.mu) == {0.3}
+    floor = w.add_plane()
+    for args, words in [((ball, ball, 0.3), "body_b must be in the bodies other than body_a, got 1"),
+                        ((ball, 9, 0.3), "body 9 does not exist"), ((ball, shelf, -1.0), "mu"),
+                        ((ball, shelf, float("nan")), "mu must be finite"), ((floor, shelf, 0.3), "two static bodies")]:
+        with pytest.raises(ValueError, match=words):
+            w.add_contact_pair(*args)
+    assert w.contact_pairs() == [(shelf, ball, 0.3)]
+
+
 @pytest.mark.slow
 def test_bin_of_50_mixed_shapes_pours_and_settles_without_a_failed_lcp():
     """Boxes, spheres, capsules, cylinders and hulls dropped into a mesh bin

@@ -282,6 +282,18 @@ class ShapesMixin:
         """The pairs :meth:`exclude_pair` keeps apart, lower index first, sorted."""
         return [(int(a), int(b)) for a, b in self._core.excluded_pairs()]
 
+    def add_contact_pair(self, body_a: int, body_b: int, mu: float) -> None:
+        """Makes two different bodies (not both static) touch whatever their collision bits
+        and exclusions, their contacts with friction ``mu`` (0: frictionless) in place of the
+        bodies' combined μ (MJCF's ``<contact><pair>``; ``World(mu_override=...)`` still wins). Bodies
+        joined by a joint still never touch. Given again, the pair takes the new ``mu``."""
+        self._core.add_contact_pair(body_a, body_b, mu)
+
+    def contact_pairs(self) -> list[tuple[int, int, float]]:
+        """The pairs :meth:`add_contact_pair` makes touch, ``(body_a, body_b, mu)``, lower
+        index first, sorted."""
+        return [(int(a), int(b), float(mu)) for a, b, mu in self._core.contact_pairs()]
+
     def collision_filter(self, body: int) -> tuple[int, int]:
         """``(contype, conaffinity)`` of a body."""
         d = self._core.body(body)

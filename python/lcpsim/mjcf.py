@@ -50,7 +50,13 @@ the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
   and friction loss (not read); ``override`` enabled and ``actuation``
   disabled with actuators are refused;
 - ``geom_contype``, ``geom_conaffinity`` as each body's collision bits (MuJoCo's
-  rule: two geoms collide iff ``(contype1 & conaffinity2) | (contype2 & conaffinity1)``).
+  rule: two geoms collide iff ``(contype1 & conaffinity2) | (contype2 & conaffinity1)``);
+- ``<contact><pair>`` (``pair_geom1``, ``pair_geom2``) as :meth:`lcpsim.World.add_contact_pair`:
+  the two geoms' bodies touch whatever their bits, exclusions and body filter, with the
+  pair's ``friction[0]`` (0 at ``condim`` 1) in place of the geoms'; a geom with both bits 0
+  is built when a pair names it. Refused naming the pair: ``condim`` 4 or 6, a ``margin``
+  or ``gap``, different friction in the two sliding directions, a geom sharing its moving
+  body with other colliding geoms, two bodies joined by a joint or welded.
 
 Everything else is refused with :class:`MjcfError` (a ``ValueError``) naming
 the element and its name: fluid forces (``density``, ``viscosity``), a body's
@@ -61,8 +67,7 @@ the joint's ``damping``), armature or friction loss, a moving body with no
 colliding geom, a body's geoms of different friction or collision bits, other
 actuators (motor, position, ...; a
 velocity actuator without a symmetric ``forcerange`` or on a ball joint),
-ellipsoids, height fields on moving bodies, SDFs, tendons, equality constraints and explicit
-contact pairs.
+ellipsoids, height fields on moving bodies, SDFs, tendons and equality constraints.
 """
 
 from __future__ import annotations
@@ -148,7 +153,10 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
         moving[b] = int(m.body_jntnum[b]) > 0 or bool(moving[parent])
 
     colliding = [g for g in range(m.ngeom) if int(m.geom_contype[g]) != 0 or int(m.geom_conaffinity[g]) != 0]
-    for g in colliding:
+    pairs = _contact_pairs(mujoco, m)
+    # Geoms that only touch through a <pair> (bits 0, 0) are built too: their pairs go past the bits.
+    built = sorted(set(colliding).union(*((g1, g2) for g1, g2, _mu, _name in pairs)))
+    for g in built:
         t = int(m.geom_type[g])
         if t in (4, 8):
             raise MjcfError(f"geom {_name(mujoco, m, OBJ.mjOBJ_GEOM, g)!r} is a {GEOM_TYPES[t]}, which is not supported")
@@ -156,8 +164,9 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
             raise MjcfError(f"geom {_name(mujoco, m, OBJ.mjOBJ_GEOM, g)!r} is an hfield on a moving body (terrain is static)")
     _check_friction_model(mujoco, m, colliding)
     per_body: dict[int, list[int]] = {}
-    for g in colliding:
+    for g in built:
         per_body.setdefault(int(m.geom_bodyid[g]), []).append(g)
+    _check_pair_geoms(mujoco, m, pairs, per_body, moving)
     # A massless body with no joint and no colliding geom under a moving body is a
     # frame (a site, a camera mount): it adds nothing, its children hang on its parent.
     frame = np.zeros(m.nbody, dtype=bool)
@@ -182,15 +191,18 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
     names: dict[str, int] = {}
     body_index: dict[int, int] = {}  # a moving MuJoCo body -> its lcpsim body
     of_body: dict[int, list[int]] = {}  # a MuJoCo body -> its lcpsim bodies (a static one: one per geom)
+    of_geom: dict[int, int] = {}  # a built geom -> its lcpsim body
     try:
-        for g in colliding:
+        for g in built:
             b = int(m.geom_bodyid[g])
             if b in compound:
                 if g == compound[b][0]:
                     body_index[b] = _add_compound(mujoco, m, d, world, compound[b], b, names)
                     of_body[b] = [body_index[b]]
+                of_geom[g] = body_index[b]
                 continue
             idx = _add_geom(mujoco, m, d, world, g, b, bool(moving[b]), names)
+            of_geom[g] = idx
             of_body.setdefault(b, []).append(idx)
             if moving[b]:
                 body_index[b] = idx
@@ -202,6 +214,8 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
     if _disabled(m, "CONTACT") or _disabled(m, "CONSTRAINT"):  # no contact at all
         for i in range(world.body_count):
             world.set_collision_filter(i, 0, 0)
+    else:
+        _add_contact_pairs(world, pairs, of_geom, joined, body_index)
     world._actuators = _actuators(mujoco, m, world, joint_index)
     world.scene = "mjcf"
     world.scene_params = {"source": source if not (isinstance(source, str) and source.lstrip().startswith("<")) else "<xml>"}
@@ -215,7 +229,6 @@ def _check_model(mujoco: Any, m: Any) -> None:
     for count, what, kind in (
         (m.ntendon, "tendon", OBJ.mjOBJ_TENDON),
         (m.neq, "equality", OBJ.mjOBJ_EQUALITY),
-        (m.npair, "contact pair", OBJ.mjOBJ_PAIR),
     ):
         if count:
             raise MjcfError(f"{what} {_name(mujoco, m, kind, 0)!r} is not supported (lcpsim: bodies, joints, velocity actuators)")
@@ -366,6 +379,66 @@ def _exclude_filtered(
             )
     for x, y in sorted(excluded):
         world.exclude_pair(x, y)
+
+
+def _contact_pairs(mujoco: Any, m: Any) -> list[tuple[int, int, float, str]]:
+    """The ``<contact><pair>`` elements as ``(geom1, geom2, μ, name)``: μ = the pair's
+    ``friction[0]`` (0 at ``condim`` 1), as MuJoCo takes it, whatever the geoms' own friction
+    and bits. Refused naming the pair: ``condim`` 4 or 6 (torsional, rolling friction), a
+    ``margin`` or ``gap``, friction that differs between the two sliding directions."""
+    out = []
+    for p in range(m.npair):
+        what = f"contact pair {_name(mujoco, m, mujoco.mjtObj.mjOBJ_PAIR, p)!r}"
+        dim = int(m.pair_dim[p])
+        if dim not in (1, 3):
+            raise MjcfError(f"{what} has condim={dim} (torsional or rolling friction), which is not "
+                            "supported: lcpsim's friction is sliding only (condim 1 or 3)")
+        for field in ("margin", "gap"):
+            value = float(getattr(m, f"pair_{field}")[p])
+            if value != 0.0:
+                raise MjcfError(f"{what} has {field}={value:g}, which is not supported: "
+                                "MuJoCo's contacts then act apart, lcpsim's at touch")
+        f1, f2 = float(m.pair_friction[p][0]), float(m.pair_friction[p][1])
+        if dim == 3 and f1 != f2:
+            raise MjcfError(f"{what} has friction {f1:g} and {f2:g} in its two sliding directions, "
+                            "which is not supported: lcpsim's friction is the same in every direction")
+        out.append((int(m.pair_geom1[p]), int(m.pair_geom2[p]), 0.0 if dim == 1 else f1, what))
+    return out
+
+
+def _check_pair_geoms(
+    mujoco: Any, m: Any, pairs: list[tuple[int, int, float, str]], per_body: dict[int, list[int]],
+    moving: NDArray[np.bool_],
+) -> None:
+    """lcpsim's contact pair joins two bodies: refuses a pair whose moving geom shares its
+    body with other colliding geoms (the pair would take them along), naming the pair."""
+    for g1, g2, _mu, what in pairs:
+        for g in (g1, g2):
+            b = int(m.geom_bodyid[g])
+            if moving[b] and len(per_body[b]) > 1:
+                raise MjcfError(
+                    f"{what}: geom {_name(mujoco, m, mujoco.mjtObj.mjOBJ_GEOM, g)!r} is one of the "
+                    f"{len(per_body[b])} colliding geoms of body {_name(mujoco, m, mujoco.mjtObj.mjOBJ_BODY, b)!r}, "
+                    "which lcpsim makes one body: a pair must name a moving body's only colliding geom")
+
+
+def _add_contact_pairs(
+    world: Any, pairs: list[tuple[int, int, float, str]], of_geom: dict[int, int],
+    joined: set[tuple[int, int]], body_index: dict[int, int],
+) -> None:
+    """Each pair as :meth:`lcpsim.World.add_contact_pair` of its geoms' bodies (past the bits,
+    the exclusions and MuJoCo's body filter, as MuJoCo's explicit pairs are); a pair of two
+    static geoms moves nothing and is left out; one across a joint is refused (lcpsim never
+    collides bodies joined by a joint, MuJoCo's pair would)."""
+    moving = set(body_index.values())
+    for g1, g2, mu, what in pairs:
+        a, b = of_geom[g1], of_geom[g2]
+        if a not in moving and b not in moving:
+            continue
+        if a == b or (min(a, b), max(a, b)) in joined:
+            raise MjcfError(f"{what} joins two geoms of bodies joined by a joint or welded: MuJoCo collides "
+                            "them, lcpsim never collides bodies joined by a joint")
+        world.add_contact_pair(a, b, mu)
 
 
 @dataclass

@@ -48,7 +48,7 @@ pub mod solve_chain;
 pub mod world;
 
 pub use contact::{ConeScale, MuCombine, Restitution, Stabilization};
-pub use dynamics::{Body, BodyDesc, BodyId, CollisionFilter, ExcludedPairs};
+pub use dynamics::{Body, BodyDesc, BodyId, CollisionFilter, ContactPairs, ExcludedPairs, PairMap};
 pub use error::SimError;
 pub use geometry::{
     CompoundPart, CompoundShape, Contact, ConvexHull, Downhill, HeightFieldShape, Plane, Shape, TriMeshShape,

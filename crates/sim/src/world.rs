@@ -36,6 +36,8 @@ pub struct World {
     pub(crate) joint_params: crate::joints::JointParams,
     /// Pairs of bodies kept apart whatever their collision bits (`exclude_pair`).
     pub(crate) excluded: crate::ExcludedPairs,
+    /// Pairs of bodies that touch past bits and exclusions, with their own μ (`add_contact_pair`).
+    pub(crate) contact_pairs: crate::ContactPairs,
 }
 
 impl Clone for World {
@@ -57,6 +59,7 @@ impl Clone for World {
             joints: self.joints.clone(),
             joint_params: self.joint_params,
             excluded: self.excluded.clone(),
+            contact_pairs: self.contact_pairs.clone(),
         }
     }
 }
@@ -131,6 +134,7 @@ impl World {
             joints: Vec::new(),
             joint_params: Default::default(),
             excluded: Default::default(),
+            contact_pairs: Default::default(),
         })
     }
 
@@ -278,6 +282,39 @@ impl World {
     /// Keeps bodies `a` and `b` from touching whatever their collision bits
     /// (MJCF's `<contact><exclude>`; MuJoCo's parent filter). Two different bodies.
     pub fn exclude_pair(&mut self, a: BodyId, b: BodyId) -> Result<(), SimError> {
+        self.two_bodies(a, b)?;
+        self.excluded.insert(a.0, b.0, ());
+        Ok(())
+    }
+
+    /// Makes bodies `a` and `b` touch whatever their collision bits and
+    /// exclusions, their contacts with friction coefficient `mu` (≥ 0; 0 is
+    /// frictionless) in place of the bodies' combined one (MJCF's
+    /// `<contact><pair>`; `WorldParams::mu_override` still wins). Two different
+    /// bodies, not both static; bodies joined by a joint still never touch.
+    /// Given again, the pair takes the new `mu`.
+    pub fn add_contact_pair(&mut self, a: BodyId, b: BodyId, mu: f64) -> Result<(), SimError> {
+        self.two_bodies(a, b)?;
+        non_negative("mu", mu)?;
+        if self.bodies[a.0].is_static && self.bodies[b.0].is_static {
+            return Err(SimError::OutOfRange {
+                field: "body_b",
+                value: b.0 as f64,
+                range: "the moving bodies (two static bodies never touch)",
+            });
+        }
+        self.contact_pairs.insert(a.0, b.0, mu);
+        Ok(())
+    }
+
+    /// The pairs [`World::add_contact_pair`] makes touch (lower index first,
+    /// sorted) and their μ, in the same order.
+    pub fn contact_pairs(&self) -> (&[(usize, usize)], &[f64]) {
+        (self.contact_pairs.as_slice(), self.contact_pairs.values())
+    }
+
+    /// Checks that `a` and `b` are two different bodies of this world.
+    fn two_bodies(&self, a: BodyId, b: BodyId) -> Result<(), SimError> {
         self.body(a)?;
         self.body(b)?;
         if a == b {
@@ -287,7 +324,6 @@ impl World {
                 range: "the bodies other than body_a",
             });
         }
-        self.excluded.insert(a.0, b.0);
         Ok(())
     }
 

@@ -86,3 +86,55 @@ fn an_excluded_pair_falls_through_while_its_bits_still_let_it_touch_the_rest() {
     assert!(w.exclude_pair(ball, ball).is_err());
     assert!(w.exclude_pair(ball, BodyId(9)).is_err());
 }
+
+/// A unit cube (μ = `mu`, 1 kg) resting on the ground (μ = `mu`), pushed along x by 2 N.
+fn pushed_cube(mu: f64) -> (World, BodyId, BodyId) {
+    let mut w = World::new(WorldParams::default()).unwrap();
+    let ground = w.add_ground(mu).unwrap();
+    let cube = w.add_box(Vec3::splat(0.5), 1.0, Vec3::new(0.0, 0.0, 0.5), mu).unwrap();
+    w.apply_force(cube, Vec3::new(2.0, 0.0, 0.0), None).unwrap();
+    (w, ground, cube)
+}
+
+#[test]
+fn a_contact_pair_touches_past_the_bits_and_its_own_mu_replaces_the_bodies() {
+    // The ground collides with nothing by its bits; the pair makes the cube rest on it,
+    // frictionless: 2 N on 1 kg gives 2 m/s² along x, as with no friction at all.
+    let (mut w, ground, cube) = pushed_cube(0.9);
+    w.set_collision_filter(ground, 0, 0).unwrap();
+    w.add_contact_pair(cube, ground, 0.0).unwrap();
+    let steps = 1000;
+    run_ok(&mut w, steps);
+    let (h, n) = (w.params().dt, steps as f64);
+    let c = w.body(cube).unwrap();
+    assert!((c.position().z - 0.5).abs() < 1e-3, "the cube fell through: z = {}", c.position().z);
+    let x = 2.0 * h * h * n * (n + 1.0) / 2.0; // semi-implicit Euler under 2 m/s²
+    assert!((c.position().x - x).abs() < 1e-6, "x {} vs frictionless {x}", c.position().x);
+
+    // The pair's μ = 0.5 holds the push (2 N < 0.5 · 9.81 N) where the bodies' μ = 0 would
+    // let it slide; given again, the pair takes the new μ.
+    let (mut w, ground, cube) = pushed_cube(0.0);
+    w.add_contact_pair(ground, cube, 0.2).unwrap();
+    w.add_contact_pair(cube, ground, 0.5).unwrap();
+    assert_eq!(w.contact_pairs(), (&[(ground.0, cube.0)][..], &[0.5][..]));
+    run_ok(&mut w, steps);
+    assert!(w.body(cube).unwrap().position().x.abs() < 1e-6, "x = {}", w.body(cube).unwrap().position().x);
+    assert!(w.last_record().contacts.iter().all(|c| c.mu == 0.5));
+}
+
+#[test]
+fn a_contact_pair_touches_past_an_exclusion_and_bad_pairs_are_refused() {
+    let (mut w, cube, ball) = cube_and_ball(BodyDesc::sphere(0.2));
+    w.exclude_pair(ball, cube).unwrap();
+    w.add_contact_pair(ball, cube, 0.5).unwrap();
+    run_ok(&mut w, 1500);
+    // The ball rests on the cube's top face (z = 1) as if nothing were excluded.
+    assert!((w.body(ball).unwrap().position().z - 1.2).abs() < 1e-3);
+    assert_eq!(w.clone().contact_pairs(), w.contact_pairs());
+    let other_ground = w.add_ground(0.5).unwrap();
+    for (a, b, mu) in [(ball, ball, 0.5), (ball, BodyId(9), 0.5), (ball, cube, -1.0), (ball, cube, f64::NAN)] {
+        assert!(w.add_contact_pair(a, b, mu).is_err(), "({a:?}, {b:?}, {mu}) accepted");
+    }
+    let e = w.add_contact_pair(BodyId(0), other_ground, 0.5).unwrap_err().to_string();
+    assert!(e.contains("two static bodies"), "{e}");
+}

@@ -511,6 +511,24 @@ impl World {
         self.shared().excluded_pairs().to_vec()
     }
 
+    /// Makes two bodies touch whatever their collision bits and exclusions, with their own μ.
+    fn add_contact_pair(
+        &mut self,
+        body_a: &Bound<'_, PyAny>,
+        body_b: &Bound<'_, PyAny>,
+        mu: &Bound<'_, PyAny>,
+    ) -> PyResult<()> {
+        let pair = (body_id(body_b)?, real(mu, "mu")?);
+        self.on_body(body_a, pair, |w, a, (b, mu)| w.add_contact_pair(a, b, mu))
+    }
+
+    /// The contact pairs (lower index first, sorted), each with its μ.
+    fn contact_pairs(&self) -> Vec<(usize, usize, f64)> {
+        let w = self.shared();
+        let (pairs, mus) = w.contact_pairs();
+        pairs.iter().zip(mus).map(|(&(a, b), &mu)| (a, b, mu)).collect()
+    }
+
     // ----- joints -----
 
     /// A joint of `kind` ("ball", "hinge", "slider", "fixed") between

@@ -11,6 +11,6 @@ mod forces;
 mod integrate;
 
 pub use body::{Body, BodyDesc, BodyId};
-pub use collision_filter::{CollisionFilter, ExcludedPairs};
+pub use collision_filter::{CollisionFilter, ContactPairs, ExcludedPairs, PairMap};
 pub use forces::{AppliedForce, AppliedTorque};
 pub use integrate::{free_velocity, integrate_positions};

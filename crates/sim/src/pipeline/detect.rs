@@ -12,11 +12,12 @@
 //! Pairs that the bodies' collision filters keep apart
 //! (`CollisionFilter`, MuJoCo's contype/conaffinity rule), pairs excluded one
 //! by one (`World::exclude_pair`) and bodies joined by a joint are skipped
-//! before the narrow phase.
+//! before the narrow phase, unless `World::add_contact_pair` made the pair
+//! touch (then past the bits and the exclusions, never past a joint).
 //!
 //! Each contact gets its bodies in the order of the pair function (A = the
 //! first shape of its name; for two shapes of one kind, the lower index), the
-//! combined μ, and its friction tangent: the plane's own tangent (downhill on
+//! combined μ (the contact pair's own, if it is one), and its friction tangent: the plane's own tangent (downhill on
 //! a slope) when B is a plane, otherwise the world x axis projected into the
 //! tangent plane (y when the normal is close to x).
 
@@ -56,12 +57,15 @@ impl World {
         let all_parry = parry_for_primitives();
         for &(i, j) in ws.broad.pairs() {
             let (bi, bj) = (&self.bodies[i], &self.bodies[j]);
-            // MuJoCo's contype/conaffinity rule: a filtered pair gets no contact.
-            if !bi.filter.collides_with(&bj.filter) {
+            // A contact pair's own μ; such a pair touches past the bits and the exclusions.
+            let pair_mu = self.contact_pairs.get(i, j).copied();
+            // MuJoCo's contype/conaffinity rule: a filtered pair gets no contact; nor do
+            // pairs excluded one by one.
+            if pair_mu.is_none() && (!bi.filter.collides_with(&bj.filter) || self.excluded.contains(i, j)) {
                 continue;
             }
-            // Bodies joined by a joint, and pairs excluded one by one, do not collide.
-            if ws.joints.joins(i, j) || self.excluded.contains(i, j) {
+            // Bodies joined by a joint do not collide.
+            if ws.joints.joins(i, j) {
                 continue;
             }
             let margin = margin.of(i, j);
@@ -126,6 +130,7 @@ impl World {
             let mu = self
                 .params
                 .mu_override
+                .or(pair_mu)
                 .unwrap_or_else(|| self.params.mu_combine.combine(self.bodies[a].mu, self.bodies[b].mu));
             let plane_tangent = match &self.bodies[b].shape {
                 Shape::Plane(p) => Some(p.friction_tangent()),
