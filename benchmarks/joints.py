@@ -12,7 +12,8 @@ chain    20 boxes 0.1 m × 0.03 m × 0.03 m, 0.1 kg, on ball joints end to end,
          standing almost upright (tilted 0.1 rad) with its foot 1 cm above the
          ground; released, it collapses into a pile. 3,000 steps of 1 ms.
 gripper  a 1 kg, 0.1 m cube (μ = 1) on the ground; a 1 kg palm on a vertical
-         slider to the world, two 0.2 kg fingers on sliders to the palm. The
+         slider to the world, two 0.2 kg fingers on sliders to the palm, their
+         pads with torsional friction (condim 4, 0.02 m). The
          fingers close at 0.1 m/s with at most 20 N each (1 s), the palm
          rises 0.2 m at 0.1 m/s, reached and left over 0.2 s (2.2 s), then
          holds (2 s). lcpsim: velocity motors
@@ -76,15 +77,20 @@ def chain_mjcf() -> str:
             f'<worldbody><geom type="plane" size="5 5 0.1"/>{links}</worldbody></mujoco>')
 
 
+# The pads' torsional friction (condim 4, friction[1] = 0.02 m: μ times about the mean
+# radius of their 8 × 10 cm overlap with the cube, 2.7 cm). Without it a pad's load may sit
+# on one corner of the face, where nothing resists the cube turning (docs/joints.md).
+PAD = 'condim="4" friction="1 0.02 0.0001"'
+
 GRIPPER_XML = f"""<mujoco><option timestep="{DT}"/><default><geom friction="1 0.005 0.0001"/></default>
 <worldbody><geom type="plane" size="5 5 0.1"/>
  <body name="cube" pos="0 0 0.05"><freejoint/><geom type="box" size="0.05 0.05 0.05" mass="1"/></body>
  <body name="palm" pos="0 0 0.2"><joint name="lift" type="slide" axis="0 0 1"/>
   <geom type="box" size="0.15 0.05 0.02" mass="1"/>
   <body name="left" pos="-0.1 0 -0.1"><joint name="jl" type="slide" axis="1 0 0"/>
-   <geom type="box" size="0.01 0.04 0.08" mass="0.2"/></body>
+   <geom type="box" size="0.01 0.04 0.08" mass="0.2" {PAD}/></body>
   <body name="right" pos="0.1 0 -0.1"><joint name="jr" type="slide" axis="-1 0 0"/>
-   <geom type="box" size="0.01 0.04 0.08" mass="0.2"/></body>
+   <geom type="box" size="0.01 0.04 0.08" mass="0.2" {PAD}/></body>
  </body></worldbody>
 <actuator><velocity name="lift" joint="lift" kv="1000" forcerange="-200 200" forcelimited="true"/>
  <velocity name="jl" joint="jl" kv="1000" forcerange="-20 20" forcelimited="true"/>

@@ -126,6 +126,10 @@ BODY = '<body name="{name}" pos="0 0 1">{inner}</body>'
         ('<geom name="floor" type="plane" size="1 1 1" friction="0.5"/>'
          + BODY.format(name="p", inner='<freejoint/><geom name="ice" type="box" size=".1 .1 .1" condim="1" friction="0.9"/>'),
          ["geom 'ice'", "condim 1, friction 0.9", "geom 'floor'", "condim 3, friction 0.5", "<= 0.5"]),
+        ('<geom name="floor" type="plane" size="1 1 1" friction="1 0.03 0"/>'
+         + BODY.format(name="p", inner='<freejoint/><geom name="pad" type="box" size=".1 .1 .1" condim="4" friction="1 0.01 0"/>'),
+         ["geom 'floor'", "condim 3, torsional friction 0.03", "geom 'pad'", "condim 4, torsional friction 0.01",
+          "<= 0.01"]),
     ],
 )
 def test_unsupported_elements_are_refused_naming_them(xml, words):
@@ -171,6 +175,32 @@ def test_condim_1_pairs_slide_without_friction_as_in_mujoco(floor, block, fricti
         assert theirs == pytest.approx(ours, rel=0.02)
     else:
         assert ours < 1e-9 and theirs < 1e-2
+
+
+SPIN = """
+<mujoco>
+  <option timestep="0.001"/>
+  <worldbody>
+    <geom type="plane" size="5 5 .1" friction="0 0.005 0"/>
+    <body name="block" pos="0 0 0.1">
+      <freejoint/><geom type="box" size="0.1 0.1 0.1" mass="1" condim="4" friction="0 0.01 0"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_condim_4_spins_a_box_down_at_its_torsional_bound():
+    """A frictionless box spun at 2 rad/s on the ground, torsional friction 0.01 m (condim 4):
+    the patch's torque μ_t m g slows it by h μ_t g / I a step, I = m (0.2 m)² / 6."""
+    w = World.from_mjcf(SPIN)
+    b = w.body_id("block")
+    w.set_angular_velocity(b, (0.0, 0.0, 2.0))
+    traj = w.run(50)
+    assert traj.lcp_stats().failures == 0
+    assert w.velocities[b][5] == pytest.approx(2.0 - 50 * 1e-3 * 0.01 * 9.81 / (0.04 / 6), abs=1e-9)
+    with pytest.raises(ValueError, match="torsional_friction"):
+        w.set_torsional_friction(b, -1.0)
 
 
 def test_a_geom_margin_is_refused_as_mujoco_rests_bodies_that_far_apart():

@@ -43,8 +43,12 @@ the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
   ``base`` below the surface is not a solid);
 - μ = ``geom_friction[0]`` (0 for a frictionless geom, ``condim`` 1), combined by
   ``max`` as MuJoCo does (unless ``mu_combine`` is given): geoms of one
-  ``priority``, ``condim`` 1 or 3, no condim-1 geom with more friction than a
-  condim-3 one (MuJoCo's pair would slide with it); ``dt`` = ``opt.timestep``, ``gravity`` = ``opt.gravity``;
+  ``priority``, ``condim`` 1, 3 or 4, no condim-1 geom with more friction than a
+  condim-3 or 4 one (MuJoCo's pair would slide with it); with ``condim`` 4 the
+  torsional friction ``friction[1]`` (:meth:`lcpsim.World.set_torsional_friction`:
+  bounded by the patch's normal force where MuJoCo bounds each contact point's,
+  the same total over a face; a single point has none), no condim-1 or 3 geom
+  with a larger ``friction[1]`` than a condim-4 one; ``dt`` = ``opt.timestep``, ``gravity`` = ``opt.gravity``;
 - the option flags that turn off gravity (zero gravity), contacts or all
   constraints (no contacts, no joint limits), joint limits, dampers, springs
   and friction loss (not read); ``override`` enabled and ``actuation``
@@ -60,7 +64,7 @@ the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
 
 Everything else is refused with :class:`MjcfError` (a ``ValueError``) naming
 the element and its name: fluid forces (``density``, ``viscosity``), a body's
-``gravcomp``, ``condim`` 4 or 6 (torsional, rolling friction),
+``gravcomp``, ``condim`` 6 (rolling friction),
 geoms of different ``priority``, a geom ``margin`` (MuJoCo's bodies rest that far apart), several joints on one body, a ball joint's
 ``range``, joint stiffness, a ball joint's damping (a hinge's or slide's is
 the joint's ``damping``), armature or friction loss, a moving body with no
@@ -521,13 +525,19 @@ def _mu(m: Any, g: int) -> float:
     return 0.0 if int(m.geom_condim[g]) == 1 else float(m.geom_friction[g][0])
 
 
+def _mu_torsion(m: Any, g: int) -> float:
+    """Geom ``g``'s torsional friction: ``friction[1]`` with ``condim`` 4, else 0."""
+    return float(m.geom_friction[g][1]) if int(m.geom_condim[g]) == 4 else 0.0
+
+
 def _check_friction_model(mujoco: Any, m: Any, colliding: list[int]) -> None:
     """MuJoCo's friction of a pair as lcpsim's max of the two bodies' μ (:func:`_mu`). MuJoCo
     gives a pair the larger ``condim`` of its geoms and the larger ``friction[0]`` (both
     geoms' at equal ``priority``; the higher-priority geom's otherwise): exact when every
-    colliding geom has one priority, ``condim`` is 1 (frictionless) or 3 (sliding friction;
-    4 and 6 add torsional and rolling friction, which lcpsim has not) and no condim-1 geom
-    has more friction than a condim-3 one (a pair of the two slides with the larger)."""
+    colliding geom has one priority, ``condim`` is 1 (frictionless), 3 (sliding friction) or
+    4 (and torsional, :func:`_mu_torsion`; 6 adds rolling friction, which lcpsim has not), no
+    condim-1 geom has more friction than a condim-3 or 4 one (a pair of the two slides with
+    the larger) and no condim-1 or 3 geom a larger ``friction[1]`` than a condim-4 one."""
     OBJ = mujoco.mjtObj
     name = lambda g: _name(mujoco, m, OBJ.mjOBJ_GEOM, g)  # noqa: E731
     for g in colliding:
@@ -535,9 +545,9 @@ def _check_friction_model(mujoco: Any, m: Any, colliding: list[int]) -> None:
             raise MjcfError(f"geom {name(g)!r} has margin={float(m.geom_margin[g]):g}, which is not supported: "
                             "MuJoCo's contacts then act that far apart (bodies rest apart), lcpsim's at touch")
         c = int(m.geom_condim[g])
-        if c not in (1, 3):
-            raise MjcfError(f"geom {name(g)!r} has condim={c} (torsional or rolling friction), which is not "
-                            "supported: lcpsim's friction is sliding only (condim 1 or 3)")
+        if c not in (1, 3, 4):
+            raise MjcfError(f"geom {name(g)!r} has condim={c} (rolling friction), which is not "
+                            "supported: lcpsim's friction is sliding and torsional only (condim 1, 3 or 4)")
     if colliding:
         first = colliding[0]
         for g in colliding:
@@ -547,7 +557,17 @@ def _check_friction_model(mujoco: Any, m: Any, colliding: list[int]) -> None:
                     f"priority={int(m.geom_priority[first])}: MuJoCo then takes the higher one's friction, "
                     "lcpsim combines by max; give every colliding geom one priority")
     frictionless = [g for g in colliding if int(m.geom_condim[g]) == 1]
-    sliding = [g for g in colliding if int(m.geom_condim[g]) == 3]
+    sliding = [g for g in colliding if int(m.geom_condim[g]) in (3, 4)]
+    torsional = [g for g in colliding if int(m.geom_condim[g]) == 4]
+    if torsional and len(torsional) < len(colliding):
+        hi = max((g for g in colliding if g not in torsional), key=lambda g: float(m.geom_friction[g][1]))
+        lo = min(torsional, key=lambda g: float(m.geom_friction[g][1]))
+        th, tl = float(m.geom_friction[hi][1]), float(m.geom_friction[lo][1])
+        if th > tl:
+            raise MjcfError(
+                f"geom {name(hi)!r} (condim {int(m.geom_condim[hi])}, torsional friction {th:g}) and geom "
+                f"{name(lo)!r} (condim 4, torsional friction {tl:g}): MuJoCo gives such a pair {th:g}, lcpsim "
+                f"{tl:g}; give the other geoms a friction[1] <= {tl:g}")
     if frictionless and sliding:
         hi = max(frictionless, key=lambda g: float(m.geom_friction[g][0]))
         lo = min(sliding, key=lambda g: float(m.geom_friction[g][0]))
@@ -564,6 +584,7 @@ def _check_same_surface(mujoco: Any, m: Any, gs: list[int], bname: str) -> None:
     collision bits: refuses geoms that differ in either, naming the body."""
     for field, values in (
         ("friction", [_mu(m, g) for g in gs]),
+        ("torsional friction", [_mu_torsion(m, g) for g in gs]),
         ("contype", [int(m.geom_contype[g]) for g in gs]),
         ("conaffinity", [int(m.geom_conaffinity[g]) for g in gs]),
     ):
@@ -608,6 +629,8 @@ def _add_compound(mujoco: Any, m: Any, d: Any, world: Any, gs: list[int], b: int
         mu=_mu(m, gs[0]), inertia=np.diag(np.array(m.body_inertia[b], dtype=np.float64)),
         com=(0.0, 0.0, 0.0), contype=int(m.geom_contype[gs[0]]), conaffinity=int(m.geom_conaffinity[gs[0]]),
     ))
+    if _mu_torsion(m, gs[0]) > 0.0:
+        world.set_torsional_friction(idx, _mu_torsion(m, gs[0]))
     bname = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b)
     if bname:
         names[bname] = idx
@@ -674,6 +697,8 @@ def _add_geom(mujoco: Any, m: Any, d: Any, world: Any, g: int, b: int, moving: b
             world._core.set_position(idx, tuple(pos + rot @ off))
     else:  # refused before
         raise ValueError(f"geom type {GEOM_TYPES.get(t, t)} is not supported")
+    if _mu_torsion(m, g) > 0.0:
+        world.set_torsional_friction(idx, _mu_torsion(m, g))
     bname = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b)
     gname = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g)
     if moving and bname:

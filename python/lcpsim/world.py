@@ -616,6 +616,13 @@ class World(JointsMixin, ShapesMixin):
     def set_mu(self, body: int, mu: float) -> None:
         self._core.set_mu(body, mu)
 
+    def set_torsional_friction(self, body: int, mu_torsion: float) -> None:
+        """Torsional friction ``mu_torsion`` (m, >= 0; MuJoCo's ``friction[1]`` with
+        condim 4): each contact patch of two or more points this body makes gets
+        friction about its normal of at most ``mu_torsion`` (the larger of the
+        pair's) times the patch's normal force. 0 (the default) turns it off."""
+        self._core.set_torsional_friction(body, mu_torsion)
+
     # ----- forces -----
 
     def apply_force(self, body: int, force: Vec, point: Vec | None = None) -> None:

@@ -104,6 +104,8 @@ pub(crate) struct Workspace {
     pub parts: Parts,
     /// This step's joint rows, their factorization and impulses (`joints`).
     pub joints: crate::joints::JointSystem,
+    /// This step's contact patches with torsional friction (`contact::torsion`).
+    pub torsion: crate::contact::torsion::TorsionPatches,
 }
 
 impl std::fmt::Debug for World {
@@ -269,6 +271,16 @@ impl World {
     pub fn set_mu(&mut self, id: BodyId, mu: f64) -> Result<(), SimError> {
         non_negative("mu", mu)?;
         self.body_mut(id)?.mu = mu;
+        Ok(())
+    }
+
+    /// Sets a body's torsional friction coefficient μ_t (m, ≥ 0; MuJoCo's
+    /// `friction[1]` with condim 4): each contact patch of two or more points
+    /// it makes gets friction about its normal bounded by μ_t (the larger of
+    /// the pair's) times the patch's normal load (`contact::torsion`).
+    pub fn set_torsional_friction(&mut self, id: BodyId, mu_torsion: f64) -> Result<(), SimError> {
+        non_negative("torsional_friction", mu_torsion)?;
+        self.body_mut(id)?.mu_torsion = mu_torsion;
         Ok(())
     }
 

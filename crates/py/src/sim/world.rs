@@ -491,6 +491,10 @@ impl World {
         self.on_body(body, real(mu, "mu")?, sim::World::set_mu)
     }
 
+    fn set_torsional_friction(&mut self, body: &Bound<'_, PyAny>, mu_torsion: &Bound<'_, PyAny>) -> PyResult<()> {
+        self.on_body(body, real(mu_torsion, "torsional_friction")?, sim::World::set_torsional_friction)
+    }
+
     /// MuJoCo's collision bits of a body (any body; both integers in [0, 2³²)).
     fn set_collision_filter(&mut self, body: &Bound<'_, PyAny>, contype: u64, conaffinity: u64) -> PyResult<()> {
         let bits = |v: u64, field: &str| {

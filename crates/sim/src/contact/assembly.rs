@@ -32,6 +32,7 @@ use crate::geometry::Contact;
 use crate::math::{Mat3, Vec3};
 use lcp::{ContactLayout, Lcp, LcpError};
 use std::cell::RefCell;
+use std::ops::Range;
 
 /// One Jacobian row for one body: `[linear (3); angular (3)]`.
 pub type Row6 = [f64; 6];
@@ -114,6 +115,9 @@ pub struct ContactLcp {
     /// Distinct dynamic bodies among the contacts (and scratch to count them).
     dynamic_bodies: usize,
     seen: Vec<usize>,
+    /// Patch contacts (`contact::torsion`): contact `c` and the points whose
+    /// normal impulses bound its cone row ([`ContactLcp::set_patch_cone`]).
+    patch_cones: Vec<(usize, Range<usize>)>,
 }
 
 thread_local! {
@@ -334,6 +338,7 @@ impl ContactLcp {
         self.minv_jt.resize(2 * nc, [[0.0; 6]; 3]);
         self.side_body.clear();
         self.mu.clear();
+        self.patch_cones.clear();
         for (c, ct) in contacts.iter().enumerate() {
             self.mu.push(ct.mu);
             let dirs = [ct.normal, ct.tangent, ct.normal.cross(ct.tangent)];
@@ -461,6 +466,13 @@ impl ContactLcp {
             }
             self.m[l * n + c] = s * self.mu[c];
         }
+        for (c, points) in &self.patch_cones {
+            let l = lay.lambda_index(*c);
+            self.m[c * n + c] = 1.0;
+            for i in points.clone() {
+                self.m[l * n + lay.fn_index(i)] = s;
+            }
+        }
 
         self.matrix_ready = true;
     }
@@ -553,6 +565,19 @@ impl ContactLcp {
         self.m[c * n + c] = 1.0;
         self.q[c] = -value;
         self.diag[c] = 1.0;
+    }
+
+    /// Makes contact `c` (its rows set by [`ContactLcp::set_generalized_rows`]
+    /// with no normal row) a patch's torsional friction (`contact::torsion`):
+    /// its normal a virtual unit row pinned at 0 (`M_cc = 1`, `q_c = 0`) and
+    /// its cone row `Σ_{i ∈ points} fn_i − Σ_j fd_cj` (`M_{λc, fn_i} = s`),
+    /// so its friction is bounded by the points' normal impulses. Applied
+    /// whenever the dense `M` is formed; [`ContactLcp::unscaled_w`] reads it.
+    pub fn set_patch_cone(&mut self, c: usize, points: Range<usize>) {
+        debug_assert!(self.mu[c] == 0.0 && self.q[c] == 0.0 && points.end <= self.layout.nc);
+        self.diag[c] = 1.0;
+        self.patch_cones.push((c, points));
+        self.matrix_ready = false;
     }
 
     /// As [`ContactLcp::set_generalized_rows`] with only a normal row.
@@ -675,6 +700,9 @@ impl ContactLcp {
                 sum_fd += z[f];
             }
             w[lay.lambda_index(c)] = self.mu[c] * z[c] - sum_fd;
+        }
+        for (c, points) in &self.patch_cones {
+            w[lay.lambda_index(*c)] += points.clone().map(|i| z[lay.fn_index(i)]).sum::<f64>();
         }
     }
 

@@ -8,6 +8,8 @@
 //! - [`body_space`]: the same LCP as an operator on the Jacobian rows, without
 //!   the dense `M` (products and entries for a basis check).
 //! - [`body_factors`]: the same LCP as `G H + K` (body-space sparse factors) for the structured Lemke.
+//! - [`torsion`]: a contact patch's torsional friction, one more contact whose
+//!   cone row is bounded by the patch's normal load.
 //! - [`body_rule`]: the acceptance rule judged in body space, each contact
 //!   row on the scale of the velocities it relates (a heavy body on a light one).
 //!
@@ -19,6 +21,7 @@ pub mod body_rule;
 pub mod body_space;
 pub mod friction;
 pub mod params;
+pub mod torsion;
 
 pub use assembly::{ContactLcp, ContactRows};
 pub use body_rule::BodyCheck;

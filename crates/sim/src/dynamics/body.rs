@@ -156,6 +156,9 @@ pub struct Body {
     pub(crate) velocity: Vec3,
     pub(crate) angular_velocity: Vec3,
     pub(crate) mu: f64,
+    /// Torsional friction μ_t (m): a contact patch's friction about its
+    /// normal is bounded by μ_t times its normal load (`contact::torsion`); 0 by default.
+    pub(crate) mu_torsion: f64,
     pub(crate) is_static: bool,
     pub(crate) filter: CollisionFilter,
 }
@@ -192,6 +195,7 @@ impl Body {
                 velocity: Vec3::ZERO,
                 angular_velocity: Vec3::ZERO,
                 mu: d.mu,
+                mu_torsion: 0.0,
                 is_static: true,
                 filter: d.filter,
             });
@@ -221,6 +225,7 @@ impl Body {
             velocity: d.velocity,
             angular_velocity: d.angular_velocity,
             mu: d.mu,
+            mu_torsion: 0.0,
             is_static: false,
             filter: d.filter,
         })
@@ -259,6 +264,10 @@ impl Body {
     }
     pub fn mu(&self) -> f64 {
         self.mu
+    }
+    /// Torsional friction coefficient μ_t (m), set by `World::set_torsional_friction`.
+    pub fn mu_torsion(&self) -> f64 {
+        self.mu_torsion
     }
     pub fn is_static(&self) -> bool {
         self.is_static

@@ -186,6 +186,7 @@ fn principal_body(
         velocity,
         angular_velocity: angular,
         mu: 0.0,
+        mu_torsion: 0.0,
         is_static: false,
         filter: Default::default(),
     }

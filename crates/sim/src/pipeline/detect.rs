@@ -153,6 +153,8 @@ impl World {
         // limits this step may reach, as frictionless contacts
         let ws = &mut self.ws;
         ws.joints.drop_held_contacts(&mut ws.contacts, &self.bodies, &ws.inv_inertia);
+        // each patch with torsional friction, one more contact
+        ws.torsion.push_patches(&mut ws.contacts, &self.bodies);
         self.joint_limit_contacts();
     }
 

@@ -66,9 +66,17 @@ pub struct IslandLcp {
     /// A joint holds one of its bodies: its `M` is coupled through the
     /// joints (`joints::elimination`) and it is solved on the dense path.
     pub jointed: bool,
+    /// It holds a patch's torsional friction (`contact::torsion`), whose cone
+    /// row the body-space stages do not model: it is solved on the dense path.
+    pub torsion: bool,
 }
 
 impl IslandLcp {
+    /// Solved on the dense `M` only (jointed, or holding a torsion patch).
+    pub fn dense_only(&self) -> bool {
+        self.jointed || self.torsion
+    }
+
     /// Assembles the island's LCP: its rows and `q`, and the dense `M` if `matrix`.
     pub fn assemble(&mut self, dynamics: &BodyDynamics<'_>, p: &AssemblyParams, matrix: bool) {
         self.lcp.assemble_rows(&self.contacts, dynamics, p);

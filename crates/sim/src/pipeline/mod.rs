@@ -241,7 +241,9 @@ impl World {
             // structured Lemke, which reserves the dense M only if the island falls back
             // to the dense Lemke (`solve_chain::structured_lemke`).
             let bodies = ws.islands.bodies_of(i);
-            if structured && n >= STRUCTURED_MIN_N && bodies.len() >= 2 && !ws.joints.holds_jointed(bodies) {
+            let torsion = ws.islands.contacts_of(i).iter().any(|&g| ws.torsion.of_contact(g).is_some());
+            if structured && n >= STRUCTURED_MIN_N && bodies.len() >= 2 && !ws.joints.holds_jointed(bodies) && !torsion
+            {
                 isl.lcp.trim_matrix(0);
                 continue;
             }
@@ -305,6 +307,15 @@ impl World {
         };
         let mut states = vec![(); threads];
         parallel::for_each(&mut ws.pool[..count], &mut states, |_, isl| isl.assemble(&dynamics, &p, matrix));
+        // islands with a torsion patch: its rows and cone (the dense M formed again if it was)
+        for (i, isl) in ws.pool[..count].iter_mut().enumerate() {
+            let (island, torsion) = (ws.islands.contacts_of(i), &ws.torsion);
+            isl.torsion = !torsion.patches.is_empty()
+                && torsion.set_island_rows(island, &mut isl.lcp, &ws.inv_inertia, &ws.w_free);
+            if isl.torsion && matrix {
+                isl.lcp.assemble_matrix();
+            }
+        }
         // islands with a joint: the dense M coupled through the joints
         self.joints_couple();
     }

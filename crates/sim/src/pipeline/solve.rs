@@ -90,11 +90,11 @@ impl World {
                 let warm = &ws.warm;
                 parallel::for_each(&mut ws.pool[..count], &mut ws.solvers[..threads], |solver, isl| {
                     // (The body-space check assumes M_b⁻¹; a jointed island's M is coupled.)
-                    isl.body_check = if isl.jointed { None } else { body.clone() };
+                    isl.body_check = if isl.dense_only() { None } else { body.clone() };
                     let z_mapped = std::mem::take(&mut isl.z_mapped);
                     let z_prev = isl.previous.map_or(&z_mapped[..], |p| warm.impulses(p));
                     // (Nor do the body-space stages: a jointed island goes to the dense Lemke.)
-                    let check = if isl.jointed { None } else { check };
+                    let check = if isl.dense_only() { None } else { check };
                     isl.solve(&mut |lcp, warm| lcp::solve_in(lcp, &method, warm, solver), check, z_prev)
                 });
                 method.name()

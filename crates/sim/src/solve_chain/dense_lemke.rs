@@ -18,7 +18,7 @@ pub(super) fn solve(
     }
     // Lend the buffers to an Lcp, solve, and take them back.
     let lcp = isl.lcp.take_lcp()?;
-    let loaded = if isl.jointed { super::dense_loaded::solve(&lcp, isl.lcp.layout(), solver, warm) } else { None };
+    let loaded = if isl.dense_only() { super::dense_loaded::solve(&lcp, isl.lcp.layout(), solver, warm) } else { None };
     let sol = loaded.unwrap_or_else(|| solver(&lcp, warm));
     isl.lcp.restore(lcp);
     Ok(sol)

@@ -5,7 +5,7 @@
 //! the joints).
 //!
 //! The sub-LCP (every `fn`; `fd`, `λ` of the active contacts: loaded in the
-//! warm basis, or `q_fn < 0`) is solved by the island's solver, grown while
+//! warm basis, or `q_fn < 0`, and a patch's torsion with its points) is solved by the island's solver, grown while
 //! inactive contacts take load. Its basis, extended with `λ` and the most
 //! opposed `fd` of each inactive contact whose friction rows come out
 //! negative, is then the warm start of the same solver on the full LCP: it
@@ -36,7 +36,11 @@ pub(super) fn solve(
         (0..lay.nc).map(|c| lcp.q()[lay.fn_index(c)] < 0.0 || warm.is_some_and(|b| b[lay.fn_index(c)])).collect();
     let mut basis: Option<Vec<bool>> = warm.map(<[bool]>::to_vec);
     let mut pivots = 0;
+    let cones = patch_cones(lcp, lay);
     for _ in 0..ROUNDS {
+        for &(c, i) in &cones {
+            active[c] |= active[i];
+        }
         if active.iter().all(|&a| a) {
             return None;
         }
@@ -67,4 +71,14 @@ pub(super) fn solve(
         return Some(out);
     }
     None
+}
+
+/// `(c, i)`: contact `c`'s cone row reads contact `i`'s normal impulse, `i ≠ c`
+/// (a patch's torsional friction, `contact::torsion`): `c` is active with `i`
+/// (its normal, pinned at 0, never takes load itself).
+fn patch_cones(lcp: &Lcp, lay: ContactLayout) -> Vec<(usize, usize)> {
+    (0..lay.nc)
+        .flat_map(|c| (0..lay.nc).filter(move |&i| i != c).map(move |i| (c, i)))
+        .filter(|&(c, i)| lcp.at(lay.lambda_index(c), lay.fn_index(i)) != 0.0)
+        .collect()
 }
