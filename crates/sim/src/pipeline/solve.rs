@@ -93,8 +93,6 @@ impl World {
                     isl.body_check = if isl.dense_only() { None } else { body.clone() };
                     let z_mapped = std::mem::take(&mut isl.z_mapped);
                     let z_prev = isl.previous.map_or(&z_mapped[..], |p| warm.impulses(p));
-                    // (Nor do the body-space stages: a jointed island goes to the dense Lemke.)
-                    let check = if isl.dense_only() { None } else { check };
                     isl.solve(&mut |lcp, warm| lcp::solve_in(lcp, &method, warm, solver), check, z_prev)
                 });
                 method.name()

@@ -24,7 +24,9 @@
 //!   still be wrong in the velocities of a heavy body on a light one.
 //!
 //! The first three apply only where [`basis_check_applies`] (the robust Lemke
-//! with warm starts); an island of one dynamic body gets only the first.
+//! with warm starts); an island of one dynamic body gets only the first. An
+//! island solved on its dense `M` (joints, a torsion patch) gets its previous
+//! basis solved on that `M` instead ([`dense_previous`]).
 //! Which of them apply to an island is written once, in [`IslandLcp::solve`].
 //! Where the previous basis comes from: [`warm_starts`] (the previous step's
 //! island with the same bodies and contact count) and [`warm_by_contact`]
@@ -38,6 +40,7 @@
 pub(crate) mod answer_check;
 mod dense_lemke;
 mod dense_loaded;
+mod dense_previous;
 mod guessed_basis;
 pub mod kept_factors;
 pub(crate) mod loaded_friction;
@@ -90,7 +93,12 @@ impl IslandLcp {
         let coupled = self.lcp.dynamic_body_count() >= 2;
         let rungs = coupled && basis_check.is_some_and(|c| c.rungs);
         let stages = chain(n, coupled, warm.is_some(), rungs, self.previous_stood);
+        let dense = self.dense_only();
         let found = basis_check.and_then(|c| {
+            if dense {
+                let found = dense_previous::attempt(self, warm.as_deref(), c.accept_tol);
+                return found.map(|f| (SolveStage::PreviousBasis, f));
+            }
             let a = Attempt {
                 warm: warm.as_deref(),
                 z_prev,
