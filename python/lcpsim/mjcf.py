@@ -559,24 +559,31 @@ def _check_friction_model(mujoco: Any, m: Any, colliding: list[int]) -> None:
     frictionless = [g for g in colliding if int(m.geom_condim[g]) == 1]
     sliding = [g for g in colliding if int(m.geom_condim[g]) in (3, 4)]
     torsional = [g for g in colliding if int(m.geom_condim[g]) == 4]
-    if torsional and len(torsional) < len(colliding):
-        hi = max((g for g in colliding if g not in torsional), key=lambda g: float(m.geom_friction[g][1]))
-        lo = min(torsional, key=lambda g: float(m.geom_friction[g][1]))
-        th, tl = float(m.geom_friction[hi][1]), float(m.geom_friction[lo][1])
-        if th > tl:
-            raise MjcfError(
-                f"geom {name(hi)!r} (condim {int(m.geom_condim[hi])}, torsional friction {th:g}) and geom "
-                f"{name(lo)!r} (condim 4, torsional friction {tl:g}): MuJoCo gives such a pair {th:g}, lcpsim "
-                f"{tl:g}; give the other geoms a friction[1] <= {tl:g}")
-    if frictionless and sliding:
-        hi = max(frictionless, key=lambda g: float(m.geom_friction[g][0]))
-        lo = min(sliding, key=lambda g: float(m.geom_friction[g][0]))
-        fh, fl = float(m.geom_friction[hi][0]), float(m.geom_friction[lo][0])
-        if fh > fl:
-            raise MjcfError(
-                f"geom {name(hi)!r} (condim 1, friction {fh:g}) and geom {name(lo)!r} (condim 3, friction {fl:g}): "
-                f"MuJoCo slides such a pair with friction {fh:g}, lcpsim's frictionless geom gives {fl:g}; "
-                f"give the condim-1 geoms a friction <= {fl:g}")
+    over = _exceeds(m, [g for g in colliding if g not in torsional], torsional, 1)
+    if over:
+        hi, lo, th, tl = over
+        raise MjcfError(
+            f"geom {name(hi)!r} (condim {int(m.geom_condim[hi])}, torsional friction {th:g}) and geom "
+            f"{name(lo)!r} (condim 4, torsional friction {tl:g}): MuJoCo gives such a pair {th:g}, lcpsim "
+            f"{tl:g}; give the other geoms a friction[1] <= {tl:g}")
+    over = _exceeds(m, frictionless, sliding, 0)
+    if over:
+        hi, lo, fh, fl = over
+        raise MjcfError(
+            f"geom {name(hi)!r} (condim 1, friction {fh:g}) and geom {name(lo)!r} "
+            f"(condim {int(m.geom_condim[lo])}, friction {fl:g}): MuJoCo slides such a pair with friction "
+            f"{fh:g}, lcpsim's frictionless geom gives {fl:g}; give the condim-1 geoms a friction <= {fl:g}")
+
+
+def _exceeds(m: Any, above: list[int], below: list[int], k: int) -> tuple[int, int, float, float] | None:
+    """The geom of ``above`` with the largest ``friction[k]`` and the geom of ``below`` with
+    the smallest, and the two values, when the first is larger (else None)."""
+    if not above or not below:
+        return None
+    hi = max(above, key=lambda g: float(m.geom_friction[g][k]))
+    lo = min(below, key=lambda g: float(m.geom_friction[g][k]))
+    fh, fl = float(m.geom_friction[hi][k]), float(m.geom_friction[lo][k])
+    return (hi, lo, fh, fl) if fh > fl else None
 
 
 def _check_same_surface(mujoco: Any, m: Any, gs: list[int], bname: str) -> None:
