@@ -23,6 +23,7 @@ most negative ``contact.dist``) — so the two states are judged alike.
     python3 benchmarks/mjcf_bin.py --steps 500     # a shorter run
     python3 benchmarks/mjcf_bin.py --write-scene   # regenerate the XML (same seed, same file)
     python3 benchmarks/mjcf_bin.py --pairs 1250    # lcpsim's contact points per touching pair
+    python3 benchmarks/mjcf_bin.py --manifold-ab 1-8 --steps 2500  # parry's points vs the support points
 
 Needs ``mujoco`` (``pip install 'lcpsim[mjcf]'``) and lcpsim installed.
 """
@@ -151,19 +152,104 @@ def worker(engine: str, xml_path: str, steps: int, every: int, budget: float) ->
 
 
 def points_per_pair(xml_path: str, steps: int) -> None:
-    """lcpsim's first ``steps`` steps one by one: how many pairs had k contact points, over all steps."""
+    """lcpsim's first ``steps`` steps one by one: how many pairs had k contact points, over all
+    steps and by the kinds of the pair's two shapes; the islands' LCP sizes."""
     from collections import Counter
 
     from lcpsim import World
 
     w = World.from_mjcf(xml_path)
+    kind = [w.body(i).kind for i in range(w.body_count)]
     pairs: Counter[int] = Counter()
+    by_kinds: dict[str, Counter[int]] = {}
+    sizes: list[int] = []
     for _ in range(steps):
         r = w.step()
-        pairs.update(Counter(zip(np.asarray(r.body_a).tolist(), np.asarray(r.body_b).tolist())).values())
-    contacts = sum(k * n for k, n in pairs.items())
-    print(f"{steps} steps, {sum(pairs.values()):,} pair-steps, {contacts:,} contacts; pair-steps by points: "
-          + ", ".join(f"{k}: {n:,}" for k, n in sorted(pairs.items())))
+        for (a, b), k in Counter(zip(np.asarray(r.body_a).tolist(), np.asarray(r.body_b).tolist())).items():
+            pairs[k] += 1
+            by_kinds.setdefault("–".join(sorted((kind[a], kind[b]))), Counter())[k] += 1
+        sizes.extend(np.asarray(r.island_lcp_size).tolist())
+
+    def row(c: Counter[int]) -> str:
+        contacts = sum(k * n for k, n in c.items())
+        return (f"{sum(c.values()):,} pair-steps, {contacts:,} contacts ({contacts / sum(c.values()):.2f} a pair); "
+                "by points: " + ", ".join(f"{k}: {n:,}" for k, n in sorted(c.items())))
+
+    print(f"{steps} steps, all pairs: {row(pairs)}")
+    for name, c in sorted(by_kinds.items(), key=lambda kv: -sum(k * n for k, n in kv[1].items())):
+        print(f"  {name}: {row(c)}")
+    n = np.asarray(sizes)
+    print(f"{n.size:,} island LCPs, n: median {np.median(n):.0f}, 90th percentile {np.percentile(n, 90):.0f}, "
+          f"max {n.max()}; share of all unknowns in islands of n > 100: {n[n > 100].sum() / n.sum():.1%}")
+
+
+def states_worker(xml_path: str, steps: int, every: int, out: str) -> None:
+    """Runs lcpsim on the file and saves the state of every moving body each ``every`` steps."""
+    from lcpsim import World
+
+    w = World.from_mjcf(xml_path)
+    moving = [i for i in range(w.body_count) if not w.body(i).is_static]
+    saved = []
+    for _ in range(steps // every):
+        w.run(every)
+        saved.append(np.concatenate([w.positions[moving], w.orientations[moving], w.velocities[moving]], axis=1))
+    np.save(out, np.asarray(saved))
+
+
+def replay_worker(xml_path: str, states: str, steps: int) -> None:
+    """From each saved state, ``steps`` steps of lcpsim (a fresh world each time: cold, then warm);
+    emits the stepping seconds and the contacts over them."""
+    from lcpsim import World
+
+    seconds, contacts = 0.0, 0
+    for state in np.load(states):
+        w = World.from_mjcf(xml_path)
+        moving = [i for i in range(w.body_count) if not w.body(i).is_static]
+        for k, i in enumerate(moving):
+            w.set_position(i, state[k, :3])
+            w.set_orientation(i, state[k, 3:7])
+            w.set_velocity(i, state[k, 7:13])
+        for _ in range(steps):
+            t0 = time.perf_counter()
+            r = w.step()
+            seconds += time.perf_counter() - t0
+            contacts += len(r.gaps)
+    emit("done", seconds=seconds, contacts=contacts)
+
+
+def manifold_ab(seeds: list[int], steps: int, every: int, window: int) -> None:
+    """Every point of parry's manifolds kept (``LCPSIM_MANIFOLD=parry``) against the support points
+    (the default), on the same states: the bin of each seed run ``steps`` steps with parry's points,
+    its state saved every ``every`` steps, and from each saved state ``window`` steps of each, in
+    their own processes, one after the other (the trajectories of two whole runs part, so whole
+    runs would compare two different piles)."""
+    import tempfile
+
+    ratios = []
+
+    def run(arm: str, *args: str) -> str:
+        env = {k: v for k, v in os.environ.items() if k != "LCPSIM_MANIFOLD"}
+        if arm == "parry":
+            env["LCPSIM_MANIFOLD"] = "parry"
+        return subprocess.run([sys.executable, __file__, *args], env=env, capture_output=True, text=True,
+                              check=True).stdout
+
+    with tempfile.TemporaryDirectory() as tmp:
+        print("| seed | steps/s, parry's points | steps/s, support points | ratio | contacts, parry's → support |")
+        print("|---|---|---|---|---|")
+        for seed in seeds:
+            path, states = Path(tmp) / f"mixed_bin_{seed}.xml", Path(tmp) / f"states_{seed}.npy"
+            path.write_text(scene_xml(seed=seed))
+            run("parry", "--states-worker", str(path), str(steps), str(every), str(states))
+            rate, contacts = {}, {}
+            for arm in ("parry", "support"):
+                out = run(arm, "--replay-worker", str(path), str(states), str(window))
+                done = next(json.loads(line) for line in out.splitlines() if '"event": "done"' in line)
+                rate[arm], contacts[arm] = (steps // every) * window / done["seconds"], done["contacts"]
+            ratios.append(rate["support"] / rate["parry"])
+            print(f"| {seed} | {rate['parry']:,.1f} | {rate['support']:,.1f} | {ratios[-1]:.3f} | "
+                  f"{contacts['parry']:,} → {contacts['support']:,} |", flush=True)
+    print(f"geometric mean of the ratios over {len(seeds)} seeds: {np.exp(np.mean(np.log(ratios))):.3f}")
 
 
 # ----- the judge: one penetration measure for both ----------------------------------------------
@@ -252,6 +338,11 @@ def main() -> int:
     ap.add_argument("--write-scene", action="store_true", help="write the scene file and stop")
     ap.add_argument("--json", help="also write the results here")
     ap.add_argument("--pairs", type=int, metavar="STEPS", help="print lcpsim's contact points per pair and stop")
+    ap.add_argument("--manifold-ab", metavar="SEEDS", help="lcpsim with parry's points and the support points, "
+                    "from the same states of the bins of seeds FIRST-LAST (--steps each), and stop")
+    ap.add_argument("--window", type=int, default=50, help="with --manifold-ab: steps from each saved state")
+    ap.add_argument("--states-worker", nargs=4, help=argparse.SUPPRESS)
+    ap.add_argument("--replay-worker", nargs=3, help=argparse.SUPPRESS)
     ap.add_argument("--worker", nargs=5, metavar=("ENGINE", "XML", "STEPS", "EVERY", "BUDGET"), help=argparse.SUPPRESS)
     a = ap.parse_args()
     if a.worker:
@@ -260,6 +351,18 @@ def main() -> int:
         return 0
     if a.pairs:
         points_per_pair(a.scene, a.pairs)
+        return 0
+    if a.states_worker:
+        x, n, k, out = a.states_worker
+        states_worker(x, int(n), int(k), out)
+        return 0
+    if a.replay_worker:
+        x, states, n = a.replay_worker
+        replay_worker(x, states, int(n))
+        return 0
+    if a.manifold_ab:
+        first, _, last = a.manifold_ab.partition("-")
+        manifold_ab(list(range(int(first), int(last or first) + 1)), a.steps, a.every, a.window)
         return 0
     if a.write_scene:
         Path(a.scene).parent.mkdir(parents=True, exist_ok=True)

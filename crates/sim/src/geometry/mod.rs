@@ -28,6 +28,7 @@ mod shape;
 mod sphere_box;
 mod sphere_plane;
 mod sphere_sphere;
+mod support_points;
 
 pub use box_box::box_box;
 pub use box_plane::box_plane;

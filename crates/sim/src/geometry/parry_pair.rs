@@ -5,16 +5,28 @@
 //! point midway between the two surfaces, points with `φ ≤ margin`.
 //!
 //! Each call starts from an empty manifold list and workspace, so the result
-//! depends only on the two placements (a world and its copy step alike).
+//! depends only on the two placements (a world and its copy step alike). Each
+//! manifold is cut to the points that hold the shape (`support_points`:
+//! parry's copies of one point and the points inside the others' polygon go),
+//! unless `LCPSIM_MANIFOLD=parry` is in the environment (every point of
+//! parry's manifolds kept, to compare the two; read once per process).
 //! Cylinders and capsules have their axis along the body's local z (as in
 //! MJCF); parry's cylinder axis is y, turned onto z here.
 
+use super::support_points::keep_support_points;
 use super::{GeomContact, Placement, Shape};
 use crate::geometry::convex::{pvec, svec};
 use crate::math::Quat;
 use parry3d_f64::math::{Pose, Rot3, Vector as PVec};
 use parry3d_f64::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
 use parry3d_f64::shape::{Ball, Capsule, Cuboid, Cylinder, HalfSpace, Shape as PShape};
+use std::sync::OnceLock;
+
+/// Whether `LCPSIM_MANIFOLD=parry` keeps every point of parry's manifolds.
+fn keep_parry_points() -> bool {
+    static ON: OnceLock<bool> = OnceLock::new();
+    *ON.get_or_init(|| std::env::var("LCPSIM_MANIFOLD").is_ok_and(|v| v == "parry"))
+}
 
 /// A parry shape for one of ours: the simple ones built on the spot, a hull's
 /// or a mesh's borrowed (never copied).
@@ -96,10 +108,12 @@ pub fn parry_pair(
 ) {
     let (ga, posa) = parry_shape(a, pa);
     let (gb, posb) = parry_shape(b, pb);
-    parry_pair_shapes(ga.get(), &posa, gb.get(), &posb, margin, scratch, out);
+    // Points this close (relative to the smaller shape) are one point.
+    let tol = 1e-6 * a.bounding_radius().min(b.bounding_radius());
+    parry_pair_shapes(ga.get(), &posa, gb.get(), &posb, margin, if tol.is_finite() { tol } else { 0.0 }, scratch, out);
 }
 
-/// [`parry_pair`] on shapes already made.
+/// [`parry_pair`] on shapes already made; points of a manifold closer than `tol` are one.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn parry_pair_shapes(
     ga: &dyn PShape,
@@ -107,6 +121,7 @@ pub(crate) fn parry_pair_shapes(
     gb: &dyn PShape,
     posb: &Pose,
     margin: f64,
+    tol: f64,
     scratch: &mut ParryScratch,
     out: &mut Vec<GeomContact>,
 ) {
@@ -126,6 +141,7 @@ pub(crate) fn parry_pair_shapes(
         let n1 = sa.transform_vector(m.local_n1);
         let normal = -svec(n1);
         let Some(normal) = normal.try_normalize() else { continue };
+        let first = out.len();
         for c in &m.points {
             if !(c.dist <= margin) {
                 continue;
@@ -133,6 +149,9 @@ pub(crate) fn parry_pair_shapes(
             let p1 = svec(sa.transform_point(c.local_p1));
             let p2 = svec(sb.transform_point(c.local_p2));
             out.push(GeomContact { point: (p1 + p2) * 0.5, normal, gap: c.dist });
+        }
+        if !keep_parry_points() {
+            keep_support_points(out, first, tol);
         }
     }
 }
