@@ -59,8 +59,8 @@ the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
   the two geoms' bodies touch whatever their bits, exclusions and body filter, with the
   pair's ``friction[0]`` (0 at ``condim`` 1) in place of the geoms'; a geom with both bits 0
   is built when a pair names it. Refused naming the pair: ``condim`` 4 or 6, a ``margin``
-  or ``gap``, different friction in the two sliding directions, a geom sharing its moving
-  body with other colliding geoms, two bodies joined by a joint or welded.
+  or ``gap``, different friction in the two sliding directions, a geom of ``condim`` 4, a geom
+  sharing its moving body with other colliding geoms, two bodies joined by a joint or welded.
 
 Everything else is refused with :class:`MjcfError` (a ``ValueError``) naming
 the element and its name: fluid forces (``density``, ``viscosity``), a body's
@@ -415,9 +415,14 @@ def _check_pair_geoms(
     moving: NDArray[np.bool_],
 ) -> None:
     """lcpsim's contact pair joins two bodies: refuses a pair whose moving geom shares its
-    body with other colliding geoms (the pair would take them along), naming the pair."""
+    body with other colliding geoms (the pair would take them along), or whose geom has
+    torsional friction (``condim`` 4: the body's, which the pair's contacts would take), naming the pair."""
     for g1, g2, _mu, what in pairs:
         for g in (g1, g2):
+            if _mu_torsion(m, g) > 0.0:
+                raise MjcfError(f"{what}: geom {_name(mujoco, m, mujoco.mjtObj.mjOBJ_GEOM, g)!r} has condim=4 "
+                                "(torsional friction), which lcpsim would give the pair's contacts too; "
+                                "give the pair's geoms condim 1 or 3")
             b = int(m.geom_bodyid[g])
             if moving[b] and len(per_body[b]) > 1:
                 raise MjcfError(
