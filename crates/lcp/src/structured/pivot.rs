@@ -326,7 +326,8 @@ fn harris(val: &[f64], y: &[f64], thresh: f64, delta: f64, mut pick: (usize, f64
 /// 23,307 pivots against 23,920). Walks the columns of `B⁻¹ B₀`
 /// rather than its rows: column `j` is `e_c` when `B₀`'s variable at `j` is
 /// basic at position `c` (no solve: the row at `c` drops out, every other
-/// ties at 0), else one solve serves every tied row. (By rows, a tie of
+/// ties at 0), else one solve serves every tied row, its LU part kept for
+/// the next ties on the same factors ([`Basis::solve_column`]). (By rows, a tie of
 /// 2,000 degenerate rows on a forming heap took 2,000 transposed solves:
 /// 11 % of the time.)
 fn lex_break(b: &Basis, y: &[f64], tied: &mut Vec<usize>, tie_tol: f64) {
@@ -348,8 +349,7 @@ fn lex_break(b: &Basis, y: &[f64], tied: &mut Vec<usize>, tie_tol: f64) {
             }
             continue;
         }
-        b.column_into(b.init[j], &mut col);
-        b.ftran(&mut col);
+        b.solve_column(b.init[j], &mut col);
         let min = tied.iter().map(|&t| col[t] / y[t]).fold(f64::INFINITY, f64::min);
         let scale = tied.iter().fold(0.0f64, |a, &t| a.max((col[t] / y[t]).abs()));
         tied.retain(|&t| {

@@ -16,8 +16,9 @@
 //! least); `jumps`: refactorizations that moved the values by more than
 //! 1e-6 of the largest (called by a small pivot + by the update count), the
 //! largest move; `samples`: pivot:z0/negative values at powers of two.
-//! Then one `lemke_end` line: the final basis's negative values and how its
-//! answer (z clipped, w recomputed) stands against the acceptance rule.
+//! Then one `lemke_end` line: the final basis's negative values, how its
+//! answer (z clipped, w recomputed) stands against the acceptance rule, and
+//! the run's numeric factorizations and fresh column orders.
 
 use super::factor::{Basis, NONBASIC};
 use super::operator::StructuredLcp;
@@ -292,7 +293,13 @@ pub(crate) fn end(op: &StructuredLcp, b: &Basis, tol: f64) {
     };
     eprintln!(
         "lemke_end n {n} z0 {z0:.1e} vmax {vmax:.1e} z_neg {zneg} z_min {zmin:.1e} w_neg {wneg} w_min {wmin:.1e} \
-         rows_over {over} worst_eta {:.1e} row {i} basic {basic} z {:.1e} w {:.1e} scale {:.1e}",
-        worst.0, z[i], w[i], worst.2
+         rows_over {over} worst_eta {:.1e} row {i} basic {basic} z {:.1e} w {:.1e} scale {:.1e} \
+         factorizations {} fresh_orders {}",
+        worst.0,
+        z[i],
+        w[i],
+        worst.2,
+        b.factor_counts().0,
+        b.factor_counts().1
     );
 }
