@@ -1,5 +1,6 @@
 """Shared test helpers: an independent residual check and a brute-force LCP
-enumeration, both in plain numpy so that no test trusts the solver's word."""
+enumeration, both in plain numpy so that no test trusts the solver's word; and
+the check that bad input is refused with a message naming it."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ import itertools
 import os
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, settings
 
 settings.register_profile(
@@ -62,3 +64,15 @@ def enumerate_solutions(M, q, tol: float = 1e-9) -> list[np.ndarray]:
                 if not any(np.allclose(z, f, atol=1e-7 * (1 + np.abs(f).max())) for f in found):
                     found.append(np.maximum(z, 0.0))
     return found
+
+
+def raises_naming(exc: type[BaseException], call, words, *, one_line: bool = False, any_case: bool = False) -> str:
+    """Asserts that ``call()`` raises ``exc`` whose message holds each of ``words`` (ignoring case
+    with ``any_case``; on one line with ``one_line``); returns the message."""
+    with pytest.raises(exc) as e:
+        call()
+    msg = str(e.value)
+    assert not one_line or "\n" not in msg, msg
+    for word in words:
+        assert (word.lower() in msg.lower()) if any_case else (word in msg), (word, msg)
+    return msg

@@ -13,6 +13,8 @@ import pytest
 import lcpsim
 from lcpsim import LcpBatchResult, LcpResult, lcp_residual, solve_lcp, solve_lcp_batch
 
+from conftest import raises_naming
+
 M2 = np.array([[2.0, 1.0], [1.0, 2.0]])
 Q2 = np.array([-1.0, -1.0])
 
@@ -120,12 +122,7 @@ def test_accepts_non_contiguous_views():
 
 
 def _raises_naming(match_parts, fn, *args, **kwargs):
-    with pytest.raises(ValueError) as info:
-        fn(*args, **kwargs)
-    msg = str(info.value)
-    for part in match_parts:
-        assert part in msg, f"{part!r} not in {msg!r}"
-    return msg
+    return raises_naming(ValueError, lambda: fn(*args, **kwargs), match_parts)
 
 
 @pytest.mark.parametrize(

@@ -8,8 +8,9 @@ here, the rest (finite values, index ranges, degenerate faces) in Rust
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Iterable, Mapping
-from typing import Any, Callable, Sequence, Union
+from typing import Any, Callable, Concatenate, ParamSpec, Sequence, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -112,14 +113,31 @@ def collision_bits(contype: Any, conaffinity: Any) -> tuple[int, int]:
     return out[0], out[1]
 
 
+P = ParamSpec("P")
+
+
+def _for_kind(add: Callable[Concatenate[Any, str, P], int], kind: str, doc: str) -> Callable[Concatenate[Any, P], int]:
+    """``add`` with its ``kind`` given: ``add_capsule``, ``add_cylinder`` share ``_add_round``'s signature."""
+
+    def method(self: Any, *args: P.args, **kwargs: P.kwargs) -> int:
+        return add(self, kind, *args, **kwargs)
+
+    sig = inspect.signature(add)  # help() and type checkers see it without `kind`
+    params = [p for p in sig.parameters.values() if p.name != "kind"]
+    method.__signature__ = sig.replace(parameters=params)  # type: ignore[attr-defined]
+    method.__name__, method.__qualname__, method.__doc__ = f"add_{kind}", f"add_{kind}", doc
+    return method
+
+
 class ShapesMixin:
     """The methods of :class:`lcpsim.World` for capsules, cylinders, hulls, meshes and
     collision bits."""
 
     _core: Any
 
-    def add_capsule(
+    def _add_round(
         self,
+        kind: str,
         radius: float,
         half_length: float,
         mass: float = _BODY["mass"],
@@ -134,33 +152,16 @@ class ShapesMixin:
         contype: int = _BODY["contype"],
         conaffinity: int = _BODY["conaffinity"],
     ) -> int:
-        """Adds a capsule (a segment of ±``half_length`` along body z, swept by ``radius``)."""
+        """A capsule or cylinder (``kind``) of ``radius`` and ``half_length`` along body z."""
         v, wv = _velocities(velocity, angular_velocity)
         size = (_real(radius, "radius"), _real(half_length, "half_length"))
         return self._filtered(contype, conaffinity, lambda: self._core.add_body(
-            "capsule", size, mass, position, orientation, v, wv, mu, bool(static), inertia))
+            kind, size, mass, position, orientation, v, wv, mu, bool(static), inertia))
 
-    def add_cylinder(
-        self,
-        radius: float,
-        half_length: float,
-        mass: float = _BODY["mass"],
-        position: Vec = tuple(_BODY["position"]),
-        orientation: Vec = tuple(_BODY["orientation"]),
-        velocity: Vec = tuple(_BODY["velocity"]),
-        angular_velocity: Vec = tuple(_BODY["angular_velocity"]),
-        mu: float = _BODY["mu"],
-        *,
-        static: bool = _BODY["static"],
-        inertia: ArrayLike | None = None,
-        contype: int = _BODY["contype"],
-        conaffinity: int = _BODY["conaffinity"],
-    ) -> int:
-        """Adds a solid cylinder, axis along the body's z (as in MJCF), and returns its index."""
-        v, wv = _velocities(velocity, angular_velocity)
-        size = (_real(radius, "radius"), _real(half_length, "half_length"))
-        return self._filtered(contype, conaffinity, lambda: self._core.add_body(
-            "cylinder", size, mass, position, orientation, v, wv, mu, bool(static), inertia))
+    add_capsule = _for_kind(_add_round, "capsule", "Adds a capsule (a segment of ±``half_length`` along body z, "
+                            "swept by ``radius``) and returns its index.")
+    add_cylinder = _for_kind(_add_round, "cylinder", "Adds a solid cylinder, axis along the body's z (as in "
+                             "MJCF), and returns its index.")
 
     def add_convex(
         self,
