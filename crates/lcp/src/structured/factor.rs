@@ -570,6 +570,22 @@ mod tests {
         }
     }
 
+    /// `B x = rhs` solved on `b`'s factors, then on a fresh order's: the
+    /// first's backward error ([`residual`]), the largest gap between the
+    /// two, and the largest entry of the second (at least 1).
+    fn against_fresh(b: &mut Basis, rhs: &[f64]) -> (f64, f64, f64) {
+        let mut x = rhs.to_vec();
+        b.ftran(&mut x);
+        let backward = residual(b, &x, rhs);
+        b.build_matrix();
+        assert!(b.factor_fresh());
+        let mut x_fresh = rhs.to_vec();
+        b.ftran(&mut x_fresh);
+        let scale = x_fresh.iter().fold(1.0f64, |a, v| a.max(v.abs()));
+        let gap = x.iter().zip(&x_fresh).fold(0.0f64, |a, (u, v)| a.max((u - v).abs()));
+        (backward, gap, scale)
+    }
+
     /// `k` pivots of `z` columns into slack positions, each where its solve is largest.
     fn z_pivots(b: &mut Basis, k: usize) {
         let n = b.n;
@@ -593,9 +609,8 @@ mod tests {
     /// afresh (column, LU solve, eta file), after updates and after a refactorization.
     #[test]
     fn kept_column_solves_equal_fresh_ones_to_the_bit() {
-        let (n, p) = (60, 24);
-        let op = random_op(n, p, 3, 7);
-        let d = vec![1.0; n];
+        let op = random_op(60, 24, 3, 7);
+        let (n, d) = (op.n(), vec![1.0; 60]);
         let mut b = Basis::slack(&op, &d).unwrap();
         let (mut kept, mut fresh) = (Vec::new(), Vec::new());
         for round in 0..3 {
@@ -633,15 +648,8 @@ mod tests {
                     assert_eq!((factored, ordered), (1, 1), "seed {seed}: fresh order, no kept try");
                 }
                 let rhs: Vec<f64> = (0..n + p).map(|i| (i as f64 * 0.37).cos()).collect();
-                let mut x = rhs.clone();
-                b.ftran(&mut x);
-                assert!(residual(&b, &x, &rhs) < 1e-12, "seed {seed}");
-                b.build_matrix();
-                assert!(b.factor_fresh());
-                let mut x_fresh = rhs.clone();
-                b.ftran(&mut x_fresh);
-                let scale = x_fresh.iter().fold(1.0f64, |a, v| a.max(v.abs()));
-                let gap = x.iter().zip(&x_fresh).fold(0.0f64, |a, (u, v)| a.max((u - v).abs()));
+                let (backward, gap, scale) = against_fresh(&mut b, &rhs);
+                assert!(backward < 1e-12, "seed {seed}: {backward:e}");
                 assert!(gap <= 1e-10 * scale, "seed {seed}, {grown} grown: {gap:e}");
             }
         }
@@ -670,15 +678,8 @@ mod tests {
             assert_eq!(b.factor_counts(), (repairs + 1, 1), "seed {seed}: one order for all attempts");
             let mut rhs = op.q().to_vec();
             rhs.resize(n + p, 0.0);
-            let mut x = rhs.clone();
-            b.ftran(&mut x);
-            assert!(residual(&b, &x, &rhs) < 1e-12, "seed {seed}: {:e}", residual(&b, &x, &rhs));
-            b.build_matrix();
-            assert!(b.factor_fresh());
-            let mut x_fresh = rhs.clone();
-            b.ftran(&mut x_fresh);
-            let scale = x_fresh.iter().fold(1.0f64, |a, v| a.max(v.abs()));
-            let gap = x.iter().zip(&x_fresh).fold(0.0f64, |a, (u, v)| a.max((u - v).abs()));
+            let (backward, gap, scale) = against_fresh(&mut b, &rhs);
+            assert!(backward < 1e-12, "seed {seed}: {backward:e}");
             // Values of 1e8 and more: numerically singular (a repair flips
             // structure only), where no two orders' solves need agree.
             if scale < 1e8 {
