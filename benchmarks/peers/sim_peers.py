@@ -136,7 +136,8 @@ def lcpsim_python_loop(**world: Any) -> Runner:
 
 def mujoco_xml(angle: float, mu: float, cone: str) -> str:
     normal, _, q = slope_frame(angle)
-    c = 0.5 * normal
+    # plain floats: numpy 2's repr of its scalars ("np.float64(…)") is not MJCF
+    c, q = [float(x) for x in 0.5 * normal], [float(x) for x in q]
     return f"""
 <mujoco>
   <option timestep="{DT}" gravity="0 0 -{G}" cone="{cone}"/>

@@ -161,6 +161,9 @@ impl LcpOperator for BodySpaceLcp<'_> {
     }
 
     fn block(&self, rows: &[usize], cols: &[usize], out: &mut [f64]) {
+        if let [i] = rows {
+            return self.row_entries(*i, cols, out);
+        }
         // Each index's kind and rows per side, computed once: an entry is then
         // one or two 6-term dots (bodies shared by the two contacts).
         let mut guard = self.bufs.borrow_mut();
@@ -325,6 +328,50 @@ impl LcpOperator for BodySpaceLcp<'_> {
 }
 
 impl BodySpaceLcp<'_> {
+    /// Row `i`'s entries in `cols` (a `1 × cols.len()` block, the acceptance
+    /// rule's read of a few kept entries): the same sums as
+    /// [`LcpOperator::block`]'s, with a column's `M_b⁻¹ Jᵀ` row formed only
+    /// on a side whose body row `i` shares, and no per-index buffers (on a
+    /// sliding cube, reading the four entries of its cone rows cost a sixth
+    /// of the step).
+    fn row_entries(&self, i: usize, cols: &[usize], out: &mut [f64]) {
+        let (vi, s) = (self.var(i), self.s);
+        if let Var::Lambda(a) = vi {
+            for (o, &j) in out.iter_mut().zip(cols) {
+                *o = match self.var(j) {
+                    Var::Normal(b) if a == b => s * self.lcp.mu()[a],
+                    Var::Dir(b, _) if a == b => -s,
+                    _ => 0.0,
+                };
+            }
+            return;
+        }
+        let sides: [Option<(usize, Row6)>; 2] =
+            std::array::from_fn(|side| self.side_row(contact(vi), vi, side, Role::Row));
+        for (o, &j) in out.iter_mut().zip(cols) {
+            let vj = self.var(j);
+            *o = match vj {
+                Var::Lambda(b) => match vi {
+                    Var::Dir(a, _) if a == b => s,
+                    _ => 0.0,
+                },
+                _ => {
+                    let cj = contact(vj);
+                    let mut sum = 0.0;
+                    for (bi, jrow) in sides.iter().flatten() {
+                        for side in 0..2 {
+                            if self.lcp.side_body(cj, side) == Some(*bi) {
+                                let (_, mrow) = self.side_row(cj, vj, side, Role::Col).expect("a dynamic side");
+                                sum += dot6(jrow, &mrow);
+                            }
+                        }
+                    }
+                    sum
+                }
+            };
+        }
+    }
+
     /// `w[fn, fd] += J Δv` for the per-body `Δv`, `Δω` (island slots); with
     /// `only`, for the contacts with a side on a body it marks (the others' is 0).
     fn add_velocities(&self, dv: &[Vec3], dw: &[Vec3], only: Option<&[bool]>, w: &mut [f64]) {
