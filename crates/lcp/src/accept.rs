@@ -256,7 +256,9 @@ pub fn rejected_row_operator(
         kept[i].set(kept_columns(row, z, i));
         scale_of_row(row, op.q()[i], z, zsum)
     };
-    rejected_rows((op.q(), z, w), tol, |i| op.diag(i), entry, scale, first)
+    let diagonal = op.diagonal().filter(|d| d.len() == n);
+    let diag = |i: usize| diagonal.map_or_else(|| op.diag(i), |d| d[i]);
+    rejected_rows((op.q(), z, w), tol, diag, entry, scale, first)
 }
 
 /// Columns of a row kept by [`rejected_row_operator`] between calls.

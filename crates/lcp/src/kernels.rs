@@ -10,7 +10,7 @@
 pub(crate) const LANES: usize = 4;
 
 #[inline(always)]
-fn pick_max(m: f64, x: f64) -> f64 {
+pub(crate) fn pick_max(m: f64, x: f64) -> f64 {
     if x > m {
         x
     } else {
@@ -19,7 +19,7 @@ fn pick_max(m: f64, x: f64) -> f64 {
 }
 
 #[inline(always)]
-fn pick_min(m: f64, x: f64) -> f64 {
+pub(crate) fn pick_min(m: f64, x: f64) -> f64 {
     if x < m {
         x
     } else {

@@ -29,12 +29,23 @@ pub trait LcpOperator {
         self.block(&[i], &[i], &mut d);
         d[0]
     }
+    /// Every diagonal entry `M_ii`, where the operator holds them: the
+    /// acceptance rule then reads them without a call per row. By default none.
+    fn diagonal(&self) -> Option<&[f64]> {
+        None
+    }
     /// `w_i = (M z + q)_i` for each `i` of `rows` (other entries untouched):
     /// what a refinement step reads. By default the whole product.
     fn w_rows(&self, z: &[f64], rows: &[usize], w: &mut [f64]) {
         let mut full = vec![0.0; self.n()];
         self.w_of(z, &mut full);
         rows.iter().for_each(|&i| w[i] = full[i]);
+    }
+    /// `w = M z + q` right after [`LcpOperator::w_rows`] with the same `z` (an
+    /// operator may reuse that product's work, e.g. its `M_b⁻¹ Jᵀ z`). By
+    /// default [`LcpOperator::w_of`].
+    fn w_after_rows(&self, z: &[f64], w: &mut [f64]) {
+        self.w_of(z, w);
     }
     /// `w += M_j·d` for each `(j, d)` of `moved` (`w = M z + q` kept for a
     /// `z` whose entries `j` moved by `d`). By default one `n × 1` block each.

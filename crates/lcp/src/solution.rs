@@ -75,23 +75,45 @@ impl Residuals {
     /// Residuals of `z` and `w` (which should be `M z + q`). A non-finite
     /// `z_i` or `w_i` makes the natural residual and the complementarity
     /// infinite (`f64::max` would skip a NaN), so that no rule accepts it.
+    ///
+    /// One sweep over four lanes with `if`-selects (as the kernels of
+    /// Lemke's scans): a NaN entry is skipped by each max and min as
+    /// `f64::max` and `f64::min` skip it, and the infinities are set after,
+    /// so the measures are those of the plain loop (on a resting 10-box
+    /// stack that loop was 4 % of its step).
     pub fn of(z: &[f64], w: &[f64]) -> Self {
-        let mut r = Residuals { residual: 0.0, min_z: f64::INFINITY, min_w: f64::INFINITY, max_complementarity: 0.0 };
-        for (&zi, &wi) in z.iter().zip(w) {
-            r.residual = r.residual.max(zi.min(wi).abs());
-            r.min_z = r.min_z.min(zi);
-            r.min_w = r.min_w.min(wi);
-            r.max_complementarity = r.max_complementarity.max((zi * wi).abs());
-            if !(zi.is_finite() && wi.is_finite()) {
-                r.residual = f64::INFINITY;
-                r.max_complementarity = f64::INFINITY;
+        use crate::kernels::{pick_max, pick_min, LANES};
+        let n = z.len().min(w.len());
+        let (z, w) = (&z[..n], &w[..n]);
+        let (mut res, mut comp) = ([0.0f64; LANES], [0.0f64; LANES]);
+        let (mut min_z, mut min_w) = ([f64::INFINITY; LANES], [f64::INFINITY; LANES]);
+        // `x·0` is NaN for a NaN or infinite `x`, 0 otherwise.
+        let mut nan = [0.0f64; LANES];
+        let mut lane = |k: usize, zi: f64, wi: f64| {
+            res[k] = pick_max(res[k], pick_min(zi, wi).abs());
+            min_z[k] = pick_min(min_z[k], zi);
+            min_w[k] = pick_min(min_w[k], wi);
+            comp[k] = pick_max(comp[k], (zi * wi).abs());
+            nan[k] += zi * 0.0 + wi * 0.0;
+        };
+        let (mut cz, mut cw) = (z.chunks_exact(LANES), w.chunks_exact(LANES));
+        for (a, b) in (&mut cz).zip(&mut cw) {
+            for k in 0..LANES {
+                lane(k, a[k], b[k]);
             }
         }
-        if z.is_empty() {
-            r.min_z = 0.0;
-            r.min_w = 0.0;
+        for (&zi, &wi) in cz.remainder().iter().zip(cw.remainder()) {
+            lane(0, zi, wi);
         }
-        r
+        let fold = |v: [f64; LANES], init: f64, f: fn(f64, f64) -> f64| v.iter().fold(init, |m, &x| f(m, x));
+        let finite = nan.iter().sum::<f64>() == 0.0;
+        let inf_unless = |v: f64| if finite { v } else { f64::INFINITY };
+        Residuals {
+            residual: inf_unless(fold(res, 0.0, pick_max)),
+            min_z: if n == 0 { 0.0 } else { fold(min_z, f64::INFINITY, pick_min) },
+            min_w: if n == 0 { 0.0 } else { fold(min_w, f64::INFINITY, pick_min) },
+            max_complementarity: inf_unless(fold(comp, 0.0, pick_max)),
+        }
     }
 
     /// Recomputes `w = M z + q` and returns `(w, residuals)`.

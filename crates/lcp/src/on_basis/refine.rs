@@ -57,7 +57,7 @@ pub(super) fn refine_on_factor(op: &dyn LcpOperator, ws: &mut BasisWorkspace, po
         previous = dmax;
         if negligible && !polish {
             if step == 0 {
-                op.w_of(&ws.z, &mut ws.w);
+                op.w_after_rows(&ws.z, &mut ws.w);
             }
             return true;
         }

@@ -250,6 +250,11 @@ impl ContactLcp {
         self.diag[i]
     }
 
+    /// [`ContactLcp::delassus_diag`] of every index.
+    pub fn delassus_diagonal(&self) -> &[f64] {
+        &self.diag
+    }
+
     /// Contact `c`'s entries of the diagonal from its `J_t M_b⁻¹ J_tᵀ` of
     /// normal and tangents summed over its dynamic sides, `d = [nn, t1t1,
     /// t1t2, t2t2]` (a direction's is `c²·t1t1 + 2cs·t1t2 + s²·t2t2`).

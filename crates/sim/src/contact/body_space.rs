@@ -237,6 +237,10 @@ impl LcpOperator for BodySpaceLcp<'_> {
         self.lcp.delassus_diag(i)
     }
 
+    fn diagonal(&self) -> Option<&[f64]> {
+        Some(self.lcp.delassus_diagonal())
+    }
+
     fn w_of(&self, z: &[f64], w: &mut [f64]) {
         // Δv = M_b⁻¹ Jᵀ z per body (the integrator's own map of impulses).
         let mut guard = self.bufs.borrow_mut();
@@ -246,6 +250,14 @@ impl LcpOperator for BodySpaceLcp<'_> {
         self.lcp.apply_impulses_local(z, dv, dw);
         w.copy_from_slice(self.lcp.q());
         self.add_velocities(dv, dw, None, w);
+        self.add_cone(z, w);
+    }
+
+    fn w_after_rows(&self, z: &[f64], w: &mut [f64]) {
+        // `w_rows` left Δv = M_b⁻¹ Jᵀ z in the buffers: `w_of` without forming it again.
+        let guard = self.bufs.borrow();
+        w.copy_from_slice(self.lcp.q());
+        self.add_velocities(&guard.dv, &guard.dw, None, w);
         self.add_cone(z, w);
     }
 
