@@ -8,6 +8,8 @@
 //! cargo run --release -p lcpsim-sim --example step_budget -- stages SCENE STEPS
 //!     # only the staged steps (for callgrind), SCENE = slide | rest | stack
 //! cargo run --release -p lcpsim-sim --example step_budget -- dump FILE  # trajectories' bits
+//! cargo run --release -p lcpsim-sim --example step_budget -- run SCENE STEPS
+//!     # `World::run` from the scene's start (for callgrind; what `many_bodies.py` times)
 //! ```
 //!
 //! Instructions per stage (inclusive, per step):
@@ -220,6 +222,11 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.first().map(String::as_str) {
         Some("dump") => dump(&args[1]),
+        Some("run") => {
+            let mut s = scene(&args[1]);
+            let steps: usize = args.get(2).map_or(2000, |a| a.parse().unwrap());
+            black_box(s.world.run(steps).unwrap());
+        }
         Some("stages") => {
             let mut s = scene(&args[1]);
             let steps: usize = args.get(2).map_or(2000, |a| a.parse().unwrap());
