@@ -8,13 +8,16 @@
 //! tolerance and the warm basis it was handed. [`StructuredProblem::read`]
 //! loads one; [`StructuredProblem::solve`] (in `structured_lemke`) solves it as the step does.
 //! Nothing is written, and nothing costs, without the variable.
+//! [`set_dump_dir`] sets or clears the directory while a run goes on (to save
+//! a few steps of a long run).
 
 use lcp::contact::ContactLayout;
 use lcp::structured::{Entry, StructuredLcp};
 use std::io::{self, Read, Write};
 use std::path::Path;
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::OnceLock;
+use std::sync::{OnceLock, RwLock};
 
 /// A large island's LCP as the structured path sees it.
 #[derive(Clone, Debug)]
@@ -114,16 +117,22 @@ impl StructuredProblem {
     }
 }
 
-/// The dump directory, read once.
-fn dump_dir() -> Option<&'static Path> {
-    static DIR: OnceLock<Option<std::path::PathBuf>> = OnceLock::new();
-    DIR.get_or_init(|| std::env::var_os("LCPSIM_DUMP_DIR").map(Into::into)).as_deref()
+/// The dump directory: `LCPSIM_DUMP_DIR` until [`set_dump_dir`] changes it.
+fn dump_dir() -> &'static RwLock<Option<PathBuf>> {
+    static DIR: OnceLock<RwLock<Option<PathBuf>>> = OnceLock::new();
+    DIR.get_or_init(|| RwLock::new(std::env::var_os("LCPSIM_DUMP_DIR").map(Into::into)))
+}
+
+/// Islands solved from now on are written to `dir` (`None`: not written).
+pub fn set_dump_dir(dir: Option<PathBuf>) {
+    *dump_dir().write().unwrap_or_else(|e| e.into_inner()) = dir;
 }
 
 /// Writes `problem` to the dump directory when one is set (module docs).
 pub(crate) fn dump(problem: &StructuredProblem) {
     static COUNT: AtomicUsize = AtomicUsize::new(0);
-    let Some(dir) = dump_dir() else { return };
+    let guard = dump_dir().read().unwrap_or_else(|e| e.into_inner());
+    let Some(dir) = guard.as_deref() else { return };
     let i = COUNT.fetch_add(1, Ordering::Relaxed);
     let path = dir.join(format!("lcp_{i:05}_n{}.bin", problem.op.n()));
     if let Err(e) = problem.write(&path) {
