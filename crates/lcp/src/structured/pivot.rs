@@ -89,7 +89,7 @@ pub(crate) fn run(op: &StructuredLcp, d: &[f64], set: &Settings) -> Run {
     let r = (0..n).rev().find(|&i| (ratio(i) - min) * d[i] <= set.tie_tol * scale).unwrap_or(0);
     let mut y = Vec::new();
     basis.column_into(2 * n, &mut y);
-    basis.ftran(&mut y);
+    basis.ftran_basic(&mut y);
     if !basis.pivot(2 * n, r, &y, basis.val[r] / y[r]) {
         return fail(Status::SingularBasis);
     }
@@ -115,7 +115,7 @@ pub(crate) fn run_warm(op: &StructuredLcp, alpha: &[usize], d: &mut Vec<f64>, se
     }
     let mut y = Vec::new();
     basis.column_into(2 * n, &mut y);
-    basis.ftran(&mut y);
+    basis.ftran_basic(&mut y);
     if !(y[r] < 0.0) {
         return None;
     }
@@ -167,7 +167,7 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
             break Status::MaxPivots;
         }
         basis.column_into(entering, &mut y);
-        basis.ftran(&mut y);
+        basis.ftran_basic(&mut y);
         let mut ymax = y[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if !ymax.is_finite() {
             break Status::Numerical;
@@ -191,7 +191,7 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
                 break Status::SingularBasis;
             }
             basis.column_into(entering, &mut y);
-            basis.ftran(&mut y);
+            basis.ftran_basic(&mut y);
             ymax = y[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
             step = leaving(&basis, &y, ymax, set, &mut tied);
         }
