@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Any, Mapping
+from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
@@ -20,6 +21,17 @@ def jsonable(x: Any) -> Any:
     non-finite float becomes the string ``"inf"``, ``"-inf"`` or ``"nan"``
     (strict JSON has no such numbers); ``None``, strings, ints and bools stay;
     anything else becomes ``str(x)``."""
+    # the plain types first, by exact type: `World.run` converts its config
+    # every call, and the ABC checks below cost a microsecond a value
+    t = type(x)
+    if t is float:
+        return x if math.isfinite(x) else ("inf" if x > 0 else "-inf" if x < 0 else "nan")
+    if t is str or t is int or t is bool or x is None:
+        return x
+    if t is dict:
+        return {str(k): jsonable(v) for k, v in x.items()}
+    if t is list or t is tuple:
+        return [jsonable(v) for v in x]
     if isinstance(x, Mapping):
         return {str(k): jsonable(v) for k, v in x.items()}
     if x is None or isinstance(x, str):
