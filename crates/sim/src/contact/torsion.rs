@@ -62,6 +62,11 @@ impl TorsionPatches {
         g.checked_sub(self.first).and_then(|p| self.patches.get(p))
     }
 
+    /// Whether an island (its contacts' indices in the step) holds a patch's contact.
+    pub fn in_island(&self, island: &[usize]) -> bool {
+        !self.patches.is_empty() && island.iter().any(|&g| self.of_contact(g).is_some())
+    }
+
     /// Appends one contact per patch of `contacts` (the step's point
     /// contacts) whose pair has torsional friction, and records the patches.
     pub fn push_patches(&mut self, contacts: &mut Vec<Contact>, bodies: &[Body]) {

@@ -241,8 +241,11 @@ impl World {
             // structured Lemke, which reserves the dense M only if the island falls back
             // to the dense Lemke (`solve_chain::structured_lemke`).
             let bodies = ws.islands.bodies_of(i);
-            let torsion = ws.islands.contacts_of(i).iter().any(|&g| ws.torsion.of_contact(g).is_some());
-            if structured && n >= STRUCTURED_MIN_N && bodies.len() >= 2 && !ws.joints.holds_jointed(bodies) && !torsion
+            if structured
+                && n >= STRUCTURED_MIN_N
+                && bodies.len() >= 2
+                && !ws.joints.holds_jointed(bodies)
+                && !ws.torsion.in_island(ws.islands.contacts_of(i))
             {
                 isl.lcp.trim_matrix(0);
                 continue;
