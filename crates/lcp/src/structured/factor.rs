@@ -121,7 +121,7 @@ impl Etas {
 /// `L + U` over those of the matrix) exceeds this multiple of the fill of
 /// the last fresh order. (1.4 cost 8 % more instructions on a 160-cube
 /// heap's LCP, n = 5,360; 1.1 cost 17 % more on a 52-cube one.)
-const FILL_SLACK: f64 = 1.2;
+pub(super) const FILL_SLACK: f64 = 1.2;
 
 /// A refactorization tries the kept column order only when fewer than this
 /// many positions held a basic slack at the last fresh order and hold
@@ -246,7 +246,7 @@ impl<'a> Basis<'a> {
             return false;
         }
         self.fresh_var.clone_from(&self.var);
-        self.fill_fresh = self.lu.nnz() as f64 / self.a.idx.len().max(1) as f64;
+        self.fill_fresh = self.lu.fill(&self.a);
         self.values() || self.refactor()
     }
 
@@ -487,7 +487,7 @@ impl<'a> Basis<'a> {
     fn factor_fresh(&mut self) -> bool {
         self.fresh_var.clone_from(&self.var);
         let ok = self.lu.factor(&self.a, Order::Fresh);
-        self.fill_fresh = if ok { self.lu.nnz() as f64 / self.a.idx.len().max(1) as f64 } else { 0.0 };
+        self.fill_fresh = if ok { self.lu.fill(&self.a) } else { 0.0 };
         ok
     }
 

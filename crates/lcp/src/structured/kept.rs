@@ -14,6 +14,7 @@
 //! grows), and refined on those factors. The answer is a basis's answer
 //! like any other: the caller judges it by the acceptance rule.
 
+use super::factor::FILL_SLACK;
 use super::lu::{Csc, Order, SparseLu};
 use super::operator::StructuredLcp;
 
@@ -37,10 +38,6 @@ impl Default for KeptOptions {
         KeptOptions { refine_steps: 4, backward_tol: 1e-15, kept_tol: 1e-13 }
     }
 }
-
-/// A kept column order is dropped when its fill exceeds this multiple of the
-/// last fresh order's (as in [`super::factor`]).
-const FILL_SLACK: f64 = 1.2;
 
 /// The complementary basis `{z_j : j ∈ α} ∪ {w_i : i ∉ α}` of a structured
 /// LCP, its augmented matrix and its factorization.
@@ -181,7 +178,7 @@ impl KeptBasis {
     /// Factors `self.a` in a fresh order and records its fill.
     fn factor_fresh(&mut self) -> bool {
         let ok = self.lu.factor(&self.a, Order::Fresh);
-        self.fill_fresh = if ok { self.lu.nnz() as f64 / self.a.idx.len().max(1) as f64 } else { 0.0 };
+        self.fill_fresh = if ok { self.lu.fill(&self.a) } else { 0.0 };
         ok
     }
 }

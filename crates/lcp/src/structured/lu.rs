@@ -279,6 +279,11 @@ impl SparseLu {
         self.l.idx.len() + self.u.idx.len() + 2 * self.dim
     }
 
+    /// The factors' fill of `a` (the matrix just factored): their nonzeros over its.
+    pub(crate) fn fill(&self, a: &Csc) -> f64 {
+        self.nnz() as f64 / a.idx.len().max(1) as f64
+    }
+
     /// `x ← A⁻¹ x`.
     #[inline(never)]
     pub(crate) fn solve_in_place(&self, x: &mut [f64]) {
