@@ -266,15 +266,27 @@ _MJCF = """<mujoco><option timestep="0.002"/><asset><mesh name="m" vertex="0 0 0
 <body name="b" pos="0 1 1"><freejoint/><geom type="mesh" mesh="m"/></body></worldbody></mujoco>"""
 
 
+# Joints, nested bodies, an actuator, an explicit pair and an exclude: the parts of the reader
+# beyond free bodies and static geoms.
+_MJCF_JOINTED = """<mujoco><option timestep="0.002"/><worldbody><geom name="floor" type="plane" size="2 2 .1"/>
+<body name="arm" pos="0 0 .5"><joint name="h" type="hinge" axis="0 1 0" range="-30 30" limited="true"/>
+<geom name="link" type="capsule" size=".05 .2" euler="0 90 0"/>
+<body name="tip" pos=".3 0 0"><joint name="s" type="slide" axis="1 0 0" range="-.1 .1"/><geom type="box" size=".05 .05 .05"/>
+<body name="ball" pos=".1 0 0"><joint type="ball"/><geom type="sphere" size=".04"/></body></body></body>
+<body name="cube" pos=".5 0 .1"><freejoint/><geom name="cube" type="box" size=".1 .1 .1" contype="0"/></body></worldbody>
+<contact><pair geom1="cube" geom2="floor" friction=".8 .8"/><exclude body1="arm" body2="cube"/></contact>
+<actuator><velocity name="v" joint="s" kv="50" forcerange="-20 20" forcelimited="true"/></actuator></mujoco>"""
+
+
 @settings(max_examples=150, deadline=None)
-@given(seed=st.integers(0, 2**32 - 1), edits=st.integers(1, 6))
-def test_from_mjcf_on_mutated_xml_builds_a_world_or_raises_mjcf_error(seed, edits):
+@given(seed=st.integers(0, 2**32 - 1), edits=st.integers(1, 6), template=st.sampled_from([_MJCF, _MJCF_JOINTED]))
+def test_from_mjcf_on_mutated_xml_builds_a_world_or_raises_mjcf_error(seed, edits, template):
     pytest.importorskip("mujoco")
     from lcpsim import World
     from lcpsim.mjcf import MjcfError
 
     rng = random.Random(seed)
-    s = list(_MJCF)
+    s = list(template)
     for _ in range(edits):
         k = rng.randrange(len(s))
         op = rng.randrange(3)
