@@ -641,15 +641,7 @@ def _add_compound(mujoco: Any, m: Any, d: Any, world: Any, gs: list[int], b: int
         mu=_mu(m, gs[0]), inertia=np.diag(np.array(m.body_inertia[b], dtype=np.float64)),
         com=(0.0, 0.0, 0.0), contype=int(m.geom_contype[gs[0]]), conaffinity=int(m.geom_conaffinity[gs[0]]),
     ))
-    if _mu_torsion(m, gs[0]) > 0.0:
-        world.set_torsional_friction(idx, _mu_torsion(m, gs[0]))
-    bname = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b)
-    if bname:
-        names[bname] = idx
-    for g in gs:
-        gname = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g)
-        if gname:
-            names.setdefault(gname, idx)
+    _finish(mujoco, m, world, idx, b, gs, True, names)
     return idx
 
 
@@ -709,12 +701,20 @@ def _add_geom(mujoco: Any, m: Any, d: Any, world: Any, g: int, b: int, moving: b
             world._core.set_position(idx, tuple(pos + rot @ off))
     else:  # refused before
         raise ValueError(f"geom type {GEOM_TYPES.get(t, t)} is not supported")
-    if _mu_torsion(m, g) > 0.0:
-        world.set_torsional_friction(idx, _mu_torsion(m, g))
+    _finish(mujoco, m, world, int(idx), b, [g], moving, names)
+    return int(idx)
+
+
+def _finish(mujoco: Any, m: Any, world: Any, idx: int, b: int, gs: list[int], moving: bool, names: dict[str, int]) -> None:
+    """The lcpsim body ``idx`` made of MuJoCo body ``b``'s geoms ``gs``: its torsional friction
+    (the first geom's), and the names that find it — the body's when it moves, and each geom's
+    unless a body of that name came first."""
+    if _mu_torsion(m, gs[0]) > 0.0:
+        world.set_torsional_friction(idx, _mu_torsion(m, gs[0]))
     bname = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b)
-    gname = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g)
     if moving and bname:
         names[bname] = idx
-    if gname:
-        names.setdefault(gname, idx)
-    return int(idx)
+    for g in gs:
+        gname = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g)
+        if gname:
+            names.setdefault(gname, idx)
