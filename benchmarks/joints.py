@@ -21,8 +21,9 @@ gripper  a 1 kg, 0.1 m cube (μ = 1) on the ground; a 1 kg palm on a vertical
          actuators (kv = 1000 N·s/m, forcerange ±20 N; palm ±200 N).
 
 MuJoCo's default (Euler) integrator goes unstable on the chain (it
-reports a bad acceleration and resets the state): it is run as it comes and
-with RK4, which stays stable, and the step it went unstable at is printed.
+reports a bad acceleration and resets the state, after which the chain falls
+afresh): the chain is run with each of its integrators, Euler, implicitfast,
+implicit and RK4, and the step each went unstable at (if it did) is printed.
 
 Reported per engine and scene: steps/s of the stepping loop (median of
 ``--rounds`` runs, engines interleaved in the same process), lcpsim's failed
@@ -32,7 +33,15 @@ construction), the deepest penetration (lcpsim: its contacts' gaps; MuJoCo:
 the finger while lifting and holding.
 
     python3 benchmarks/joints.py              # both scenes, 3 rounds
-    python3 benchmarks/joints.py --rounds 1
+    python3 benchmarks/joints.py --rounds 1 --scenes gripper
+    python3 benchmarks/joints.py --engines lcpsim   # lcpsim alone
+
+Two builds of lcpsim A/B in one window: the build under test installed, a copy
+of the other's package directory (``python/lcpsim`` with its compiled
+``_core``) in DIR, then alternately, at least twice each:
+
+    python3 benchmarks/joints.py --engines lcpsim --rounds 1
+    PYTHONPATH=DIR python3 benchmarks/joints.py --engines lcpsim --rounds 1
 """
 
 from __future__ import annotations
@@ -192,25 +201,36 @@ def run_mujoco_gripper() -> dict:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--scenes", default="chain,gripper", help="comma-separated: chain, gripper")
+    ap.add_argument("--engines", default="lcpsim,mujoco", help="comma-separated: lcpsim, mujoco")
     args = ap.parse_args()
-    print(f"lcpsim {lcpsim.__version__}, dt = {DT} s, {args.rounds} rounds (median steps/s)")
+    scenes, engines = args.scenes.split(","), args.engines.split(",")
+    for name, given, known in (("--scenes", scenes, ("chain", "gripper")), ("--engines", engines, ("lcpsim", "mujoco"))):
+        if not given or any(g not in known for g in given):
+            ap.error(f"{name} must name some of {', '.join(known)}; got {','.join(given)!r}")
+    print(f"lcpsim {lcpsim.__version__} ({os.path.dirname(lcpsim.__file__)}), dt = {DT} s, "
+          f"{args.rounds} rounds (median steps/s)")
     # MuJoCo writes its warnings (the chain's instability) to MUJOCO_LOG.TXT in the working directory.
     os.chdir(tempfile.mkdtemp(prefix="joints_bench_"))
     chain = {"lcpsim": run_lcpsim_chain, "mujoco": run_mujoco_chain,
-             "mujoco_rk4": lambda: run_mujoco_chain("RK4")}
+             **{f"mujoco_{i.lower()}": (lambda i=i: run_mujoco_chain(i)) for i in ("implicitfast", "implicit", "RK4")}}
     gripper = {"lcpsim": run_lcpsim_gripper, "mujoco": run_mujoco_gripper}
     for scene, runs in (("chain", chain), ("gripper", gripper)):
+        if scene not in scenes:
+            continue
+        runs = {k: v for k, v in runs.items() if k.split("_")[0] in engines}
         results: dict[str, list[dict]] = {name: [] for name in runs}
         for _ in range(args.rounds):
             for name, run in runs.items():
                 results[name].append(run())
         med = {k: float(np.median([r["steps_per_s"] for r in v])) for k, v in results.items()}
-        print(f"\n{scene}: " + ", ".join(f"{k} {v:,.0f} steps/s" for k, v in med.items()) + "; lcpsim ÷ "
-              + ", ".join(f"{k} {med['lcpsim'] / v:.3f}x" for k, v in med.items() if k != "lcpsim"))
+        ratios = [f"{k} {med['lcpsim'] / v:.3f}x" for k, v in med.items() if k != "lcpsim" and "lcpsim" in med]
+        print(f"\n{scene}: " + ", ".join(f"{k} {v:,.0f} steps/s" for k, v in med.items())
+              + ("; lcpsim ÷ " + ", ".join(ratios) if ratios else ""))
         for name, rs in results.items():
             r = rs[-1]
             extra = {k: v for k, v in r.items() if k != "steps_per_s"}
-            print(f"  {name:7s} " + ", ".join(f"{k} {v:.3g}" if isinstance(v, float) else f"{k} {v}"
+            print(f"  {name:19s} " + ", ".join(f"{k} {v:.3g}" if isinstance(v, float) else f"{k} {v}"
                                              for k, v in extra.items()))
 
 
