@@ -181,6 +181,24 @@ fn gram(j: &[Row6; 3], w: &[Row6; 3]) -> [[f64; 3]; 3] {
     g
 }
 
+/// A contact's diagonal entries of its friction directions from `d = [nn,
+/// t1t1, t1t2, t2t2]`: `c²·t1t1 + 2cs·t1t2 + s²·t2t2` (`weights` `[c², 2cs, s²]`).
+#[inline]
+fn direction_diagonal(out: &mut [f64], weights: &[[f64; 3]], d: &[f64; 4]) {
+    for (x, w) in out.iter_mut().zip(weights) {
+        *x = w[0] * d[1] + w[1] * d[2] + w[2] * d[3];
+    }
+}
+
+/// A contact's values of its friction directions from those of `t1` and
+/// `t2`: `c·v1 + s·v2` (`trig` the directions' `(c, s)`).
+#[inline]
+fn direction_values(out: &mut [f64], trig: &[(f64, f64)], v1: f64, v2: f64) {
+    for (x, &(c, s)) in out.iter_mut().zip(trig) {
+        *x = c * v1 + s * v2;
+    }
+}
+
 impl ContactLcp {
     pub fn new() -> Self {
         Self::default()
@@ -261,9 +279,7 @@ impl ContactLcp {
     fn set_diag(&mut self, c: usize, d: [f64; 4]) {
         let lay = self.layout;
         self.diag[lay.fn_index(c)] = d[0];
-        for (x, w) in self.diag[lay.fd_of(c)].iter_mut().zip(&self.dir_weights) {
-            *x = w[0] * d[1] + w[1] * d[2] + w[2] * d[3];
-        }
+        direction_diagonal(&mut self.diag[lay.fd_of(c)], &self.dir_weights, &d);
         self.diag[lay.lambda_index(c)] = 0.0;
     }
 
@@ -369,56 +385,54 @@ impl ContactLcp {
             }
         }
 
-        // (Every entry is written by `set_diag`.)
+        // The diagonal and q = [J_n v* + stabilization; J_d v*; 0] from the
+        // rows, per contact over chunks of their buffers (every entry written:
+        // sized, not zeroed first; no index checked per entry).
         self.diag.resize(n, 0.0);
-        for c in 0..nc {
-            let mut d = [0.0; 4];
-            for side in 0..2 {
-                if self.side_body[2 * c + side].is_none() {
-                    continue;
-                }
-                let (jac, minv) = (&self.jac[2 * c + side], &self.minv_jt[2 * c + side]);
+        self.q.resize(n, 0.0);
+        let (diag_n, rest) = self.diag.split_at_mut(nc);
+        let (diag_d, diag_l) = rest.split_at_mut(nc * k);
+        let (q_n, rest) = self.q.split_at_mut(nc);
+        let (q_d, q_l) = rest.split_at_mut(nc * k);
+        diag_l.fill(0.0);
+        q_l.fill(0.0);
+        let e = p.restitution.coefficient;
+        let rows = self.side_body.chunks_exact(2).zip(self.jac.chunks_exact(2).zip(self.minv_jt.chunks_exact(2)));
+        let outs = diag_n.iter_mut().zip(diag_d.chunks_exact_mut(k)).zip(q_n.iter_mut().zip(q_d.chunks_exact_mut(k)));
+        for ((ct, (sides, (jac, minv))), ((dn, dd), (qn, qd))) in contacts.iter().zip(rows).zip(outs) {
+            // Per dynamic side: the diagonal's [nn, t1t1, t1t2, t2t2], J v*
+            // of n, t1, t2, and J_n v (pre-step, for restitution).
+            let (mut d, mut jv, mut vn_pre) = ([0.0; 4], [0.0; 3], 0.0);
+            for ((body, jac), minv) in sides.iter().zip(jac).zip(minv) {
+                let Some(b) = *body else { continue };
                 d[0] += dot6(&jac[0], &minv[0]);
                 d[1] += dot6(&jac[1], &minv[1]);
                 d[2] += dot6(&jac[1], &minv[2]);
                 d[3] += dot6(&jac[2], &minv[2]);
+                let vel = row(dynamics.v_free[b], dynamics.w_free[b]);
+                for (v, r) in jv.iter_mut().zip(jac) {
+                    *v += dot6(r, &vel);
+                }
+                if e > 0.0 {
+                    let body = &dynamics.bodies[b];
+                    vn_pre += dot6(&jac[0], &row(body.velocity(), body.angular_velocity()));
+                }
             }
-            self.set_diag(c, d);
+            *dn = d[0];
+            direction_diagonal(dd, &self.dir_weights, &d);
+            direction_values(qd, &self.trig, jv[1], jv[2]);
+            let mut bias = p.stabilization.bias(ct.gap, p.h);
+            if e > 0.0 && vn_pre < -p.restitution.threshold && ct.gap + p.h * vn_pre <= 0.0 {
+                // Bounce: require v⁺_n ≥ e·|v⁻_n|, or more if stabilization asks for more.
+                bias = bias.min(e * vn_pre);
+            }
+            *qn = jv[0] + bias;
         }
 
         self.bodies = dynamics.bodies.len();
         self.matrix_ready = false;
         number_bodies(&self.side_body, self.bodies, &mut self.seen, &mut self.side_slot);
         self.dynamic_bodies = self.seen.len();
-
-        // q = [J_n v* + stabilization; J_d v*; 0].
-        self.q.clear();
-        self.q.resize(n, 0.0);
-        for (c, ct) in contacts.iter().enumerate() {
-            // J v* for n, t1, t2, and J_n v (pre-step, for restitution).
-            let mut jv = [0.0; 3];
-            let mut vn_pre = 0.0;
-            for side in 0..2 {
-                let Some(b) = self.side_body[2 * c + side] else { continue };
-                let vel = row(dynamics.v_free[b], dynamics.w_free[b]);
-                let rows = &self.jac[2 * c + side];
-                for (r, v) in jv.iter_mut().enumerate() {
-                    *v += dot6(&rows[r], &vel);
-                }
-                let body = &dynamics.bodies[b];
-                vn_pre += dot6(&rows[0], &row(body.velocity(), body.angular_velocity()));
-            }
-            for (f, &(cj, sj)) in lay.fd_of(c).zip(&self.trig) {
-                self.q[f] = cj * jv[1] + sj * jv[2];
-            }
-            let mut bias = p.stabilization.bias(ct.gap, p.h);
-            let e = p.restitution.coefficient;
-            if e > 0.0 && vn_pre < -p.restitution.threshold && ct.gap + p.h * vn_pre <= 0.0 {
-                // Bounce: require v⁺_n ≥ e·|v⁻_n|, or more if stabilization asks for more.
-                bias = bias.min(e * vn_pre);
-            }
-            self.q[c] = jv[0] + bias;
-        }
     }
 
     /// Forms the dense `M` from the rows of [`ContactLcp::assemble_rows`].
@@ -554,9 +568,7 @@ impl ContactLcp {
         self.set_diag(c, d);
         let lay = self.layout;
         self.q[c] = q_frame[0];
-        for (f, &(cj, sj)) in lay.fd_of(c).zip(&self.trig) {
-            self.q[f] = cj * q_frame[1] + sj * q_frame[2];
-        }
+        direction_values(&mut self.q[lay.fd_of(c)], &self.trig, q_frame[1], q_frame[2]);
         self.matrix_ready = false;
     }
 
