@@ -48,6 +48,8 @@ struct Eta {
     start: usize,
     end: usize,
     dense: bool,
+    /// Start of its indices in `Etas::idx` (when sparse).
+    istart: usize,
 }
 
 /// The eta file: the column updates since the last factorization, their
@@ -74,7 +76,7 @@ impl Etas {
     /// Appends position `r`'s update from `y`.
     fn push(&mut self, r: usize, y: &[f64]) {
         let nnz = y.iter().filter(|&&v| v != 0.0).count();
-        let start = self.val.len();
+        let (start, istart) = (self.val.len(), self.idx.len());
         let dense = 2 * nnz >= y.len();
         if dense {
             self.val.extend_from_slice(y);
@@ -87,27 +89,30 @@ impl Etas {
                 }
             }
         }
-        self.heads.push(Eta { r, piv: y[r], start, end: self.val.len(), dense });
+        self.heads.push(Eta { r, piv: y[r], start, end: self.val.len(), dense, istart });
     }
 
     /// `y ← E_k⁻¹ ⋯ E_1⁻¹ y`.
-    #[inline(never)]
     fn apply(&self, y: &mut [f64]) {
-        let mut si = 0;
-        for e in &self.heads {
+        self.apply_from(0, y);
+    }
+
+    /// `y ← E_k⁻¹ ⋯ E_{from+1}⁻¹ y`: the updates after the first `from`,
+    /// so that `apply_from(j, ·)` after `apply_from(0, ·)` with `j` updates
+    /// is [`Etas::apply`] with all of them, to the bit (the same operations
+    /// in the same order).
+    #[inline(never)]
+    fn apply_from(&self, from: usize, y: &mut [f64]) {
+        for e in &self.heads[from.min(self.heads.len())..] {
             let yr = y[e.r] / e.piv;
             let vals = &self.val[e.start..e.end];
-            if e.dense {
-                if yr != 0.0 {
+            if yr != 0.0 {
+                if e.dense {
                     for (yi, &v) in y.iter_mut().zip(vals) {
                         *yi -= v * yr;
                     }
-                }
-            } else {
-                let idx = &self.idx[si..si + vals.len()];
-                si += vals.len();
-                if yr != 0.0 {
-                    for (&i, &v) in idx.iter().zip(vals) {
+                } else {
+                    for (&i, &v) in self.idx[e.istart..e.istart + vals.len()].iter().zip(vals) {
                         y[i] -= v * yr;
                     }
                 }
@@ -133,15 +138,16 @@ pub(super) const FILL_SLACK: f64 = 1.2;
 /// 155 of 247; 40 and more, 132 of 516.
 const KEPT_MAX_GROWN: usize = 10;
 
-/// The LU solves `B_f⁻¹ a_v` (before the eta file) of columns solved since
-/// the last factorization `B_f`, kept for [`Basis::solve_column`]: the
-/// lexicographic rule solves the same columns of its reference basis at tie
-/// after tie (on a 45-cube pour's structured LCPs, 37,022 of its 60,647
-/// solves were of a column already solved on the same factors).
+/// The solves `B⁻¹ a_v` of columns solved since the last factorization
+/// `B_f`, kept for [`Basis::solve_column`] with the number of eta updates
+/// they went through: the lexicographic rule solves the same columns of its
+/// reference basis at tie after tie (on a 45-cube pour's structured LCPs,
+/// 37,022 of its 60,647 solves were of a column already solved on the same
+/// factors), and a kept solve needs only the updates made since.
 #[derive(Default)]
 struct SolvedColumns {
-    /// Variable → start of its solve in `val`.
-    at: std::collections::HashMap<usize, usize>,
+    /// Variable → start of its solve in `val`, and the updates applied to it.
+    at: std::collections::HashMap<usize, (usize, usize)>,
     val: Vec<f64>,
 }
 
@@ -354,24 +360,28 @@ impl<'a> Basis<'a> {
     }
 
     /// `out ← B⁻¹ a_v` in the `n` basic positions, the same to the bit as
-    /// [`Basis::column_into`] then [`Basis::ftran_basic`]: the LU solve of
-    /// `a_v` is kept until the next factorization, within [`SOLVED_MAX`].
+    /// [`Basis::column_into`] then [`Basis::ftran_basic`]: the solve of `a_v`
+    /// is kept until the next factorization, within [`SOLVED_MAX`], and
+    /// brought up to date by the eta updates made since it was last asked for.
     pub(crate) fn solve_column(&self, v: usize, out: &mut Vec<f64>) {
-        let dim = self.n + self.p;
+        let (dim, n, updates) = (self.n + self.p, self.n, self.etas.heads.len());
         let mut solved = self.solved.borrow_mut();
-        if let Some(&k) = solved.at.get(&v) {
+        let solved = &mut *solved;
+        if let Some((k, applied)) = solved.at.get_mut(&v) {
+            let kept = &mut solved.val[*k..*k + dim];
+            self.etas.apply_from(*applied, &mut kept[..n]);
+            *applied = updates;
             out.clear();
-            out.extend_from_slice(&solved.val[k..k + dim]);
-        } else {
-            self.column_into(v, out);
-            self.lu.solve_in_place(out);
-            if solved.val.len() + dim <= SOLVED_MAX {
-                let k = solved.val.len();
-                solved.at.insert(v, k);
-                solved.val.extend_from_slice(out);
-            }
+            out.extend_from_slice(kept);
+            return;
         }
-        self.etas.apply(&mut out[..self.n]);
+        self.column_into(v, out);
+        self.lu.solve_in_place(out);
+        self.etas.apply(&mut out[..n]);
+        if solved.val.len() + dim <= SOLVED_MAX {
+            solved.at.insert(v, (solved.val.len(), updates));
+            solved.val.extend_from_slice(out);
+        }
     }
 
     /// `y ← y + B⁻¹ (a_v − B y)`: `y = B⁻¹ a_v` ([`Basis::ftran_basic`]'s

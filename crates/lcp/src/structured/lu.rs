@@ -28,7 +28,7 @@
 //! matrix COLAMD cost 23M instructions a call at n = 1,440, 15 % of the
 //! solve; on the rest, about 1M ([`SparseLu::order_fresh`]).
 
-use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
 use faer::sparse::linalg::colamd;
 use faer::sparse::linalg::lu::simplicial::{
@@ -81,22 +81,34 @@ struct Triangle {
 }
 
 impl Triangle {
-    /// The off-diagonal entries of `m`, the diagonal being each column's
-    /// first (`diag_first`) or last stored entry.
-    fn copy_of(&mut self, m: SparseColMatRef<'_, usize, f64>, diag_first: bool) {
+    /// `shift` empty columns, then the off-diagonal entries of `m` with
+    /// rows shifted by `shift`, the diagonal being each column's first
+    /// (`diag_first`) or last stored entry; `more(k, self)` pushes further
+    /// entries of `m`'s column `k`.
+    fn copy_of(
+        &mut self,
+        m: SparseColMatRef<'_, usize, f64>,
+        diag_first: bool,
+        shift: usize,
+        mut more: impl FnMut(usize, &mut Self),
+    ) {
         let (ptr, idx, val) = (m.col_ptr(), m.row_idx(), m.val());
         self.ptr.clear();
         self.idx.clear();
         self.val.clear();
-        self.ptr.push(0);
+        self.ptr.resize(shift + 1, 0);
         for j in 0..m.ncols() {
             let r = if diag_first { ptr[j] + 1..ptr[j + 1] } else { ptr[j]..ptr[j + 1] - 1 };
-            self.idx.extend(idx[r.clone()].iter().map(|&i| i as u32));
+            self.idx.extend(idx[r.clone()].iter().map(|&i| (i + shift) as u32));
             self.val.extend_from_slice(&val[r]);
+            more(j, self);
             self.ptr.push(self.idx.len());
         }
     }
 }
+
+/// Marks a row taken by a leading singleton column in [`SparseLu::factor_peeling`]'s row map.
+const TAKEN: usize = 1 << (usize::BITS - 1);
 
 /// A factored square sparse matrix.
 pub(crate) struct SparseLu {
@@ -110,6 +122,15 @@ pub(crate) struct SparseLu {
     row_inv: Vec<usize>,
     col_fwd: Vec<usize>,
     col_inv: Vec<usize>,
+    /// faer's row order of the columns after the leading singletons, and
+    /// their matrix ([`SparseLu::factor_peeling`]).
+    row_rest: Vec<usize>,
+    sub: Csc,
+    /// Scratch of [`SparseLu::factor_peeling`]: each row's step or number,
+    /// the rows not taken, the other columns' entries in taken rows.
+    row_map: Vec<usize>,
+    rows: Vec<usize>,
+    taken: Csc,
     /// Whether `col_fwd` holds an ordering to reuse.
     ordered: bool,
     factored: bool,
@@ -135,6 +156,11 @@ impl SparseLu {
             row_inv: vec![0; dim],
             col_fwd: vec![0; dim],
             col_inv: vec![0; dim],
+            row_rest: Vec::new(),
+            sub: Csc::default(),
+            row_map: Vec::new(),
+            rows: Vec::new(),
+            taken: Csc::default(),
             ordered: false,
             factored: false,
             dependent: None,
@@ -147,46 +173,135 @@ impl SparseLu {
     /// in the column order `order` (a kept order when there is none yet is a
     /// fresh one). `false` when it is singular or cannot be built.
     pub(crate) fn factor(&mut self, a: &Csc, order: Order) -> bool {
+        self.factor_peeling(a, order, usize::MAX)
+    }
+
+    /// [`SparseLu::factor`], the order's leading singleton columns (at most
+    /// `peel` of them) taken out before faer factors the rest.
+    ///
+    /// A singleton column eliminated first pivots on its own row with no
+    /// arithmetic: its `L` column is empty, and every later column's entry
+    /// in its row is that column's `U` entry as it stands (no `L` column
+    /// reaches the row). So faer factors only the other columns over the
+    /// other rows, and those entries are copied into `U`: the same factors
+    /// to the bit (faer's reach visits the taken rows as leaves, which moves
+    /// no other row in its order), without faer's depth-first visit of every
+    /// entry in a basic slack's row — most of `G`'s entries in a contact
+    /// LCP's basis.
+    fn factor_peeling(&mut self, a: &Csc, order: Order, peel: usize) -> bool {
         let n = self.dim;
         self.factored = false;
         self.dependent = None;
-        // Panics on unsorted or repeated rows: `a` is built sorted (see `Basis::refactor`).
-        let csc = a;
-        let sym = SymbolicSparseColMatRef::new_checked(n, n, &a.ptr, None, &a.idx);
-        let a = SparseColMatRef::new(sym, &a.val);
-        let req = StackReq::any_of(&[
-            colamd::order_scratch::<usize>(n, n, a.compute_nnz()),
-            factorize_simplicial_numeric_lu_scratch::<usize, f64>(n, n),
-        ]);
-        let mut mem = MemBuffer::new(req);
-        let stack = MemStack::new(&mut mem);
         if order == Order::Fresh || !self.ordered {
             self.ordered = false;
             self.counts.1 += 1;
-            if !self.order_fresh(csc, stack) {
+            let req = colamd::order_scratch::<usize>(n, n, a.idx.len());
+            let mut mem = MemBuffer::new(req);
+            if !self.order_fresh(a, MemStack::new(&mut mem)) {
                 return false;
             }
             self.ordered = true;
         }
         self.counts.0 += 1;
-        let col = PermRef::new_checked(&self.col_fwd, &self.col_inv, n);
-        let res = factorize_simplicial_numeric_lu(&mut self.row_fwd, &mut self.row_inv, &mut self.lu, a, col, stack);
-        // Step `index` eliminates column `col_fwd[index]`.
-        self.dependent = match res {
-            Err(LuError::SymbolicSingular { index }) => self.col_fwd.get(index).copied(),
-            _ => None,
-        };
-        if res.is_err() {
+        let single = singleton_columns(a, n);
+        let s = self.col_fwd.iter().take(peel).take_while(|&&j| single[j]).count();
+        // Each row: the step that takes it (`TAKEN` set), else its number among the others.
+        let mut row_map = std::mem::take(&mut self.row_map);
+        row_map.clear();
+        row_map.resize(n, 0);
+        for (k, &j) in self.col_fwd[..s].iter().enumerate() {
+            row_map[a.idx[a.ptr[j]]] = k | TAKEN;
+        }
+        let mut rows = std::mem::take(&mut self.rows);
+        rows.clear();
+        for (r, m) in row_map.iter_mut().enumerate() {
+            if *m & TAKEN == 0 {
+                *m = rows.len();
+                rows.push(r);
+            }
+        }
+        // The other columns split in one pass: their rows among the others
+        // (faer's to factor) and their entries in taken rows (`U`'s as they stand).
+        let (mut sub, mut taken) = (std::mem::take(&mut self.sub), std::mem::take(&mut self.taken));
+        sub.clear();
+        taken.clear();
+        for &j in &self.col_fwd[s..] {
+            for e in a.ptr[j]..a.ptr[j + 1] {
+                let r = row_map[a.idx[e]];
+                if r & TAKEN == 0 {
+                    sub.idx.push(r);
+                    sub.val.push(a.val[e]);
+                } else {
+                    taken.idx.push(r & !TAKEN);
+                    taken.val.push(a.val[e]);
+                }
+            }
+            sub.end_column();
+            taken.end_column();
+        }
+        let m = n - s;
+        let ok = self.factor_rest(&sub, m, s);
+        if ok {
+            // The full factors: the taken rows' pivots first, then faer's.
+            for (k, &j) in self.col_fwd[..s].iter().enumerate() {
+                self.row_fwd[k] = a.idx[a.ptr[j]];
+                self.u_inv_diag[k] = a.val[a.ptr[j]].recip();
+            }
+            for k in 0..m {
+                self.row_fwd[s + k] = rows[self.row_rest[k]];
+            }
+            for (k, &r) in self.row_fwd.iter().enumerate() {
+                self.row_inv[r] = k;
+            }
+            // faer's L stores its unit diagonal first in each column, U its diagonal last.
+            self.l.copy_of(self.lu.l_factor_unsorted(), true, s, |_, _| {});
+            let u = self.lu.u_factor_unsorted();
+            self.u.copy_of(u, false, s, |k, t| {
+                let r = taken.ptr[k]..taken.ptr[k + 1];
+                t.idx.extend(taken.idx[r.clone()].iter().map(|&i| i as u32));
+                t.val.extend_from_slice(&taken.val[r]);
+            });
+        }
+        (self.row_map, self.rows, self.sub, self.taken) = (row_map, rows, sub, taken);
+        if !ok {
             return false;
         }
-        // faer's L stores its unit diagonal first in each column, U its diagonal last.
-        self.l.copy_of(self.lu.l_factor_unsorted(), true);
         let u = self.lu.u_factor_unsorted();
-        self.u.copy_of(u, false);
         let (ptr, val) = (u.col_ptr(), u.val());
-        self.u_inv_diag.iter_mut().enumerate().for_each(|(j, d)| *d = val[ptr[j + 1] - 1].recip());
+        (0..m).for_each(|k| self.u_inv_diag[s + k] = val[ptr[k + 1] - 1].recip());
         self.factored = true;
         true
+    }
+
+    /// faer's numeric LU of `sub` (`m` square, columns in elimination
+    /// order), the columns after the `s` taken out; on a singular one, the
+    /// column found dependent into [`SparseLu::dependent`].
+    fn factor_rest(&mut self, sub: &Csc, m: usize, s: usize) -> bool {
+        let sym = SymbolicSparseColMatRef::new_checked(m, m, &sub.ptr, None, &sub.idx);
+        let mat = SparseColMatRef::new(sym, &sub.val);
+        let mut mem = MemBuffer::new(factorize_simplicial_numeric_lu_scratch::<usize, f64>(m, m));
+        if self.lu.ncols() != m {
+            // faer keeps its column pointers at the largest size it saw.
+            self.lu = SimplicialLu::new();
+        }
+        let ident: Vec<usize> = (0..m).collect();
+        let col = PermRef::new_checked(&ident, &ident, m);
+        self.row_rest.resize(m, 0);
+        let mut row_rest_inv = vec![0; m];
+        let res = factorize_simplicial_numeric_lu(
+            &mut self.row_rest,
+            &mut row_rest_inv,
+            &mut self.lu,
+            mat,
+            col,
+            MemStack::new(&mut mem),
+        );
+        // Step `index` of the rest eliminates column `col_fwd[s + index]`.
+        self.dependent = match res {
+            Err(LuError::SymbolicSingular { index }) => self.col_fwd.get(s + index).copied(),
+            _ => None,
+        };
+        res.is_ok()
     }
 
     /// A fresh column order of `a` into `col_fwd`/`col_inv`: its singleton
@@ -441,6 +556,56 @@ mod tests {
             solved += 1;
         }
         assert!(solved >= 6, "{solved} of 8 regular");
+    }
+
+    /// The leading singleton columns taken out before faer factors the rest
+    /// give the factors of the whole matrix in the same order, to the bit:
+    /// the same solves, nonzeros, and dependent column of a singular matrix.
+    #[test]
+    fn singletons_taken_out_give_the_whole_factors_to_the_bit() {
+        let mut singular = 0;
+        for seed in 0..8 {
+            let (dim, units) = (80, 30);
+            let mut a = random(dim, units, seed);
+            if seed >= 6 {
+                // A non-unit column whose rows are all taken by unit columns:
+                // structurally singular past the singletons.
+                let units_rows: Vec<usize> =
+                    (0..dim).filter(|&j| a.ptr[j + 1] - a.ptr[j] == 1).map(|j| a.idx[a.ptr[j]]).take(2).collect();
+                let c = (0..dim).find(|&j| a.ptr[j + 1] - a.ptr[j] > 1).unwrap();
+                let mut b = Csc::default();
+                b.clear();
+                for j in 0..dim {
+                    if j == c {
+                        let mut rows = units_rows.clone();
+                        rows.sort();
+                        b.idx.extend_from_slice(&rows);
+                        b.val.extend_from_slice(&[0.5, -2.0]);
+                    } else {
+                        b.idx.extend_from_slice(&a.idx[a.ptr[j]..a.ptr[j + 1]]);
+                        b.val.extend_from_slice(&a.val[a.ptr[j]..a.ptr[j + 1]]);
+                    }
+                    b.end_column();
+                }
+                a = b;
+            }
+            let (mut whole, mut peeled) = (SparseLu::new(dim), SparseLu::new(dim));
+            let ok = whole.factor_peeling(&a, Order::Fresh, 0);
+            assert_eq!(peeled.factor(&a, Order::Fresh), ok, "seed {seed}");
+            assert_eq!(whole.col_fwd, peeled.col_fwd);
+            if !ok {
+                assert!(whole.dependent.is_some() && whole.dependent == peeled.dependent, "seed {seed}");
+                singular += 1;
+                continue;
+            }
+            assert_eq!(whole.nnz(), peeled.nnz(), "seed {seed}");
+            let b: Vec<f64> = (0..dim).map(|i| (i as f64 * 0.61).sin()).collect();
+            let (mut x, mut y) = (b.clone(), b);
+            whole.solve_in_place(&mut x);
+            peeled.solve_in_place(&mut y);
+            assert_eq!(x, y, "seed {seed}");
+        }
+        assert_eq!(singular, 2, "seeds 6 and 7 singular");
     }
 
     /// Fresh (singletons first, then COLAMD) and kept orders both factor `A` so that `A x = b` to round-off; the fresh order is a

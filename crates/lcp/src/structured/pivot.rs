@@ -258,10 +258,11 @@ fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize
     let n = b.val.len();
     let (val, y) = (&b.val[..], &y[..n]);
     let thresh = set.piv_tol * ymax;
-    // Over slices, no index: these passes are O(n) per pivot.
-    let vmax = val.iter().fold(f64::MIN_POSITIVE, |a, v| a.max(v.abs()));
-    let (mut theta, mut least) = (f64::INFINITY, 0);
+    // Over slices, no index: these passes are O(n) per pivot; the largest
+    // value and the least ratio in one.
+    let (mut vmax, mut theta, mut least) = (f64::MIN_POSITIVE, f64::INFINITY, 0);
     for (c, (&v, &yc)) in val.iter().zip(y).enumerate() {
+        vmax = vmax.max(v.abs());
         if yc > thresh {
             let ratio = v.max(0.0) / yc;
             if ratio < theta {
@@ -274,8 +275,11 @@ fn leaving(b: &Basis, y: &[f64], ymax: f64, set: &Settings, tied: &mut Vec<usize
     }
     let vtol = set.tie_tol * vmax;
     tied.clear();
-    let is_tied = |(_, (&v, &yc)): &(usize, (&f64, &f64))| yc > thresh && v.max(0.0) - theta * yc <= vtol;
-    tied.extend(val.iter().zip(y).enumerate().filter(is_tied).map(|(c, _)| c));
+    for (c, (&v, &yc)) in val.iter().zip(y).enumerate() {
+        if yc > thresh && v.max(0.0) - theta * yc <= vtol {
+            tied.push(c);
+        }
+    }
     // None within a zero tolerance (the polish's) when `v − (v/y)·y` rounds
     // to a positive ulp: the least ratio's row leaves, where the run would
     // otherwise end on a false ray. (Measured on a 200-cube heap's step 175:
