@@ -26,7 +26,10 @@
 //! A fresh order puts the matrix's singleton columns first (a basic slack's
 //! unit column) and asks COLAMD only about the rest: on the whole augmented
 //! matrix COLAMD cost 23M instructions a call at n = 1,440, 15 % of the
-//! solve; on the rest, about 1M ([`SparseLu::order_fresh`]).
+//! solve; on the rest, about 1M ([`SparseLu::order_fresh`]). faer, too,
+//! factors only the rest ([`SparseLu::factor_peeling`]): on a 45-cube
+//! pour's structured LCPs its numeric LU fell from 21 % to 14 % of the
+//! samples, the same factors to the bit.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
