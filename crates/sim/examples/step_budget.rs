@@ -5,8 +5,10 @@
 //!
 //! ```text
 //! cargo run --release -p lcpsim-sim --example step_budget              # wall time per stage
-//! cargo run --release -p lcpsim-sim --example step_budget -- stages SCENE STEPS
-//!     # only the staged steps (for callgrind), SCENE = slide | rest | stack
+//! cargo run --release -p lcpsim-sim --example step_budget -- stages SCENE STEPS [FROM]
+//!     # only the staged steps (for callgrind), SCENE = slide | rest | stack,
+//!     # after FROM steps (100 by default; `benchmarks/step_budget.py` times
+//!     # the cubes from step ~21,000, where the sliding cube is fast)
 //! cargo run --release -p lcpsim-sim --example step_budget -- dump FILE  # trajectories' bits
 //! cargo run --release -p lcpsim-sim --example step_budget -- run SCENE STEPS
 //!     # `World::run` from the scene's start (for callgrind; what `many_bodies.py` times)
@@ -230,7 +232,8 @@ fn main() {
         Some("stages") => {
             let mut s = scene(&args[1]);
             let steps: usize = args.get(2).map_or(2000, |a| a.parse().unwrap());
-            for _ in 0..100 {
+            let from: usize = args.get(3).map_or(100, |a| a.parse().unwrap());
+            for _ in 0..from {
                 s.world.step().unwrap();
             }
             stages_only(&mut s.world, steps);

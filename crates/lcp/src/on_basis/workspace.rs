@@ -56,6 +56,10 @@ pub struct BasisWorkspace {
     pub(super) moved: Vec<(usize, f64)>,
     /// One row of `M` (see [`clipped_cause`](super::rounds::clipped_cause); the acceptance rule's full reads).
     pub(super) row: Vec<f64>,
+    /// The step at which the last refinement on the kept factorization
+    /// without polish ended on a correction within `REFINE_STOP`
+    /// ([`refine_on_factor`](super::refine::refine_on_factor)); `None` when it did not.
+    pub(super) last_step: Option<usize>,
     /// Calls in a row that found no answer (the caller pivoted).
     pub(super) failures: usize,
     /// Vectors of earlier answers handed back ([`BasisWorkspace::recycle`]):
@@ -111,6 +115,11 @@ pub(super) struct Factors {
     pub(super) rank: usize,
     /// `β` as a mask when `lu` holds its factors (empty when it does not).
     pub(super) factored: Vec<bool>,
+    /// `M_ββ⁻¹` formed from `lu` ([`principal::inverse`](super::principal::inverse)) and its error
+    /// bound, once a kept factorization's refinement reads it; `None`
+    /// until then (and whenever `lu` changes).
+    pub(super) inverse: Option<f64>,
+    pub(super) inv: Vec<f64>,
 }
 
 impl Factors {
@@ -121,6 +130,10 @@ impl Factors {
         self.order.clone_from(&other.order);
         self.rank = other.rank;
         self.factored.clone_from(&other.factored);
+        self.inverse = other.inverse;
+        if other.inverse.is_some() {
+            self.inv.clone_from(&other.inv);
+        }
     }
 }
 
