@@ -364,6 +364,13 @@ impl<'a> Basis<'a> {
     /// is kept until the next factorization, within [`SOLVED_MAX`], and
     /// brought up to date by the eta updates made since it was last asked for.
     pub(crate) fn solve_column(&self, v: usize, out: &mut Vec<f64>) {
+        self.solve_column_keeping(v, out, true);
+    }
+
+    /// [`Basis::solve_column`], the solve kept only if `keep` (an entering
+    /// column: solved once, but read from the kept ones when the
+    /// lexicographic rule solved it on the same factors).
+    pub(crate) fn solve_column_keeping(&self, v: usize, out: &mut Vec<f64>, keep: bool) {
         let (dim, n, updates) = (self.n + self.p, self.n, self.etas.heads.len());
         let mut solved = self.solved.borrow_mut();
         let solved = &mut *solved;
@@ -378,7 +385,7 @@ impl<'a> Basis<'a> {
         self.column_into(v, out);
         self.lu.solve_in_place(out);
         self.etas.apply(&mut out[..n]);
-        if solved.val.len() + dim <= SOLVED_MAX {
+        if keep && solved.val.len() + dim <= SOLVED_MAX {
             solved.at.insert(v, (solved.val.len(), updates));
             solved.val.extend_from_slice(out);
         }

@@ -166,8 +166,7 @@ fn pivot_loop(op: &StructuredLcp, mut basis: Basis, mut entering: usize, set: &S
         if pivots >= set.max_pivots {
             break Status::MaxPivots;
         }
-        basis.column_into(entering, &mut y);
-        basis.ftran_basic(&mut y);
+        basis.solve_column_keeping(entering, &mut y, false);
         let mut ymax = y[..n].iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if !ymax.is_finite() {
             break Status::Numerical;
