@@ -103,6 +103,11 @@ fn solve_pivoted(a: &[f64], k: usize, rank: usize, y: &mut [f64]) {
     }
 }
 
+/// The length of a row of [`inverse`]'s `X`: `rank` up to a multiple of [`LANES`].
+pub(crate) fn inverse_stride(rank: usize) -> usize {
+    rank.next_multiple_of(LANES)
+}
+
 /// The inverse `X = M_ββ⁻¹` of the factors of [`factor`], in pivot order
 /// (`x_t = Σ_s X_ts b_s` for `b_s`, `x_t` the entries of positions
 /// `order[s]`, `order[t]`), row after row into `inv`, each row
@@ -117,11 +122,6 @@ fn solve_pivoted(a: &[f64], k: usize, rank: usize, y: &mut [f64]) {
 /// `‖X‖∞`; the product's own rounding is `r ε ‖X‖∞ ‖b‖∞`). Infinite when
 /// `r ε κ` is not below 1e-6 (a block that ill-conditioned gets no bound)
 /// or an entry is not finite.
-/// The length of a row of [`inverse`]'s `X`: `rank` up to a multiple of [`LANES`].
-pub(crate) fn inverse_stride(rank: usize) -> usize {
-    rank.next_multiple_of(LANES)
-}
-
 pub(crate) fn inverse(a: &[f64], k: usize, rank: usize, inv: &mut Vec<f64>, col: &mut Vec<f64>) -> f64 {
     let stride = inverse_stride(rank);
     inv.clear();
@@ -191,6 +191,7 @@ mod tests {
             assert!((x[i] - xb[i]).abs() < 1e-14, "{x:?}");
         }
     }
+
     /// The inverse's product is within its returned bound of the solves'
     /// answer, on blocks from well to badly conditioned (the bound is what
     /// lets a refinement step judge a correction by the product alone), and
