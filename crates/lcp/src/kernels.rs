@@ -81,9 +81,19 @@ pub(crate) fn dot4_sparse(a: &[f64], b: &[f64], nz: &[usize]) -> f64 {
     (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
-/// Whether every `a_i` is finite.
+/// Whether every `a_i` is finite (`a_i · 0` is NaN for NaN and ±∞), in
+/// `4·LANES` sums: independent adds the sweep overlaps, where
+/// [`max_abs_finite`]'s `LANES` wait on one another.
 pub(crate) fn all_finite(a: &[f64]) -> bool {
-    max_abs_finite(a, 0.0).1
+    let mut nan = [0.0f64; 4 * LANES];
+    let mut chunks = a.chunks_exact(4 * LANES);
+    for c in &mut chunks {
+        for k in 0..4 * LANES {
+            nan[k] += c[k] * 0.0;
+        }
+    }
+    let tail: f64 = chunks.remainder().iter().map(|v| v * 0.0).sum();
+    nan.iter().sum::<f64>() + tail == 0.0
 }
 
 /// `min(init.0, min { max(v_i, 0) / x_i : x_i > thresh })`, the ratio test's
@@ -140,6 +150,19 @@ mod tests {
         assert_eq!(max_abs_finite(&a[..3], 10.0), (10.0, true));
         assert!(!max_abs_finite(&[1.0, f64::NAN, 2.0, 3.0, 4.0], 0.0).1);
         assert!(!max_abs_finite(&[1.0, 2.0, 3.0, 4.0, f64::NEG_INFINITY], 0.0).1);
+    }
+
+    #[test]
+    fn all_finite_rejects_nan_and_infinities_at_every_position() {
+        let ok: Vec<f64> = (0..37).map(|i| (i as f64 - 18.0) * 1e300).collect();
+        assert!(all_finite(&ok) && all_finite(&[]) && all_finite(&[f64::MAX, f64::MIN_POSITIVE, -0.0]));
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, -f64::NAN] {
+            for i in 0..ok.len() {
+                let mut a = ok.clone();
+                a[i] = bad;
+                assert!(!all_finite(&a), "{bad} at {i} of {}", a.len());
+            }
+        }
     }
 
     #[test]

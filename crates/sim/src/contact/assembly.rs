@@ -475,6 +475,20 @@ impl ContactLcp {
                 }
             }
         }
+        // The lower triangle of the impulse block from the upper (each entry
+        // the same sums in the same order as its mirror), by tiles of T × T
+        // so that the rows written stay in cache across a tile's columns.
+        const T: usize = 8;
+        let na = lay.impulses();
+        for ib in (0..na).step_by(T) {
+            for jb in (ib..na).step_by(T) {
+                for i in ib..(ib + T).min(na) {
+                    for j in jb.max(i + 1)..(jb + T).min(na) {
+                        self.m[j * n + i] = self.m[i * n + j];
+                    }
+                }
+            }
+        }
 
         // Friction-cone coupling: sE in the friction rows, sμ and −sEᵀ in the cone rows.
         for c in 0..nc {
@@ -496,44 +510,42 @@ impl ContactLcp {
         self.matrix_ready = true;
     }
 
-    /// Adds the `(1+k)²` block of contacts `(c1, c2)` expanded from the Gram
-    /// block `g` of their `[n, t1, t2]` rows (and its transpose at `(c2, c1)`).
-    /// For `c1 == c2` only entries on and above the diagonal are computed and
-    /// mirrored, so the diagonal blocks are exactly symmetric.
+    /// Adds the `(1+k)²` block of contacts `(c1, c2)` (`c1 ≤ c2`) expanded
+    /// from the Gram block `g` of their `[n, t1, t2]` rows, on and above the
+    /// diagonal of `M` only (its transpose's entries there, for the entries of
+    /// the block below it): [`ContactLcp::assemble_matrix`] mirrors the upper
+    /// triangle once all blocks are in. For `c1 == c2` only the block's own
+    /// upper triangle is computed, so the diagonal blocks are exactly symmetric.
     fn add_block(&mut self, c1: usize, c2: usize, g: &[[f64; 3]; 3]) {
         let lay = self.layout;
-        let n = lay.n();
+        let (n, k) = (lay.n(), lay.k);
         let diag = c1 == c2;
+        debug_assert!(c1 <= c2);
         // col[j'] = G·[0; c_j'; s_j'] : the block's column of direction j' in the n, t1, t2 rows.
         for (jp, col) in self.col.iter_mut().enumerate() {
             let (c, s) = self.trig[jp];
             *col = [g[0][1] * c + g[0][2] * s, g[1][1] * c + g[1][2] * s, g[2][1] * c + g[2][2] * s];
         }
+        let (fd1, fd2) = (lay.fd_index(c1, 0), lay.fd_index(c2, 0));
         let m = &mut self.m;
-        let mut put = |i: usize, j: usize, v: f64| {
-            m[i * n + j] += v;
-            if i != j {
-                m[j * n + i] += v;
-            }
-        };
-        // normal–normal
-        put(c1, c2, g[0][0]);
-        // normal–friction: row n of c1 against d_j' of c2
-        let fd2 = lay.fd_index(c2, 0);
-        for (jp, col) in self.col.iter().enumerate() {
-            put(c1, fd2 + jp, col[0]);
+        // normal–normal, and normal–friction: row n of c1 against d_j' of c2
+        m[c1 * n + c2] += g[0][0];
+        for (v, col) in m[c1 * n + fd2..c1 * n + fd2 + k].iter_mut().zip(&self.col) {
+            *v += col[0];
         }
-        let fd1 = lay.fd_index(c1, 0);
-        for j in 0..lay.k {
-            let (c, s) = self.trig[j];
-            // friction–normal (mirrored already on the diagonal)
-            if !diag {
-                put(fd1 + j, c2, c * g[1][0] + s * g[2][0]);
+        // friction–normal, at its mirror in row c2 (on the diagonal it is the normal–friction row)
+        if !diag {
+            for (v, &(c, s)) in m[c2 * n + fd1..c2 * n + fd1 + k].iter_mut().zip(&self.trig) {
+                *v += c * g[1][0] + s * g[2][0];
             }
-            // friction–friction
+        }
+        // friction–friction
+        for j in 0..k {
+            let (c, s) = self.trig[j];
             let first = if diag { j } else { 0 };
-            for (jp, col) in self.col.iter().enumerate().skip(first) {
-                put(fd1 + j, fd2 + jp, c * col[1] + s * col[2]);
+            let row = &mut m[(fd1 + j) * n + fd2 + first..(fd1 + j) * n + fd2 + k];
+            for (v, col) in row.iter_mut().zip(&self.col[first..]) {
+                *v += c * col[1] + s * col[2];
             }
         }
     }
