@@ -44,13 +44,14 @@ pub const DEFAULT_TOL: f64 = 1e-9;
 /// `ρ` of the module docs: the round-off floor, relative to a row's largest entry times `Σ z`.
 pub const ROUND_OFF: f64 = 1e-13;
 
-/// The violation of row `i`: `|w_i|` where `z_i > 0`, else `max(−w_i, 0)`.
-#[inline]
-fn violation(zi: f64, wi: f64) -> f64 {
+/// The violation of row `i`: `|w_i|` where `z_i > 0`, else `max(−w_i, 0)`
+/// (0 for a NaN `w_i`: written as a select, which vectorizes).
+#[inline(always)]
+pub(crate) fn violation(zi: f64, wi: f64) -> f64 {
     if zi > 0.0 {
         wi.abs()
     } else {
-        (-wi).max(0.0)
+        crate::kernels::pick_max(0.0, -wi)
     }
 }
 
@@ -133,7 +134,7 @@ pub(crate) fn accepts_rows(
     diag: impl FnMut(usize) -> f64,
     scale: impl FnMut(usize, f64) -> (f64, f64),
 ) -> bool {
-    rejected_rows((q, z, w), tol, diag, |_| None, scale, true).is_none()
+    rejected_rows((q, z, w), tol, None, diag, |_| None, scale, true).is_none()
 }
 
 /// The row the rule rejects with the largest `η_i` (`first`: the first row
@@ -152,19 +153,30 @@ pub(crate) fn accepts_rows(
 fn rejected_rows(
     (q, z, w): (&[f64], &[f64], &[f64]),
     tol: f64,
+    diagonal: Option<&[f64]>,
     mut diag: impl FnMut(usize) -> f64,
     mut entry: impl FnMut(usize) -> Option<(f64, f64)>,
     mut scale: impl FnMut(usize, f64) -> (f64, f64),
     first: bool,
 ) -> Option<usize> {
-    // (One pass without an early exit, which vectorizes; the index only when one is bad.)
+    // (One pass without early exits, which vectorizes: the rows are read one
+    // by one only when some `z_i` is bad or some row is past the tests on
+    // `M_ii` (`diagonal`, when known as a slice; `zsum` summed as below).)
+    let sized = z.len() == q.len() && w.len() == q.len();
+    let diagonal = diagonal.filter(|d| sized && d.len() == q.len()).map(|d| (d, z.iter().sum::<f64>()));
+    let (bad_z, from) = crate::kernels::rows_past_cheap_tests((q, z, w), tol, diagonal);
+    let from = if sized { from } else { 0 };
+    if !bad_z && from == q.len() {
+        return None;
+    }
     let bad = |v: f64| !(v >= 0.0 && v.is_finite());
-    if z.iter().fold(false, |any, &v| any | bad(v)) {
+    if bad_z || !sized && z.iter().any(|&v| bad(v)) {
         return z.iter().position(|&v| bad(v));
     }
     let mut zsum = None;
     let mut worst: Option<(usize, f64)> = None;
-    for i in 0..q.len() {
+    // (The rows before `from` pass the tests on `M_ii` below.)
+    for i in from..q.len() {
         let v = violation(z[i], w[i]);
         // Most rows: no violation, or one within `tol·|q_i|`.
         // (Written `v <= …` so that a NaN falls through to the full check.)
@@ -258,7 +270,7 @@ pub fn rejected_row_operator(
     };
     let diagonal = op.diagonal().filter(|d| d.len() == n);
     let diag = |i: usize| diagonal.map_or_else(|| op.diag(i), |d| d[i]);
-    rejected_rows((op.q(), z, w), tol, diag, entry, scale, first)
+    rejected_rows((op.q(), z, w), tol, diagonal, diag, entry, scale, first)
 }
 
 /// Columns of a row kept by [`rejected_row_operator`] between calls.

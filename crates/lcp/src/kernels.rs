@@ -45,6 +45,77 @@ pub(crate) fn max_abs_finite(a: &[f64], init: f64) -> (f64, bool) {
     (acc.iter().fold(init, |m, &x| pick_max(m, x)), nan.iter().sum::<f64>() == 0.0)
 }
 
+/// The acceptance rule's first looks at every row ([`crate::accept`]):
+/// whether some `z_i` is negative or not finite, and the first row whose
+/// violation `v_i` (`|w_i|` where `z_i > 0`, else `max(−w_i, 0)`, a NaN `w_i`
+/// counting 0 there) is neither 0 nor within `tol·|q_i|` nor, with the
+/// diagonal `d` given and `zsum = Σ z`, within `tol·(|q_i| + |d_i| z_i) +
+/// ρ·|d_i|·zsum` (`n`, the rows' count, when there is none). The verdicts of
+/// the row-by-row tests, in one pass without early exits, which vectorizes.
+pub(crate) fn rows_past_cheap_tests(
+    (q, z, w): (&[f64], &[f64], &[f64]),
+    tol: f64,
+    diagonal: Option<(&[f64], f64)>,
+) -> (bool, usize) {
+    let n = q.len().min(z.len()).min(w.len());
+    match diagonal.filter(|(d, _)| d.len() >= n) {
+        Some((d, zsum)) => cheap_tests::<true>((&q[..n], &z[..n], &w[..n], &d[..n]), tol, zsum),
+        None => cheap_tests::<false>((&q[..n], &z[..n], &w[..n], &q[..n]), tol, 0.0),
+    }
+}
+
+/// [`rows_past_cheap_tests`] over rows of equal lengths, the diagonal read when `DIAG`.
+#[inline(always)]
+fn cheap_tests<const DIAG: bool>((q, z, w, d): (&[f64], &[f64], &[f64], &[f64]), tol: f64, zsum: f64) -> (bool, usize) {
+    let (n, rho) = (q.len(), crate::accept::ROUND_OFF);
+    let (mut bad, mut first) = (false, n);
+    for i in 0..n {
+        let (qi, zi, wi, di) = (q[i].abs(), z[i], w[i], d[i].abs());
+        bad |= !((zi >= 0.0) & (zi.abs() < f64::INFINITY));
+        let v = crate::accept::violation(zi, wi);
+        let by_diag = DIAG && v <= tol * (qi + di * zi) + rho * di * zsum;
+        let clear = (v == 0.0) | (v <= tol * qi) | by_diag;
+        first = first.min(if clear { n } else { i });
+    }
+    (bad, first)
+}
+
+/// The most violated index of a complementary point: `v_i = −z_i` where
+/// `basic[i]`, else `−w_i`; the first index of the largest `v_i` above
+/// `floor` (a NaN `v_i` never counts) with that `v_i` (`(floor, None)` when
+/// none is above), and whether some `z_i < 0`. The verdict of the plain scan
+/// (`v_i > worst` in order), in a pass that vectorizes and a second over
+/// the rows only when some `v_i` is above `floor`.
+pub(crate) fn most_violated(basic: &[bool], z: &[f64], w: &[f64], floor: f64) -> ((f64, Option<usize>), bool) {
+    let n = basic.len().min(z.len()).min(w.len());
+    let (basic, z, w) = (&basic[..n], &z[..n], &w[..n]);
+    let v = |i: usize| if basic[i] { -z[i] } else { -w[i] };
+    // (Over lanes, `z_i` or `w_i` picked by masks: a running max would wait
+    // on one compare after another, and a branch on `basic[i]` becomes a
+    // choice of pointers that does not vectorize.)
+    let pick = |b: bool, zi: f64, wi: f64| {
+        let on = u64::from(b).wrapping_neg();
+        -f64::from_bits((zi.to_bits() & on) | (wi.to_bits() & !on))
+    };
+    let (mut acc, mut neg) = ([floor; LANES], [false; LANES]);
+    let (mut cb, mut cz, mut cw) = (basic.chunks_exact(LANES), z.chunks_exact(LANES), w.chunks_exact(LANES));
+    for ((b, zc), wc) in (&mut cb).zip(&mut cz).zip(&mut cw) {
+        for k in 0..LANES {
+            acc[k] = pick_max(acc[k], pick(b[k], zc[k], wc[k]));
+            neg[k] |= zc[k] < 0.0;
+        }
+    }
+    for ((&b, &zi), &wi) in cb.remainder().iter().zip(cz.remainder()).zip(cw.remainder()) {
+        acc[0] = pick_max(acc[0], pick(b, zi, wi));
+        neg[0] |= zi < 0.0;
+    }
+    let top = acc.iter().fold(floor, |m, &x| pick_max(m, x));
+    let negative = neg.iter().any(|&b| b);
+    // (`top > floor` only if some `v_i` is: then its first index is the scan's.)
+    let worst = if top > floor { (top, (0..n).position(|i| v(i) == top)) } else { (floor, None) };
+    (worst, negative)
+}
+
 /// `Σ a_i b_i` over four lanes (summed as `(l0 + l1) + (l2 + l3)`, then the
 /// remainder): vectorizes, where a sequential sum cannot be reordered and
 /// waits on one add after another. Not bitwise the sequential sum, and no
@@ -204,6 +275,79 @@ mod tests {
             let nz: Vec<usize> = (0..n - n % LANES).filter(|&j| b[j] != 0.0).collect();
             let (s, d) = (dot4_sparse(&a, &b, &nz), dot4(&a, &b));
             proptest::prop_assert!(s.to_bits() == d.to_bits() || (s.is_nan() && d.is_nan()), "{s:e} {d:e}");
+        }
+    }
+
+    /// An entry of `q`, `z`, `w` or `M_ii`: zeros of both signs, values over
+    /// 200 binary orders, round-off sized ones, now and then NaN or ∞.
+    fn entry() -> impl proptest::strategy::Strategy<Value = f64> {
+        proptest::prop_oneof![
+            6 => proptest::strategy::Just(0.0f64),
+            2 => proptest::strategy::Just(-0.0f64),
+            1 => proptest::strategy::Just(f64::NAN),
+            1 => proptest::strategy::Just(f64::NEG_INFINITY),
+            4 => (-1.0f64..1.0).prop_map(|m| m * 1e-12),
+            12 => spread(),
+        ]
+    }
+
+    proptest::proptest! {
+        /// The same verdicts as the rule's tests read row by row (a bad
+        /// `z_i`; the first row past `v_i = 0`, `v_i ≤ tol·|q_i|` and, with
+        /// the diagonal, `v_i ≤ tol·(|q_i| + |M_ii| z_i) + ρ·|M_ii|·Σ z`).
+        #[test]
+        fn rows_past_cheap_tests_is_the_row_by_row_verdict(
+            rows in proptest::collection::vec((entry(), entry(), entry(), entry()), 0..30),
+            positive in proptest::bool::ANY,
+            tol in proptest::prop_oneof![proptest::strategy::Just(1e-9f64), 0.0f64..1.0],
+        ) {
+            let mut q: Vec<f64> = rows.iter().map(|r| r.0).collect();
+            let mut z: Vec<f64> = rows.iter().map(|r| r.1).collect();
+            let w: Vec<f64> = rows.iter().map(|r| r.2).collect();
+            let d: Vec<f64> = rows.iter().map(|r| r.3).collect();
+            if positive {
+                // (Most calls: every z_i ≥ 0 and finite, the rows decide.)
+                z.iter_mut().for_each(|v| *v = if v.is_finite() { v.abs() } else { 1.0 });
+                q.iter_mut().for_each(|v| *v = if v.is_nan() { 0.5 } else { *v });
+            }
+            let zsum: f64 = z.iter().sum();
+            let bad = z.iter().any(|&v| !(v >= 0.0 && v.is_finite()));
+            let violation = |i: usize| if z[i] > 0.0 { w[i].abs() } else { (-w[i]).max(0.0) };
+            let clear = |i: usize, diag: bool| {
+                let (v, m) = (violation(i), d[i].abs());
+                v == 0.0
+                    || v <= tol * q[i].abs()
+                    || diag && v <= tol * (q[i].abs() + m * z[i]) + crate::accept::ROUND_OFF * m * zsum
+            };
+            for diag in [false, true] {
+                let first = (0..q.len()).find(|&i| !clear(i, diag)).unwrap_or(q.len());
+                let given = diag.then_some((d.as_slice(), zsum));
+                proptest::prop_assert_eq!(rows_past_cheap_tests((&q, &z, &w), tol, given), (bad, first));
+            }
+        }
+    }
+
+    proptest::proptest! {
+        /// The plain scan's most violated index and value (strictly above
+        /// the last, in order) and its negatives of `z`.
+        #[test]
+        fn most_violated_is_the_plain_scan(
+            rows in proptest::collection::vec((proptest::bool::ANY, entry(), entry()), 0..30),
+            floor in proptest::prop_oneof![proptest::strategy::Just(0.0f64), 0.0f64..1e3],
+        ) {
+            let basic: Vec<bool> = rows.iter().map(|r| r.0).collect();
+            let z: Vec<f64> = rows.iter().map(|r| r.1).collect();
+            let w: Vec<f64> = rows.iter().map(|r| r.2).collect();
+            let mut worst = (floor, None);
+            for i in 0..rows.len() {
+                let v = if basic[i] { -z[i] } else { -w[i] };
+                if v > worst.0 {
+                    worst = (v, Some(i));
+                }
+            }
+            let negative = z.iter().any(|&v| v < 0.0);
+            let (got, neg) = most_violated(&basic, &z, &w, floor);
+            proptest::prop_assert_eq!((got.0.to_bits(), got.1, neg), (worst.0.to_bits(), worst.1, negative));
         }
     }
 

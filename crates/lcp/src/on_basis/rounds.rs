@@ -61,16 +61,10 @@ pub(super) fn solve_rounds(
         }
         // The most violated index (basic z < 0 leaves, nonbasic w < 0 enters),
         // and the round-off negatives of z, clipped below.
-        let mut worst = (repair, None);
+        let (worst, negative) = crate::kernels::most_violated(&ws.mask, &ws.z, &ws.w, repair);
         ws.clipped.clear();
-        for (i, (&basic, (&zi, &wi))) in ws.mask.iter().zip(ws.z.iter().zip(&ws.w)).enumerate() {
-            let v = if basic { -zi } else { -wi };
-            if v > worst.0 {
-                worst = (v, Some(i));
-            }
-            if zi < 0.0 {
-                ws.clipped.push((i, zi));
-            }
+        if negative {
+            ws.clipped.extend(ws.z.iter().enumerate().filter(|&(_, &zi)| zi < 0.0).map(|(i, &zi)| (i, zi)));
         }
         // Clipped, they move w for the check: by their columns while they
         // are few (a resting 10-box stack clips a few friction values a step:
