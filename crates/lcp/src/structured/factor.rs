@@ -383,8 +383,7 @@ impl<'a> Basis<'a> {
             return;
         }
         self.column_into(v, out);
-        self.lu.solve_in_place(out);
-        self.etas.apply(&mut out[..n]);
+        self.ftran_basic(out);
         if keep && solved.val.len() + dim <= SOLVED_MAX {
             solved.at.insert(v, (solved.val.len(), updates));
             solved.val.extend_from_slice(out);

@@ -242,19 +242,12 @@ impl LcpOperator for BodySpaceLcp<'_> {
     }
 
     fn w_of(&self, z: &[f64], w: &mut [f64]) {
-        // Δv = M_b⁻¹ Jᵀ z per body (the integrator's own map of impulses).
-        let mut guard = self.bufs.borrow_mut();
-        let Buffers { dv, dw, .. } = &mut *guard;
-        dv.fill(Vec3::ZERO);
-        dw.fill(Vec3::ZERO);
-        self.lcp.apply_impulses_local(z, dv, dw);
-        w.copy_from_slice(self.lcp.q());
-        self.add_velocities(dv, dw, None, w);
-        self.add_cone(z, w);
+        self.velocities_of(z);
+        self.w_after_rows(z, w);
     }
 
     fn w_after_rows(&self, z: &[f64], w: &mut [f64]) {
-        // `w_rows` left Δv = M_b⁻¹ Jᵀ z in the buffers: `w_of` without forming it again.
+        // `w_rows` (or `w_of`) left Δv = M_b⁻¹ Jᵀ z in the buffers.
         let guard = self.bufs.borrow();
         w.copy_from_slice(self.lcp.q());
         self.add_velocities(&guard.dv, &guard.dw, None, w);
@@ -263,11 +256,9 @@ impl LcpOperator for BodySpaceLcp<'_> {
 
     fn w_rows(&self, z: &[f64], rows: &[usize], w: &mut [f64]) {
         let (lay, s) = (self.lcp.layout(), self.s);
-        let mut guard = self.bufs.borrow_mut();
-        let Buffers { dv, dw, .. } = &mut *guard;
-        dv.fill(Vec3::ZERO);
-        dw.fill(Vec3::ZERO);
-        self.lcp.apply_impulses_local(z, dv, dw);
+        self.velocities_of(z);
+        let guard = self.bufs.borrow();
+        let Buffers { dv, dw, .. } = &*guard;
         let q = self.lcp.q();
         // Each row as `w_of` forms it (the same sums in the same order).
         for &i in rows {
@@ -340,6 +331,16 @@ impl LcpOperator for BodySpaceLcp<'_> {
 }
 
 impl BodySpaceLcp<'_> {
+    /// `Δv = M_b⁻¹ Jᵀ z` per body into the buffers (the integrator's own map
+    /// of impulses), which `w_of`, `w_rows` and `w_after_rows` read.
+    fn velocities_of(&self, z: &[f64]) {
+        let mut guard = self.bufs.borrow_mut();
+        let Buffers { dv, dw, .. } = &mut *guard;
+        dv.fill(Vec3::ZERO);
+        dw.fill(Vec3::ZERO);
+        self.lcp.apply_impulses_local(z, dv, dw);
+    }
+
     /// Row `i`'s entries in `cols` (a `1 × cols.len()` block, the acceptance
     /// rule's read of a few kept entries): the same sums as
     /// [`LcpOperator::block`]'s, with a column's `M_b⁻¹ Jᵀ` row formed only
