@@ -12,6 +12,9 @@
 //! cargo run --release -p lcpsim-sim --example step_budget -- dump FILE  # trajectories' bits
 //! cargo run --release -p lcpsim-sim --example step_budget -- run SCENE STEPS
 //!     # `World::run` from the scene's start (for callgrind; what `many_bodies.py` times)
+//! cargo run --release -p lcpsim-sim --example step_budget -- profile SCENE STEPS [REPEATS] [WINDOW]
+//!     # each step's time from the start (min over REPEATS runs of the same
+//!     # trajectory), its pivots, stage and basis, summed over windows of WINDOW steps
 //! ```
 //!
 //! Instructions per stage (inclusive, per step):
@@ -220,6 +223,72 @@ fn dump(path: &str) {
     }
 }
 
+/// Per step of a run from the scene's start: the minimum time over
+/// `repeats` runs (the trajectory is the same each time), and what the
+/// solve did; printed summed over windows of `window` steps.
+fn profile(name: &str, steps: usize, repeats: usize, window: usize) {
+    let mut best = vec![f64::INFINITY; steps];
+    let mut info: Vec<(usize, String, usize, usize, bool)> = Vec::with_capacity(steps);
+    for rep in 0..repeats {
+        let mut s = scene(name);
+        let w = &mut s.world;
+        let mut t = Trajectory::with_capacity(steps, w.body_count());
+        let mut prev: Option<Vec<bool>> = None;
+        for slot in best.iter_mut() {
+            let t0 = Instant::now();
+            w.step().unwrap();
+            t.push(w);
+            *slot = slot.min(t0.elapsed().as_secs_f64());
+            if rep == 0 {
+                let r = w.last_record();
+                let stage = r.islands.iter().map(|i| format!("{:?}", i.stage)).collect::<Vec<_>>().join(",");
+                let basis = r.basis.as_ref().map_or(0, |b| b.iter().filter(|&&x| x).count());
+                let same = r.basis.is_some() && r.basis == prev;
+                prev = r.basis.clone();
+                info.push((r.pivots, stage, basis, r.lcp_size, same));
+            }
+        }
+    }
+    let steady = {
+        let mut v = best.clone();
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 4]
+    };
+    println!("steady (25th percentile) {:.2} µs; total {:.1} ms", steady * 1e6, best.iter().sum::<f64>() * 1e3);
+    println!("window       µs   excess(µs)  >2×steady  pivots  basis-changes  basis(min-max)  stages");
+    for w0 in (0..steps).step_by(window) {
+        let r = w0..(w0 + window).min(steps);
+        let sum: f64 = best[r.clone()].iter().sum();
+        let excess: f64 = best[r.clone()].iter().map(|b| (b - steady).max(0.0)).sum();
+        let slow = best[r.clone()].iter().filter(|&&b| b > 2.0 * steady).count();
+        let piv: usize = info[r.clone()].iter().map(|i| i.0).sum();
+        let changes = info[r.clone()].iter().filter(|i| !i.4).count();
+        let bmin = info[r.clone()].iter().map(|i| i.2).min().unwrap();
+        let bmax = info[r.clone()].iter().map(|i| i.2).max().unwrap();
+        let mut stages: Vec<&str> = info[r.clone()].iter().map(|i| i.1.as_str()).collect();
+        stages.sort();
+        stages.dedup();
+        println!(
+            "{:>5}-{:<5} {:>8.1} {:>9.1} {:>6} {:>8} {:>8} {:>8}-{:<4} {}",
+            r.start,
+            r.end,
+            sum * 1e6,
+            excess * 1e6,
+            slow,
+            piv,
+            changes,
+            bmin,
+            bmax,
+            stages.join(" ")
+        );
+    }
+    if std::env::var_os("PROFILE_STEPS").is_some() {
+        for (k, (b, i)) in best.iter().zip(&info).enumerate() {
+            println!("step {k} {:.2} µs pivots {} basis {} n {} same {} {}", b * 1e6, i.0, i.2, i.3, i.4, i.1);
+        }
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     match args.first().map(String::as_str) {
@@ -228,6 +297,12 @@ fn main() {
             let mut s = scene(&args[1]);
             let steps: usize = args.get(2).map_or(2000, |a| a.parse().unwrap());
             black_box(s.world.run(steps).unwrap());
+        }
+        Some("profile") => {
+            let steps: usize = args.get(2).map_or(4000, |a| a.parse().unwrap());
+            let repeats: usize = args.get(3).map_or(5, |a| a.parse().unwrap());
+            let window: usize = args.get(4).map_or(100, |a| a.parse().unwrap());
+            profile(&args[1], steps, repeats, window);
         }
         Some("stages") => {
             let mut s = scene(&args[1]);

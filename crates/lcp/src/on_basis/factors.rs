@@ -11,6 +11,7 @@
 use super::principal;
 use super::refine::{correct, first_solve};
 use super::workspace::{BasisWorkspace, Factors};
+use crate::kernels::max_abs_finite;
 use crate::operator::LcpOperator;
 
 /// Factors `M_SS` of the support `ws.mask`: when the support is the factored
@@ -44,7 +45,8 @@ pub(super) fn solve_fresh(op: &dyn LcpOperator, ws: &mut BasisWorkspace, entered
     ws.f.support.extend((0..n).filter(|&j| ws.mask[j]));
     let m = ws.f.support.len();
     form_block(op, ws);
-    if !ws.block.iter().all(|v| v.is_finite()) {
+    // (One pass over lanes: the block is `k²` entries.)
+    if !max_abs_finite(&ws.block, 0.0).1 {
         return false;
     }
     let bordered = matches!((grown, &old), (Some(i), Some(f)) if border(ws, i, f));
@@ -77,7 +79,7 @@ pub(super) fn solve_fresh(op: &dyn LcpOperator, ws: &mut BasisWorkspace, entered
 /// pivot — `O(k²)` where a fresh factorization costs `O(k³)`. `false` (`ws`'s
 /// factors unset) when that pivot is below the rank tolerance of
 /// [`principal::factor`]: `i` depends on `β`, and the fresh factorization
-/// decides which index leaves.
+/// decides which index leaves. (`ws.y` holds the new column of U meanwhile.)
 pub(super) fn border(ws: &mut BasisWorkspace, i: usize, old: &Factors) -> bool {
     let (m, r, k) = (ws.f.support.len(), old.rank, old.support.len());
     if m != r + 1 {
@@ -86,7 +88,7 @@ pub(super) fn border(ws: &mut BasisWorkspace, i: usize, old: &Factors) -> bool {
     let at = |j: usize| ws.f.support.binary_search(&j).ok();
     let Some(pi) = at(i) else { return false };
     // The new support's position of each pivot of β, in pivot order.
-    let BasisWorkspace { block, f: Factors { lu, order, .. }, .. } = ws;
+    let BasisWorkspace { block, f: Factors { lu, order, .. }, y: col, .. } = ws;
     order.clear();
     for &p in &old.order[..r] {
         let Some(a) = at(old.support[p]) else { return false };
@@ -98,16 +100,24 @@ pub(super) fn border(ws: &mut BasisWorkspace, i: usize, old: &Factors) -> bool {
         lu[t * m..t * m + r].copy_from_slice(&old.lu[t * k..t * k + r]);
     }
     // y = L⁻¹ M_βi (the new column of U), x = M_iβ U⁻¹ (the new row of L).
+    // (The column is built in `col` as well, so that each row's sum reads
+    // it contiguously: the same products summed in the same order.)
+    col.clear();
     for t in 0..r {
-        let u = block[order[t] * m + pi] - (0..t).map(|s| lu[t * m + s] * lu[s * m + r]).sum::<f64>();
+        let sum = lu[t * m..t * m + t].iter().zip(col.iter()).map(|(l, u)| l * u).sum::<f64>();
+        let u = block[order[t] * m + pi] - sum;
         lu[t * m + r] = u;
+        col.push(u);
     }
     for t in 0..r {
-        let l = block[pi * m + order[t]] - (0..t).map(|s| lu[r * m + s] * lu[s * m + t]).sum::<f64>();
+        // (Column t of U read by a stride: `lu[s·m + t]`, s < t.)
+        let sum = lu[r * m..r * m + t].iter().zip(lu[t..].iter().step_by(m)).map(|(l, u)| l * u).sum::<f64>();
+        let l = block[pi * m + order[t]] - sum;
         lu[r * m + t] = l / lu[t * m + t];
     }
     let pivot = block[pi * m + pi] - (0..r).map(|t| lu[r * m + t] * lu[t * m + r]).sum::<f64>();
-    let amax = block.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    // (The block is finite: its largest entry as a lane max is the same.)
+    let amax = max_abs_finite(block, 0.0).0;
     if !(pivot.abs() > principal::RANK_TOL * amax) {
         return false;
     }
@@ -135,6 +145,7 @@ pub(super) fn form_block(op: &dyn LcpOperator, ws: &mut BasisWorkspace) {
         block_fresh,
         fresh_at,
         fresh,
+        block_runs,
         ..
     } = ws;
     // (Every entry of the block is written below: it is sized, not cleared.)
@@ -156,13 +167,26 @@ pub(super) fn form_block(op: &dyn LcpOperator, ws: &mut BasisWorkspace) {
     fresh_at.clear();
     fresh_at.extend((0..m).filter(|&a| block_pos[support[a]] == NOT_IN_BLOCK));
     block.resize(m * m, 0.0);
+    // The kept columns in runs consecutive in both blocks (an exchange
+    // adds or removes one index: at most two runs), each row's copied run
+    // by run.
+    block_runs.clear();
+    for (b, &j) in support.iter().enumerate() {
+        let p = block_pos[j];
+        if p == NOT_IN_BLOCK {
+            continue;
+        }
+        match block_runs.last_mut() {
+            Some((b0, p0, len)) if *b0 + *len == b && *p0 + *len == p => *len += 1,
+            _ => block_runs.push((b, p, 1)),
+        }
+    }
     for (a, &i) in support.iter().enumerate() {
         if block_pos[i] != NOT_IN_BLOCK {
             let row = &old[block_pos[i] * k..(block_pos[i] + 1) * k];
-            for (b, &j) in support.iter().enumerate() {
-                if block_pos[j] != NOT_IN_BLOCK {
-                    block[a * m + b] = row[block_pos[j]];
-                }
+            let out = &mut block[a * m..(a + 1) * m];
+            for &(b, p, len) in block_runs.iter() {
+                out[b..b + len].copy_from_slice(&row[p..p + len]);
             }
         }
     }

@@ -22,6 +22,9 @@ pub struct BasisWorkspace {
     pub(super) block_fresh: Vec<f64>,
     /// Scratch of [`form_block`](super::factors::form_block): the new indices' positions in the support, and the indices.
     pub(super) fresh_at: Vec<usize>,
+    /// Scratch of [`form_block`](super::factors::form_block): the runs of the new support whose columns
+    /// are consecutive in the block before (start in the new support, in the old, length).
+    pub(super) block_runs: Vec<(usize, usize, usize)>,
     pub(super) fresh: Vec<usize>,
     /// The indices of `β`, the rows a refinement step reads.
     pub(super) rows: Vec<usize>,
