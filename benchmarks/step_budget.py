@@ -51,9 +51,22 @@ def lcpsim_rows(steps: int, reps: int) -> list[tuple[str, float, float, float, f
             w.step()
         core = w._core
         n = steps if "stack" not in name else max(steps // 10, 50)
-        step = best(lambda k: [w.step() for _ in range(k)], n, reps)
-        step_fn = best(lambda k: [w.step().fn for _ in range(k)], n, reps)
-        core_step = best(lambda k: [core.step() for _ in range(k)], n, reps)
+        # Plain loops, as MuJoCo's below (each record let go at once).
+        def step_loop(k: int) -> None:
+            for _ in range(k):
+                w.step()
+
+        def step_fn_loop(k: int) -> None:
+            for _ in range(k):
+                w.step().fn
+
+        def core_loop(k: int) -> None:
+            for _ in range(k):
+                core.step()
+
+        step = best(step_loop, n, reps)
+        step_fn = best(step_fn_loop, n, reps)
+        core_step = best(core_loop, n, reps)
         run = best(lambda k: w.run(k), n, reps)
         rows.append((name, step, step_fn, core_step, run))
     return rows

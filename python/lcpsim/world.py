@@ -34,7 +34,7 @@ from numpy.typing import ArrayLike, NDArray
 from . import _core
 from ._json import jsonable
 from ._validate import real as _real, vec as _vec, velocities as _velocities
-from .lcp import _new_object, _set_attribute
+from .lcp import _new_object
 from .scale import parse_cone_scale
 from .stabilization import FIELDS as STABILIZATION_FIELDS, Stabilization, as_stabilization
 from .joints import JointsMixin
@@ -244,8 +244,10 @@ class StepRecord:
         # field is converted on its first access (``__getattr__``): a step from
         # Python would otherwise cost the conversion of ~25 arrays, many times
         # the step itself, whether they are read or not.
+        # (Written into the instance's own dict, not set as a new one: one
+        # dict and no frozen-dataclass ``__setattr__`` call.)
         rec = _new_object(cls)
-        _set_attribute(rec, "__dict__", {"_core": core})
+        rec.__dict__["_core"] = core
         return rec
 
     def __getattr__(self, name: str) -> Any:

@@ -38,9 +38,8 @@ pub(super) fn solve_fresh(op: &dyn LcpOperator, ws: &mut BasisWorkspace, entered
         old
     });
     ws.f.factored.clear();
-    // (New factors: how their refinement ends is not known yet.)
+    // (New factors: no inverse of them yet.)
     ws.f.inverse = None;
-    ws.last_step = None;
     ws.f.support.clear();
     ws.f.support.extend((0..n).filter(|&j| ws.mask[j]));
     let m = ws.f.support.len();

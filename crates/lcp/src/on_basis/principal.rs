@@ -103,43 +103,43 @@ fn solve_pivoted(a: &[f64], k: usize, rank: usize, y: &mut [f64]) {
     }
 }
 
-/// The length of a row of [`inverse`]'s `X`: `rank` up to a multiple of [`LANES`].
+/// The length of a column of [`inverse`]'s `X`: `rank` up to a power of
+/// two of at least [`LANES`] (a product over 12 rows compiled to lanes
+/// shuffled between registers; 16 do not).
 pub(crate) fn inverse_stride(rank: usize) -> usize {
-    rank.next_multiple_of(LANES)
+    rank.next_power_of_two().max(LANES)
 }
 
 /// The inverse `X = M_ββ⁻¹` of the factors of [`factor`], in pivot order
 /// (`x_t = Σ_s X_ts b_s` for `b_s`, `x_t` the entries of positions
-/// `order[s]`, `order[t]`), row after row into `inv`, each row
-/// [`inverse_stride`] entries long (zeros after column `rank`: a product
-/// then runs over whole lanes), formed by the same solves as [`solve`]'s
-/// (`col` is scratch). Returns `e` such that, in the standard
+/// `order[s]`, `order[t]`), column after column into `inv`, each column
+/// [`inverse_stride`] entries long (zeros after row `rank`: a product
+/// [`inverse_times`] then runs over whole lanes), formed by the same solves
+/// as [`solve`]'s (`col` is scratch). Returns `e` such that, in the standard
 /// model of rounding (Higham, *Accuracy and Stability of Numerical
 /// Algorithms*, ch. 8–9), `|fl(X b)_t − x̂_t| ≤ e·‖b‖∞` for every `b` and
 /// `t`, where `x̂` is [`solve`]'s answer: `e = 3 r (r + 2) ε κ ‖X‖∞` with
 /// `r` the rank and `κ = ‖L‖∞ ‖U‖∞ ‖X‖∞` (`x̂` and each column of `X` are
 /// within `2 (r + 1) ε κ` of their exact values, relative to `‖X‖∞ ‖b‖∞` and
-/// `‖X‖∞`; the product's own rounding is `r ε ‖X‖∞ ‖b‖∞`). Infinite when
-/// `r ε κ` is not below 1e-6 (a block that ill-conditioned gets no bound)
-/// or an entry is not finite.
+/// `‖X‖∞`; the product's own rounding, in any order of its sums, is
+/// `r ε ‖X‖∞ ‖b‖∞`). Infinite when `r ε κ` is not below 1e-6 (a block that
+/// ill-conditioned gets no bound) or an entry is not finite.
 pub(crate) fn inverse(a: &[f64], k: usize, rank: usize, inv: &mut Vec<f64>, col: &mut Vec<f64>) -> f64 {
     let stride = inverse_stride(rank);
     inv.clear();
     inv.resize(rank * stride, 0.0);
-    for s in 0..rank {
+    for (s, x) in inv.chunks_exact_mut(stride).enumerate() {
         col.clear();
         col.resize(rank, 0.0);
         col[s] = 1.0;
         solve_pivoted(a, k, rank, col);
-        for (t, &v) in col.iter().enumerate() {
-            inv[t * stride + s] = v;
-        }
+        x[..rank].copy_from_slice(col);
     }
     let max_row_sum = |row: &dyn Fn(usize) -> f64| (0..rank).fold(0.0f64, |m, t| m.max(row(t)));
     let abs_sum = |t: usize, cols: std::ops::Range<usize>| cols.map(|j| a[t * k + j].abs()).sum::<f64>();
     let l = max_row_sum(&|t| 1.0 + abs_sum(t, 0..t));
     let u = max_row_sum(&|t| abs_sum(t, t..rank));
-    let x = max_row_sum(&|t| inv[t * stride..(t + 1) * stride].iter().map(|v| v.abs()).sum());
+    let x = max_row_sum(&|t| (0..rank).map(|s| inv[s * stride + t].abs()).sum());
     let (r, eps) = (rank as f64, f64::EPSILON);
     let kappa = l * u * x;
     if r * eps * kappa < 1e-6 && inv.iter().all(|v| v.is_finite()) {
@@ -147,6 +147,44 @@ pub(crate) fn inverse(a: &[f64], k: usize, rank: usize, inv: &mut Vec<f64>, col:
     } else {
         f64::INFINITY
     }
+}
+
+/// The largest rank [`inverse_times`] takes.
+pub(crate) const INVERSE_TIMES_MAX: usize = 16;
+
+/// `y = X b` for the `X` of [`inverse`] (rank `r` ≤ [`INVERSE_TIMES_MAX`],
+/// `b` and `y` in pivot order, `r` entries each): column by column over
+/// whole lanes, even and odd columns summed apart (two chains of adds, not
+/// one); returns `‖y‖∞`.
+pub(crate) fn inverse_times(inv: &[f64], r: usize, b: &[f64], y: &mut Vec<f64>) -> f64 {
+    match inverse_stride(r) {
+        4 => times::<4>(inv, r, b, y),
+        8 => times::<8>(inv, r, b, y),
+        16 => times::<16>(inv, r, b, y),
+        _ => panic!("inverse_times: rank {r} above {INVERSE_TIMES_MAX}"),
+    }
+}
+
+/// [`inverse_times`] with columns `S` entries long.
+fn times<const S: usize>(inv: &[f64], r: usize, b: &[f64], y: &mut Vec<f64>) -> f64 {
+    let (mut even, mut odd) = ([0.0f64; S], [0.0f64; S]);
+    let (cols, b) = (inv[..r * S].as_chunks::<S>().0, &b[..r]);
+    for p in 0..r / 2 {
+        let (c0, c1, b0, b1) = (&cols[2 * p], &cols[2 * p + 1], b[2 * p], b[2 * p + 1]);
+        for t in 0..S {
+            even[t] += b0 * c0[t];
+            odd[t] += b1 * c1[t];
+        }
+    }
+    if r % 2 == 1 {
+        let (c, v) = (&cols[r - 1], b[r - 1]);
+        for t in 0..S {
+            even[t] += v * c[t];
+        }
+    }
+    y.clear();
+    y.extend((0..r).map(|t| even[t] + odd[t]));
+    y.iter().fold(0.0f64, |m, v| m.max(v.abs()))
 }
 
 #[cfg(test)]
@@ -219,7 +257,7 @@ mod tests {
                     solve(&a, n, &order, rank, &mut x, &mut Vec::new());
                     let bmax = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
                     for t in 0..n {
-                        let xb: f64 = (0..n).map(|s| inv[t * inverse_stride(n) + s] * b[order[s]]).sum();
+                        let xb: f64 = (0..n).map(|s| inv[s * inverse_stride(n) + t] * b[order[s]]).sum();
                         let gap = (xb - x[order[t]]).abs();
                         assert!(gap <= e * bmax, "n {n} spread {spread}: {gap:e} > {:e}", e * bmax);
                     }

@@ -9,7 +9,7 @@
 
 use super::principal;
 use super::workspace::BasisWorkspace;
-use crate::kernels::{max_abs_finite, LANES};
+use crate::kernels::max_abs_finite;
 use crate::operator::LcpOperator;
 
 /// Refinement steps with a kept factorization before a fresh one is made.
@@ -26,12 +26,17 @@ pub(super) const REFINE_STOP: f64 = 1e-15;
 pub(super) const REFINE_STALL: f64 = 1e-13;
 
 /// The largest block whose kept factors get an inverse
-/// ([`negligible_by_inverse`]): a single body's (a box on a plane, 12
+/// ([`refine_by_inverse`]): a single body's (a box on a plane, 12
 /// indices at most). Forming it costs `k` solves; a resting 10-box stack's
 /// kept factors (30–62 indices) served ~20 calls each, and with inverses at
 /// every size its run (`step_budget run stack 2000`) took 957M instructions
 /// instead of 872M (93 inverses formed, 82M).
-pub(super) const INVERSE_MAX_RANK: usize = 16;
+pub(super) const INVERSE_MAX_RANK: usize = principal::INVERSE_TIMES_MAX;
+
+/// [`refine_by_inverse`] reads `w` on `β`'s rows alone only when `n` is
+/// above this many times their count (body space: the sliding cube's
+/// `w_rows` on 11 rows of 40 took 1.9k instructions, `w_of` 1.7k).
+const ROWS_PER_PRODUCT: usize = 4;
 
 /// `z` on `β` of the kept factorization, for the new `op`: the old factors
 /// precondition iterative refinement against the new block (each step one
@@ -39,40 +44,31 @@ pub(super) const INVERSE_MAX_RANK: usize = 16;
 /// correction is negligible (applied, and `w` formed for it, only if
 /// `polish`: see [`BasisTolerances::polish`](super::BasisTolerances::polish)); `false` (factor afresh) otherwise.
 ///
-/// Without `polish` the last correction only decides: from the step the
-/// last call ended at on, it is first judged by the kept inverse
-/// ([`negligible_by_inverse`]), which avoids its triangular solves whenever
-/// it can tell. A cube sliding on a slope ends at its first step while its
-/// speed is low, at its second later on (`q` grows with the speed, and its
-/// round-off with it).
+/// Without `polish`, a block of at most [`INVERSE_MAX_RANK`] indices whose
+/// kept factors have an inverse with a finite error bound is refined by
+/// products with that inverse alone ([`refine_by_inverse`]).
 pub(super) fn refine_on_factor(op: &dyn LcpOperator, ws: &mut BasisWorkspace, polish: bool) -> bool {
     if ws.f.factored.len() != op.n() {
         return false;
     }
+    if !polish && (1..=INVERSE_MAX_RANK).contains(&ws.f.rank) {
+        let (m, r) = (ws.f.support.len(), ws.f.rank);
+        let f = &mut ws.f;
+        let err = *f.inverse.get_or_insert_with(|| principal::inverse(&f.lu, m, r, &mut f.inv, &mut ws.y));
+        if err.is_finite() {
+            return refine_by_inverse(op, ws, err);
+        }
+    }
     first_solve(op, ws);
     let mut previous = f64::INFINITY;
-    let last = if polish { None } else { ws.last_step.take() };
     // The first step reads w on β alone (its correction is seldom the last,
     // whose w the answer keeps): on a resting 10-box stack, 30 rows of 400.
-    // Where the last call ended at its first step, w is formed whole at
-    // once: the same values, and the answer's.
-    let whole = last == Some(0);
-    if whole {
-        op.w_of(&ws.z, &mut ws.w);
-    } else {
-        ws.rows.clear();
-        ws.rows.extend(ws.f.order[..ws.f.rank].iter().map(|&p| ws.f.support[p]));
-        op.w_rows(&ws.z, &ws.rows, &mut ws.w);
-    }
+    ws.rows.clear();
+    ws.rows.extend(ws.f.order[..ws.f.rank].iter().map(|&p| ws.f.support[p]));
+    op.w_rows(&ws.z, &ws.rows, &mut ws.w);
     for step in 0..=REFINE_STEPS {
         if step > 0 {
             op.w_of(&ws.z, &mut ws.w);
-        }
-        // (At step 0 only when `w` is whole: `last` is then 0.)
-        let small = (1..=INVERSE_MAX_RANK).contains(&ws.f.rank);
-        if small && last.is_some_and(|l| step >= l) && negligible_by_inverse(ws) {
-            ws.last_step = Some(step);
-            return true;
         }
         let (dmax, zmax) = correction(ws);
         if !(dmax.is_finite() && zmax.is_finite()) {
@@ -87,12 +83,9 @@ pub(super) fn refine_on_factor(op: &dyn LcpOperator, ws: &mut BasisWorkspace, po
         let negligible = converged || stalled;
         previous = dmax;
         if negligible && !polish {
-            if step == 0 && !whole {
+            if step == 0 {
                 op.w_after_rows(&ws.z, &mut ws.w);
             }
-            // (A stalled block, a resting stack's, would not be judged
-            // negligible by the inverse either: it is not formed for it.)
-            ws.last_step = converged.then_some(step);
             return true;
         }
         if step == REFINE_STEPS {
@@ -107,41 +100,72 @@ pub(super) fn refine_on_factor(op: &dyn LcpOperator, ws: &mut BasisWorkspace, po
     false
 }
 
-/// Whether the refinement step's correction `M_ββ⁻¹ (−w_β)` would be
-/// negligible, judged by a product with the kept factors' inverse (formed
-/// once per factorization) instead of two triangular solves: `true` only
-/// when that product plus its bound on the distance to the solves' answer
-/// ([`principal::inverse`]) is within [`REFINE_STOP`], so that the solves'
-/// correction would be negligible too (the step then ends with the same `z`
-/// and `w`: a correction judged negligible is not applied); `false` when that
-/// is not known (the solves decide). The solves' rows wait on one another
-/// (a sliding cube's 11 × 11 block: a fifth of its step in wall time), the
-/// product's do not.
-fn negligible_by_inverse(ws: &mut BasisWorkspace) -> bool {
-    let (m, r) = (ws.f.support.len(), ws.f.rank);
-    let BasisWorkspace { f, y: b, w, z, .. } = ws;
-    let err = *f.inverse.get_or_insert_with(|| principal::inverse(&f.lu, m, r, &mut f.inv, b));
-    let beta = &f.order[..r];
-    b.clear();
-    b.extend(beta.iter().map(|&p| -w[f.support[p]]));
-    // (A `w` not finite is left to the solves, whose verdict then stands.)
-    let (bmax, finite) = max_abs_finite(b, 0.0);
-    // X b row by row over whole lanes (the rows' padding meets b's).
-    let stride = principal::inverse_stride(r);
-    b.resize(stride, 0.0);
-    let lanes = b.as_chunks::<LANES>().0;
-    let dmax = f.inv.chunks_exact(stride).fold(0.0f64, |d, row| {
-        let mut acc = [0.0; LANES];
-        for (c, v) in row.as_chunks::<LANES>().0.iter().zip(lanes) {
-            for k in 0..LANES {
-                acc[k] += c[k] * v[k];
-            }
+/// [`refine_on_factor`] on a small block by its kept factors' inverse `X`
+/// (formed once per factorization, [`principal::inverse`], `err` its bound):
+/// `z_β = X (−q_β)`, then corrections `X (−w_β)` until one is negligible —
+/// the product plus `err·‖w_β‖∞`, its distance to what the triangular solves
+/// would give, within [`REFINE_STOP`] of `‖z_β‖∞` (or stalled below
+/// [`REFINE_STALL`]); that last correction only decides (`z` and `w` are the
+/// ones before it). The solves' rows wait on one another (each backward
+/// row on a division), the product's rows do not: on a sliding cube (an
+/// 11 × 11 block) two triangular solves a step were a fifth of its step in
+/// wall time. The answer is the same to round-off, not bit for bit, and is
+/// judged by the same rule.
+fn refine_by_inverse(op: &dyn LcpOperator, ws: &mut BasisWorkspace, err: f64) -> bool {
+    let (n, r) = (op.n(), ws.f.rank);
+    ws.rows.clear();
+    ws.rows.extend(ws.f.order[..r].iter().map(|&p| ws.f.support[p]));
+    let q = op.q();
+    ws.x.clear();
+    ws.x.extend(ws.rows.iter().map(|&i| -q[i]));
+    ws.z.clear();
+    ws.z.resize(n, 0.0);
+    ws.w.resize(n, 0.0);
+    let BasisWorkspace { f, rows, x, y, .. } = ws;
+    principal::inverse_times(&f.inv, r, x, y);
+    for (&i, &v) in rows.iter().zip(y.iter()) {
+        ws.z[i] = v;
+    }
+    // The first step reads w on β alone (its correction is seldom the last)
+    // where β is a small part of the rows: in body space a row costs about
+    // three indices' share of the whole product (a sliding cube's 11 rows of
+    // 40 cost more than the product).
+    let by_rows = ROWS_PER_PRODUCT * r < n;
+    if by_rows {
+        op.w_rows(&ws.z, &ws.rows, &mut ws.w);
+    }
+    let mut previous = f64::INFINITY;
+    for step in 0..=REFINE_STEPS {
+        if step > 0 || !by_rows {
+            op.w_of(&ws.z, &mut ws.w);
         }
-        d.max(((acc[0] + acc[1]) + (acc[2] + acc[3])).abs())
-    });
-    let zmax = beta.iter().fold(0.0f64, |a, &p| a.max(z[f.support[p]].abs()));
-    let reach = dmax + err * bmax;
-    finite && reach.is_finite() && zmax.is_finite() && reach <= REFINE_STOP * zmax
+        let BasisWorkspace { rows, x, y, z, w, f, .. } = ws;
+        x.clear();
+        x.extend(rows.iter().map(|&i| -w[i]));
+        let (bmax, finite) = max_abs_finite(x, 0.0);
+        let dmax = principal::inverse_times(&f.inv, r, x, y);
+        let zmax = rows.iter().fold(0.0f64, |a, &i| a.max(z[i].abs()));
+        let reach = dmax + err * bmax;
+        if !(finite && reach.is_finite() && zmax.is_finite()) {
+            return false;
+        }
+        let converged = reach <= REFINE_STOP * zmax;
+        let stalled = reach <= REFINE_STALL * zmax && reach > 0.5 * previous;
+        previous = reach;
+        if converged || stalled {
+            if step == 0 && by_rows {
+                op.w_after_rows(&ws.z, &mut ws.w);
+            }
+            return true;
+        }
+        if step == REFINE_STEPS {
+            break;
+        }
+        for (&i, &d) in rows.iter().zip(y.iter()) {
+            z[i] += d;
+        }
+    }
+    false
 }
 
 /// `z_β = M_ββ⁻¹ (−q_β)` with the factors in `ws`, `z = 0` elsewhere (`w`

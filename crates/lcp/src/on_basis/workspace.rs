@@ -59,10 +59,6 @@ pub struct BasisWorkspace {
     pub(super) moved: Vec<(usize, f64)>,
     /// One row of `M` (see [`clipped_cause`](super::rounds::clipped_cause); the acceptance rule's full reads).
     pub(super) row: Vec<f64>,
-    /// The step at which the last refinement on the kept factorization
-    /// without polish ended on a correction within `REFINE_STOP`
-    /// ([`refine_on_factor`](super::refine::refine_on_factor)); `None` when it did not.
-    pub(super) last_step: Option<usize>,
     /// Calls in a row that found no answer (the caller pivoted).
     pub(super) failures: usize,
     /// Vectors of earlier answers handed back ([`BasisWorkspace::recycle`]):

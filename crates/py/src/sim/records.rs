@@ -64,16 +64,101 @@ const NO_CONTACT: &str = "no_contact";
 /// Its fields become Python values only when read (`field`, which
 /// `lcpsim.world.StepRecord` calls on first access of an attribute): a step
 /// from Python then costs the step and one copy of the record, not the
-/// conversion of ~25 numpy arrays it may never read.
+/// conversion of ~25 numpy arrays it may never read. The copy is made into a
+/// record dropped earlier ([`RecordPool`]): a loop of `World.step()` that lets
+/// each record go allocates none of its vectors.
 #[pyclass(module = "lcpsim._core", name = "StepRecord", frozen)]
 pub struct PyStepRecord {
     rec: StepRecord,
+    /// Where the record goes back when this object is dropped.
+    pool: Option<RecordPool>,
 }
 
 impl PyStepRecord {
     pub(super) fn new(rec: StepRecord) -> Self {
-        PyStepRecord { rec }
+        PyStepRecord { rec, pool: None }
     }
+
+    /// A copy of `src` in a record taken from `pool` (its buffers reused),
+    /// given back to `pool` when dropped.
+    pub(super) fn pooled(src: &StepRecord, pool: &RecordPool) -> Self {
+        let mut rec = pool.take();
+        copy_record(&mut rec, src);
+        PyStepRecord { rec, pool: Some(pool.clone()) }
+    }
+}
+
+impl Drop for PyStepRecord {
+    fn drop(&mut self) {
+        if let Some(pool) = &self.pool {
+            pool.give(std::mem::take(&mut self.rec));
+        }
+    }
+}
+
+/// Records of dropped [`PyStepRecord`]s, at most [`RecordPool::MAX`], for
+/// the next steps' copies (each of the 7 vectors of a record with contacts
+/// was an allocation and a free a step).
+#[derive(Clone, Default)]
+pub struct RecordPool(std::sync::Arc<std::sync::Mutex<Vec<StepRecord>>>);
+
+impl RecordPool {
+    const MAX: usize = 4;
+
+    fn take(&self) -> StepRecord {
+        self.0.lock().ok().and_then(|mut v| v.pop()).unwrap_or_default()
+    }
+
+    fn give(&self, rec: StepRecord) {
+        if let Ok(mut v) = self.0.lock() {
+            if v.len() < Self::MAX {
+                v.push(rec);
+            }
+        }
+    }
+}
+
+/// `dst` made equal to `src`, reusing `dst`'s vectors (every field is named:
+/// a field added to `StepRecord` fails to compile here until it is copied).
+fn copy_record(dst: &mut StepRecord, src: &StepRecord) {
+    let StepRecord {
+        step,
+        time,
+        dt,
+        contacts,
+        friction_dirs,
+        lcp_size,
+        scale,
+        status,
+        pivots,
+        residuals,
+        solver_residuals,
+        zeroed,
+        energy,
+        z,
+        w,
+        basis,
+        islands,
+        joints,
+        island_bodies,
+        island_contacts,
+        parts,
+        retakes,
+    } = src;
+    (dst.step, dst.time, dst.dt, dst.friction_dirs, dst.lcp_size, dst.scale) =
+        (*step, *time, *dt, *friction_dirs, *lcp_size, *scale);
+    (dst.status, dst.pivots, dst.residuals, dst.solver_residuals, dst.zeroed, dst.parts) =
+        (*status, *pivots, *residuals, *solver_residuals, *zeroed, *parts);
+    dst.energy.clone_from(energy);
+    dst.contacts.clone_from(contacts);
+    dst.z.clone_from(z);
+    dst.w.clone_from(w);
+    dst.basis.clone_from(basis);
+    dst.islands.clone_from(islands);
+    dst.joints.clone_from(joints);
+    dst.island_bodies.clone_from(island_bodies);
+    dst.island_contacts.clone_from(island_contacts);
+    dst.retakes.clone_from(retakes);
 }
 
 #[pymethods]

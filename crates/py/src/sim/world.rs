@@ -4,7 +4,7 @@
 use super::capture::CaptureBuffer;
 use super::convert::{self, cone_scale, mat3, opt_vec3, or_default, quat, real, sim_error, vec3};
 use super::params::{params_dict, world_params};
-use super::records::{arr3, shaped, trajectory_to_dict, PyStepRecord};
+use super::records::{arr3, shaped, trajectory_to_dict, PyStepRecord, RecordPool};
 use crate::errors::{panic_error, value_error};
 use crate::method::method_from_py;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2};
@@ -31,11 +31,13 @@ pub struct World {
     /// The buffer the world's sink fills, while capturing (and after, until drained).
     capture: Option<CaptureBuffer>,
     capturing: bool,
+    /// Records of dropped `World.step()` results, reused by the next steps.
+    records: RecordPool,
 }
 
 impl World {
     pub fn wrap(world: sim::World) -> World {
-        World { world: Mutex::new(world), capture: None, capturing: false }
+        World { world: Mutex::new(world), capture: None, capturing: false, records: RecordPool::default() }
     }
 
     fn inner(&mut self) -> &mut sim::World {
@@ -699,8 +701,9 @@ impl World {
 
     /// One step; returns its record (fields converted when read).
     fn step(&mut self) -> PyResult<PyStepRecord> {
+        let pool = self.records.clone();
         let w = self.inner();
-        guarded(|| w.step().cloned()).map(PyStepRecord::new)
+        guarded(|| w.step().map(|r| PyStepRecord::pooled(r, &pool)))
     }
 
     /// The record of the last step.
