@@ -81,7 +81,8 @@ pub fn solve_on_basis_ruled(
     }
     // Violations far below the acceptance bound are exchanged too, so a
     // slowly drifting vertex is left before its values reach the bound.
-    let repair = REPAIR_FRACTION * tol.tight * (1.0 + check::norm_inf(op.q()));
+    let q_norm = check::norm_inf(op.q());
+    let repair = REPAIR_FRACTION * tol.tight * (1.0 + q_norm);
     ws.mask.clear();
     ws.mask.extend_from_slice(basis);
     // After calls in a row that found nothing, the basis comes from the
@@ -90,7 +91,7 @@ pub fn solve_on_basis_ruled(
     // steps in a row, each ending in the pivoting anyway).
     let most = if tol.more_rounds { repair_rounds(basis) } else { REPAIR_ROUNDS };
     let rounds = if ws.failures.is_power_of_two() || ws.failures == 0 { most } else { 0 };
-    let found = solve_rounds(op, basis, tol, also, ws, rounds, repair);
+    let found = solve_rounds(op, basis, tol, also, ws, rounds, (repair, q_norm));
     ws.failures = if found.is_some() { 0 } else { ws.failures.saturating_add(1) };
     found
 }

@@ -9,7 +9,7 @@
 
 use super::principal;
 use super::workspace::BasisWorkspace;
-use crate::kernels::max_abs_finite;
+use crate::kernels::{max_abs_finite, pick_max};
 use crate::operator::LcpOperator;
 
 /// Refinement steps with a kept factorization before a fresh one is made.
@@ -144,7 +144,7 @@ fn refine_by_inverse(op: &dyn LcpOperator, ws: &mut BasisWorkspace, err: f64) ->
         x.extend(rows.iter().map(|&i| -w[i]));
         let (bmax, finite) = max_abs_finite(x, 0.0);
         let dmax = principal::inverse_times(&f.inv, r, x, y);
-        let zmax = rows.iter().fold(0.0f64, |a, &i| a.max(z[i].abs()));
+        let zmax = rows.iter().fold(0.0f64, |a, &i| pick_max(a, z[i].abs()));
         let reach = dmax + err * bmax;
         if !(finite && reach.is_finite() && zmax.is_finite()) {
             return false;

@@ -27,7 +27,7 @@ use super::workspace::BasisWorkspace;
 use crate::operator::LcpOperator;
 
 /// The rounds of [`solve_on_basis_ruled`](super::solve_on_basis_ruled) (`rounds` exchanges at most) from
-/// `ws.mask`; `repair`: the violation above which an index is exchanged.
+/// `ws.mask`; `repair`: the violation above which an index is exchanged, and `op`'s `‖q‖∞`.
 pub(super) fn solve_rounds(
     op: &dyn LcpOperator,
     basis: &[bool],
@@ -35,11 +35,11 @@ pub(super) fn solve_rounds(
     also: Option<Also<'_>>,
     ws: &mut BasisWorkspace,
     rounds: usize,
-    repair: f64,
+    (repair, q_norm): (f64, f64),
 ) -> Option<BasisAnswer> {
     // The operator is this call's: no block of an earlier call is reused.
     ws.blocked = false;
-    ws.q_norm = super::check::norm_inf(op.q());
+    ws.q_norm = q_norm;
     // The index the last exchange made basic.
     let mut entered = None;
     // The index the last exchange toggled.

@@ -60,11 +60,11 @@ fn solve_into(
     spare: &mut PhysicalZw,
 ) -> Option<(Solution, PhysicalZw)> {
     let scaled = BodySpaceLcp::new(lcp);
-    let physical = BodySpaceLcp::at_scale(lcp, 1.0);
+    // At scale 1 the physical LCP is the one solved: one check does (and
+    // no second operator is made).
+    let physical = (lcp.scale() != 1.0).then(|| BodySpaceLcp::at_scale(lcp, 1.0));
     let to_physical = |z: &[f64], out: &mut Vec<f64>| lcp.unscale_z(z, out);
-    // At scale 1 the physical LCP is the one solved: one check does.
-    let also =
-        (lcp.scale() != 1.0).then_some((&physical as &dyn LcpOperator, &to_physical as &dyn Fn(&[f64], &mut Vec<f64>)));
+    let also = physical.as_ref().map(|p| (p as &dyn LcpOperator, &to_physical as &dyn Fn(&[f64], &mut Vec<f64>)));
     // Exchanges within the bound and the loose last resort for every coupled
     // island. (They were once kept from islands of two dynamic bodies: before
     // the body-space check, a 1e8 kg box sliding on a 1 kg one met a step no
