@@ -182,9 +182,11 @@ fn times<const S: usize>(inv: &[f64], r: usize, b: &[f64], y: &mut Vec<f64>) -> 
             even[t] += v * c[t];
         }
     }
+    // (Rows from `r` on are sums of the columns' zero padding: 0.)
+    let sum: [f64; S] = std::array::from_fn(|t| even[t] + odd[t]);
     y.clear();
-    y.extend((0..r).map(|t| even[t] + odd[t]));
-    y.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+    y.extend_from_slice(&sum[..r]);
+    sum.iter().fold(0.0f64, |m, v| crate::kernels::pick_max(m, v.abs()))
 }
 
 #[cfg(test)]
