@@ -7,7 +7,8 @@ Scenes: a cube sliding down 30° (μ 0.5), a cube resting on 30° (μ 0.7), a
 resting 10-box stack (lcpsim only). MuJoCo's cube is the one of
 ``benchmarks/peers/sim_peers.py`` (the same slope, size, mass, μ, dt 1 ms,
 elliptic cone). Each figure is the minimum over repetitions of the mean over
-a batch of steps (the machine is shared). The Rust side stage by stage:
+a batch of steps (the machine is shared), every batch a plain ``for`` loop of
+calls (each record let go at once), lcpsim's as MuJoCo's. The Rust side stage by stage:
 ``crates/sim/examples/step_budget.rs``.
 
     python benchmarks/step_budget.py [STEPS] [REPS]
