@@ -76,20 +76,36 @@ fn perturbed(lcp: &Lcp, rel: f64) -> Lcp {
 
 #[test]
 fn the_kept_factorization_refines_to_answers_that_solve_the_new_problem() {
+    refines_on_kept_factors(true);
+}
+
+/// Without polish a small kept block (here 12 indices at most) is refined by
+/// products with its factors' inverse instead of triangular solves: the
+/// same answers, to the same bounds.
+#[test]
+fn a_small_kept_block_refined_by_its_inverse_solves_the_new_problem() {
+    refines_on_kept_factors(false);
+}
+
+fn refines_on_kept_factors(polish: bool) {
+    use lcp::on_basis::{solve_on_basis_ruled, BasisTolerances};
+    let tol = BasisTolerances { accept_tol: 1e-9, tight: 1e-9, loose: false, polish, more_rounds: true };
+    // (With polish this is `solve_on_basis` at 1e-9.)
+    let solve = |lcp: &Lcp, basis: &[bool], ws: &mut BasisWorkspace| solve_on_basis_ruled(lcp, basis, tol, None, ws);
     let mut ws = BasisWorkspace::default();
     let (mut reused, mut fresh) = (0, 0);
     for seed in 0..20 {
         let lcp = p_matrix_lcp(12, seed);
         let sol = lemke::solve(&lcp, &LemkeOptions::default());
-        let first = solve_on_basis(&lcp, sol.basis.as_deref().unwrap(), 1e-9, None, &mut ws).unwrap();
+        let first = solve(&lcp, sol.basis.as_deref().unwrap(), &mut ws).unwrap();
         assert!(!first.reused);
         // The next problem is a little different (a simulator's next step), or
         // far (the old factors cannot serve): either way the answer meets the
         // bound on the new problem, and agrees with Lemke's (P-matrix: unique).
         for rel in [1e-10, 1e-6, 0.3] {
             let next = perturbed(&lcp, rel);
-            solve_on_basis(&lcp, sol.basis.as_deref().unwrap(), 1e-9, None, &mut ws).unwrap();
-            let Some(ans) = solve_on_basis(&next, first.solution.basis.as_deref().unwrap(), 1e-9, None, &mut ws) else {
+            solve(&lcp, sol.basis.as_deref().unwrap(), &mut ws).unwrap();
+            let Some(ans) = solve(&next, first.solution.basis.as_deref().unwrap(), &mut ws) else {
                 continue;
             };
             let (z, w) = (&ans.solution.z, &ans.solution.w);
