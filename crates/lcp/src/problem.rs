@@ -74,6 +74,22 @@ impl Lcp {
         Ok(Lcp { n, m, q })
     }
 
+    /// The principal sub-LCP on the indices `keep` (each below `n`, in the
+    /// order given): `M[keep, keep]`, `q[keep]`, gathered row by row. Its
+    /// entries are this LCP's, already checked finite; `Err(Empty)` when
+    /// `keep` is empty.
+    pub fn principal(&self, keep: &[usize]) -> Result<Self, LcpError> {
+        if keep.is_empty() {
+            return Err(LcpError::Empty);
+        }
+        let mut m = Vec::with_capacity(keep.len() * keep.len());
+        for &i in keep {
+            let row = self.row(i);
+            m.extend(keep.iter().map(|&j| row[j]));
+        }
+        Ok(Lcp::from_parts_unchecked(m, keep.iter().map(|&i| self.q[i]).collect()))
+    }
+
     /// Builds an LCP whose validity the caller guarantees (internal use: a
     /// power-of-two rescaling of a validated problem).
     pub(crate) fn from_parts_unchecked(m: Vec<f64>, q: Vec<f64>) -> Self {

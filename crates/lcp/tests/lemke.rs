@@ -273,3 +273,31 @@ proptest! {
         assert_solves(&lcp, &s.z, 1e-10);
     }
 }
+
+/// `Lcp::principal` keeps `M[keep, keep]` and `q[keep]` in the order given,
+/// and its warm-started answer solves that sub-LCP (the loaded-friction
+/// sub-LCPs of a jointed island are built this way).
+#[test]
+fn a_principal_sub_lcp_holds_the_kept_rows_and_columns() {
+    let n = 7;
+    let lcp = Lcp::from_fn(
+        n,
+        |i, j| if i == j { 4.0 + i as f64 } else { ((i * 3 + j * 5) % 7) as f64 / 7.0 },
+        (0..n).map(|i| i as f64 - 3.5).collect(),
+    )
+    .unwrap();
+    let keep = [5, 0, 3, 6];
+    let sub = lcp.principal(&keep).unwrap();
+    for (a, &i) in keep.iter().enumerate() {
+        assert_eq!(sub.q()[a], lcp.q()[i]);
+        for (b, &j) in keep.iter().enumerate() {
+            assert_eq!(sub.at(a, b), lcp.at(i, j));
+        }
+    }
+    assert!(lcp.principal(&[]).is_err());
+    let cold = lemke(&sub);
+    assert!(cold.ok());
+    let warm = lcp::lemke::solve_warm(&sub, &lex(), cold.basis.as_deref());
+    assert!(warm.ok() && warm.pivots == 0, "{:?} after {} pivots", warm.status, warm.pivots);
+    assert_solves(&sub, &warm.z, 1e-12);
+}

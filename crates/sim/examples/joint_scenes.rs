@@ -5,8 +5,11 @@
 //!
 //! ```text
 //! cargo run --release -p lcpsim-sim --example joint_scenes -- gripper [STEPS]
-//! cargo run --release -p lcpsim-sim --example joint_scenes -- chain [STEPS]
+//! cargo run --release -p lcpsim-sim --example joint_scenes -- chain [STEPS] [WINDOW]
 //! ```
+//!
+//! With `WINDOW`, one line per `WINDOW` steps: the time, the jointed
+//! islands' mean `n`, the pivots and the steps each stage answered.
 
 use sim::math::{Quat, Vec3};
 use sim::{BodyDesc, JointDesc, JointId, JointKind, World, WorldParams};
@@ -69,6 +72,8 @@ fn main() {
         other => panic!("unknown scene {other:?}: gripper or chain"),
     };
     let steps = args.get(2).map_or(steps, |s| s.parse().expect("STEPS"));
+    let window: usize = args.get(3).map_or(0, |s| s.parse().expect("WINDOW"));
+    let mut win = Window::default();
     let (mut pivots, mut failed, mut worst) = (0usize, 0usize, 0.0f64);
     let mut stages: BTreeMap<String, usize> = BTreeMap::new();
     let mut time = 0.0;
@@ -82,8 +87,15 @@ fn main() {
         }
         let t0 = Instant::now();
         let rec = w.step().unwrap();
-        time += t0.elapsed().as_secs_f64();
+        let dt = t0.elapsed().as_secs_f64();
+        time += dt;
         pivots += rec.pivots;
+        if window > 0 {
+            win.add(&rec, dt);
+            if (s + 1) % window == 0 {
+                win.print(s + 1 - window..s + 1);
+            }
+        }
         failed += usize::from(!rec.ok());
         for isl in &rec.islands {
             *stages.entry(isl.stage.map_or("none".into(), |s| format!("{s:?}"))).or_default() += 1;
@@ -100,4 +112,43 @@ fn main() {
     println!("  island stages: {stages:?}");
     let ids: Vec<_> = w.bodies().iter().map(|b| b.position().z).collect();
     println!("  heights: {:?}", &ids[..ids.len().min(4)]);
+}
+
+/// One window of steps: time, pivots, summed `n` and count of the islands, and the stages that answered.
+#[derive(Default)]
+struct Window {
+    time: f64,
+    pivots: usize,
+    n: usize,
+    islands: usize,
+    stages: BTreeMap<String, (usize, usize)>,
+}
+
+impl Window {
+    fn add(&mut self, rec: &sim::StepRecord, dt: f64) {
+        self.time += dt;
+        self.pivots += rec.pivots;
+        for isl in &rec.islands {
+            self.n += isl.lcp_size;
+            self.islands += 1;
+            let e = self.stages.entry(isl.stage.map_or("none".into(), |s| s.as_str().to_string())).or_default();
+            (e.0, e.1) = (e.0 + 1, e.1 + isl.pivots);
+        }
+    }
+
+    /// Prints the window's line (stages as `name islands/pivots`) and starts the next.
+    fn print(&mut self, steps: std::ops::Range<usize>) {
+        let k = steps.len() as f64;
+        let stages: Vec<String> = self.stages.iter().map(|(s, (c, p))| format!("{s} {c}/{p}")).collect();
+        println!(
+            "  {:>5}-{:<5} {:>8.1} µs/step  n {:>4.0}  pivots/step {:>6.1}  {}",
+            steps.start,
+            steps.end,
+            1e6 * self.time / k,
+            self.n as f64 / self.islands.max(1) as f64,
+            self.pivots as f64 / k,
+            stages.join(", ")
+        );
+        *self = Window::default();
+    }
 }

@@ -45,8 +45,7 @@ pub(super) fn solve(
             return None;
         }
         let keep = kept(lay, &active);
-        let m: Vec<f64> = keep.iter().flat_map(|&i| keep.iter().map(move |&j| lcp.at(i, j))).collect();
-        let sub = Lcp::new(m, keep.iter().map(|&i| lcp.q()[i]).collect()).ok()?;
+        let sub = lcp.principal(&keep).ok()?;
         let sub_warm: Option<Vec<bool>> = basis.as_ref().map(|b| keep.iter().map(|&i| b[i]).collect());
         let sol = solver(&sub, sub_warm.as_deref());
         pivots += sol.pivots;
