@@ -91,7 +91,7 @@ fn main() {
         time += dt;
         pivots += rec.pivots;
         if window > 0 {
-            win.add(&rec, dt);
+            win.add(rec, dt);
             if (s + 1) % window == 0 {
                 win.print(s + 1 - window..s + 1);
             }
