@@ -198,7 +198,9 @@ fn chain(n: usize, coupled: bool, warmed: bool, rungs: bool, stood: bool) -> [(b
     let small = n < STRUCTURED_MIN_N;
     // With the structured Lemke behind it, the previous basis in body space
     // from PREVIOUS_BASIS_MAX_N up only where it stood on the last step.
-    let previous = small && warmed && (!rungs || n < PREVIOUS_BASIS_MAX_N || stood);
+    // From STOOD_MAX_N up not even there: its dense factorization costs more
+    // than the structured stage's kept factors.
+    let previous = small && warmed && (!rungs || n < PREVIOUS_BASIS_MAX_N || (stood && n < STOOD_MAX_N));
     [
         // A small island with a previous basis (a single body's too).
         (previous, SolveStage::PreviousBasis, previous_basis::attempt),
@@ -234,6 +236,19 @@ fn chain(n: usize, coupled: bool, warmed: bool, rungs: bool, stood: bool) -> [(b
 /// step, 100 islands of n = 400, went to the structured Lemke, 0.93 s, and
 /// `many_bodies pile10 300 1` fell from 45.5 to 31 steps/s).
 pub const PREVIOUS_BASIS_MAX_N: usize = 200;
+
+/// From this LCP size up, a coupled island (with Lemke's full ladder) skips
+/// the previous basis in body space even where its basis stood on the last
+/// step: its dense factorization of the support (`k³` for `k` basic
+/// unknowns, `k` ≈ 300–400 here) and its exchange rounds cost more than the
+/// structured stage, which solves the same warm basis on the island's kept
+/// sparse operator and factors ([`kept_factors`]). Measured on the mixed
+/// bin (`benchmarks/mjcf_bin.md`, steps 250–1,500): islands of n =
+/// 1,000–1,500 whose basis stood took the body-space check 341 times, 223
+/// of them in vain (4 ms each, then the structured stage anyway), 0.88 s of
+/// the window's 3.1 s; the whole run's user time 3.39 → 1.85 s. Below it the
+/// resting stacks and towers (islands of n = 400) keep their check.
+pub const STOOD_MAX_N: usize = 800;
 
 /// Coupled islands from this LCP size up go to the structured Lemke
 /// (`lcp::structured`, see [`structured_lemke`]) when the robust Lemke
@@ -300,8 +315,9 @@ mod tests {
 
     /// A large coupled island whose answer pivoted on the last step goes to
     /// the structured Lemke without the body-space check of its previous
-    /// basis; one whose basis stood (a resting pile) keeps that check, and so
-    /// do a single body and an island without the structured Lemke behind it.
+    /// basis; one whose basis stood (a resting pile) keeps that check up to
+    /// `STOOD_MAX_N`, and so do a single body and an island without the
+    /// structured Lemke behind it.
     #[test]
     fn the_previous_basis_is_checked_where_it_stood_or_the_island_is_small() {
         use SolveStage::*;
@@ -316,5 +332,7 @@ mod tests {
         );
         assert_eq!(applies(PREVIOUS_BASIS_MAX_N - 1, true, true, false), [PreviousBasis, StructuredLemke]);
         assert_eq!(applies(STRUCTURED_MIN_N, true, true, true), [StructuredLemke]);
+        assert_eq!(applies(STOOD_MAX_N, true, true, true), [StructuredLemke]);
+        assert_eq!(applies(STOOD_MAX_N - 1, true, true, true), [PreviousBasis, StructuredLemke]);
     }
 }
