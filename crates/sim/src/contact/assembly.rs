@@ -118,6 +118,9 @@ pub struct ContactLcp {
     /// Patch contacts (`contact::torsion`): contact `c` and the points whose
     /// normal impulses bound its cone row ([`ContactLcp::set_patch_cone`]).
     patch_cones: Vec<(usize, Range<usize>)>,
+    /// Contacts whose normal is a virtual unit row pinned at a bound
+    /// ([`ContactLcp::pin_normal`]: a joint motor's).
+    pinned: Vec<usize>,
 }
 
 thread_local! {
@@ -360,6 +363,7 @@ impl ContactLcp {
         self.side_body.clear();
         self.mu.clear();
         self.patch_cones.clear();
+        self.pinned.clear();
         for (c, ct) in contacts.iter().enumerate() {
             self.mu.push(ct.mu);
             let dirs = [ct.normal, ct.tangent, ct.normal.cross(ct.tangent)];
@@ -506,6 +510,9 @@ impl ContactLcp {
                 self.m[l * n + lay.fn_index(i)] = s;
             }
         }
+        for &c in &self.pinned {
+            self.m[c * n + c] = 1.0;
+        }
 
         self.matrix_ready = true;
     }
@@ -586,14 +593,27 @@ impl ContactLcp {
 
     /// Makes contact `c`'s normal a virtual unit row pinned at `value`
     /// (`M_cc = 1`, `q_c = −value`: `fn = value` is the only complementary
-    /// answer), on a formed `M` whose row `c` has no velocity part (a joint
-    /// motor's bound, `joints::limits`).
+    /// answer), for a contact whose normal row has no velocity part (a joint
+    /// motor's bound, `joints::limits`). Applied whenever the dense `M` is
+    /// formed (and to a formed one).
     pub fn pin_normal(&mut self, c: usize, value: f64) {
         let n = self.layout.n();
-        debug_assert!(self.has_matrix());
-        self.m[c * n + c] = 1.0;
+        if self.has_matrix() {
+            self.m[c * n + c] = 1.0;
+        }
         self.q[c] = -value;
         self.diag[c] = 1.0;
+        self.pinned.push(c);
+    }
+
+    /// The contacts whose normal [`ContactLcp::pin_normal`] pinned.
+    pub fn pinned(&self) -> &[usize] {
+        &self.pinned
+    }
+
+    /// The patch contacts and their points ([`ContactLcp::set_patch_cone`]).
+    pub fn patch_cones(&self) -> &[(usize, Range<usize>)] {
+        &self.patch_cones
     }
 
     /// Makes contact `c` (its rows set by [`ContactLcp::set_generalized_rows`]

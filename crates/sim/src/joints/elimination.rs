@@ -33,9 +33,12 @@ pub struct JointSystem {
     pub pairs: Vec<(usize, usize)>,
     /// Per body, whether a joint holds it.
     pub jointed: Vec<bool>,
-    /// Per island slot: `Y = L⁻¹ Πᵀ B` (rank × 3 nc, row-major; `S⁺ B = Π L⁻ᵀ Y`) of a jointed island, empty otherwise.
-    pub coupling: Vec<Vec<f64>>,
     scratch: Vec<f64>,
+    /// Scratch of [`JointSystem::couple`] (`B`) and of the contacts' joint impulses.
+    b: Vec<f64>,
+    frame: Vec<f64>,
+    yf: Vec<f64>,
+    dl: Vec<f64>,
     /// This step's limits in the LCP, and the step's contact index of the first
     /// (they follow the geometric contacts, in this order).
     pub limits: Vec<super::limits::LimitRow>,
@@ -195,16 +198,16 @@ impl JointSystem {
         }
     }
 
-    /// Couples island `slot`'s contacts through the joints: `Y` (`X = S⁺ B = Π L⁻ᵀ Y`) kept,
-    /// and `−Bᵀ X` added to the impulse block of its LCP (whose dense `M`
-    /// must be formed).
-    pub fn couple(&mut self, slot: usize, lcp: &mut ContactLcp) {
+    /// Couples an island's contacts through the joints: `Y = L⁻¹ Πᵀ B`
+    /// (`X = S⁺ B = Π L⁻ᵀ Y`) into `out`. The dense `M`, when it is formed,
+    /// gets `−Bᵀ X = −Yᵀ Y` on its impulse block ([`JointCoupling::subtract_from`]);
+    /// the operator of `contact::coupled_space` reads `Y` without forming it.
+    pub fn couple(&mut self, lcp: &ContactLcp, out: &mut JointCoupling) {
         let (m, nf) = (self.rows.len(), 3 * lcp.nc());
-        if self.coupling.len() <= slot {
-            self.coupling.resize_with(slot + 1, Vec::new);
-        }
         // B = G M⁻¹ J_frameᵀ over the bodies a joint row and a contact side share.
-        let mut b = vec![0.0; m * nf];
+        let b = &mut self.b;
+        b.clear();
+        b.resize(m * nf, 0.0);
         for (r, jr) in self.rows.iter().enumerate() {
             for c in 0..lcp.nc() {
                 for side in 0..2 {
@@ -218,51 +221,57 @@ impl JointSystem {
                 }
             }
         }
-        // Y = L⁻¹ Πᵀ B (S's factor), so that Bᵀ S⁺ B = Yᵀ Y (exactly symmetric
-        // as accumulated: row by row of Y, contiguous).
-        let mut y = Vec::new();
-        self.factor.forward(&b, nf, &mut y);
-        let mut cm = vec![0.0; nf * nf];
-        for yr in y.chunks_exact(nf) {
-            for (i, &yi) in yr.iter().enumerate().filter(|(_, v)| **v != 0.0) {
-                for (c, &yj) in cm[i * nf..(i + 1) * nf].iter_mut().zip(yr) {
-                    *c += yi * yj;
-                }
+        self.factor.forward(b, nf, &mut out.y);
+        out.rank = self.factor.rank();
+        out.frames = nf;
+    }
+
+    /// The joint impulses of an island's applied contact impulses `z`
+    /// (physical) through its `coupling`: `λ += −X f`, and their velocity
+    /// change added to `dv`, `dw`.
+    pub fn add_contact_response(
+        &mut self,
+        coupling: &JointCoupling,
+        lcp: &ContactLcp,
+        z: &[f64],
+        dv: &mut [Vec3],
+        dw: &mut [Vec3],
+    ) {
+        let mut dl = std::mem::take(&mut self.dl);
+        if self.row_impulses_into(coupling, lcp, z, &mut dl) {
+            self.add_velocity(&dl, dv, dw);
+            for (l, d) in self.lambda.iter_mut().zip(&dl) {
+                *l += d;
             }
         }
-        lcp.subtract_frame_block(&cm);
-        self.coupling[slot] = y;
+        self.dl = dl;
     }
 
-    /// The joint impulses of island `slot`'s applied contact impulses `z`
-    /// (physical): `λ += −X f`, and their velocity change added to `dv`, `dw`.
-    pub fn add_contact_response(&mut self, slot: usize, lcp: &ContactLcp, z: &[f64], dv: &mut [Vec3], dw: &mut [Vec3]) {
-        let Some(dl) = self.contact_row_impulses(slot, lcp, z) else { return };
-        self.add_velocity(&dl, dv, dw);
-        for (l, d) in self.lambda.iter_mut().zip(&dl) {
-            *l += d;
-        }
+    /// The joint row impulses `−X f` that an island's contact impulses `z`
+    /// (physical) cause through its `coupling`; `None` when no joint couples it.
+    pub fn contact_row_impulses(&mut self, coupling: &JointCoupling, lcp: &ContactLcp, z: &[f64]) -> Option<Vec<f64>> {
+        let mut dl = Vec::new();
+        self.row_impulses_into(coupling, lcp, z, &mut dl).then_some(dl)
     }
 
-    /// The joint row impulses `−X f` that island `slot`'s contact impulses
-    /// `z` (physical) cause; `None` when no joint couples the island.
-    pub fn contact_row_impulses(&self, slot: usize, lcp: &ContactLcp, z: &[f64]) -> Option<Vec<f64>> {
-        let y = self.coupling.get(slot).filter(|y| !y.is_empty())?;
+    /// [`JointSystem::contact_row_impulses`] into `dl` (its buffers reused);
+    /// `false` when no joint couples the island.
+    fn row_impulses_into(&mut self, coupling: &JointCoupling, lcp: &ContactLcp, z: &[f64], dl: &mut Vec<f64>) -> bool {
         let (m, nf) = (self.rows.len(), 3 * lcp.nc());
-        if y.len() != self.factor.rank() * nf || z.len() != lcp.n() {
-            return None;
+        let y = &coupling.y;
+        if y.is_empty() || y.len() != self.factor.rank() * nf || z.len() != lcp.n() {
+            return false;
         }
         // −X f = −S⁺ B f = −Π L⁻ᵀ (Y f).
-        let f: Vec<f64> = (0..lcp.nc()).flat_map(|c| lcp.frame_impulse(c, z)).collect();
-        let yf: Vec<f64> = y.chunks_exact(nf).map(|yr| -yr.iter().zip(&f).map(|(a, b)| a * b).sum::<f64>()).collect();
-        let mut dl = vec![0.0; m];
-        self.factor.backward(&yf, &mut dl);
-        Some(dl)
-    }
-
-    /// Forgets the islands' couplings (a new step).
-    pub fn clear_couplings(&mut self) {
-        self.coupling.iter_mut().for_each(Vec::clear);
+        self.frame.clear();
+        self.frame.extend((0..lcp.nc()).flat_map(|c| lcp.frame_impulse(c, z)));
+        let f = &self.frame;
+        self.yf.clear();
+        self.yf.extend(y.chunks_exact(nf).map(|yr| -yr.iter().zip(f).map(|(a, b)| a * b).sum::<f64>()));
+        dl.clear();
+        dl.resize(m, 0.0);
+        self.factor.backward(&self.yf, dl);
+        true
     }
 
     /// Each joint's reaction from the row impulses: what side A exerts on
@@ -286,5 +295,61 @@ impl JointSystem {
             rec.force = rec.force / h;
             rec.torque = rec.torque / h;
         }
+    }
+}
+
+/// An island's coupling through the joints: `Y = L⁻¹ Πᵀ B` (`rank × 3nc`,
+/// row-major, `B = G M⁻¹ J_frameᵀ` on each contact's `n, t1, t2` rows), so
+/// that the joints take `Bᵀ S⁺ B = Yᵀ Y` from the impulse block of its `M`.
+/// Kept in the island's slot from step to step (its buffers reused); empty
+/// when no joint holds the island.
+#[derive(Clone, Debug, Default)]
+pub struct JointCoupling {
+    /// `Y`, row-major (`rank` rows of `frames` entries).
+    pub y: Vec<f64>,
+    pub rank: usize,
+    /// `3 nc`: the contacts' frame rows.
+    pub frames: usize,
+    /// Scratch: `Yᵀ Y` when the dense `M` is formed.
+    gram: Vec<f64>,
+}
+
+impl JointCoupling {
+    /// No coupling (not a jointed island, or `S` of rank 0).
+    pub fn is_empty(&self) -> bool {
+        self.y.is_empty()
+    }
+
+    /// Forgets the coupling (an island no joint holds).
+    pub fn clear(&mut self) {
+        self.y.clear();
+        self.rank = 0;
+        self.frames = 0;
+    }
+
+    /// `Y` and its row count, for an operator that reads it.
+    pub fn factor(&self) -> (&[f64], usize) {
+        (&self.y, self.rank)
+    }
+
+    /// Subtracts `Yᵀ Y`, expanded to the impulse rows, from the formed dense
+    /// `M` of `lcp` (`J P Jᵀ = J M⁻¹ Jᵀ − Bᵀ S⁺ B`).
+    pub fn subtract_from(&mut self, lcp: &mut ContactLcp) {
+        let nf = self.frames;
+        if self.is_empty() || nf != 3 * lcp.nc() {
+            return;
+        }
+        // Yᵀ Y row by row of Y (contiguous), so exactly symmetric as accumulated.
+        let cm = &mut self.gram;
+        cm.clear();
+        cm.resize(nf * nf, 0.0);
+        for yr in self.y.chunks_exact(nf) {
+            for (i, &yi) in yr.iter().enumerate().filter(|(_, v)| **v != 0.0) {
+                for (c, &yj) in cm[i * nf..(i + 1) * nf].iter_mut().zip(yr) {
+                    *c += yi * yj;
+                }
+            }
+        }
+        lcp.subtract_frame_block(cm);
     }
 }

@@ -36,5 +36,5 @@ pub mod pivoted_cholesky;
 pub mod rows;
 pub mod stage;
 
-pub use elimination::JointSystem;
+pub use elimination::{JointCoupling, JointSystem};
 pub use joint::{Joint, JointDesc, JointId, JointKind, JointParams, JointReaction, Motor};

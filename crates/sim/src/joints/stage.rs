@@ -5,14 +5,17 @@
 //! forces     … then the rows G at this step's poses, S = G M⁻¹ Gᵀ factored, v* projected (`joints_project`)
 //! detect     bodies joined by a joint get no contact between them, nor a contact whose normal they hold (`held_contacts`)
 //! islands    bodies joined by a joint share an island
-//! assemble   … then each island with a jointed body gets its dense M with −Bᵀ S⁺ B (`joints_couple`)
+//! assemble   … then each island with a jointed body gets its coupling Y = L⁻¹ Πᵀ B (`joints_couple`)
 //! integrate  … the joint impulses of the contact impulses added to Δv, the reactions recorded (`joints_apply`);
 //!            after the positions, their joint error projected away (`joints_settle`)
 //! ```
 //!
-//! An island with a joint is solved on its dense `M` (the body-space stages
-//! of the solve chain assume the block-diagonal `M_b⁻¹` and decline it), and
-//! its answer is accepted by the same rule as every other.
+//! An island with a joint is solved on `J P Jᵀ` (the body-space stages of the
+//! solve chain assume the block-diagonal `M_b⁻¹` and decline it): its
+//! previous basis through `contact::CoupledSpaceLcp`, which reads `Y`, and
+//! the Lemke on the dense `M`, formed with `−Yᵀ Y` only then
+//! (`IslandLcp::form_matrix`). Its answer is accepted by the same rule as
+//! every other.
 
 use super::elimination::JointSystem;
 use super::joint::{Joint, JointDesc, JointId, JointParams};
@@ -57,7 +60,6 @@ impl World {
     /// and `v*` projected onto the joints (nothing without joints).
     pub(crate) fn joints_project(&mut self) {
         let ws = &mut self.ws;
-        ws.joints.clear_couplings();
         if self.joints.is_empty() {
             if !ws.joints.is_empty() || !ws.joints.pairs.is_empty() {
                 ws.joints = Default::default();
@@ -118,16 +120,17 @@ impl World {
         }
     }
 
-    /// After assembly: each island holding a jointed body gets its dense `M`
-    /// coupled through the joints, and is marked so that the solve chain
-    /// takes it on the dense path.
-    pub(crate) fn joints_couple(&mut self) {
+    /// After assembly: each island holding a jointed body gets its coupling
+    /// through the joints (and, with `matrix`, its dense `M` formed with it),
+    /// and is marked so that the solve chain takes it on the dense path.
+    pub(crate) fn joints_couple(&mut self, matrix: bool) {
         let h = self.ws.part_h.unwrap_or(self.params.dt);
         let ws = &mut self.ws;
         let count = ws.islands.len();
         for (i, isl) in ws.pool[..count].iter_mut().enumerate() {
             isl.jointed = ws.joints.holds_jointed(ws.islands.bodies_of(i));
             if !isl.jointed {
+                isl.coupling.clear();
                 continue;
             }
             // Its limits' rows in place of the contacts' point rows.
@@ -155,10 +158,11 @@ impl World {
                 let bias = if lim.gap > 0.0 { lim.gap / h } else { self.joint_params.drift * lim.gap / h };
                 isl.lcp.set_generalized_row(c, lim.body, lim.jac, minv, jv + bias);
             }
-            if !isl.lcp.has_matrix() {
+            ws.joints.couple(&isl.lcp, &mut isl.coupling);
+            if matrix {
                 isl.lcp.assemble_matrix();
+                isl.coupling.subtract_from(&mut isl.lcp);
             }
-            ws.joints.couple(i, &mut isl.lcp);
             // Motors: their normal pinned at the force bound.
             for (c, &g) in ws.islands.contacts_of(i).iter().enumerate().filter(|(_, &g)| g >= first) {
                 if let Some((_, bound)) = ws.joints.limits[g - first].motor {
@@ -200,9 +204,9 @@ impl World {
         }
         let h = self.ws.part_h.unwrap_or(self.params.dt);
         let ws = &mut self.ws;
-        for (i, isl) in ws.pool[..ws.islands.len()].iter().enumerate() {
+        for isl in &ws.pool[..ws.islands.len()] {
             if isl.jointed && isl.z_apply.len() == isl.lcp.n() {
-                ws.joints.add_contact_response(i, &isl.lcp, &isl.z_apply, &mut ws.dv, &mut ws.dw);
+                ws.joints.add_contact_response(&isl.coupling, &isl.lcp, &isl.z_apply, &mut ws.dv, &mut ws.dw);
             }
         }
         ws.joints.reactions(&self.joints, &self.bodies, h, &mut self.record.joints);

@@ -66,6 +66,10 @@ pub struct IslandLcp {
     /// A joint holds one of its bodies: its `M` is coupled through the
     /// joints (`joints::elimination`) and it is solved on the dense path.
     pub jointed: bool,
+    /// Its coupling through the joints (`joints::elimination`), empty when
+    /// `jointed` is not set: the dense `M` gets it when it is formed
+    /// ([`IslandLcp::form_matrix`]), the operator of the previous basis reads it.
+    pub coupling: crate::joints::JointCoupling,
     /// It holds a patch's torsional friction (`contact::torsion`), whose cone
     /// row the body-space stages do not model: it is solved on the dense path.
     pub torsion: bool,
@@ -75,6 +79,15 @@ impl IslandLcp {
     /// Solved on the dense `M` only (jointed, or holding a torsion patch).
     pub fn dense_only(&self) -> bool {
         self.jointed || self.torsion
+    }
+
+    /// Forms the dense `M` if it is not formed: `J M_b⁻¹ Jᵀ` and the cone
+    /// rows, minus the joints' coupling of a jointed island.
+    pub fn form_matrix(&mut self) {
+        if !self.lcp.has_matrix() {
+            self.lcp.assemble_matrix();
+            self.coupling.subtract_from(&mut self.lcp);
+        }
     }
 
     /// Assembles the island's LCP: its rows and `q`, and the dense `M` if `matrix`.

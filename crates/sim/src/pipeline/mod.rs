@@ -319,8 +319,8 @@ impl World {
                 isl.lcp.assemble_matrix();
             }
         }
-        // islands with a joint: the dense M coupled through the joints
-        self.joints_couple();
+        // islands with a joint: their coupling through the joints (and M coupled, if formed)
+        self.joints_couple(matrix);
     }
 
     /// Stage `integrate`: `v⁺ = v* + M⁻¹ Jᵀ z` with the impulses chosen by
@@ -401,7 +401,7 @@ impl World {
             // With joints, the motion is that of the joint impulses it causes too
             // (which `joints_apply` adds to what is applied here).
             let (mut jv, mut jw) = (dv.clone(), dw.clone());
-            if let Some(rows) = ws.joints.contact_row_impulses(i, &isl.lcp, &cand) {
+            if let Some(rows) = ws.joints.contact_row_impulses(&isl.coupling, &isl.lcp, &cand) {
                 ws.joints.add_velocity(&rows, &mut jv, &mut jw);
             }
             let bodies = ws.islands.bodies_of(i);

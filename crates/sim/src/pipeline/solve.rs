@@ -154,9 +154,7 @@ impl World {
             if isl.sol.is_none() {
                 continue;
             }
-            if !isl.lcp.has_matrix() {
-                isl.lcp.assemble_matrix();
-            }
+            isl.form_matrix();
             let Some(sol) = &isl.sol else { continue };
             sink.capture(&CapturedLcp {
                 step: self.steps,

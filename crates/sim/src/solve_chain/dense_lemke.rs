@@ -13,9 +13,7 @@ pub(super) fn solve(
     solver: &mut IslandSolver<'_>,
     warm: Option<&[bool]>,
 ) -> Result<Solution, LcpError> {
-    if !isl.lcp.has_matrix() {
-        isl.lcp.assemble_matrix();
-    }
+    isl.form_matrix();
     // Lend the buffers to an Lcp, solve, and take them back.
     let lcp = isl.lcp.take_lcp()?;
     let loaded = if isl.dense_only() { super::dense_loaded::solve(&lcp, isl.lcp.layout(), solver, warm) } else { None };

@@ -2,116 +2,200 @@
 //! island's `J P Jᵀ`, or one holding a torsion patch), before
 //! `dense_loaded` and the dense Lemke: the body-space stages assume the
 //! block-diagonal `M_b⁻¹` and one cone row per normal, so such an island's
-//! warm basis is solved here by `lcp::on_basis` on the dense LCP (its kept
-//! factorization refined, exchanges of the indices the rule rejects),
-//! judged by the same acceptance rule. Reported as the previous-basis stage.
+//! warm basis is solved here by `lcp::on_basis` (its kept factorization
+//! refined, exchanges of the indices the rule rejects), judged by the same
+//! acceptance rule. Reported as the previous-basis stage.
 //!
-//! The dense `M` is read through [`NonzeroProducts`]: an answer on a basis
-//! has few nonzero entries (a held gripper's 130 unknowns, about 30), and
-//! its products `M z + q` read only their columns.
+//! The LCP is read through [`CoupledSpaceLcp`]: the body-space products
+//! minus the joints' coupling `E Yᵀ Y Eᵀ` (the island's `Y`, lent), plus the
+//! motors' and patches' virtual rows — the dense `M`'s entries to round-off,
+//! without forming it: a held gripper's steps (n = 130) formed it only to
+//! read its basis block and a few products.
 
 use super::stage::Found;
+use crate::contact::CoupledSpaceLcp;
 use crate::pipeline::island::IslandLcp;
 use lcp::on_basis::{solve_on_basis_ruled, BasisTolerances};
-use lcp::operator::LcpOperator;
-use lcp::Lcp;
-use std::cell::RefCell;
 
-/// The island's `warm` basis solved on its dense LCP at `accept_tol`, or
-/// `None` (no basis, a scaled cone, or no accepted answer: the caller pivots).
+/// The island's `warm` basis solved on its LCP at `accept_tol`, or `None`
+/// (no basis, a scaled cone, or no accepted answer: the caller pivots).
 pub(super) fn attempt(isl: &mut IslandLcp, warm: Option<&[bool]>, accept_tol: f64) -> Option<Found> {
     // (Scaled cones would need the physical LCP's check beside it: left to the Lemke.)
     let warm = warm.filter(|_| isl.lcp.scale() == 1.0)?;
-    if !isl.lcp.has_matrix() {
-        isl.lcp.assemble_matrix();
-    }
-    let lcp = isl.lcp.take_lcp().ok()?;
     // At most REPAIR_ROUNDS exchanges: on the chain of `benchmarks/joints.py`
     // the rounds a small block gets beyond them (each a fresh factorization
     // and a dense product) answered fewer steps (2,123 against 2,228 of
     // 3,000) and left more pivots to the Lemke (383,071 against 265,839).
     let tol = BasisTolerances { accept_tol, tight: accept_tol, loose: true, polish: true, more_rounds: false };
-    let op = NonzeroProducts { lcp: &lcp, nonzero: RefCell::new(Vec::with_capacity(lcp.n())) };
-    let found = solve_on_basis_ruled(&op, warm, tol, None, &mut isl.basis_ws);
-    isl.lcp.restore(lcp);
-    let sol = found?.solution;
+    let (y, rank) = isl.coupling.factor();
+    let op = CoupledSpaceLcp::new(&isl.lcp, y, rank);
+    let sol = solve_on_basis_ruled(&op, warm, tol, None, &mut isl.basis_ws)?.solution;
     // At scale 1 the LCP is the physical one: its z and w (M z + q, as
-    // checked) are the island's, not formed again by `unscaled_w`.
-    let physical = Some((sol.z.clone(), sol.w.clone()));
-    Some(Found { sol, physical })
-}
-
-/// A dense LCP whose products `M z + q` read only the columns of `z`'s
-/// nonzero entries, summed in the same order as the full row's dot product:
-/// the same bits (a zero term leaves a sum unchanged), at `n·nnz(z)` instead
-/// of `n²` flops.
-struct NonzeroProducts<'a> {
-    lcp: &'a Lcp,
-    /// The nonzero entries' indices of the `z` last multiplied.
-    nonzero: RefCell<Vec<usize>>,
-}
-
-impl NonzeroProducts<'_> {
-    /// `w_i = (M z + q)_i` for each `i` of `rows`.
-    fn products(&self, z: &[f64], rows: impl Iterator<Item = usize>, w: &mut [f64]) {
-        let mut nz = self.nonzero.borrow_mut();
-        nz.clear();
-        // (NaN != 0: a NaN in z reaches w as in the full product.)
-        nz.extend((0..z.len()).filter(|&j| z[j] != 0.0));
-        let q = self.lcp.q();
-        for i in rows {
-            let row = self.lcp.row(i);
-            w[i] = nz.iter().map(|&j| row[j] * z[j]).sum::<f64>() + q[i];
-        }
-    }
-}
-
-impl LcpOperator for NonzeroProducts<'_> {
-    fn n(&self) -> usize {
-        self.lcp.n()
-    }
-    fn q(&self) -> &[f64] {
-        self.lcp.q()
-    }
-    fn block(&self, rows: &[usize], cols: &[usize], out: &mut [f64]) {
-        self.lcp.block(rows, cols, out);
-    }
-    fn w_of(&self, z: &[f64], w: &mut [f64]) {
-        self.products(z, 0..self.lcp.n(), w);
-    }
-    fn row(&self, i: usize, out: &mut [f64]) {
-        out.copy_from_slice(self.lcp.row(i));
-    }
-    fn diag(&self, i: usize) -> f64 {
-        self.lcp.at(i, i)
-    }
-    fn w_rows(&self, z: &[f64], rows: &[usize], w: &mut [f64]) {
-        self.products(z, rows.iter().copied(), w);
-    }
+    // checked) are the island's, copied into its last answer's buffers.
+    let (mut z, mut w) = (std::mem::take(&mut isl.z), std::mem::take(&mut isl.w));
+    z.clone_from(&sol.z);
+    w.clone_from(&sol.w);
+    Some(Found { sol, physical: Some((z, w)) })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::Vec3;
+    use crate::{BodyDesc, JointDesc, JointId, JointKind, World, WorldParams};
+    use lcp::on_basis::{BasisAnswer, BasisWorkspace};
+    use lcp::operator::LcpOperator;
 
-    /// The products skipping `z`'s zeros are the full products' bits.
+    /// `benchmarks/joints.py`'s gripper (`examples/joint_scenes.rs`): the palm
+    /// on a vertical slider, two fingers on motor sliders with torsion pads, a
+    /// 1 kg cube. Returns the world and the palm's joint.
+    fn gripper() -> (World, JointId) {
+        let joint = |kind, a, b, anchor, axis| JointDesc { kind, body_a: a, body_b: b, anchor, axis, limits: None };
+        let mut w = World::new(WorldParams::default()).unwrap();
+        w.add_ground(1.0).unwrap();
+        w.add_box(Vec3::splat(0.05), 1.0, Vec3::new(0.0, 0.0, 0.05), 1.0).unwrap();
+        let palm = BodyDesc::cuboid(Vec3::new(0.15, 0.05, 0.02)).mass(1.0).position(Vec3::new(0.0, 0.0, 0.2)).mu(1.0);
+        let palm = w.add_body(palm).unwrap().0;
+        let lift = w.add_joint(joint(JointKind::Slider, None, palm, Vec3::new(0.0, 0.0, 0.2), Vec3::Z)).unwrap();
+        for x in [-0.1, 0.1] {
+            let finger = w.add_box(Vec3::new(0.01, 0.04, 0.08), 0.2, Vec3::new(x, 0.0, 0.1), 1.0).unwrap();
+            w.set_torsional_friction(finger, 0.02).unwrap();
+            let axis = -Vec3::X * x.signum();
+            let j = w.add_joint(joint(JointKind::Slider, Some(palm), finger.0, Vec3::new(x, 0.0, 0.1), axis));
+            w.set_motor(j.unwrap(), 0.1, 20.0).unwrap();
+        }
+        (w, lift)
+    }
+
+    /// The largest difference of two vectors relative to their largest entry.
+    fn rel(a: &[f64], b: &[f64]) -> f64 {
+        let top = a.iter().chain(b).fold(1e-300f64, |m, v| m.max(v.abs()));
+        a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs())) / top
+    }
+
+    fn bits(v: &[f64]) -> Vec<u64> {
+        v.iter().map(|x| x.to_bits()).collect()
+    }
+
+    /// Per step, `control` then the step taken stage by stage; on every
+    /// dense-only island with a previous basis, the operator is checked
+    /// against the dense `M` (`check`). Returns (islands, both answered,
+    /// verdicts that differ).
+    fn compare(w: &mut World, steps: usize, mut control: impl FnMut(&mut World, usize)) -> (usize, usize, usize) {
+        let (mut compared, mut both, mut differ) = (0, 0, 0);
+        for step in 0..steps {
+            control(w, step);
+            w.forces_stage().unwrap();
+            w.detect();
+            w.islands();
+            w.assemble_for_solve().unwrap();
+            let mut warm = w.ws.warm.clone();
+            for i in 0..w.ws.islands.len() {
+                let nc = w.ws.islands.contacts_of(i).len();
+                let (_, basis) = warm.take(w.ws.islands.bodies_of(i), nc);
+                let isl = &w.ws.pool[i];
+                let Some(basis) = basis.filter(|_| isl.dense_only() && isl.lcp.scale() == 1.0) else { continue };
+                match check(isl, &basis, step) {
+                    (Some(_), Some(_)) => both += 1,
+                    (None, None) => {}
+                    _ => differ += 1,
+                }
+                compared += 1;
+            }
+            w.solve(None).unwrap();
+            w.integrate();
+        }
+        (compared, both, differ)
+    }
+
+    /// One island: the operator's block is the dense `M`'s to the bit, its
+    /// rows, diagonal and products to round-off; every answer either
+    /// reading of `M` finds on `basis` (fresh workspaces) is accepted by the
+    /// rule on both readings, and when both find one they agree to round-off.
+    fn check(isl: &IslandLcp, basis: &[bool], step: usize) -> (Option<BasisAnswer>, Option<BasisAnswer>) {
+        let mut formed = isl.clone();
+        formed.form_matrix();
+        let dense = formed.lcp.to_lcp().unwrap();
+        let (y, rank) = isl.coupling.factor();
+        let op = CoupledSpaceLcp::new(&isl.lcp, y, rank);
+        let n = dense.n();
+        let all: Vec<usize> = (0..n).collect();
+        let (mut block, mut one) = (vec![0.0; n * n], vec![0.0; n]);
+        op.block(&all, &all, &mut block);
+        let (mut row, mut drow) = (vec![0.0; n], vec![0.0; n]);
+        for i in 0..n {
+            LcpOperator::row(&dense, i, &mut drow);
+            assert_eq!(bits(&block[i * n..(i + 1) * n]), bits(&drow), "step {step}: block row {i}");
+            op.block(&[i], &all, &mut one);
+            assert_eq!(bits(&one), bits(&drow), "step {step}: the 1 × n block {i}");
+            op.row(i, &mut row);
+            assert!(rel(&row, &drow) < 1e-12, "step {step}: row {i}, {:e}", rel(&row, &drow));
+            let scale = drow.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            assert!((op.diag(i) - drow[i]).abs() <= 1e-12 * scale, "step {step}: diagonal {i}");
+        }
+        // Products of a z loading every kind of index, of some rows, of moved columns.
+        let z: Vec<f64> = (0..n).map(|j| ((j * 7 % 5) as f64) * 0.1).collect();
+        let (mut wo, mut wd) = (vec![0.0; n], vec![0.0; n]);
+        op.w_of(&z, &mut wo);
+        LcpOperator::w_of(&dense, &z, &mut wd);
+        assert!(rel(&wo, &wd) < 1e-12, "step {step}: w_of {:e}", rel(&wo, &wd));
+        let rows: Vec<usize> = (0..n).rev().step_by(2).collect();
+        let mut wr = vec![f64::NAN; n];
+        op.w_rows(&z, &rows, &mut wr);
+        assert!(rows.iter().all(|&r| (wr[r] - wo[r]).abs() <= 1e-12 * (1.0 + wo[r].abs())), "step {step}: w_rows");
+        let moved: Vec<(usize, f64)> = (0..n).step_by(3).map(|j| (j, 0.01 * j as f64)).collect();
+        op.add_columns(&moved, &mut wo);
+        LcpOperator::add_columns(&dense, &moved, &mut wd);
+        assert!(rel(&wo, &wd) < 1e-12, "step {step}: add_columns {:e}", rel(&wo, &wd));
+        // The previous basis on both readings, as `attempt` solves it.
+        let tol = BasisTolerances { accept_tol: 1e-9, tight: 1e-9, loose: true, polish: true, more_rounds: false };
+        let on_op = solve_on_basis_ruled(&op, basis, tol, None, &mut BasisWorkspace::default());
+        let on_dense = solve_on_basis_ruled(&dense, basis, tol, None, &mut BasisWorkspace::default());
+        for found in [&on_op, &on_dense].into_iter().flatten() {
+            let z = &found.solution.z;
+            let (mut w1, mut w2) = (vec![0.0; n], vec![0.0; n]);
+            op.w_of(z, &mut w1);
+            LcpOperator::w_of(&dense, z, &mut w2);
+            let accepted = |o: &dyn LcpOperator, w: &[f64]| lcp::accept::accepts_operator(o, z, w, 1e-9);
+            assert!(accepted(&op, &w1) && accepted(&dense, &w2), "step {step}: the readings' verdicts differ");
+        }
+        if let (Some(a), Some(b)) = (&on_op, &on_dense) {
+            let d = rel(&a.solution.z, &b.solution.z);
+            assert!(d < 1e-9, "step {step}: the answers differ by {d:e}");
+        }
+        (on_op, on_dense)
+    }
+
+    /// The gripper closing on the cube, lifting and holding it: the
+    /// operator is the dense coupled LCP (`check`) on every jointed island,
+    /// and the previous basis gets the same verdict through both.
     #[test]
-    fn nonzero_products_are_the_full_products() {
-        let n = 7;
-        let m: Vec<f64> = (0..n * n).map(|k| ((k * 37 % 11) as f64 - 5.0) / 3.0 + 1e-3 * k as f64).collect();
-        let lcp = Lcp::new(m, (0..n).map(|i| 0.1 * i as f64 - 0.3).collect()).unwrap();
-        let op = NonzeroProducts { lcp: &lcp, nonzero: RefCell::new(Vec::new()) };
-        let z = [0.0, 1.5, 0.0, -0.25, 1e-9, 0.0, 3.0];
-        let (mut full, mut sparse) = (vec![0.0; n], vec![0.0; n]);
-        LcpOperator::w_of(&lcp, &z, &mut full);
-        op.w_of(&z, &mut sparse);
-        assert_eq!(
-            full.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
-            sparse.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
-        );
-        let mut some = vec![f64::NAN; n];
-        op.w_rows(&z, &[1, 4], &mut some);
-        assert_eq!((some[1], some[4]), (full[1], full[4]));
-        assert!(some[0].is_nan());
+    fn the_gripper_s_operator_is_its_dense_coupled_lcp() {
+        let (mut w, lift) = gripper();
+        let (compared, both, differ) = compare(&mut w, 2600, |w, step| {
+            let k = step as f64 - 1000.0;
+            let speed = if (0.0..2200.0).contains(&k) { 0.1 * (k / 200.0).min(1.0) } else { 0.0 };
+            w.set_motor(lift, speed, 200.0).unwrap();
+        });
+        assert!(compared > 2500 && both > 2500, "{compared} islands compared, {both} answered by both");
+        assert_eq!(differ, 0, "verdicts that differ, of {compared}");
+        assert!(w.bodies()[1].position().z > 0.15, "the cube is lifted");
+    }
+
+    /// A box with torsional friction on the ground, twisted by a torque
+    /// below and then above what its friction holds (an island whose dense
+    /// `M` is formed only for its patch's cone, no joint).
+    #[test]
+    fn a_torsion_patch_s_operator_is_its_dense_lcp() {
+        let mut w = World::new(WorldParams::default()).unwrap();
+        w.add_ground(0.5).unwrap();
+        let cube = w.add_box(Vec3::splat(0.05), 1.0, Vec3::new(0.0, 0.0, 0.05), 0.5).unwrap();
+        w.set_torsional_friction(cube, 0.02).unwrap();
+        let (compared, both, differ) = compare(&mut w, 600, |w, step| {
+            let torque = if step < 300 { 0.1 } else { 1.0 };
+            w.apply_torque(cube, Vec3::new(0.0, 0.0, torque)).unwrap();
+        });
+        assert!(compared > 500 && both > 150, "{compared} islands compared, {both} answered by both");
+        assert_eq!(differ, 0, "verdicts that differ, of {compared}");
     }
 }
