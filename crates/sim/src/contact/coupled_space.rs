@@ -39,8 +39,6 @@ pub struct CoupledSpaceLcp<'a> {
 struct Buffers {
     /// The coupled diagonal of `M`.
     diag: Vec<f64>,
-    /// `Yᵀ` (`3nc × rank`): `Y`'s columns contiguous.
-    yt: Vec<f64>,
     /// Per contact: its normal is a virtual unit row.
     unit: Vec<bool>,
     /// Per contact: the patch contact whose cone row reads its normal (`NONE`: none).
@@ -54,8 +52,8 @@ struct Scratch {
     f: Vec<f64>,
     u: Vec<f64>,
     v: Vec<f64>,
-    /// `Y E_i` of an index (`rank`).
-    gr: Vec<f64>,
+    /// `v` is that of the `z` of the last `w_rows` (which `w_after_rows` reuses).
+    v_of_rows: bool,
     /// Rows of `Yᵀ Y` (`3nc` square) formed as the dense `M`'s are, and which are.
     gram: Vec<f64>,
     gram_ready: Vec<bool>,
@@ -84,13 +82,7 @@ impl<'a> CoupledSpaceLcp<'a> {
         scratch.gram.resize(nf * nf, 0.0);
         scratch.gram_ready.clear();
         scratch.gram_ready.resize(nf, false);
-        bufs.yt.clear();
-        bufs.yt.resize(nf * rank, 0.0);
-        for (r, yr) in y.chunks_exact(nf).take(rank).enumerate() {
-            for (k, &v) in yr.iter().enumerate() {
-                bufs.yt[k * rank + r] = v;
-            }
-        }
+        scratch.v_of_rows = false;
         bufs.unit.clear();
         bufs.unit.resize(lay.nc, false);
         bufs.patch_of.clear();
@@ -115,14 +107,22 @@ impl<'a> CoupledSpaceLcp<'a> {
         diag.clear();
         diag.extend_from_slice(lcp.delassus_diagonal());
         if rank > 0 {
-            let mut g = std::mem::take(&mut op.scratch.get_mut().gr);
-            g.clear();
-            g.resize(rank, 0.0);
-            for (i, d) in diag.iter_mut().enumerate().take(lay.impulses()) {
-                op.coupling_column(i, &mut g);
-                *d -= g.iter().map(|v| v * v).sum::<f64>();
+            // |Y E_i|² from each contact's Gram of its three frame columns of Y:
+            // a direction's is c²·t1t1 + 2cs·t1t2 + s²·t2t2.
+            for c in 0..lay.nc {
+                let mut g = [0.0; 4];
+                for yr in y.chunks_exact(nf) {
+                    let (n, t1, t2) = (yr[3 * c], yr[3 * c + 1], yr[3 * c + 2]);
+                    g[0] += n * n;
+                    g[1] += t1 * t1;
+                    g[2] += t1 * t2;
+                    g[3] += t2 * t2;
+                }
+                diag[lay.fn_index(c)] -= g[0];
+                for (d, &(cj, sj)) in diag[lay.fd_of(c)].iter_mut().zip(lcp.trig()) {
+                    *d -= cj * cj * g[1] + 2.0 * cj * sj * g[2] + sj * sj * g[3];
+                }
             }
-            op.scratch.get_mut().gr = g;
         }
         op.bufs.diag = diag;
         op
@@ -131,15 +131,13 @@ impl<'a> CoupledSpaceLcp<'a> {
     /// `Y E_i` for impulse index `i` (its column of the coupling factor).
     fn coupling_column(&self, i: usize, g: &mut [f64]) {
         let lay = self.lcp.layout();
-        let (r, c) = (self.rank, lay.contact_of(i));
-        let col = |k: usize| &self.bufs.yt[k * r..(k + 1) * r];
+        let (nf, c) = (3 * self.lcp.nc(), lay.contact_of(i));
+        let rows = self.y.chunks_exact(nf).zip(g.iter_mut());
         if i == lay.fn_index(c) {
-            g.copy_from_slice(col(3 * c));
+            rows.for_each(|(yr, x)| *x = yr[3 * c]);
         } else {
             let (cj, sj) = self.lcp.cos_sin(i - lay.fd_of(c).start);
-            for ((x, &a), &b) in g.iter_mut().zip(col(3 * c + 1)).zip(col(3 * c + 2)) {
-                *x = cj * a + sj * b;
-            }
+            rows.for_each(|(yr, x)| *x = cj * yr[3 * c + 1] + sj * yr[3 * c + 2]);
         }
     }
 
@@ -149,8 +147,18 @@ impl<'a> CoupledSpaceLcp<'a> {
         let Scratch { f, u, v, .. } = sc;
         u.clear();
         u.extend(self.y.chunks_exact(nf).take(r).map(|yr| yr.iter().zip(f.iter()).map(|(a, b)| a * b).sum::<f64>()));
+        Self::combine_rows(self.y, nf, u, v);
+    }
+
+    /// `v = Yᵀ u`: `Y`'s rows (`nf` long) weighted by `u`.
+    fn combine_rows(y: &[f64], nf: usize, u: &[f64], v: &mut Vec<f64>) {
         v.clear();
-        v.extend(self.bufs.yt.chunks_exact(r).map(|yc| yc.iter().zip(u.iter()).map(|(a, b)| a * b).sum::<f64>()));
+        v.resize(nf, 0.0);
+        for (yr, &ur) in y.chunks_exact(nf).zip(u) {
+            if ur != 0.0 {
+                v.iter_mut().zip(yr).for_each(|(x, &a)| *x += ur * a);
+            }
+        }
     }
 
     /// `w_i −= (E v)_i` for the impulse rows `rows` (all with `None`).
@@ -165,18 +173,32 @@ impl<'a> CoupledSpaceLcp<'a> {
                 cj * v[3 * c + 1] + sj * v[3 * c + 2]
             };
         };
-        match rows {
-            Some(rows) => rows.iter().filter(|&&i| i < lay.impulses()).for_each(|&i| one(i, w)),
-            None => (0..lay.impulses()).for_each(|i| one(i, w)),
-        }
+        let Some(rows) = rows else {
+            // Every impulse row, contact by contact.
+            let (wn, rest) = w.split_at_mut(lay.nc);
+            let parts = wn.iter_mut().zip(rest.chunks_exact_mut(lay.k)).zip(v.chunks_exact(3));
+            for ((wc, wd), vc) in parts {
+                *wc -= vc[0];
+                for (x, &(cj, sj)) in wd.iter_mut().zip(self.lcp.trig()) {
+                    *x -= cj * vc[1] + sj * vc[2];
+                }
+            }
+            return;
+        };
+        rows.iter().filter(|&&i| i < lay.impulses()).for_each(|&i| one(i, w));
     }
 
-    /// The coupling's part of `w = M z + q` on `rows` (all with `None`).
-    fn subtract_coupling(&self, z: &[f64], rows: Option<&[usize]>, w: &mut [f64]) {
+    /// The coupling's part of `w = M z + q` on `rows` (all with `None`);
+    /// `reuse`: `z` is that of the last `w_rows`, whose `v` serves.
+    fn subtract_coupling(&self, z: &[f64], rows: Option<&[usize]>, w: &mut [f64], reuse: bool) {
         if self.rank == 0 {
             return;
         }
         let mut sc = self.scratch.borrow_mut();
+        let kept = std::mem::replace(&mut sc.v_of_rows, rows.is_some());
+        if reuse && kept {
+            return self.subtract_expanded(&sc.v, rows, w);
+        }
         sc.f.clear();
         sc.f.extend((0..self.lcp.nc()).flat_map(|c| self.lcp.frame_impulse(c, z)));
         self.coupled_frames(&mut sc);
@@ -353,12 +375,11 @@ impl LcpOperator for CoupledSpaceLcp<'_> {
         if self.rank > 0 && i < lay.impulses() {
             let mut sc = self.scratch.borrow_mut();
             let sc = &mut *sc;
+            sc.v_of_rows = false;
             sc.u.clear();
             sc.u.resize(self.rank, 0.0);
             self.coupling_column(i, &mut sc.u);
-            let (r, u) = (self.rank, &sc.u);
-            sc.v.clear();
-            sc.v.extend(self.bufs.yt.chunks_exact(r).map(|yc| yc.iter().zip(u).map(|(a, b)| a * b).sum::<f64>()));
+            Self::combine_rows(self.y, 3 * lay.nc, &sc.u, &mut sc.v);
             self.subtract_expanded(&sc.v, None, out);
         }
         if i < lay.nc && self.bufs.unit[i] {
@@ -380,19 +401,20 @@ impl LcpOperator for CoupledSpaceLcp<'_> {
 
     fn w_of(&self, z: &[f64], w: &mut [f64]) {
         self.base.w_of(z, w);
-        self.subtract_coupling(z, None, w);
+        self.subtract_coupling(z, None, w, false);
         self.add_virtual(z, None, w);
     }
 
     fn w_rows(&self, z: &[f64], rows: &[usize], w: &mut [f64]) {
         self.base.w_rows(z, rows, w);
-        self.subtract_coupling(z, Some(rows), w);
+        self.subtract_coupling(z, Some(rows), w, false);
         self.add_virtual(z, Some(rows), w);
     }
 
     fn w_after_rows(&self, z: &[f64], w: &mut [f64]) {
+        // (`w_rows` with this z left its `Yᵀ Y f` in the scratch.)
         self.base.w_after_rows(z, w);
-        self.subtract_coupling(z, None, w);
+        self.subtract_coupling(z, None, w, true);
         self.add_virtual(z, None, w);
     }
 
@@ -401,6 +423,7 @@ impl LcpOperator for CoupledSpaceLcp<'_> {
         let lay = self.lcp.layout();
         if self.rank > 0 {
             let mut sc = self.scratch.borrow_mut();
+            sc.v_of_rows = false;
             sc.f.clear();
             sc.f.resize(3 * lay.nc, 0.0);
             for &(i, d) in moved.iter().filter(|&&(i, _)| i < lay.impulses()) {

@@ -35,7 +35,8 @@ pub struct JointSystem {
     pub jointed: Vec<bool>,
     scratch: Vec<f64>,
     /// Scratch of [`JointSystem::couple`] (`B`) and of the contacts' joint impulses.
-    b: Vec<f64>,
+    pub(super) b: Vec<f64>,
+    pub(super) y: Vec<f64>,
     frame: Vec<f64>,
     yf: Vec<f64>,
     dl: Vec<f64>,
@@ -43,6 +44,19 @@ pub struct JointSystem {
     /// (they follow the geometric contacts, in this order).
     pub limits: Vec<super::limits::LimitRow>,
     pub first_limit: usize,
+    /// The position projection's rows and system, kept between steps (`stage::joints_settle`).
+    pub(super) settling: Option<Box<Settling>>,
+}
+
+/// The buffers of the position projection after a step.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Settling {
+    pub rows: Vec<JointRow>,
+    pub inv_inertia: Vec<Mat3>,
+    pub sys: JointSystem,
+    delta: Vec<f64>,
+    dx: Vec<Vec3>,
+    dr: Vec<Vec3>,
 }
 
 impl JointSystem {
@@ -164,21 +178,26 @@ impl JointSystem {
     }
 
     /// One position projection: `δ = S⁺(−C)`, each body moved by `M⁻¹Gᵀδ`
-    /// (rotations as a rotation vector). The largest row error before it.
-    pub fn settle(&mut self, bodies: &mut [Body]) -> f64 {
+    /// (rotations as a rotation vector), `st`'s buffers reused. The largest row error before it.
+    pub(super) fn settle(&mut self, bodies: &mut [Body], st: &mut Settling) -> f64 {
         let worst = self.rows.iter().fold(0.0f64, |m, r| m.max(r.error.abs()));
         self.scratch.clear();
         self.scratch.extend(self.rows.iter().map(|r| -r.error));
-        let mut delta = vec![0.0; self.rows.len()];
-        self.factor.solve(&self.scratch, &mut delta);
-        let (mut dx, mut dr) = (vec![Vec3::ZERO; bodies.len()], vec![Vec3::ZERO; bodies.len()]);
-        self.add_velocity(&delta, &mut dx, &mut dr);
-        for ((b, x), r) in bodies.iter_mut().zip(dx).zip(dr) {
+        let Settling { delta, dx, dr, .. } = st;
+        delta.clear();
+        delta.resize(self.rows.len(), 0.0);
+        self.factor.solve(&self.scratch, delta);
+        for v in [&mut *dx, &mut *dr] {
+            v.clear();
+            v.resize(bodies.len(), Vec3::ZERO);
+        }
+        self.add_velocity(delta, dx, dr);
+        for ((b, x), r) in bodies.iter_mut().zip(dx.iter()).zip(dr.iter()) {
             if b.is_static {
                 continue;
             }
-            b.position += x;
-            b.orientation = b.orientation.integrate(r, 1.0);
+            b.position += *x;
+            b.orientation = b.orientation.integrate(*r, 1.0);
         }
         worst
     }

@@ -31,12 +31,14 @@ pub const HELD_NORMAL: f64 = 1e-10;
 impl JointSystem {
     /// Drops the contacts whose normal the joints hold (module docs) from
     /// `contacts`; only contacts with a jointed dynamic body are looked at.
-    pub fn drop_held_contacts(&self, contacts: &mut Vec<Contact>, bodies: &[Body], inv_inertia: &[Mat3]) {
+    pub fn drop_held_contacts(&mut self, contacts: &mut Vec<Contact>, bodies: &[Body], inv_inertia: &[Mat3]) {
         if self.is_empty() {
             return;
         }
-        let (mut b, mut y) = (Vec::new(), Vec::new());
+        // (The coupling's scratch serves: a step's coupling comes after detection.)
+        let (mut b, mut y) = (std::mem::take(&mut self.b), std::mem::take(&mut self.y));
         contacts.retain(|ct| !self.holds_normal(ct, bodies, inv_inertia, &mut b, &mut y));
+        (self.b, self.y) = (b, y);
     }
 
     /// Whether `n P nᵀ ≤ HELD_NORMAL · n M⁻¹ nᵀ` for `ct`'s normal row.

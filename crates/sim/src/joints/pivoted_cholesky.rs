@@ -120,15 +120,15 @@ impl PivotedCholesky {
 
     /// `x = Π L⁻ᵀ y` (length `m`, zero on the dropped rows) for a `y` of length `rank`.
     pub fn backward(&self, y: &[f64], x: &mut [f64]) {
-        let (m, r, a) = (self.m, self.rank, &self.a);
-        let mut t = y[..r].to_vec();
-        for i in (0..r).rev() {
-            let s: f64 = (i + 1..r).map(|k| a[k * m + i] * t[k]).sum();
-            t[i] = (t[i] - s) / a[i * m + i];
-        }
+        let (m, r, a, perm) = (self.m, self.rank, &self.a, &self.perm);
+        // In place in x, pivot i at x[perm[i]] (no buffer: a step calls this twice).
         x.iter_mut().for_each(|v| *v = 0.0);
-        for (i, &p) in self.perm[..r].iter().enumerate() {
-            x[p] = t[i];
+        for (&p, &v) in perm[..r].iter().zip(y) {
+            x[p] = v;
+        }
+        for i in (0..r).rev() {
+            let s: f64 = (i + 1..r).map(|k| a[k * m + i] * x[perm[k]]).sum();
+            x[perm[i]] = (x[perm[i]] - s) / a[i * m + i];
         }
     }
 }

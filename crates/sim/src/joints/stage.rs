@@ -17,7 +17,6 @@
 //! (`IslandLcp::form_matrix`). Its answer is accepted by the same rule as
 //! every other.
 
-use super::elimination::JointSystem;
 use super::joint::{Joint, JointDesc, JointId, JointParams};
 use crate::contact::assembly::{dot6, row};
 use crate::error::SimError;
@@ -179,20 +178,24 @@ impl World {
         if self.joints.is_empty() || p.settle_passes == 0 {
             return;
         }
-        let (mut sys, mut rows) = (JointSystem::default(), Vec::new());
+        let mut st = self.ws.joints.settling.take().unwrap_or_default();
         for _ in 0..p.settle_passes {
             // The errors first (rows only): S is formed and factored only for a projection.
-            rows.clear();
+            st.rows.clear();
             for (j, joint) in self.joints.iter().enumerate() {
-                joint.push_rows(j, &self.bodies, &mut rows);
+                joint.push_rows(j, &self.bodies, &mut st.rows);
             }
-            if rows.iter().all(|r| r.error.abs() <= p.settle_tol) {
-                return;
+            if st.rows.iter().all(|r| r.error.abs() <= p.settle_tol) {
+                break;
             }
-            let inv: Vec<_> = self.bodies.iter().map(|b| b.inv_inertia_world()).collect();
-            sys.build(&self.joints, &self.bodies, &inv, p.rank_tol, None);
-            sys.settle(&mut self.bodies);
+            st.inv_inertia.clear();
+            st.inv_inertia.extend(self.bodies.iter().map(|b| b.inv_inertia_world()));
+            let mut sys = std::mem::take(&mut st.sys);
+            sys.build(&self.joints, &self.bodies, &st.inv_inertia, p.rank_tol, None);
+            sys.settle(&mut self.bodies, &mut st);
+            st.sys = sys;
         }
+        self.ws.joints.settling = Some(st);
     }
 
     /// In `integrate`, after the contact impulses: the joint impulses they

@@ -80,9 +80,13 @@ mod tests {
     /// Per step, `control` then the step taken stage by stage; on every
     /// dense-only island with a previous basis, the operator is checked
     /// against the dense `M` (`check`). Returns (islands, both answered,
-    /// verdicts that differ).
-    fn compare(w: &mut World, steps: usize, mut control: impl FnMut(&mut World, usize)) -> (usize, usize, usize) {
-        let (mut compared, mut both, mut differ) = (0, 0, 0);
+    /// verdicts that differ, both answered but more than 1e-9 apart).
+    fn compare(
+        w: &mut World,
+        steps: usize,
+        mut control: impl FnMut(&mut World, usize),
+    ) -> (usize, usize, usize, usize) {
+        let (mut compared, mut both, mut differ, mut far) = (0, 0, 0, 0);
         for step in 0..steps {
             control(w, step);
             w.forces_stage().unwrap();
@@ -96,22 +100,32 @@ mod tests {
                 let isl = &w.ws.pool[i];
                 let Some(basis) = basis.filter(|_| isl.dense_only() && isl.lcp.scale() == 1.0) else { continue };
                 match check(isl, &basis, step) {
-                    (Some(_), Some(_)) => both += 1,
+                    (Some(a), Some(b)) => {
+                        let d = rel(&a.solution.z, &b.solution.z);
+                        if d > 1e-9 {
+                            eprintln!("step {step}: n {}, both answered, their answers {d:e} apart", isl.lcp.n());
+                            far += 1;
+                        }
+                        both += 1
+                    }
                     (None, None) => {}
-                    _ => differ += 1,
+                    (a, b) => {
+                        eprintln!("step {step}: n {} op {} dense {}", isl.lcp.n(), a.is_some(), b.is_some());
+                        differ += 1
+                    }
                 }
                 compared += 1;
             }
             w.solve(None).unwrap();
             w.integrate();
         }
-        (compared, both, differ)
+        (compared, both, differ, far)
     }
 
     /// One island: the operator's block is the dense `M`'s to the bit, its
     /// rows, diagonal and products to round-off; every answer either
     /// reading of `M` finds on `basis` (fresh workspaces) is accepted by the
-    /// rule on both readings, and when both find one they agree to round-off.
+    /// rule on both readings. Returns both readings' answers.
     fn check(isl: &IslandLcp, basis: &[bool], step: usize) -> (Option<BasisAnswer>, Option<BasisAnswer>) {
         let mut formed = isl.clone();
         formed.form_matrix();
@@ -143,6 +157,8 @@ mod tests {
         let mut wr = vec![f64::NAN; n];
         op.w_rows(&z, &rows, &mut wr);
         assert!(rows.iter().all(|&r| (wr[r] - wo[r]).abs() <= 1e-12 * (1.0 + wo[r].abs())), "step {step}: w_rows");
+        op.w_after_rows(&z, &mut wr);
+        assert_eq!(bits(&wr), bits(&wo), "step {step}: w_after_rows is w_of");
         let moved: Vec<(usize, f64)> = (0..n).step_by(3).map(|j| (j, 0.01 * j as f64)).collect();
         op.add_columns(&moved, &mut wo);
         LcpOperator::add_columns(&dense, &moved, &mut wd);
@@ -159,10 +175,6 @@ mod tests {
             let accepted = |o: &dyn LcpOperator, w: &[f64]| lcp::accept::accepts_operator(o, z, w, 1e-9);
             assert!(accepted(&op, &w1) && accepted(&dense, &w2), "step {step}: the readings' verdicts differ");
         }
-        if let (Some(a), Some(b)) = (&on_op, &on_dense) {
-            let d = rel(&a.solution.z, &b.solution.z);
-            assert!(d < 1e-9, "step {step}: the answers differ by {d:e}");
-        }
         (on_op, on_dense)
     }
 
@@ -172,14 +184,45 @@ mod tests {
     #[test]
     fn the_gripper_s_operator_is_its_dense_coupled_lcp() {
         let (mut w, lift) = gripper();
-        let (compared, both, differ) = compare(&mut w, 2600, |w, step| {
+        let (compared, both, differ, far) = compare(&mut w, 2600, |w, step| {
             let k = step as f64 - 1000.0;
             let speed = if (0.0..2200.0).contains(&k) { 0.1 * (k / 200.0).min(1.0) } else { 0.0 };
             w.set_motor(lift, speed, 200.0).unwrap();
         });
         assert!(compared > 2500 && both > 2500, "{compared} islands compared, {both} answered by both");
-        assert_eq!(differ, 0, "verdicts that differ, of {compared}");
+        assert_eq!((differ, far), (0, 0), "verdicts that differ, answers apart, of {compared}");
         assert!(w.bodies()[1].position().z > 0.15, "the cube is lifted");
+    }
+
+    #[test]
+    #[ignore]
+    fn chain_diagnostic() {
+        use crate::math::Quat;
+        let mut w = World::new(WorldParams::default()).unwrap();
+        w.add_ground(0.5).unwrap();
+        let tilt: f64 = 0.1;
+        let a = Vec3::new(tilt.sin(), 0.0, tilt.cos());
+        let turn = Quat::from_axis_angle(Vec3::Y, -(std::f64::consts::FRAC_PI_2 - tilt));
+        let foot = Vec3::new(0.0, 0.0, 0.01);
+        for i in 0..20 {
+            let c = foot + a * (0.1 * i as f64 + 0.05);
+            let link = BodyDesc::cuboid(Vec3::new(0.05, 0.015, 0.015)).mass(0.1).position(c).orientation(turn).mu(0.5);
+            let b = w.add_body(link).unwrap().0;
+            if i > 0 {
+                let j = JointDesc {
+                    kind: JointKind::Ball,
+                    body_a: Some(b - 1),
+                    body_b: b,
+                    anchor: foot + a * (0.1 * i as f64),
+                    axis: Vec3::Z,
+                    limits: None,
+                };
+                w.add_joint(j).unwrap();
+            }
+        }
+        let steps: usize = std::env::var("CHAIN_STEPS").ok().and_then(|s| s.parse().ok()).unwrap_or(300);
+        let r = compare(&mut w, steps, |_, _| {});
+        eprintln!("chain: {r:?}");
     }
 
     /// A box with torsional friction on the ground, twisted by a torque
@@ -191,11 +234,11 @@ mod tests {
         w.add_ground(0.5).unwrap();
         let cube = w.add_box(Vec3::splat(0.05), 1.0, Vec3::new(0.0, 0.0, 0.05), 0.5).unwrap();
         w.set_torsional_friction(cube, 0.02).unwrap();
-        let (compared, both, differ) = compare(&mut w, 600, |w, step| {
+        let (compared, both, differ, far) = compare(&mut w, 600, |w, step| {
             let torque = if step < 300 { 0.1 } else { 1.0 };
             w.apply_torque(cube, Vec3::new(0.0, 0.0, torque)).unwrap();
         });
         assert!(compared > 500 && both > 150, "{compared} islands compared, {both} answered by both");
-        assert_eq!(differ, 0, "verdicts that differ, of {compared}");
+        assert_eq!((differ, far), (0, 0), "verdicts that differ, answers apart, of {compared}");
     }
 }
