@@ -10,32 +10,11 @@
 use sim::scenes::{BoxStack, CubeOnSlope, Scene};
 use sim::solve_chain::stage_name::SolveStage;
 use sim::WorldParams;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
+use std::sync::atomic::Ordering::Relaxed;
 
-/// The system allocator, counting allocations and reallocations.
-struct Counting;
-
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-// SAFETY: every call is forwarded unchanged to the system allocator.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Relaxed);
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Relaxed);
-        unsafe { System.alloc_zeroed(layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Relaxed);
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
+#[path = "common/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::{by_stage, Counting, ALLOCATIONS};
 
 #[global_allocator]
 static COUNTING: Counting = Counting;
@@ -63,25 +42,6 @@ fn steady_allocations(s: &mut Scene, warm: usize, steps: usize) -> (usize, usize
     (allocating, steady, speed)
 }
 
-/// Allocations of one step taken stage by stage (the stages `step` runs,
-/// as `examples/step_budget.rs` times them): where a count comes from.
-fn by_stage(s: &mut Scene) -> Vec<(&'static str, usize)> {
-    let w = &mut s.world;
-    let mut out = Vec::new();
-    let mut count = |name: &'static str, f: &mut dyn FnMut()| {
-        let before = ALLOCATIONS.load(Relaxed);
-        f();
-        out.push((name, ALLOCATIONS.load(Relaxed) - before));
-    };
-    count("forces", &mut || w.forces_stage().unwrap());
-    count("detect", &mut || w.detect());
-    count("islands", &mut || w.islands());
-    count("assemble", &mut || w.assemble_for_solve().unwrap());
-    count("solve", &mut || w.solve(None).unwrap());
-    count("integrate", &mut || w.integrate());
-    out
-}
-
 /// One test, so that no other test's allocations land in the counter.
 /// (A step that pivots allocates Lemke's answer: the stack's few such steps
 /// are left out. A steady step whose exchange rounds meet a basic block
@@ -95,7 +55,7 @@ fn a_steady_step_allocates_nothing() {
     let mut stack = BoxStack::new(10).build(WorldParams::default()).unwrap();
     let (per_stack, steady_stack, v) = steady_allocations(&mut stack, 3000, 1000);
     assert!(v < 1e-6, "the 10-box stack rests (speed {v:e} m/s)");
-    let (cube_stages, stack_stages) = (by_stage(&mut cube), by_stage(&mut stack));
+    let (cube_stages, stack_stages) = (by_stage(&mut cube.world), by_stage(&mut stack.world));
     println!(
         "steady steps that allocated: cube {per_cube} of {steady_cube} {cube_stages:?}, \
          stack {per_stack} of {steady_stack} {stack_stages:?}"

@@ -208,9 +208,8 @@ impl JointSystem {
             if l == 0.0 {
                 continue;
             }
-            for s in 0..2 {
-                let Some(b) = r.body[s] else { continue };
-                let x = &minv[s];
+            for (body, x) in r.body.iter().zip(minv) {
+                let Some(b) = *body else { continue };
                 v[b] += Vec3::new(x[0], x[1], x[2]) * l;
                 w[b] += Vec3::new(x[3], x[4], x[5]) * l;
             }

@@ -93,7 +93,8 @@ impl Joint {
         let body = [self.dynamic_side(bodies, 0), self.dynamic_side(bodies, 1)];
         let b = self.bodies[1].expect("side B is a body");
         for (gap, sign) in [(upper - x, 1.0), (x - lower, -1.0)] {
-            if !(gap <= reach) {
+            // (A NaN gap is out of reach.)
+            if gap.is_nan() || gap > reach {
                 continue;
             }
             let jac = up.map(|r| r.map(|v| v * sign));

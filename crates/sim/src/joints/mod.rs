@@ -26,6 +26,7 @@
 //! - [`elimination`]: `S`, the projection of the free velocity, the coupling of
 //!   an island's contacts, the joint impulses.
 //! - [`held_contacts`]: contacts whose normal the joints already hold, dropped before the LCP.
+//! - [`scenes`]: `benchmarks/joints.py`'s chain and gripper, for the example and tests.
 //! - [`stage`]: the world's side (adding joints, the step's three calls).
 
 pub mod elimination;
@@ -34,6 +35,7 @@ pub mod joint;
 pub mod limits;
 pub mod pivoted_cholesky;
 pub mod rows;
+pub mod scenes;
 pub mod stage;
 
 pub use elimination::{JointCoupling, JointSystem};

@@ -95,7 +95,8 @@ impl Joint {
 
     /// Appends the damping row of a damped hinge or slider for a step of `h`.
     pub fn push_damping(&self, j: usize, bodies: &[Body], h: f64, out: &mut Vec<JointRow>) {
-        if !(self.damping > 0.0) {
+        // (A NaN damping is none.)
+        if self.damping.is_nan() || self.damping <= 0.0 {
             return;
         }
         let body = [self.dynamic_side(bodies, 0), self.dynamic_side(bodies, 1)];

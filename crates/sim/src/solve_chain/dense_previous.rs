@@ -41,31 +41,11 @@ pub(super) fn attempt(isl: &mut IslandLcp, warm: Option<&[bool]>, accept_tol: f6
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::joints::scenes::{chain, gripper, gripper_lift_speed};
     use crate::math::Vec3;
-    use crate::{BodyDesc, JointDesc, JointId, JointKind, World, WorldParams};
+    use crate::{World, WorldParams};
     use lcp::on_basis::{BasisAnswer, BasisWorkspace};
     use lcp::operator::LcpOperator;
-
-    /// `benchmarks/joints.py`'s gripper (`examples/joint_scenes.rs`): the palm
-    /// on a vertical slider, two fingers on motor sliders with torsion pads, a
-    /// 1 kg cube. Returns the world and the palm's joint.
-    fn gripper() -> (World, JointId) {
-        let joint = |kind, a, b, anchor, axis| JointDesc { kind, body_a: a, body_b: b, anchor, axis, limits: None };
-        let mut w = World::new(WorldParams::default()).unwrap();
-        w.add_ground(1.0).unwrap();
-        w.add_box(Vec3::splat(0.05), 1.0, Vec3::new(0.0, 0.0, 0.05), 1.0).unwrap();
-        let palm = BodyDesc::cuboid(Vec3::new(0.15, 0.05, 0.02)).mass(1.0).position(Vec3::new(0.0, 0.0, 0.2)).mu(1.0);
-        let palm = w.add_body(palm).unwrap().0;
-        let lift = w.add_joint(joint(JointKind::Slider, None, palm, Vec3::new(0.0, 0.0, 0.2), Vec3::Z)).unwrap();
-        for x in [-0.1, 0.1] {
-            let finger = w.add_box(Vec3::new(0.01, 0.04, 0.08), 0.2, Vec3::new(x, 0.0, 0.1), 1.0).unwrap();
-            w.set_torsional_friction(finger, 0.02).unwrap();
-            let axis = -Vec3::X * x.signum();
-            let j = w.add_joint(joint(JointKind::Slider, Some(palm), finger.0, Vec3::new(x, 0.0, 0.1), axis));
-            w.set_motor(j.unwrap(), 0.1, 20.0).unwrap();
-        }
-        (w, lift)
-    }
 
     /// The largest difference of two vectors relative to their largest entry.
     fn rel(a: &[f64], b: &[f64]) -> f64 {
@@ -167,7 +147,10 @@ mod tests {
         let tol = BasisTolerances { accept_tol: 1e-9, tight: 1e-9, loose: true, polish: true, more_rounds: false };
         let on_op = solve_on_basis_ruled(&op, basis, tol, None, &mut BasisWorkspace::default());
         let on_dense = solve_on_basis_ruled(&dense, basis, tol, None, &mut BasisWorkspace::default());
-        for found in [&on_op, &on_dense].into_iter().flatten() {
+        // And from the island's own workspace (its kept factorization refined), as the step solves it.
+        let kept_op = solve_on_basis_ruled(&op, basis, tol, None, &mut isl.basis_ws.clone());
+        let kept_dense = solve_on_basis_ruled(&dense, basis, tol, None, &mut isl.basis_ws.clone());
+        for found in [&on_op, &on_dense, &kept_op, &kept_dense].into_iter().flatten() {
             let z = &found.solution.z;
             let (mut w1, mut w2) = (vec![0.0; n], vec![0.0; n]);
             op.w_of(z, &mut w1);
@@ -185,9 +168,7 @@ mod tests {
     fn the_gripper_s_operator_is_its_dense_coupled_lcp() {
         let (mut w, lift) = gripper();
         let (compared, both, differ, far) = compare(&mut w, 2600, |w, step| {
-            let k = step as f64 - 1000.0;
-            let speed = if (0.0..2200.0).contains(&k) { 0.1 * (k / 200.0).min(1.0) } else { 0.0 };
-            w.set_motor(lift, speed, 200.0).unwrap();
+            w.set_motor(lift, gripper_lift_speed(step), 200.0).unwrap();
         });
         assert!(compared > 2500 && both > 2500, "{compared} islands compared, {both} answered by both");
         assert_eq!((differ, far), (0, 0), "verdicts that differ, answers apart, of {compared}");
@@ -197,29 +178,7 @@ mod tests {
     #[test]
     #[ignore]
     fn chain_diagnostic() {
-        use crate::math::Quat;
-        let mut w = World::new(WorldParams::default()).unwrap();
-        w.add_ground(0.5).unwrap();
-        let tilt: f64 = 0.1;
-        let a = Vec3::new(tilt.sin(), 0.0, tilt.cos());
-        let turn = Quat::from_axis_angle(Vec3::Y, -(std::f64::consts::FRAC_PI_2 - tilt));
-        let foot = Vec3::new(0.0, 0.0, 0.01);
-        for i in 0..20 {
-            let c = foot + a * (0.1 * i as f64 + 0.05);
-            let link = BodyDesc::cuboid(Vec3::new(0.05, 0.015, 0.015)).mass(0.1).position(c).orientation(turn).mu(0.5);
-            let b = w.add_body(link).unwrap().0;
-            if i > 0 {
-                let j = JointDesc {
-                    kind: JointKind::Ball,
-                    body_a: Some(b - 1),
-                    body_b: b,
-                    anchor: foot + a * (0.1 * i as f64),
-                    axis: Vec3::Z,
-                    limits: None,
-                };
-                w.add_joint(j).unwrap();
-            }
-        }
+        let mut w = chain();
         let steps: usize = std::env::var("CHAIN_STEPS").ok().and_then(|s| s.parse().ok()).unwrap_or(300);
         let r = compare(&mut w, steps, |_, _| {});
         eprintln!("chain: {r:?}");
