@@ -14,8 +14,10 @@
 //! lent as a slice: the lcp crate sees an operator, not joints. A product
 //! costs the body-space product plus `2 · rank · 3nc`, an entry `rank` more
 //! than the body-space one; the dense `M` (`n²`, then `Yᵀ Y` and its
-//! expansion) is formed only when the Lemke runs. Its entries are the dense
-//! `M`'s to round-off (the same terms summed in another order).
+//! expansion) is formed only when the Lemke runs. Its blocks' entries carry
+//! the dense `M`'s own bits (a basis factored here makes the dense path's
+//! pivot choices); its products and rows equal the dense `M`'s to round-off
+//! (the same terms summed in another order).
 
 use super::{BodySpaceLcp, ContactLcp};
 use lcp::operator::LcpOperator;
