@@ -163,18 +163,22 @@ impl<'a> CoupledSpaceLcp<'a> {
         }
     }
 
+    /// `(E v)_i` for impulse row `i`, `v` in frame rows (`3nc`): its
+    /// contact's normal entry, or `c_j t1 + s_j t2` for friction direction `j`.
+    fn expanded(&self, i: usize, v: &[f64]) -> f64 {
+        let lay = self.lcp.layout();
+        let c = lay.contact_of(i);
+        if i == lay.fn_index(c) {
+            v[3 * c]
+        } else {
+            let (cj, sj) = self.lcp.cos_sin(i - lay.fd_of(c).start);
+            cj * v[3 * c + 1] + sj * v[3 * c + 2]
+        }
+    }
+
     /// `w_i −= (E v)_i` for the impulse rows `rows` (all with `None`).
     fn subtract_expanded(&self, v: &[f64], rows: Option<&[usize]>, w: &mut [f64]) {
         let lay = self.lcp.layout();
-        let one = |i: usize, w: &mut [f64]| {
-            let c = lay.contact_of(i);
-            w[i] -= if i == lay.fn_index(c) {
-                v[3 * c]
-            } else {
-                let (cj, sj) = self.lcp.cos_sin(i - lay.fd_of(c).start);
-                cj * v[3 * c + 1] + sj * v[3 * c + 2]
-            };
-        };
         let Some(rows) = rows else {
             // Every impulse row, contact by contact.
             let (wn, rest) = w.split_at_mut(lay.nc);
@@ -187,7 +191,7 @@ impl<'a> CoupledSpaceLcp<'a> {
             }
             return;
         };
-        rows.iter().filter(|&&i| i < lay.impulses()).for_each(|&i| one(i, w));
+        rows.iter().filter(|&&i| i < lay.impulses()).for_each(|&i| w[i] -= self.expanded(i, v));
     }
 
     /// The coupling's part of `w = M z + q` on `rows` (all with `None`);
@@ -321,7 +325,7 @@ impl CoupledSpaceLcp<'_> {
     /// Entry `j` of frame row `k` of `Yᵀ Y W` (`W` expanding the frame
     /// columns to the impulse ones), as `subtract_frame_block` forms it.
     fn frame_entry(&self, k: usize, j: usize, sc: &mut Scratch) -> f64 {
-        let (lay, nf) = (self.lcp.layout(), 3 * self.lcp.nc());
+        let nf = 3 * self.lcp.nc();
         if !sc.gram_ready[k] {
             // Row k of Yᵀ Y accumulated over Y's rows, skipping its zeros (JointCoupling::subtract_from).
             let row = &mut sc.gram[k * nf..(k + 1) * nf];
@@ -336,14 +340,7 @@ impl CoupledSpaceLcp<'_> {
             }
             sc.gram_ready[k] = true;
         }
-        let crow = &sc.gram[k * nf..(k + 1) * nf];
-        let cj = lay.contact_of(j);
-        if j == lay.fn_index(cj) {
-            crow[3 * cj]
-        } else {
-            let (c, s) = self.lcp.cos_sin(j - lay.fd_of(cj).start);
-            c * crow[3 * cj + 1] + s * crow[3 * cj + 2]
-        }
+        self.expanded(j, &sc.gram[k * nf..(k + 1) * nf])
     }
 }
 
