@@ -388,3 +388,31 @@ def test_the_benchmark_bin_file_loads_alike_in_both_engines():
         assert body.mass == pytest.approx(float(m.body_mass[b]), rel=1e-12)
         np.testing.assert_allclose(body.position, d.xipos[b], atol=1e-9, err_msg=name)
     assert sum(w.body(i).is_static for i in range(w.body_count)) == 5  # floor and four walls
+
+
+def _sliding_block(cone: str) -> str:
+    return (f'<mujoco><option timestep="0.002" cone="{cone}"/><worldbody>'
+            '<geom type="plane" size="5 5 .1" friction="0.5"/><body name="b" pos="0 0 0.1"><freejoint/>'
+            '<geom type="box" size=".1 .1 .1" friction="0.5"/></body></worldbody></mujoco>')
+
+
+@pytest.mark.parametrize("cone, dirs, diagonal", [("pyramidal", 4, 1 / np.sqrt(2)), ("elliptic", 8, 1.0)])
+def test_the_model_cone_sets_friction_dirs_and_a_callers_value_wins(cone, dirs, diagonal):
+    """MuJoCo's pyramidal cone (edges n ± μ t1, n ± μ t2) is lcpsim's 4-direction cone: a block
+    sliding along the diagonal of x and y decelerates at μg/√2 in both engines; under the elliptic
+    cone lcpsim's 8 directions include the diagonal, which then slows at μg as on the round cone."""
+    xml = _sliding_block(cone)
+    assert World.from_mjcf(xml).params["friction_dirs"] == dirs
+    assert World.from_mjcf(xml, friction_dirs=6).params["friction_dirs"] == 6
+    v0, steps, dt, mu_g = 2.0, 100, 0.002, 0.5 * 9.81
+    w = World.from_mjcf(xml)
+    b = w.body_id("b")
+    w.set_velocity(b, [v0 / np.sqrt(2), v0 / np.sqrt(2), 0.0])
+    w.run(steps)
+    slowing = (v0 - np.linalg.norm(np.asarray(w.velocities)[b][:3])) / (steps * dt) / mu_g
+    assert slowing == pytest.approx(diagonal, rel=1e-9)
+    m = mujoco.MjModel.from_xml_string(xml)
+    d = mujoco.MjData(m)
+    d.qvel[:2] = v0 / np.sqrt(2)
+    mujoco.mj_step(m, d, steps)
+    assert (v0 - np.linalg.norm(d.qvel[:2])) / (steps * dt) / mu_g == pytest.approx(diagonal, rel=0.05)

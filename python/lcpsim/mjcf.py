@@ -49,6 +49,11 @@ the poses of ``qpos0`` (``mj_forward``). What lcpsim can simulate exactly:
   bounded by the patch's normal force where MuJoCo bounds each contact point's,
   the same total over a face; a single point has none), no condim-1 or 3 geom
   with a larger ``friction[1]`` than a condim-4 one; ``dt`` = ``opt.timestep``, ``gravity`` = ``opt.gravity``;
+- the friction cone ``opt.cone``: MuJoCo's default ``pyramidal`` cone of a condim-3 contact is
+  the pyramid with the 4 edges n ± μ t1, n ± μ t2, lcpsim's polyhedral cone with
+  ``friction_dirs`` = 4 (±t1, ±t2), which is then the default; under ``elliptic`` (the round
+  cone) the default stays 8 directions, a polyhedral stand-in for the circle. A caller's
+  ``friction_dirs=`` always wins;
 - the option flags that turn off gravity (zero gravity), contacts or all
   constraints (no contacts, no joint limits), joint limits, dampers, springs
   and friction loss (not read); ``override`` enabled and ``actuation``
@@ -191,6 +196,7 @@ def load_mjcf(source: str | os.PathLike[str], new_world: Callable[..., Any], **w
     world_kwargs.setdefault("dt", float(m.opt.timestep))
     world_kwargs.setdefault("gravity", (0.0, 0.0, 0.0) if _disabled(m, "GRAVITY") else tuple(float(x) for x in m.opt.gravity))
     world_kwargs.setdefault("mu_combine", "max")
+    world_kwargs.setdefault("friction_dirs", _friction_dirs(mujoco, m))
     world = new_world(**world_kwargs)
     names: dict[str, int] = {}
     body_index: dict[int, int] = {}  # a moving MuJoCo body -> its lcpsim body
@@ -247,6 +253,17 @@ def _check_model(mujoco: Any, m: Any) -> None:
                             "(gravity compensation), which is not supported")
     if int(m.opt.enableflags) & int(mujoco.mjtEnableBit.mjENBL_OVERRIDE):
         raise MjcfError("option flag override is enabled (o_margin, o_solref, o_friction), which is not supported")
+
+
+#: lcpsim's friction directions for MuJoCo's cone (``opt.cone``) when the caller gives none.
+CONE_FRICTION_DIRS = {"pyramidal": 4, "elliptic": 8}
+
+
+def _friction_dirs(mujoco: Any, m: Any) -> int:
+    """The model's cone as lcpsim's ``friction_dirs``: MuJoCo's pyramidal cone (edges n ± μ t1,
+    n ± μ t2) is exactly lcpsim's 4-direction cone; its elliptic (round) cone gets 8 directions."""
+    elliptic = int(m.opt.cone) == int(mujoco.mjtCone.mjCONE_ELLIPTIC)
+    return CONE_FRICTION_DIRS["elliptic" if elliptic else "pyramidal"]
 
 
 def _disabled(m: Any, flag: str) -> bool:
