@@ -197,13 +197,15 @@ def mjcf_path(key: str) -> Path:
 
 
 def load(key: str) -> tuple[Any, str]:
-    """The scene's lcpsim world read from its MJCF file (``World.from_mjcf``), and how it was built."""
+    """The scene's lcpsim world read from its MJCF file (``World.from_mjcf``), and how it was
+    built — with the friction directions the file's cone gave (MuJoCo's default pyramid: 4)."""
     path = mjcf_path(key)
     if not path.exists():
         raise FileNotFoundError(f"{path} is missing: write it with many_bodies.py --write-scenes")
     import lcpsim
 
-    return lcpsim.World.from_mjcf(path), f"World.from_mjcf(benchmarks/scenes/{path.name})"
+    world = lcpsim.World.from_mjcf(path)
+    return world, f"World.from_mjcf(benchmarks/scenes/{path.name}), friction_dirs {world.params['friction_dirs']}"
 
 
 def scene_mjcf(desc: dict[str, Any], key: str) -> str:
