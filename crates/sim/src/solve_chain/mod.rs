@@ -92,7 +92,8 @@ impl IslandLcp {
         let mixed = self.lcp.dynamic_body_count() >= 2 && BodyCheck::applies(&self.lcp);
         let coupled = self.lcp.dynamic_body_count() >= 2;
         let rungs = coupled && basis_check.is_some_and(|c| c.rungs);
-        let stages = chain(n, coupled, warm.is_some(), rungs, self.previous_stood);
+        let size = Size { n, contacts: self.lcp.layout().nc };
+        let stages = chain(size, coupled, warm.is_some(), rungs, self.previous_stood);
         let dense = self.dense_only();
         let found = basis_check.and_then(|c| {
             if dense {
@@ -194,13 +195,15 @@ impl IslandLcp {
 /// warm starts only; a single body's island only to its previous basis.
 /// `stood`: the previous step's island with the same bodies and contact
 /// count did not pivot away from its warm basis.
-fn chain(n: usize, coupled: bool, warmed: bool, rungs: bool, stood: bool) -> [(bool, SolveStage, Stage); 3] {
+fn chain(size: Size, coupled: bool, warmed: bool, rungs: bool, stood: bool) -> [(bool, SolveStage, Stage); 3] {
+    let n = size.n;
     let small = n < STRUCTURED_MIN_N;
     // With the structured Lemke behind it, the previous basis in body space
     // from PREVIOUS_BASIS_MAX_N up only where it stood on the last step.
-    // From STOOD_MAX_N up not even there: its dense factorization costs more
+    // From STOOD_MAX_CONTACTS up not even there: its dense factorization costs more
     // than the structured stage's kept factors.
-    let previous = small && warmed && (!rungs || n < PREVIOUS_BASIS_MAX_N || (stood && n < STOOD_MAX_N));
+    let stood_checked = stood && size.contacts < STOOD_MAX_CONTACTS;
+    let previous = small && warmed && (!rungs || n < PREVIOUS_BASIS_MAX_N || stood_checked);
     [
         // A small island with a previous basis (a single body's too).
         (previous, SolveStage::PreviousBasis, previous_basis::attempt),
@@ -237,18 +240,34 @@ fn chain(n: usize, coupled: bool, warmed: bool, rungs: bool, stood: bool) -> [(b
 /// `many_bodies pile10 300 1` fell from 45.5 to 31 steps/s).
 pub const PREVIOUS_BASIS_MAX_N: usize = 200;
 
-/// From this LCP size up, a coupled island (with Lemke's full ladder) skips
+/// From this many contacts up, a coupled island (with Lemke's full ladder) skips
 /// the previous basis in body space even where its basis stood on the last
 /// step: its dense factorization of the support (`k³` for `k` basic
 /// unknowns, `k` ≈ 300–400 here) and its exchange rounds cost more than the
 /// structured stage, which solves the same warm basis on the island's kept
 /// sparse operator and factors ([`kept_factors`]). Measured on the mixed
-/// bin (`benchmarks/mjcf_bin.md`, steps 250–1,500): islands of n =
-/// 1,000–1,500 whose basis stood took the body-space check 341 times, 223
-/// of them in vain (4 ms each, then the structured stage anyway), 0.88 s of
-/// the window's 3.1 s; the whole run's user time 3.39 → 1.85 s. Below it the
-/// resting stacks and towers (islands of n = 400) keep their check.
-pub const STOOD_MAX_N: usize = 800;
+/// bin (`benchmarks/mjcf_bin.md`, steps 250–1,500, 8 friction directions):
+/// islands of n = 1,000–1,500 whose basis stood took the body-space check
+/// 341 times, 223 of them in vain (4 ms each, then the structured stage
+/// anyway), 0.88 s of the window's 3.1 s; the whole run's user time 3.39 →
+/// 1.85 s. Below it the resting stacks and towers (islands of 40 contacts,
+/// n = 400) keep their check. Counted in contacts, not unknowns: the support
+/// grows with the loaded contacts, whatever the friction directions (the
+/// bound was n = 800 at 8 directions, 10 unknowns a contact, and is the
+/// same there); at 4 directions (6 unknowns, the bin under MuJoCo's
+/// pyramidal cone) n = 800 let islands of up to 133 contacts through: the
+/// bin's stood islands of n = 400–800 took the check 1,565 times, 104 of
+/// them in vain at 4–11 ms each (0.7 s), and where it answered (0.34 ms)
+/// the kept sparse factors answer in 0.21 ms; the run's user time 2.27 →
+/// 1.40 s (d4697cf + this, `World.run(2500)`).
+pub const STOOD_MAX_CONTACTS: usize = 80;
+
+/// An island's size: its LCP's unknowns and its contacts.
+#[derive(Clone, Copy, Debug)]
+struct Size {
+    n: usize,
+    contacts: usize,
+}
 
 /// Coupled islands from this LCP size up go to the structured Lemke
 /// (`lcp::structured`, see [`structured_lemke`]) when the robust Lemke
@@ -309,14 +328,19 @@ pub struct BasisCheck {
 mod tests {
     use super::*;
 
+    /// At 8 friction directions: 10 unknowns a contact.
     fn applies(n: usize, coupled: bool, rungs: bool, stood: bool) -> Vec<SolveStage> {
-        chain(n, coupled, true, rungs, stood).iter().filter(|s| s.0).map(|s| s.1).collect()
+        applies_sized(Size { n, contacts: n / 10 }, coupled, rungs, stood)
+    }
+
+    fn applies_sized(size: Size, coupled: bool, rungs: bool, stood: bool) -> Vec<SolveStage> {
+        chain(size, coupled, true, rungs, stood).iter().filter(|s| s.0).map(|s| s.1).collect()
     }
 
     /// A large coupled island whose answer pivoted on the last step goes to
     /// the structured Lemke without the body-space check of its previous
     /// basis; one whose basis stood (a resting pile) keeps that check up to
-    /// `STOOD_MAX_N`, and so do a single body and an island without the
+    /// `STOOD_MAX_CONTACTS`, and so do a single body and an island without the
     /// structured Lemke behind it.
     #[test]
     fn the_previous_basis_is_checked_where_it_stood_or_the_island_is_small() {
@@ -332,7 +356,18 @@ mod tests {
         );
         assert_eq!(applies(PREVIOUS_BASIS_MAX_N - 1, true, true, false), [PreviousBasis, StructuredLemke]);
         assert_eq!(applies(STRUCTURED_MIN_N, true, true, true), [StructuredLemke]);
-        assert_eq!(applies(STOOD_MAX_N, true, true, true), [StructuredLemke]);
-        assert_eq!(applies(STOOD_MAX_N - 1, true, true, true), [PreviousBasis, StructuredLemke]);
+        assert_eq!(applies(10 * STOOD_MAX_CONTACTS, true, true, true), [StructuredLemke]);
+        assert_eq!(applies(10 * STOOD_MAX_CONTACTS - 10, true, true, true), [PreviousBasis, StructuredLemke]);
+    }
+
+    /// The stood island's bound counts contacts: at 4 friction directions (6
+    /// unknowns a contact) an island of as many contacts skips the check at
+    /// 6/10 of the unknowns.
+    #[test]
+    fn the_stood_bound_counts_contacts_whatever_the_friction_directions() {
+        use SolveStage::*;
+        let at = |contacts| Size { n: 6 * contacts, contacts };
+        assert_eq!(applies_sized(at(STOOD_MAX_CONTACTS), true, true, true), [StructuredLemke]);
+        assert_eq!(applies_sized(at(STOOD_MAX_CONTACTS - 1), true, true, true), [PreviousBasis, StructuredLemke]);
     }
 }
