@@ -51,7 +51,7 @@ pub enum Start {
 /// `World::reserve_islands`).
 pub(super) fn attempt(isl: &mut IslandLcp, a: &Attempt<'_>) -> Option<Found> {
     let sol = if kept_factors::enabled() {
-        solve_kept(&isl.lcp, a.warm, a.accept_tol, !a.previous_tried, &mut isl.kept)?
+        solve_kept(&isl.lcp, a.warm, a.accept_tol, !a.previous_tried, isl.previous_stood, &mut isl.kept)?
     } else {
         solve(&isl.lcp, a.warm, a.accept_tol)?
     };
@@ -82,13 +82,15 @@ pub fn solve(lcp: &ContactLcp, warm: Option<&[bool]>, tol: f64) -> Option<Soluti
 /// last step ([`super::kept_factors`]): the operators refilled in place when
 /// the island's contacts join the same bodies, and then, for an island that
 /// skipped the previous-basis stage (`warm_untried`, see
-/// [`super::PREVIOUS_BASIS_MAX_N`]), its warm basis solved on kept factors first; the structured Lemke as in [`solve`]
+/// [`super::PREVIOUS_BASIS_MAX_N`]), its warm basis solved on kept factors first (factored afresh
+/// for it only where the island `stood`, [`KeptFactors::answer`]); the structured Lemke as in [`solve`]
 /// when that basis is not accepted.
 fn solve_kept(
     lcp: &ContactLcp,
     warm: Option<&[bool]>,
     tol: f64,
     warm_untried: bool,
+    stood: bool,
     kept: &mut KeptFactors,
 ) -> Option<Solution> {
     let refilled = kept.prepare(lcp)?;
@@ -98,7 +100,7 @@ fn solve_kept(
     replay::dump(&problem);
     let at_once = match &problem.warm {
         Some(alpha) if refilled && warm_untried => {
-            kept.answer(&problem.op, problem.physical.as_ref(), problem.layout, problem.scale, alpha, tol)
+            kept.answer(&problem.op, problem.physical.as_ref(), problem.layout, problem.scale, alpha, tol, stood)
         }
         _ => None,
     };
