@@ -134,16 +134,19 @@ pub(crate) fn accepts_rows(
     diag: impl FnMut(usize) -> f64,
     scale: impl FnMut(usize, f64) -> (f64, f64),
 ) -> bool {
-    rejected_rows((q, z, w), tol, None, diag, |_| None, scale, true).is_none()
+    rejected_rows((q, z, w), tol, None, diag, |_, _| None, scale, true).is_none()
 }
 
 /// The row the rule rejects with the largest `η_i` (`first`: the first row
 /// it rejects), `None` when it accepts; a negative or non-finite `z_i` is
 /// rejected before any row is read. `diag` and `scale` as in [`accepts_rows`];
-/// `entry(i)`, when it knows some other entries of the row (e.g. its largest
-/// at an earlier read), their `(Σ_j |M_ij| z_j, max_j |M_ij|)`, which sharpen
-/// the bound below before the row is read (`s_i ≥ |q_i| + |M_ii| z_i + Σ_j
-/// |M_ij| z_j`, `max ≥ max_j |M_ij|`, over those `j ≠ i`).
+/// `entry(i, known)`, when it knows some other entries of the row (e.g. its
+/// largest at an earlier read), their `(Σ_j |M_ij| z_j, max_j |M_ij|)`, which
+/// sharpen the bound below before the row is read (`s_i ≥ |q_i| + |M_ii| z_i
+/// + Σ_j |M_ij| z_j`, `max ≥ max_j |M_ij|`, over those `j ≠ i`): with `known
+/// = None` of one of them, with `Some` (those sums) of all (`None` when
+/// that one is all). The bound only grows with entries: one that a part of
+/// them clears all of them clear.
 /// `M_ii` is read only for a row whose violation is above `tol·|q_i|`, the
 /// scale only for a row the lower bound of the module docs' `tol·s_i + f_i`,
 /// `tol·(|q_i| + |M_ii| z_i) + ρ·|M_ii|·Σ z`, does not clear (`s_i ≥ |q_i| +
@@ -155,7 +158,7 @@ fn rejected_rows(
     tol: f64,
     diagonal: Option<&[f64]>,
     mut diag: impl FnMut(usize) -> f64,
-    mut entry: impl FnMut(usize) -> Option<(f64, f64)>,
+    mut entry: impl FnMut(usize, Option<(f64, f64)>) -> Option<(f64, f64)>,
     mut scale: impl FnMut(usize, f64) -> (f64, f64),
     first: bool,
 ) -> Option<usize> {
@@ -164,8 +167,16 @@ fn rejected_rows(
     // `M_ii` (`diagonal`, when known as a slice; `zsum` summed as below).)
     let sized = z.len() == q.len() && w.len() == q.len();
     let diagonal = diagonal.filter(|d| sized && d.len() == q.len()).map(|d| (d, z.iter().sum::<f64>()));
-    let (bad_z, from) = crate::kernels::rows_past_cheap_tests((q, z, w), tol, diagonal);
+    let mut past = [0u64; PAST_WORDS];
+    let (bad_z, from) = crate::kernels::rows_past_cheap_tests((q, z, w), tol, diagonal, &mut past);
     let from = if sized { from } else { 0 };
+    // The rows to read one by one: those the pass marked when it could
+    // (the diagonal's test in it, and words for every row), else all from
+    // `from` on. (On a resting stack a few dozen rows of 400 are past the
+    // pass's tests, but the first of them comes early.)
+    let marked = diagonal.is_some() && q.len() <= 64 * PAST_WORDS;
+    let (mut marks, mut rest) = (crate::kernels::marked_rows(&past, from), from..q.len());
+    let mut next = || if marked { marks.next() } else { rest.next() };
     if !bad_z && from == q.len() {
         return None;
     }
@@ -175,8 +186,8 @@ fn rejected_rows(
     }
     let mut zsum = None;
     let mut worst: Option<(usize, f64)> = None;
-    // (The rows before `from` pass the tests on `M_ii` below.)
-    for i in from..q.len() {
+    // (The rows before `from`, and those not marked, pass the tests on `M_ii` below.)
+    while let Some(i) = next() {
         let v = violation(z[i], w[i]);
         // Most rows: no violation, or one within `tol·|q_i|`.
         // (Written `v <= …` so that a NaN falls through to the full check.)
@@ -188,8 +199,10 @@ fn rejected_rows(
         if v <= tol * (q[i].abs() + d * z[i]) + ROUND_OFF * d * zs {
             continue;
         }
-        if let Some((terms, top)) = entry(i) {
-            if v <= tol * (q[i].abs() + d * z[i] + terms) + ROUND_OFF * d.max(top) * zs {
+        let clears =
+            |(terms, top): (f64, f64)| v <= tol * (q[i].abs() + d * z[i] + terms) + ROUND_OFF * d.max(top) * zs;
+        if let Some(first) = entry(i, None) {
+            if clears(first) || entry(i, Some(first)).is_some_and(clears) {
                 continue;
             }
         }
@@ -207,6 +220,10 @@ fn rejected_rows(
     }
     worst.map(|(i, _)| i)
 }
+
+/// Words of [`crate::kernels::rows_past_cheap_tests`]'s marks [`rejected_rows`]
+/// keeps on its stack: rows of LCPs up to `64·PAST_WORDS` are read only where marked.
+const PAST_WORDS: usize = 16;
 
 /// [`accepts`] for an `M` reached through an [`LcpOperator`] (blocks and
 /// products, e.g. a contact LCP in body space): the same rule, row by row.
@@ -249,14 +266,20 @@ pub fn rejected_row_operator(
         kept.resize(n, [NO_COLUMN; KEPT]);
     }
     let kept = std::cell::Cell::from_mut(kept.as_mut_slice()).as_slice_of_cells();
-    let entry = |i: usize| {
+    let entry = |i: usize, first: Option<(f64, f64)>| {
         let cols = kept[i].get();
         let known = cols.iter().take_while(|&&j| j < n).count();
-        (known > 0).then(|| {
+        // (The column of the largest term alone — the one that clears an
+        // unloaded friction row on a resting stack — then all of them.)
+        let cols = match first {
+            None => &cols[known.min(2).saturating_sub(1)..known.min(2)],
+            Some(_) if known > 1 => &cols[..known],
+            Some(_) => &[],
+        };
+        (!cols.is_empty()).then(|| {
             let mut x = [0.0; KEPT];
-            op.block(&[i], &cols[..known], &mut x[..known]);
-            cols[..known]
-                .iter()
+            op.block(&[i], cols, &mut x[..cols.len()]);
+            cols.iter()
                 .zip(&x)
                 .filter(|&(&j, _)| j != i)
                 .fold((0.0, 0.0f64), |(terms, top), (&j, m)| (terms + m.abs() * z[j], top.max(m.abs())))
@@ -287,13 +310,12 @@ const NO_COLUMN: usize = usize::MAX;
 /// (`j ≠ i`, `z_j > 0`), each once.
 fn kept_columns(row: &[f64], z: &[f64], i: usize) -> KeptColumns {
     let mut cols = [NO_COLUMN; KEPT];
-    let others = || (0..row.len()).filter(move |&j| j != i);
-    if let Some(top) = others().max_by(|&a, &b| row[a].abs().total_cmp(&row[b].abs())) {
+    if let Some(top) = last_largest_magnitude(row, i) {
         cols[0] = top;
     }
     // Insertion into a short list sorted by term, largest first.
     let mut terms = [(0.0f64, NO_COLUMN); KEPT - 1];
-    for j in others().filter(|&j| z[j] > 0.0 && j != cols[0]) {
+    for j in (0..row.len()).filter(|&j| z[j] > 0.0 && j != i && j != cols[0]) {
         let t = row[j].abs() * z[j];
         if let Some(p) = terms.iter().position(|&(u, c)| c == NO_COLUMN || t > u) {
             terms[p..].rotate_right(1);
@@ -306,6 +328,34 @@ fn kept_columns(row: &[f64], z: &[f64], i: usize) -> KeptColumns {
         k += 1;
     }
     cols
+}
+
+/// The last `j ≠ i` of the largest `|row_j|` in [`f64::total_cmp`]'s order
+/// (what `max_by` of that order picks), `None` for a row of `i` alone. An
+/// `|x|`'s bits order as that order does: their largest is found over lanes
+/// (a full read on a resting stack spans 400 entries), then its last place.
+fn last_largest_magnitude(row: &[f64], i: usize) -> Option<usize> {
+    let bits = |x: &f64| x.to_bits() & !(1 << 63);
+    let lanes = crate::kernels::LANES;
+    let largest = |part: &[f64]| {
+        let mut acc = [0u64; crate::kernels::LANES];
+        let mut chunks = part.chunks_exact(lanes);
+        for c in &mut chunks {
+            for k in 0..lanes {
+                acc[k] = acc[k].max(bits(&c[k]));
+            }
+        }
+        chunks.remainder().iter().fold(acc.into_iter().max().unwrap_or(0), |m, x| m.max(bits(x)))
+    };
+    let (before, after) = (&row[..i.min(row.len())], row.get(i + 1..).unwrap_or(&[]));
+    if before.is_empty() && after.is_empty() {
+        return None;
+    }
+    let top = largest(before).max(largest(after));
+    match after.iter().rposition(|x| bits(x) == top) {
+        Some(k) => Some(i + 1 + k),
+        None => before.iter().rposition(|x| bits(x) == top),
+    }
 }
 
 fn check_lengths(lcp: &Lcp, z: &[f64], w: &[f64]) {
@@ -429,6 +479,24 @@ mod tests {
         let ps = lcp((0..4).map(|k| r[k / 2] * m[k]).collect(), vec![r[0] * q[0], r[1] * q[1]]);
         assert_eq!(backward_error(&ps, &z, &ps.w_of(&z)), eta);
         assert!(eta > 1e-9 && eta < 1e-6);
+    }
+
+    #[test]
+    fn the_largest_magnitude_is_the_last_of_max_by() {
+        let rows: [&[f64]; 6] = [
+            &[1.0, -3.0, 2.0, 3.0, -0.5, 0.0, 1e-300],
+            &[-0.0, 0.0, 0.0],
+            &[f64::NAN, -5.0, f64::INFINITY, -f64::NAN],
+            &[2.0],
+            &[1.0, 2.0, 3.0, 4.0, 5.0, 5.0, -5.0, 4.0, 3.0],
+            &[],
+        ];
+        for row in rows {
+            for i in 0..row.len() + 1 {
+                let plain = (0..row.len()).filter(|&j| j != i).max_by(|&a, &b| row[a].abs().total_cmp(&row[b].abs()));
+                assert_eq!(last_largest_magnitude(row, i), plain, "{row:?} without {i}");
+            }
+        }
     }
 
     #[test]

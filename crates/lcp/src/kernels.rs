@@ -50,34 +50,71 @@ pub(crate) fn max_abs_finite(a: &[f64], init: f64) -> (f64, bool) {
 /// violation `v_i` (`|w_i|` where `z_i > 0`, else `max(−w_i, 0)`, a NaN `w_i`
 /// counting 0 there) is neither 0 nor within `tol·|q_i|` nor, with the
 /// diagonal `d` given and `zsum = Σ z`, within `tol·(|q_i| + |d_i| z_i) +
-/// ρ·|d_i|·zsum` (`n`, the rows' count, when there is none). The verdicts of
-/// the row-by-row tests, in one pass without early exits, which vectorizes.
+/// ρ·|d_i|·zsum` (`n`, the rows' count, when there is none). Every such row
+/// is also marked in `past` (bit `i % 64` of word `i / 64`) when it has the
+/// words for all `n` rows (else it is left as it is). The verdicts of the
+/// row-by-row tests, in one pass without early exits, which vectorizes.
 pub(crate) fn rows_past_cheap_tests(
     (q, z, w): (&[f64], &[f64], &[f64]),
     tol: f64,
     diagonal: Option<(&[f64], f64)>,
+    past: &mut [u64],
 ) -> (bool, usize) {
     let n = q.len().min(z.len()).min(w.len());
+    let past = if past.len() * 64 >= n { Some(past) } else { None };
     match diagonal.filter(|(d, _)| d.len() >= n) {
-        Some((d, zsum)) => cheap_tests::<true>((&q[..n], &z[..n], &w[..n], &d[..n]), tol, zsum),
-        None => cheap_tests::<false>((&q[..n], &z[..n], &w[..n], &q[..n]), tol, 0.0),
+        Some((d, zsum)) => cheap_tests::<true>((&q[..n], &z[..n], &w[..n], &d[..n]), tol, zsum, past),
+        None => cheap_tests::<false>((&q[..n], &z[..n], &w[..n], &q[..n]), tol, 0.0, past),
     }
 }
 
 /// [`rows_past_cheap_tests`] over rows of equal lengths, the diagonal read when `DIAG`.
 #[inline(always)]
-fn cheap_tests<const DIAG: bool>((q, z, w, d): (&[f64], &[f64], &[f64], &[f64]), tol: f64, zsum: f64) -> (bool, usize) {
+fn cheap_tests<const DIAG: bool>(
+    (q, z, w, d): (&[f64], &[f64], &[f64], &[f64]),
+    tol: f64,
+    zsum: f64,
+    mut past: Option<&mut [u64]>,
+) -> (bool, usize) {
     let (n, rho) = (q.len(), crate::accept::ROUND_OFF);
     let (mut bad, mut first) = (false, n);
-    for i in 0..n {
-        let (qi, zi, wi, di) = (q[i].abs(), z[i], w[i], d[i].abs());
-        bad |= !((zi >= 0.0) & (zi.abs() < f64::INFINITY));
-        let v = crate::accept::violation(zi, wi);
-        let by_diag = DIAG && v <= tol * (qi + di * zi) + rho * di * zsum;
-        let clear = (v == 0.0) | (v <= tol * qi) | by_diag;
-        first = first.min(if clear { n } else { i });
+    // (By words of 64 rows: a row's bit is its verdict shifted into place.)
+    for (word, start) in (0..n).step_by(64).enumerate() {
+        let end = (start + 64).min(n);
+        let mut bits = 0u64;
+        for (k, i) in (start..end).enumerate() {
+            let (qi, zi, wi, di) = (q[i].abs(), z[i], w[i], d[i].abs());
+            bad |= !((zi >= 0.0) & (zi.abs() < f64::INFINITY));
+            let v = crate::accept::violation(zi, wi);
+            let by_diag = DIAG && v <= tol * (qi + di * zi) + rho * di * zsum;
+            let clear = (v == 0.0) | (v <= tol * qi) | by_diag;
+            bits |= u64::from(!clear) << k;
+        }
+        if first == n && bits != 0 {
+            first = start + bits.trailing_zeros() as usize;
+        }
+        if let Some(p) = past.as_deref_mut() {
+            p[word] = bits;
+        }
     }
     (bad, first)
+}
+
+/// The rows marked in `past` (as [`rows_past_cheap_tests`] marks them), in
+/// order, from row `from` on.
+pub(crate) fn marked_rows(past: &[u64], from: usize) -> impl Iterator<Item = usize> + '_ {
+    let first = from / 64;
+    past.iter().enumerate().skip(first).flat_map(move |(word, &bits)| {
+        // (Bits of rows before `from` in its word cleared.)
+        let mut bits = if word == first { bits & (u64::MAX << (from % 64)) } else { bits };
+        std::iter::from_fn(move || {
+            (bits != 0).then(|| {
+                let k = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                word * 64 + k
+            })
+        })
+    })
 }
 
 /// The most violated index of a complementary point: `v_i = −z_i` where
@@ -297,7 +334,7 @@ mod tests {
         /// the diagonal, `v_i ≤ tol·(|q_i| + |M_ii| z_i) + ρ·|M_ii|·Σ z`).
         #[test]
         fn rows_past_cheap_tests_is_the_row_by_row_verdict(
-            rows in proptest::collection::vec((entry(), entry(), entry(), entry()), 0..30),
+            rows in proptest::collection::vec((entry(), entry(), entry(), entry()), 0..150),
             positive in proptest::bool::ANY,
             tol in proptest::prop_oneof![proptest::strategy::Just(1e-9f64), 0.0f64..1.0],
         ) {
@@ -321,8 +358,17 @@ mod tests {
             };
             for diag in [false, true] {
                 let first = (0..q.len()).find(|&i| !clear(i, diag)).unwrap_or(q.len());
+                let marked: Vec<usize> = (0..q.len()).filter(|&i| !clear(i, diag)).collect();
                 let given = diag.then_some((d.as_slice(), zsum));
-                proptest::prop_assert_eq!(rows_past_cheap_tests((&q, &z, &w), tol, given), (bad, first));
+                let mut past = [0u64; 3];
+                proptest::prop_assert_eq!(rows_past_cheap_tests((&q, &z, &w), tol, given, &mut past), (bad, first));
+                let from = first.min(q.len()).saturating_sub(1);
+                let expect: Vec<usize> = marked.iter().copied().filter(|&i| i >= from).collect();
+                proptest::prop_assert_eq!(marked_rows(&past, from).collect::<Vec<_>>(), expect);
+                // (Too few words for the rows: none written, the same verdicts.)
+                let mut short = [7u64];
+                proptest::prop_assert_eq!(rows_past_cheap_tests((&q, &z, &w), tol, given, &mut short), (bad, first));
+                proptest::prop_assert!(q.len() <= 64 || short == [7u64]);
             }
         }
     }
