@@ -166,7 +166,7 @@ fn rejected_rows(
     // by one only when some `z_i` is bad or some row is past the tests on
     // `M_ii` (`diagonal`, when known as a slice; `zsum` summed as below).)
     let sized = z.len() == q.len() && w.len() == q.len();
-    let diagonal = diagonal.filter(|d| sized && d.len() == q.len()).map(|d| (d, z.iter().sum::<f64>()));
+    let diagonal = diagonal.filter(|d| sized && d.len() == q.len()).map(|d| (d, crate::kernels::sum_in_order(z)));
     let mut past = [0u64; PAST_WORDS];
     let (bad_z, from) = crate::kernels::rows_past_cheap_tests((q, z, w), tol, diagonal, &mut past);
     let from = if sized { from } else { 0 };
@@ -184,7 +184,8 @@ fn rejected_rows(
     if bad_z || !sized && z.iter().any(|&v| bad(v)) {
         return z.iter().position(|&v| bad(v));
     }
-    let mut zsum = None;
+    // (`Σ z` once: a sum in order waits on each add.)
+    let mut zsum = diagonal.map(|(_, zs)| zs);
     let mut worst: Option<(usize, f64)> = None;
     // (The rows before `from`, and those not marked, pass the tests on `M_ii` below.)
     while let Some(i) = next() {
@@ -194,7 +195,7 @@ fn rejected_rows(
         if v == 0.0 || v <= tol * q[i].abs() {
             continue;
         }
-        let zs = *zsum.get_or_insert_with(|| z.iter().sum::<f64>());
+        let zs = *zsum.get_or_insert_with(|| crate::kernels::sum_in_order(z));
         let d = diag(i).abs();
         if v <= tol * (q[i].abs() + d * z[i]) + ROUND_OFF * d * zs {
             continue;
