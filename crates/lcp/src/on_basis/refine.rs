@@ -63,8 +63,7 @@ pub(super) fn refine_on_factor(op: &dyn LcpOperator, ws: &mut BasisWorkspace, po
     let mut previous = f64::INFINITY;
     // The first step reads w on β alone (its correction is seldom the last,
     // whose w the answer keeps): on a resting 10-box stack, 30 rows of 400.
-    ws.rows.clear();
-    ws.rows.extend(ws.f.order[..ws.f.rank].iter().map(|&p| ws.f.support[p]));
+    ws.basic_rows();
     op.w_rows(&ws.z, &ws.rows, &mut ws.w);
     for step in 0..=REFINE_STEPS {
         if step > 0 {
@@ -74,13 +73,7 @@ pub(super) fn refine_on_factor(op: &dyn LcpOperator, ws: &mut BasisWorkspace, po
         if !(dmax.is_finite() && zmax.is_finite()) {
             return false;
         }
-        // Converged, or at the accuracy this block attains: a correction at
-        // round-off that no longer halves (an ill-conditioned block stalls
-        // at a few 1e-15 of ‖z‖, where a fresh factorization, refined once,
-        // ends no closer).
-        let converged = dmax <= REFINE_STOP * zmax;
-        let stalled = dmax <= REFINE_STALL * zmax && dmax > 0.5 * previous;
-        let negligible = converged || stalled;
+        let negligible = settled(dmax, zmax, previous);
         previous = dmax;
         if negligible && !polish {
             if step == 0 {
@@ -113,8 +106,7 @@ pub(super) fn refine_on_factor(op: &dyn LcpOperator, ws: &mut BasisWorkspace, po
 /// judged by the same rule.
 fn refine_by_inverse(op: &dyn LcpOperator, ws: &mut BasisWorkspace, err: f64) -> bool {
     let (n, r) = (op.n(), ws.f.rank);
-    ws.rows.clear();
-    ws.rows.extend(ws.f.order[..r].iter().map(|&p| ws.f.support[p]));
+    ws.basic_rows();
     let q = op.q();
     ws.x.clear();
     ws.x.extend(ws.rows.iter().map(|&i| -q[i]));
@@ -149,10 +141,9 @@ fn refine_by_inverse(op: &dyn LcpOperator, ws: &mut BasisWorkspace, err: f64) ->
         if !(finite && reach.is_finite() && zmax.is_finite()) {
             return false;
         }
-        let converged = reach <= REFINE_STOP * zmax;
-        let stalled = reach <= REFINE_STALL * zmax && reach > 0.5 * previous;
+        let negligible = settled(reach, zmax, previous);
         previous = reach;
-        if converged || stalled {
+        if negligible {
             if step == 0 && by_rows {
                 op.w_after_rows(&ws.z, &mut ws.w);
             }
@@ -166,6 +157,18 @@ fn refine_by_inverse(op: &dyn LcpOperator, ws: &mut BasisWorkspace, err: f64) ->
         }
     }
     false
+}
+
+/// Whether refinement has settled with a correction of size `d` (or its
+/// bound) on `‖z_β‖∞ = zmax`, after one of size `previous`: converged
+/// (below [`REFINE_STOP`] of `zmax`), or at the accuracy this block attains
+/// — a correction at round-off ([`REFINE_STALL`]) that no longer halves (an
+/// ill-conditioned block stalls at a few 1e-15 of `‖z‖`, where a fresh
+/// factorization, refined once, ends no closer).
+fn settled(d: f64, zmax: f64, previous: f64) -> bool {
+    let converged = d <= REFINE_STOP * zmax;
+    let stalled = d <= REFINE_STALL * zmax && d > 0.5 * previous;
+    converged || stalled
 }
 
 /// `z_β = M_ββ⁻¹ (−q_β)` with the factors in `ws`, `z = 0` elsewhere (`w`

@@ -137,6 +137,14 @@ impl Factors {
 }
 
 impl BasisWorkspace {
+    /// `rows` ← the indices of `β`, the factored regular block, in pivot
+    /// order (the rows a refinement step reads).
+    pub(super) fn basic_rows(&mut self) {
+        let BasisWorkspace { rows, f, .. } = self;
+        rows.clear();
+        rows.extend(f.order[..f.rank].iter().map(|&p| f.support[p]));
+    }
+
     /// Copies the current factorization aside.
     pub(super) fn hold_factors(&mut self) {
         self.held.copy_from(&self.f);
