@@ -142,11 +142,11 @@ pub(crate) fn accepts_rows(
 /// rejected before any row is read. `diag` and `scale` as in [`accepts_rows`];
 /// `entry(i, known)`, when it knows some other entries of the row (e.g. its
 /// largest at an earlier read), their `(Σ_j |M_ij| z_j, max_j |M_ij|)`, which
-/// sharpen the bound below before the row is read (`s_i ≥ |q_i| + |M_ii| z_i
-/// + Σ_j |M_ij| z_j`, `max ≥ max_j |M_ij|`, over those `j ≠ i`): with `known
-/// = None` of one of them, with `Some` (those sums) of all (`None` when
-/// that one is all). The bound only grows with entries: one that a part of
-/// them clears all of them clear.
+/// sharpen the bound below before the row is read (`s_i ≥ |q_i| + |M_ii|
+/// z_i + Σ_j |M_ij| z_j`, `max ≥ max_j |M_ij|`, over those `j ≠ i`): with
+/// `known` `None` of one of them, with `Some` (those sums) of all (`None`
+/// when that one is all). The bound only grows with entries: one that a
+/// part of them clears all of them clear.
 /// `M_ii` is read only for a row whose violation is above `tol·|q_i|`, the
 /// scale only for a row the lower bound of the module docs' `tol·s_i + f_i`,
 /// `tol·(|q_i| + |M_ii| z_i) + ρ·|M_ii|·Σ z`, does not clear (`s_i ≥ |q_i| +
@@ -323,10 +323,9 @@ fn kept_columns(row: &[f64], z: &[f64], i: usize) -> KeptColumns {
             terms[p] = (t, j);
         }
     }
-    let mut k = usize::from(cols[0] != NO_COLUMN);
-    for &(_, j) in terms.iter().filter(|&&(_, j)| j != NO_COLUMN) {
+    let after_top = usize::from(cols[0] != NO_COLUMN);
+    for (k, &(_, j)) in (after_top..).zip(terms.iter().filter(|&&(_, j)| j != NO_COLUMN)) {
         cols[k] = j;
-        k += 1;
     }
     cols
 }
