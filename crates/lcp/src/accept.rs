@@ -167,14 +167,16 @@ fn rejected_rows(
     // `M_ii` (`diagonal`, when known as a slice; `zsum` summed as below).)
     let sized = z.len() == q.len() && w.len() == q.len();
     let diagonal = diagonal.filter(|d| sized && d.len() == q.len()).map(|d| (d, crate::kernels::sum_in_order(z)));
+    // The rows to read one by one: those the pass marks, where it tests the
+    // diagonal and there are more rows than a word of marks holds (on a
+    // resting stack a few dozen rows of 400 are past the pass's tests, but
+    // the first of them comes early) up to `PAST_WORDS` of them, else all
+    // from the first row past the tests on (a single body's 40 rows).
+    let marked = diagonal.is_some() && (65..=64 * PAST_WORDS).contains(&q.len());
     let mut past = [0u64; PAST_WORDS];
-    let (bad_z, from) = crate::kernels::rows_past_cheap_tests((q, z, w), tol, diagonal, &mut past);
+    let marks = marked.then_some(&mut past[..]);
+    let (bad_z, from) = crate::kernels::rows_past_cheap_tests((q, z, w), tol, diagonal, marks);
     let from = if sized { from } else { 0 };
-    // The rows to read one by one: those the pass marked when it could
-    // (the diagonal's test in it, and words for every row), else all from
-    // `from` on. (On a resting stack a few dozen rows of 400 are past the
-    // pass's tests, but the first of them comes early.)
-    let marked = diagonal.is_some() && q.len() <= 64 * PAST_WORDS;
     let (mut marks, mut rest) = (crate::kernels::marked_rows(&past, from), from..q.len());
     let mut next = || if marked { marks.next() } else { rest.next() };
     if !bad_z && from == q.len() {

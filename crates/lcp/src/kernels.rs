@@ -50,52 +50,76 @@ pub(crate) fn max_abs_finite(a: &[f64], init: f64) -> (f64, bool) {
 /// violation `v_i` (`|w_i|` where `z_i > 0`, else `max(−w_i, 0)`, a NaN `w_i`
 /// counting 0 there) is neither 0 nor within `tol·|q_i|` nor, with the
 /// diagonal `d` given and `zsum = Σ z`, within `tol·(|q_i| + |d_i| z_i) +
-/// ρ·|d_i|·zsum` (`n`, the rows' count, when there is none). Every such row
-/// is also marked in `past` (bit `i % 64` of word `i / 64`) when it has the
-/// words for all `n` rows (else it is left as it is). The verdicts of the
+/// ρ·|d_i|·zsum` (`n`, the rows' count, when there is none). With `past`
+/// holding words for all `n` rows, every such row is also marked there (bit
+/// `i % 64` of word `i / 64`; else it is left as it is). The verdicts of the
 /// row-by-row tests, in one pass without early exits, which vectorizes.
 pub(crate) fn rows_past_cheap_tests(
     (q, z, w): (&[f64], &[f64], &[f64]),
     tol: f64,
     diagonal: Option<(&[f64], f64)>,
-    past: &mut [u64],
+    past: Option<&mut [u64]>,
 ) -> (bool, usize) {
     let n = q.len().min(z.len()).min(w.len());
-    let past = if past.len() * 64 >= n { Some(past) } else { None };
-    match diagonal.filter(|(d, _)| d.len() >= n) {
-        Some((d, zsum)) => cheap_tests::<true>((&q[..n], &z[..n], &w[..n], &d[..n]), tol, zsum, past),
-        None => cheap_tests::<false>((&q[..n], &z[..n], &w[..n], &q[..n]), tol, 0.0, past),
+    let past = past.filter(|p| p.len() * 64 >= n);
+    match (diagonal.filter(|(d, _)| d.len() >= n), past) {
+        (Some((d, zsum)), None) => cheap_tests::<true>((&q[..n], &z[..n], &w[..n], &d[..n]), tol, zsum),
+        (None, None) => cheap_tests::<false>((&q[..n], &z[..n], &w[..n], &q[..n]), tol, 0.0),
+        (Some((d, zsum)), Some(p)) => marked_tests::<true>((&q[..n], &z[..n], &w[..n], &d[..n]), tol, zsum, p),
+        (None, Some(p)) => marked_tests::<false>((&q[..n], &z[..n], &w[..n], &q[..n]), tol, 0.0, p),
     }
+}
+
+/// Whether row `i` clears [`rows_past_cheap_tests`]'s tests, and whether its `z_i` is bad.
+#[inline(always)]
+fn cheap_test<const DIAG: bool>(
+    (q, z, w, d): (&[f64], &[f64], &[f64], &[f64]),
+    tol: f64,
+    zsum: f64,
+    i: usize,
+) -> (bool, bool) {
+    let (qi, zi, wi, di) = (q[i].abs(), z[i], w[i], d[i].abs());
+    let bad = !((zi >= 0.0) & (zi.abs() < f64::INFINITY));
+    let v = crate::accept::violation(zi, wi);
+    let by_diag = DIAG && v <= tol * (qi + di * zi) + crate::accept::ROUND_OFF * di * zsum;
+    ((v == 0.0) | (v <= tol * qi) | by_diag, bad)
 }
 
 /// [`rows_past_cheap_tests`] over rows of equal lengths, the diagonal read when `DIAG`.
 #[inline(always)]
-fn cheap_tests<const DIAG: bool>(
-    (q, z, w, d): (&[f64], &[f64], &[f64], &[f64]),
+fn cheap_tests<const DIAG: bool>(rows: (&[f64], &[f64], &[f64], &[f64]), tol: f64, zsum: f64) -> (bool, usize) {
+    let n = rows.0.len();
+    let (mut bad, mut first) = (false, n);
+    for i in 0..n {
+        let (clear, bad_z) = cheap_test::<DIAG>(rows, tol, zsum, i);
+        bad |= bad_z;
+        first = first.min(if clear { n } else { i });
+    }
+    (bad, first)
+}
+
+/// [`cheap_tests`] marking the rows past them in `past`.
+#[inline(always)]
+fn marked_tests<const DIAG: bool>(
+    rows: (&[f64], &[f64], &[f64], &[f64]),
     tol: f64,
     zsum: f64,
-    mut past: Option<&mut [u64]>,
+    past: &mut [u64],
 ) -> (bool, usize) {
-    let (n, rho) = (q.len(), crate::accept::ROUND_OFF);
+    let n = rows.0.len();
     let (mut bad, mut first) = (false, n);
     // (By words of 64 rows: a row's bit is its verdict shifted into place.)
     for (word, start) in (0..n).step_by(64).enumerate() {
-        let end = (start + 64).min(n);
         let mut bits = 0u64;
-        for (k, i) in (start..end).enumerate() {
-            let (qi, zi, wi, di) = (q[i].abs(), z[i], w[i], d[i].abs());
-            bad |= !((zi >= 0.0) & (zi.abs() < f64::INFINITY));
-            let v = crate::accept::violation(zi, wi);
-            let by_diag = DIAG && v <= tol * (qi + di * zi) + rho * di * zsum;
-            let clear = (v == 0.0) | (v <= tol * qi) | by_diag;
+        for (k, i) in (start..(start + 64).min(n)).enumerate() {
+            let (clear, bad_z) = cheap_test::<DIAG>(rows, tol, zsum, i);
+            bad |= bad_z;
             bits |= u64::from(!clear) << k;
         }
         if first == n && bits != 0 {
             first = start + bits.trailing_zeros() as usize;
         }
-        if let Some(p) = past.as_deref_mut() {
-            p[word] = bits;
-        }
+        past[word] = bits;
     }
     (bad, first)
 }
@@ -145,6 +169,9 @@ pub(crate) fn sum_in_order(a: &[f64]) -> f64 {
 /// none is above), and whether some `z_i < 0`. The verdict of the plain scan
 /// (`v_i > worst` in order), in a pass that vectorizes and a second over
 /// the rows only when some `v_i` is above `floor`.
+// (Inlined into the exchange rounds' loop, its one caller, as LLVM chose
+// before the rule's kernels beside it grew: a call cost the resting cube 0.5 %.)
+#[inline(always)]
 pub(crate) fn most_violated(basic: &[bool], z: &[f64], w: &[f64], floor: f64) -> ((f64, Option<usize>), bool) {
     let n = basic.len().min(z.len()).min(w.len());
     let (basic, z, w) = (&basic[..n], &z[..n], &w[..n]);
@@ -383,13 +410,14 @@ mod tests {
                 let marked: Vec<usize> = (0..q.len()).filter(|&i| !clear(i, diag)).collect();
                 let given = diag.then_some((d.as_slice(), zsum));
                 let mut past = [0u64; 3];
-                proptest::prop_assert_eq!(rows_past_cheap_tests((&q, &z, &w), tol, given, &mut past), (bad, first));
+                proptest::prop_assert_eq!(rows_past_cheap_tests((&q, &z, &w), tol, given, None), (bad, first));
+                proptest::prop_assert_eq!(rows_past_cheap_tests((&q, &z, &w), tol, given, Some(&mut past)), (bad, first));
                 let from = first.min(q.len()).saturating_sub(1);
                 let expect: Vec<usize> = marked.iter().copied().filter(|&i| i >= from).collect();
                 proptest::prop_assert_eq!(marked_rows(&past, from).collect::<Vec<_>>(), expect);
                 // (Too few words for the rows: none written, the same verdicts.)
                 let mut short = [7u64];
-                proptest::prop_assert_eq!(rows_past_cheap_tests((&q, &z, &w), tol, given, &mut short), (bad, first));
+                proptest::prop_assert_eq!(rows_past_cheap_tests((&q, &z, &w), tol, given, Some(&mut short)), (bad, first));
                 proptest::prop_assert!(q.len() <= 64 || short == [7u64]);
             }
         }
