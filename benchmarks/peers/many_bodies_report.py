@@ -17,7 +17,8 @@ TITLES = {
 
 NOTES = [
     "**lcpsim**: hard contact, a Stewart–Trinkle LCP per step over the contacts (per contact island where "
-    "lcpsim splits them; 8 friction directions, so n = 10 per contact point) solved by Lemke; LCPs counts the "
+    "lcpsim splits them; the friction directions the file's cone gives, named under 'Scenes built by': MuJoCo's "
+    "default pyramid is 4, so n = 6 per contact point, since d4697cf, 8 before it) solved by Lemke; LCPs counts the "
     "steps with contacts; the stepping loop in Rust (`World.run`). A steps/s of a run that "
     "timed out is over the steps it did.",
     "**MuJoCo**: soft contacts (defaults: pyramidal cone, Newton solver, `solref` 0.02 s), so boxes rest a little "
