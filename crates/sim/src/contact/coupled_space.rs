@@ -163,6 +163,11 @@ impl<'a> CoupledSpaceLcp<'a> {
         }
     }
 
+    /// The points whose normals bound patch contact `c`'s cone row (`None`: `c` is no patch).
+    fn patch_points(&self, c: usize) -> Option<std::ops::Range<usize>> {
+        self.lcp.patch_cones().iter().find(|(p, _)| *p == c).map(|(_, points)| points.clone())
+    }
+
     /// `(E v)_i` for impulse row `i`, `v` in frame rows (`3nc`): its
     /// contact's normal entry, or `c_j t1 + s_j t2` for friction direction `j`.
     fn expanded(&self, i: usize, v: &[f64]) -> f64 {
@@ -220,8 +225,8 @@ impl<'a> CoupledSpaceLcp<'a> {
                 w[i] += z[i];
             } else if i >= lay.impulses() {
                 let c = lay.contact_of(i);
-                if let Some((_, points)) = self.lcp.patch_cones().iter().find(|(p, _)| *p == c) {
-                    w[i] += self.s * points.clone().map(|p| z[lay.fn_index(p)]).sum::<f64>();
+                if let Some(points) = self.patch_points(c) {
+                    w[i] += self.s * points.map(|p| z[lay.fn_index(p)]).sum::<f64>();
                 }
             }
         };
@@ -327,20 +332,26 @@ impl CoupledSpaceLcp<'_> {
     fn frame_entry(&self, k: usize, j: usize, sc: &mut Scratch) -> f64 {
         let nf = 3 * self.lcp.nc();
         if !sc.gram_ready[k] {
-            // Row k of Yᵀ Y accumulated over Y's rows, skipping its zeros (JointCoupling::subtract_from).
-            let row = &mut sc.gram[k * nf..(k + 1) * nf];
-            row.fill(0.0);
-            for yr in self.y.chunks_exact(nf).take(self.rank) {
-                let yk = yr[k];
-                if yk != 0.0 {
-                    for (c, &yj) in row.iter_mut().zip(yr) {
-                        *c += yk * yj;
-                    }
-                }
-            }
+            gram_row(&self.y[..self.rank * nf], nf, k, &mut sc.gram[k * nf..(k + 1) * nf]);
             sc.gram_ready[k] = true;
         }
         self.expanded(j, &sc.gram[k * nf..(k + 1) * nf])
+    }
+}
+
+/// Row `k` of `Yᵀ Y` into `row` (`Y` row-major, rows `nf` long): `Y`'s rows
+/// accumulated in order, those with a zero in column `k` skipped — the one
+/// order in which both the dense `M` (`joints::JointCoupling::subtract_from`)
+/// and [`CoupledSpaceLcp`]'s entries sum it, so that they agree to the bit.
+pub fn gram_row(y: &[f64], nf: usize, k: usize, row: &mut [f64]) {
+    row.fill(0.0);
+    for yr in y.chunks_exact(nf) {
+        let yk = yr[k];
+        if yk != 0.0 {
+            for (c, &yj) in row.iter_mut().zip(yr) {
+                *c += yk * yj;
+            }
+        }
     }
 }
 
@@ -384,8 +395,8 @@ impl LcpOperator for CoupledSpaceLcp<'_> {
         if i < lay.nc && self.bufs.unit[i] {
             out[i] += 1.0;
         } else if i >= lay.impulses() {
-            if let Some((_, points)) = self.lcp.patch_cones().iter().find(|(p, _)| *p == lay.contact_of(i)) {
-                points.clone().for_each(|p| out[lay.fn_index(p)] += self.s);
+            if let Some(points) = self.patch_points(lay.contact_of(i)) {
+                points.for_each(|p| out[lay.fn_index(p)] += self.s);
             }
         }
     }

@@ -13,6 +13,7 @@ use super::joint::{Joint, JointReaction};
 use super::pivoted_cholesky::PivotedCholesky;
 use super::rows::JointRow;
 use crate::contact::assembly::{dot6, row, Row6};
+use crate::contact::coupled_space::gram_row;
 use crate::contact::ContactLcp;
 use crate::dynamics::Body;
 use crate::math::{Mat3, Vec3};
@@ -357,16 +358,12 @@ impl JointCoupling {
         if self.is_empty() || nf != 3 * lcp.nc() {
             return;
         }
-        // Yᵀ Y row by row of Y (contiguous), so exactly symmetric as accumulated.
+        // Yᵀ Y row by row, each summed over Y's rows in order (exactly
+        // symmetric as accumulated, and the coupled operator's entries' bits).
         let cm = &mut self.gram;
-        cm.clear();
         cm.resize(nf * nf, 0.0);
-        for yr in self.y.chunks_exact(nf) {
-            for (i, &yi) in yr.iter().enumerate().filter(|(_, v)| **v != 0.0) {
-                for (c, &yj) in cm[i * nf..(i + 1) * nf].iter_mut().zip(yr) {
-                    *c += yi * yj;
-                }
-            }
+        for (k, row) in cm.chunks_exact_mut(nf).enumerate() {
+            gram_row(&self.y, nf, k, row);
         }
         lcp.subtract_frame_block(cm);
     }
