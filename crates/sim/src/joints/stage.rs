@@ -159,7 +159,10 @@ impl World {
             }
             ws.joints.couple(&isl.lcp, &mut isl.coupling);
             if matrix {
-                isl.lcp.assemble_matrix();
+                // (Formed at assembly unless a limit's rows replaced a contact's since.)
+                if !isl.lcp.has_matrix() {
+                    isl.lcp.assemble_matrix();
+                }
                 isl.coupling.subtract_from(&mut isl.lcp);
             }
             // Motors: their normal pinned at the force bound.

@@ -175,6 +175,40 @@ mod tests {
         assert!(w.bodies()[1].position().z > 0.15, "the cube is lifted");
     }
 
+    /// The dense `M` of a jointed island formed at the `assemble` stage
+    /// (coupled there) is, bit for bit, the one the solve forms when it
+    /// needs it (`IslandLcp::form_matrix`), on the chain lying on the ground
+    /// and on the gripper holding the cube (its motors' rows replace contacts').
+    #[test]
+    fn a_jointed_island_s_matrix_is_the_same_formed_early_or_late() {
+        let (gripper, _) = gripper();
+        for (mut w, steps) in [(chain(), 1500), (gripper, 1200)] {
+            for _ in 0..steps {
+                w.step().unwrap();
+            }
+            // (A copy of the world starts its step's buffers afresh.)
+            let mut late = w.clone();
+            for v in [&mut w, &mut late] {
+                v.forces_stage().unwrap();
+                v.detect();
+                v.islands();
+            }
+            w.assemble();
+            late.assemble_for_solve().unwrap();
+            let mut jointed = 0;
+            for (early, isl) in w.ws.pool[..w.ws.islands.len()].iter().zip(&mut late.ws.pool) {
+                if !isl.jointed {
+                    continue;
+                }
+                isl.form_matrix();
+                let (a, b) = (early.lcp.to_lcp().unwrap(), isl.lcp.to_lcp().unwrap());
+                assert_eq!(bits(a.m()), bits(b.m()));
+                jointed += 1;
+            }
+            assert!(jointed > 0, "a jointed island with contacts");
+        }
+    }
+
     #[test]
     #[ignore]
     fn chain_diagnostic() {
