@@ -89,7 +89,7 @@ fn a_small_kept_block_refined_by_its_inverse_solves_the_new_problem() {
 
 fn refines_on_kept_factors(polish: bool) {
     use lcp::on_basis::{solve_on_basis_ruled, BasisTolerances};
-    let tol = BasisTolerances { accept_tol: 1e-9, tight: 1e-9, loose: false, polish, more_rounds: true };
+    let tol = BasisTolerances { accept_tol: 1e-9, tight: 1e-9, loose: false, polish, more_rounds: true, eager_rows: 0 };
     // (With polish this is `solve_on_basis` at 1e-9.)
     let solve = |lcp: &Lcp, basis: &[bool], ws: &mut BasisWorkspace| solve_on_basis_ruled(lcp, basis, tol, None, ws);
     let mut ws = BasisWorkspace::default();
@@ -207,7 +207,8 @@ fn an_answer_within_only_the_rules_bound_is_kept_with_its_factors_too() {
     // (a resting stack met this answer on every step for thousands of steps).
     let eps = 6e-10;
     let lcp = Lcp::new(vec![1.0, 1.0, 1.0, 1e-3], vec![-1.0, -1.0 - eps]).unwrap();
-    let tol = BasisTolerances { accept_tol: 1e-9, tight: 1e-11, loose: true, polish: true, more_rounds: true };
+    let tol =
+        BasisTolerances { accept_tol: 1e-9, tight: 1e-11, loose: true, polish: true, more_rounds: true, eager_rows: 0 };
     let mut ws = BasisWorkspace::default();
     let first = solve_on_basis_ruled(&lcp, &[true, false], tol, None, &mut ws).expect("within the rule's bound");
     assert_eq!(first.solution.basis.as_deref(), Some(&[true, false][..]));

@@ -6,7 +6,8 @@
 //! ```text
 //! cargo run --release -p lcpsim-sim --example step_budget              # wall time per stage
 //! cargo run --release -p lcpsim-sim --example step_budget -- stages SCENE STEPS [FROM]
-//!     # only the staged steps (for callgrind), SCENE = slide | rest | stack,
+//!     # only the staged steps (for callgrind), SCENE = slide | rest | stack | stack4
+//!     # (stack4: the stack at 4 friction directions, MuJoCo's pyramid as stack10.xml sets it),
 //!     # after FROM steps (100 by default; `benchmarks/step_budget.py` times
 //!     # the cubes from step ~21,000, where the sliding cube is fast)
 //! cargo run --release -p lcpsim-sim --example step_budget -- dump FILE  # trajectories' bits
@@ -49,7 +50,8 @@ fn scene(name: &str) -> Scene {
         "slide" => CubeOnSlope::new(30.0, 0.5).build(p()).unwrap(),
         "rest" => CubeOnSlope::new(30.0, 0.7).build(p()).unwrap(),
         "stack" => BoxStack::new(10).build(p()).unwrap(),
-        _ => panic!("scene: slide | rest | stack"),
+        "stack4" => BoxStack::new(10).build(WorldParams { friction_dirs: 4, ..p() }).unwrap(),
+        _ => panic!("scene: slide | rest | stack | stack4"),
     }
 }
 

@@ -48,6 +48,11 @@ pub struct BasisTolerances {
     /// Whether a small basic block gets more exchange rounds than
     /// [`REPAIR_ROUNDS`](super::REPAIR_ROUNDS) ([`repair_rounds`](super::rounds::repair_rounds)); `false`: that many.
     pub more_rounds: bool,
+    /// The first `eager_rows` indices (a contact LCP's normal rows,
+    /// [`ContactLayout::fn_range`](crate::contact::ContactLayout::fn_range); 0: none) are exchanged
+    /// from a violation of [`EAGER_REPAIR_FRACTION`](super::EAGER_REPAIR_FRACTION) of the bound, not
+    /// [`REPAIR_FRACTION`](super::REPAIR_FRACTION): see there.
+    pub eager_rows: usize,
 }
 
 /// The accepted answer in `ws`, on the basis `β` factored, with `z`, `w` in

@@ -31,11 +31,11 @@ mod rounds;
 mod workspace;
 
 pub use answer::{Also, BasisAnswer, BasisTolerances};
-pub use rounds::{REPAIR_FRACTION, REPAIR_ROUNDS, REPAIR_ROUNDS_MAX};
+pub use rounds::{EAGER_REPAIR_FRACTION, REPAIR_FRACTION, REPAIR_ROUNDS, REPAIR_ROUNDS_MAX};
 pub use workspace::BasisWorkspace;
 
 use crate::operator::LcpOperator;
-use rounds::{repair_rounds, solve_rounds};
+use rounds::{repair_rounds, solve_rounds, Repair};
 
 /// Solves `op` on the complementary basis `basis` (`basis[j]`: `z_j` basic):
 /// `M_ββ z_β = −q_β` on a regular principal block `β` of the guess (dependent
@@ -58,7 +58,7 @@ pub fn solve_on_basis(
     solve_on_basis_ruled(
         op,
         basis,
-        BasisTolerances { accept_tol, tight: accept_tol, loose: false, polish: true, more_rounds: true },
+        BasisTolerances { accept_tol, tight: accept_tol, loose: false, polish: true, more_rounds: true, eager_rows: 0 },
         also,
         ws,
     )
@@ -83,6 +83,7 @@ pub fn solve_on_basis_ruled(
     // slowly drifting vertex is left before its values reach the bound.
     let q_norm = check::norm_inf(op.q());
     let repair = REPAIR_FRACTION * tol.tight * (1.0 + q_norm);
+    let eager = (tol.eager_rows.min(n), EAGER_REPAIR_FRACTION * tol.tight * (1.0 + q_norm));
     ws.mask.clear();
     ws.mask.extend_from_slice(basis);
     // After calls in a row that found nothing, the basis comes from the
@@ -91,7 +92,7 @@ pub fn solve_on_basis_ruled(
     // steps in a row, each ending in the pivoting anyway).
     let most = if tol.more_rounds { repair_rounds(basis) } else { REPAIR_ROUNDS };
     let rounds = if ws.failures.is_power_of_two() || ws.failures == 0 { most } else { 0 };
-    let found = solve_rounds(op, basis, tol, also, ws, rounds, (repair, q_norm));
+    let found = solve_rounds(op, basis, tol, also, ws, rounds, Repair { floor: repair, eager, q_norm });
     ws.failures = if found.is_some() { 0 } else { ws.failures.saturating_add(1) };
     found
 }

@@ -24,10 +24,11 @@ use super::check::{rule_rejects, within_both};
 use super::factors::solve_fresh;
 use super::refine::refine_on_factor;
 use super::workspace::BasisWorkspace;
+use crate::kernels::most_violated;
 use crate::operator::LcpOperator;
 
 /// The rounds of [`solve_on_basis_ruled`](super::solve_on_basis_ruled) (`rounds` exchanges at most) from
-/// `ws.mask`; `repair`: the violation above which an index is exchanged, and `op`'s `‖q‖∞`.
+/// `ws.mask`; `repair`: the violations above which an index is exchanged, and `op`'s `‖q‖∞`.
 pub(super) fn solve_rounds(
     op: &dyn LcpOperator,
     basis: &[bool],
@@ -35,8 +36,9 @@ pub(super) fn solve_rounds(
     also: Option<Also<'_>>,
     ws: &mut BasisWorkspace,
     rounds: usize,
-    (repair, q_norm): (f64, f64),
+    repair: Repair,
 ) -> Option<BasisAnswer> {
+    let Repair { q_norm, .. } = repair;
     // The operator is this call's: no block of an earlier call is reused.
     ws.blocked = false;
     ws.q_norm = q_norm;
@@ -61,7 +63,7 @@ pub(super) fn solve_rounds(
         }
         // The most violated index (basic z < 0 leaves, nonbasic w < 0 enters),
         // and the round-off negatives of z, clipped below.
-        let (worst, negative) = crate::kernels::most_violated(&ws.mask, &ws.z, &ws.w, repair);
+        let (worst, negative) = repair.most_violated(&ws.mask, &ws.z, &ws.w);
         ws.clipped.clear();
         if negative {
             ws.clipped.extend(ws.z.iter().enumerate().filter(|&(_, &zi)| zi < 0.0).map(|(i, &zi)| (i, zi)));
@@ -180,6 +182,58 @@ pub(super) fn clipped_cause(op: &dyn LcpOperator, r: usize, ws: &mut BasisWorksp
         .max_by(|a, b| a.1.total_cmp(&b.1))
         .map(|(j, _)| j)
 }
+
+/// Where [`solve_rounds`] exchanges an index in an answer within the bound.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Repair {
+    /// The violation above which an index is exchanged.
+    pub floor: f64,
+    /// The first `.0` indices are exchanged above `.1` instead ([`BasisTolerances::eager_rows`]).
+    pub eager: (usize, f64),
+    /// `op`'s `‖q‖∞`.
+    pub q_norm: f64,
+}
+
+impl Repair {
+    /// The most violated index (basic `z < 0`, nonbasic `w < 0`) above its
+    /// floor, each violation measured in its floor (an eager row's scaled to
+    /// `floor`; `(floor, None)` when none is above), and whether some `z < 0`.
+    fn most_violated(&self, basic: &[bool], z: &[f64], w: &[f64]) -> ((f64, Option<usize>), bool) {
+        let (e, eager_floor) = self.eager;
+        let e = e.min(basic.len()).min(z.len()).min(w.len());
+        if e == 0 {
+            return most_violated(basic, z, w, self.floor);
+        }
+        let ((top_e, at_e), neg_e) = most_violated(&basic[..e], &z[..e], &w[..e], eager_floor);
+        let ((top, at), neg) = most_violated(&basic[e..], &z[e..], &w[e..], self.floor);
+        let scaled = top_e / eager_floor * self.floor;
+        let worst = match (at_e, at) {
+            (Some(i), None) => (scaled, Some(i)),
+            (Some(i), Some(_)) if scaled >= top => (scaled, Some(i)),
+            (_, at) => (top, at.map(|j| j + e)),
+        };
+        (worst, neg_e || neg)
+    }
+}
+
+/// Violations of the eager rows ([`BasisTolerances::eager_rows`], a contact
+/// LCP's normal rows) above this fraction of `tight·(1 + ‖q‖∞)` are
+/// exchanged — a thousandth of [`REPAIR_FRACTION`]: there, one left
+/// violated feeds an unstable mode. A box of a resting stack carries its
+/// load on two diagonal corners; the other two, a basic one at zero force
+/// and a nonbasic one at zero velocity, hold its rocking about that
+/// diagonal. Round-off turns the first's force a hair negative (clipped to
+/// 0) and lets the second sink a hair: both are free, and the box above,
+/// balanced on an edge, is an inverted pendulum. Left below
+/// `REPAIR_FRACTION`, those violations on the 10-box stack doubled every
+/// ~40 steps from 1e-16 m/s, the boxes tilting and sliding with them, until
+/// after ~500 steps friction at round-off entered the basis, which grew
+/// from 30 to ~110 indices, every step and exchange paying for the larger
+/// block (`step_budget profile stack4 4000`: 150 ms; with this, the tilt
+/// stays below 3e-16, the basis at 28–32, 57 ms). Friction rows keep
+/// `REPAIR_FRACTION`: a sliding velocity at round-off only drifts the
+/// position (linearly in time).
+pub const EAGER_REPAIR_FRACTION: f64 = 1e-4;
 
 /// Clipped entries of `z` whose columns move `w` ([`LcpOperator::add_columns`]);
 /// more, and `w` is formed again.

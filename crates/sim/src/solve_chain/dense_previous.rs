@@ -26,7 +26,8 @@ pub(super) fn attempt(isl: &mut IslandLcp, warm: Option<&[bool]>, accept_tol: f6
     // the rounds a small block gets beyond them (each a fresh factorization
     // and a dense product) answered fewer steps (2,123 against 2,228 of
     // 3,000) and left more pivots to the Lemke (383,071 against 265,839).
-    let tol = BasisTolerances { accept_tol, tight: accept_tol, loose: true, polish: true, more_rounds: false };
+    let tol =
+        BasisTolerances { accept_tol, tight: accept_tol, loose: true, polish: true, more_rounds: false, eager_rows: 0 };
     let (y, rank) = isl.coupling.factor();
     let op = CoupledSpaceLcp::new(&isl.lcp, y, rank);
     let sol = solve_on_basis_ruled(&op, warm, tol, None, &mut isl.basis_ws)?.solution;
@@ -144,7 +145,14 @@ mod tests {
         LcpOperator::add_columns(&dense, &moved, &mut wd);
         assert!(rel(&wo, &wd) < 1e-12, "step {step}: add_columns {:e}", rel(&wo, &wd));
         // The previous basis on both readings, as `attempt` solves it.
-        let tol = BasisTolerances { accept_tol: 1e-9, tight: 1e-9, loose: true, polish: true, more_rounds: false };
+        let tol = BasisTolerances {
+            accept_tol: 1e-9,
+            tight: 1e-9,
+            loose: true,
+            polish: true,
+            more_rounds: false,
+            eager_rows: 0,
+        };
         let on_op = solve_on_basis_ruled(&op, basis, tol, None, &mut BasisWorkspace::default());
         let on_dense = solve_on_basis_ruled(&dense, basis, tol, None, &mut BasisWorkspace::default());
         // And from the island's own workspace (its kept factorization refined), as the step solves it.

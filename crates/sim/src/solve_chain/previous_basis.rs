@@ -84,6 +84,8 @@ fn solve_into(
         // they found were left outside the body-space rule on 10 of 2,000
         // steps (η_body up to 3.8e-8), against 1 (1.5e-8) with 8 rounds.
         more_rounds: !mixed,
+        // Normal rows: held from round-off up (`lcp::on_basis::EAGER_REPAIR_FRACTION`).
+        eager_rows: lcp.layout().nc,
     };
     let a = lcp::on_basis::solve_on_basis_ruled(&scaled, basis, tol, also, ws)?;
     // At scale 1, z and w are the physical ones (λ·1 and the same products).
