@@ -5,9 +5,9 @@ cubes, μ = 0.5, dt 1 ms) run by lcpsim (``World.from_mjcf``, ``World.run``)
 at 8 friction directions and at the file's cone (MuJoCo's default pyramid:
 4 directions), and by MuJoCo (``mj_step(m, d, nstep)``), one after the other
 in each round, so every round's ratios share the machine's state. The
-stack's later steps cost more than its first ones (friction at round-off
-values enters its basis: ``benchmarks/step_budget.md``), so the length of
-the run matters: give it as STEPS.
+length of the run matters where a scene's later steps cost more than its
+first ones (the stack's did until its boxes stopped rocking by round-off:
+``benchmarks/step_budget.md``): give it as STEPS.
 
     python benchmarks/stack_window.py [STEPS] [ROUNDS]      # defaults 4000, 3
 
