@@ -233,7 +233,7 @@ impl Repair {
 /// after ~500 steps friction at round-off entered the basis, which grew
 /// from 30 to ~110 indices, every step and exchange paying for the larger
 /// block (`step_budget profile stack4 4000`: 150 ms; with this, the tilt
-/// stays below 3e-16, the basis at 28–32, 57 ms). Friction rows keep
+/// stays below 5e-16 rad, the basis at 28–30, 56 ms). Friction rows keep
 /// `REPAIR_FRACTION`: a sliding velocity at round-off only drifts the
 /// position (linearly in time).
 pub const EAGER_REPAIR_FRACTION: f64 = 1e-4;
