@@ -60,9 +60,9 @@ def test_many_bodies_splice_of_the_recorded_run_changes_nothing():
     sys.path.insert(0, str(ROOT / "benchmarks" / "peers"))
     sys.path.insert(0, str(ROOT / "benchmarks"))
     report = load("many_bodies_report")
-    res = json.loads(gzip.decompress((ROOT / "benchmarks" / "peers" / "many_bodies_293638f.json.gz").read_bytes()))
+    res = json.loads(gzip.decompress((ROOT / "benchmarks" / "peers" / "many_bodies_6820272.json.gz").read_bytes()))
     res["command"] = ("benchmarks/peers/.venv/bin/python benchmarks/peers/many_bodies.py "
-                      "--scenes stack10,towers3,towers10 --out benchmarks/peers/many_bodies_293638f.json.gz")
+                      "--scenes stack10,towers3,towers10 --out benchmarks/peers/many_bodies_6820272.json.gz")
     scaling = load_top("lcp_scaling")
     lines = report.render(res) + scaling.render(json.loads((ROOT / "benchmarks" / "lcp_scaling.json").read_text()))
     lines += report.render_broadphase(json.loads((ROOT / "benchmarks" / "broadphase.json").read_text()))
