@@ -82,8 +82,9 @@ pub fn solve_on_basis_ruled(
     // Violations far below the acceptance bound are exchanged too, so a
     // slowly drifting vertex is left before its values reach the bound.
     let q_norm = check::norm_inf(op.q());
-    let repair = REPAIR_FRACTION * tol.tight * (1.0 + q_norm);
-    let eager = (tol.eager_rows.min(n), EAGER_REPAIR_FRACTION * tol.tight * (1.0 + q_norm));
+    // (A fraction of `tight·(1 + ‖q‖∞)`, multiplied in this order as always.)
+    let of_bound = |fraction: f64| fraction * tol.tight * (1.0 + q_norm);
+    let (repair, eager) = (of_bound(REPAIR_FRACTION), (tol.eager_rows.min(n), of_bound(EAGER_REPAIR_FRACTION)));
     ws.mask.clear();
     ws.mask.extend_from_slice(basis);
     // After calls in a row that found nothing, the basis comes from the

@@ -16,8 +16,10 @@
 //! nonbasic corner at `w_n = −5e-12` m/s, kept step after step, sinks past
 //! the contact gap floor, whose stabilization term then moves `q` by 2e-10
 //! and costs hundreds of pivots (measured on the 10-box stack: 31 of 2,000
-//! steps pivoting before, 7 after). The answer within the bound is returned
-//! when the exchanges find no cleaner one.
+//! steps pivoting before, 7 after); a contact LCP's normal rows, above a
+//! ten-thousandth ([`EAGER_REPAIR_FRACTION`]: left below the tenth, a
+//! stack's boxes rock). The answer within the bound is returned when the
+//! exchanges find no cleaner one.
 
 use super::answer::{answer, Also, BasisAnswer, BasisTolerances};
 use super::check::{rule_rejects, within_both};
